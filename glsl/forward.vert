@@ -1,0 +1,15 @@
+#version 460
+// Forward pass vertex stage: world-space vertices in, clip space out.
+#include "bindings.glsl"
+
+layout(location = 0) in vec3 in_position;
+layout(location = 1) in vec3 in_normal;
+
+layout(location = 0) out vec3 out_position;
+layout(location = 1) out vec3 out_normal;
+
+void main() {
+    out_position = in_position;
+    out_normal = in_normal;
+    gl_Position = draw.view_proj * vec4(in_position, 1.0);
+}

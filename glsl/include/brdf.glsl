@@ -1,0 +1,94 @@
+// The three BRDFs of the paper (seed 003 Eq. 16, 24, 30) and their sum over the scene's lights.
+// Rust twin: `src/shading/brdf.rs` and `src/shading/mod.rs`. Keep the two in step, operation
+// for operation: a GPU test compares rendered pixels with the twin.
+//
+// Specialization constants select the variant, so only what the scene uses is compiled in:
+// a Lambert-only pipeline contains no GGX code after the driver folds the constants.
+#ifndef BRDF_GLSL
+#define BRDF_GLSL
+#include "bindings.glsl"
+
+#define MATERIAL_LAMBERT 0
+#define MATERIAL_BLINN_PHONG 1
+#define MATERIAL_GGX 2
+
+layout(constant_id = 0) const int MATERIAL_KIND = MATERIAL_LAMBERT;
+layout(constant_id = 1) const int POINT_LIGHT_COUNT = 0;
+layout(constant_id = 2) const int DIRECTIONAL_LIGHT_COUNT = 0;
+
+const float PI = 3.14159265358979323846;
+// GGX alpha is clamped from below so that D stays finite at roughness 0.
+const float GGX_MIN_ALPHA = 1.0e-3;
+// Squared distance below which a point light counts as this close (keeps 1/d^2 finite).
+const float MIN_LIGHT_DISTANCE_SQUARED = 1.0e-8;
+
+// v / |v|, and the zero vector for the zero vector (never NaN).
+vec3 safe_normalize(vec3 v) {
+    return v * inversesqrt(max(dot(v, v), 1.0e-30));
+}
+
+// GGX / Trowbridge-Reitz normal distribution (Eq. 46 of the supplement).
+float ggx_d(float n_dot_h, float alpha) {
+    float a2 = alpha * alpha;
+    float d = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0;
+    return a2 / (PI * d * d);
+}
+
+// Schlick's Fresnel approximation.
+vec3 schlick_f(float v_dot_h, vec3 f0) {
+    float m = 1.0 - v_dot_h;
+    float m2 = m * m;
+    return f0 + (1.0 - f0) * (m2 * m2 * m);
+}
+
+// Smith / Schlick-GGX visibility with the cosines of the microfacet denominator folded in:
+// V = G1(l) G1(v) / (n.l n.v) = 1 / ((n.l (1-k) + k) (n.v (1-k) + k)).
+float smith_v(float n_dot_l, float n_dot_v, float k) {
+    return 1.0 / ((n_dot_l * (1.0 - k) + k) * (n_dot_v * (1.0 - k) + k));
+}
+
+// Reflected radiance per unit irradiance for one light: BRDF term times the cosine where the
+// paper's model includes it. n, l, v are unit vectors.
+vec3 reflect_one_light(vec3 n, vec3 l, vec3 v, GpuMaterial m) {
+    float n_dot_l = dot(n, l);
+    if (n_dot_l <= 0.0) {
+        return vec3(0.0);
+    }
+    if (MATERIAL_KIND == MATERIAL_LAMBERT) {
+        return m.diffuse.rgb * n_dot_l;
+    }
+    vec3 h = safe_normalize(l + v);
+    float n_dot_h = max(dot(n, h), 0.0);
+    if (MATERIAL_KIND == MATERIAL_BLINN_PHONG) {
+        return m.diffuse.rgb * n_dot_l + m.specular.rgb * pow(n_dot_h, m.params.x);
+    }
+    float alpha = max(m.params.x * m.params.x, GGX_MIN_ALPHA);
+    float k = 0.5 * alpha;
+    float n_dot_v = max(dot(n, v), 0.0);
+    float v_dot_h = clamp(dot(v, h), 0.0, 1.0);
+    vec3 specular = ggx_d(n_dot_h, alpha) * schlick_f(v_dot_h, m.specular.rgb)
+        * smith_v(n_dot_l, n_dot_v, k) * 0.25;
+    return (m.diffuse.rgb + specular) * n_dot_l;
+}
+
+// Outgoing radiance at a surface point: the sum over every light of the scene.
+// `normal` need not be unit length (it is interpolated); `eye` is the camera position.
+vec3 shade_point(vec3 position, vec3 normal, vec3 eye, uint material_index) {
+    GpuMaterial m = materials[material_index];
+    vec3 n = safe_normalize(normal);
+    vec3 v = safe_normalize(eye - position);
+    vec3 radiance = vec3(0.0);
+    for (int i = 0; i < POINT_LIGHT_COUNT; ++i) {
+        vec3 to_light = lights[i].position.xyz - position;
+        float d2 = max(dot(to_light, to_light), MIN_LIGHT_DISTANCE_SQUARED);
+        vec3 l = to_light * inversesqrt(d2);
+        radiance += reflect_one_light(n, l, v, m) * (lights[i].radiance.rgb / d2);
+    }
+    for (int i = 0; i < DIRECTIONAL_LIGHT_COUNT; ++i) {
+        GpuLight light = lights[POINT_LIGHT_COUNT + i];
+        radiance += reflect_one_light(n, -light.position.xyz, v, m) * light.radiance.rgb;
+    }
+    return radiance;
+}
+
+#endif

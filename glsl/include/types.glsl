@@ -1,0 +1,31 @@
+// Structs shared between the shaders and the CPU. Each has a `#[repr(C)]` twin in
+// `src/gpu_types.rs`; a test reads the member offsets out of the compiled SPIR-V and compares.
+#ifndef TYPES_GLSL
+#define TYPES_GLSL
+
+// One light. Point lights come first in the buffer, then directional ones
+// (their counts are the specialization constants POINT_LIGHT_COUNT and DIRECTIONAL_LIGHT_COUNT).
+struct GpuLight {
+    vec4 position;   // point: world position; directional: unit direction the light travels
+    vec4 radiance;   // rgb: colour * intensity (the irradiance at unit distance, facing the light)
+};
+
+// One material. Which fields mean what depends on MATERIAL_KIND.
+struct GpuMaterial {
+    vec4 diffuse;    // Lambert kd, Blinn-Phong kd, GGX albedo
+    vec4 specular;   // Blinn-Phong ks, GGX f0 (unused for Lambert)
+    vec4 params;     // x: Blinn-Phong shininess or GGX roughness
+};
+
+// Per-draw constants, pushed for every mesh.
+struct DrawConstants {
+    mat4 view_proj;      // world to Vulkan clip space
+    vec4 eye;            // xyz: camera position in world space
+    vec4 viewport;       // x, y: target size in pixels; z: epsilon; w: n_max
+    uint material_index; // index into the material buffer
+    uint mesh_index;
+    uint pad0;
+    uint pad1;
+};
+
+#endif

@@ -1,0 +1,43 @@
+//! The library's error type: every failure keeps what was being done and, for Vulkan, the
+//! `vk::Result`. Only the binary converts these into `anyhow` reports.
+
+use ash::vk;
+use std::path::PathBuf;
+
+/// Any failure of the renderer.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    #[error("Vulkan call failed while {what}: {result}")]
+    Vulkan { what: &'static str, result: vk::Result },
+    #[error("cannot load the Vulkan loader (libvulkan.so.1; Debian package libvulkan1): {0}")]
+    Loader(#[from] ash::LoadingError),
+    #[error("no usable Vulkan device: {0}")]
+    NoDevice(String),
+    #[error(
+        "the Khronos validation layer VK_LAYER_KHRONOS_validation is not installed \
+         (Debian package vulkan-validationlayers)"
+    )]
+    ValidationLayerMissing,
+    #[error("GPU memory allocation for {what} failed: {source}")]
+    Allocation { what: String, source: gpu_allocator::AllocationError },
+    #[error(transparent)]
+    Scene(#[from] crate::scene::SceneError),
+    #[error("{}: {message}", path.display())]
+    Output { path: PathBuf, message: String },
+    #[error("window system: {0}")]
+    Window(String),
+}
+
+/// Shorthand for results of this crate.
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// Attaches what was being done to a raw `vk::Result`.
+pub trait VkContext<T> {
+    fn while_(self, what: &'static str) -> Result<T>;
+}
+
+impl<T> VkContext<T> for Result<T, vk::Result> {
+    fn while_(self, what: &'static str) -> Result<T> {
+        self.map_err(|result| Error::Vulkan { what, result })
+    }
+}

@@ -1,0 +1,49 @@
+//! `#[repr(C)]` twins of the structs in `glsl/include/types.glsl`. A test reads the member
+//! offsets out of the compiled SPIR-V and checks they match these.
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec4};
+
+/// A light as the shaders read it (std430).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuLight {
+    /// Point: world position; directional: the unit direction the light travels.
+    pub position: Vec4,
+    /// rgb: colour × intensity.
+    pub radiance: Vec4,
+}
+
+/// A material as the shaders read it (std430).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuMaterial {
+    /// Lambert kd, Blinn-Phong kd, GGX albedo.
+    pub diffuse: Vec4,
+    /// Blinn-Phong ks, GGX f0.
+    pub specular: Vec4,
+    /// x: Blinn-Phong shininess or GGX roughness.
+    pub params: Vec4,
+}
+
+/// Per-draw push constants.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct DrawConstants {
+    pub view_proj: Mat4,
+    pub eye: Vec4,
+    /// x, y: target size in pixels; z: epsilon; w: n_max.
+    pub viewport: Vec4,
+    pub material_index: u32,
+    pub mesh_index: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+}
+
+/// Vertex buffer layout: world-space position and normal.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Vertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+}

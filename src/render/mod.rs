@@ -1,0 +1,355 @@
+//! Rendering a scene: GPU copies of the scene, the pipeline variants specialised to its
+//! materials and lights, and the forward pass that draws into a render target.
+
+pub mod camera;
+pub mod output;
+pub mod present;
+
+use crate::error::Result;
+use crate::gpu_types::{DrawConstants, GpuLight, GpuMaterial, Vertex};
+use crate::scene::{Camera, Light, MaterialKind, Scene};
+use crate::shaders;
+use crate::vk::memory::Buffer;
+use crate::vk::pipeline::{
+    DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderModule, Specialization,
+    Stage,
+};
+use crate::vk::target::{AfterPass, FloatImage, RenderTarget, COLOR_FORMAT, DEPTH_FORMAT};
+use crate::vk::Context;
+use ash::vk;
+use glam::{Vec3, Vec4};
+use std::sync::Arc;
+
+/// How shading is sampled. Only the per-pixel reference exists so far.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Mode {
+    /// Full shading in the fragment shader at every pixel: the reference.
+    #[default]
+    Pixel,
+}
+
+impl std::str::FromStr for Mode {
+    type Err = String;
+    fn from_str(text: &str) -> Result<Mode, String> {
+        match text {
+            "pixel" => Ok(Mode::Pixel),
+            other => Err(format!("unknown mode \"{other}\" (known: pixel)")),
+        }
+    }
+}
+
+/// The values of the shaders' MATERIAL_KIND specialization constant.
+fn material_kind_id(kind: &MaterialKind) -> i32 {
+    match kind {
+        MaterialKind::Lambert { .. } => 0,
+        MaterialKind::BlinnPhong { .. } => 1,
+        MaterialKind::Ggx { .. } => 2,
+    }
+}
+
+fn gpu_material(kind: &MaterialKind) -> GpuMaterial {
+    let (diffuse, specular, param) = match *kind {
+        MaterialKind::Lambert { kd } => (kd, Vec3::ZERO, 0.0),
+        MaterialKind::BlinnPhong { kd, ks, shininess } => (kd, ks, shininess),
+        MaterialKind::Ggx { albedo, f0, roughness } => (albedo, f0, roughness),
+    };
+    GpuMaterial {
+        diffuse: diffuse.extend(0.0),
+        specular: specular.extend(0.0),
+        params: Vec4::new(param, 0.0, 0.0, 0.0),
+    }
+}
+
+/// The scene's lights in the order the shaders expect: point lights, then directional ones.
+pub fn gpu_lights(lights: &[Light]) -> (Vec<GpuLight>, i32, i32) {
+    let mut points = Vec::new();
+    let mut directionals = Vec::new();
+    for light in lights {
+        match *light {
+            Light::Point { position, color, intensity } => points.push(GpuLight {
+                position: position.extend(1.0),
+                radiance: (color * intensity).extend(0.0),
+            }),
+            Light::Directional { direction, color, intensity } => directionals.push(GpuLight {
+                position: direction.extend(0.0),
+                radiance: (color * intensity).extend(0.0),
+            }),
+        }
+    }
+    let counts = (points.len() as i32, directionals.len() as i32);
+    points.extend(directionals);
+    (points, counts.0, counts.1)
+}
+
+/// What a frame is rendered with.
+#[derive(Clone, Debug)]
+pub struct View {
+    pub camera: Camera,
+    pub mode: Mode,
+    pub epsilon: f32,
+    pub n_max: u32,
+}
+
+impl View {
+    /// The scene's own camera and settings.
+    pub fn of_scene(scene: &Scene) -> View {
+        View {
+            camera: scene.camera.clone(),
+            mode: Mode::Pixel,
+            epsilon: scene.settings.epsilon,
+            n_max: scene.settings.n_max,
+        }
+    }
+}
+
+struct DrawCall {
+    first_index: u32,
+    index_count: u32,
+    material_index: u32,
+    mesh_index: u32,
+    pipeline: usize,
+}
+
+/// A scene uploaded to the GPU with its specialised pipelines.
+pub struct Renderer {
+    context: Arc<Context>,
+    vertices: Buffer,
+    indices: Buffer,
+    _lights: Buffer,
+    _materials: Buffer,
+    layout: PipelineLayout,
+    _pool: DescriptorPool,
+    descriptor_set: vk::DescriptorSet,
+    pipelines: Vec<Pipeline>,
+    draws: Vec<DrawCall>,
+    clear_color: [f32; 4],
+}
+
+impl Renderer {
+    pub fn new(context: &Arc<Context>, scene: &Scene) -> Result<Renderer> {
+        let mut vertices = Vec::new();
+        let mut indices = Vec::new();
+        let mut draws = Vec::new();
+        let mut kinds: Vec<i32> = Vec::new();
+        for (mesh_index, mesh) in scene.meshes.iter().enumerate() {
+            let base = vertices.len() as u32;
+            vertices.extend(mesh.positions.iter().zip(&mesh.normals).map(|(p, n)| Vertex {
+                position: p.to_array(),
+                normal: n.to_array(),
+            }));
+            let first_index = indices.len() as u32;
+            indices.extend(mesh.indices.iter().map(|i| i + base));
+            let kind = material_kind_id(&scene.materials[mesh.material].kind);
+            let pipeline = kinds.iter().position(|&k| k == kind).unwrap_or_else(|| {
+                kinds.push(kind);
+                kinds.len() - 1
+            });
+            draws.push(DrawCall {
+                first_index,
+                index_count: mesh.indices.len() as u32,
+                material_index: mesh.material as u32,
+                mesh_index: mesh_index as u32,
+                pipeline,
+            });
+        }
+        let (lights, point_count, directional_count) = gpu_lights(&scene.lights);
+        let materials: Vec<GpuMaterial> =
+            scene.materials.iter().map(|m| gpu_material(&m.kind)).collect();
+
+        let vertex_buffer =
+            Buffer::with_data(context, "scene vertices", vk::BufferUsageFlags::VERTEX_BUFFER, &vertices)?;
+        let index_buffer =
+            Buffer::with_data(context, "scene indices", vk::BufferUsageFlags::INDEX_BUFFER, &indices)?;
+        let light_buffer =
+            Buffer::with_data(context, "scene lights", vk::BufferUsageFlags::STORAGE_BUFFER, &lights)?;
+        let material_buffer = Buffer::with_data(
+            context,
+            "scene materials",
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            &materials,
+        )?;
+
+        let stages = vk::ShaderStageFlags::ALL_GRAPHICS;
+        let bindings = [
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(0)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(stages),
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(1)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(stages),
+        ];
+        let push = [vk::PushConstantRange::default()
+            .stage_flags(stages)
+            .size(std::mem::size_of::<DrawConstants>() as u32)];
+        let layout = PipelineLayout::new(context, "forward layout", &[&bindings], &push)?;
+        let pool = DescriptorPool::new(
+            context,
+            "forward descriptors",
+            1,
+            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 2 }],
+        )?;
+        let descriptor_set = pool.allocate(layout.set_layouts[0])?;
+        let buffer_infos = [
+            [vk::DescriptorBufferInfo { buffer: light_buffer.raw, offset: 0, range: vk::WHOLE_SIZE }],
+            [vk::DescriptorBufferInfo { buffer: material_buffer.raw, offset: 0, range: vk::WHOLE_SIZE }],
+        ];
+        let writes: Vec<vk::WriteDescriptorSet<'_>> = buffer_infos
+            .iter()
+            .enumerate()
+            .map(|(binding, info)| {
+                vk::WriteDescriptorSet::default()
+                    .dst_set(descriptor_set)
+                    .dst_binding(binding as u32)
+                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                    .buffer_info(info)
+            })
+            .collect();
+        // SAFETY: the set and buffers are live and not in use.
+        unsafe { context.device.update_descriptor_sets(&writes, &[]) };
+
+        let vertex_module = ShaderModule::new(context, "forward.vert", shaders::FORWARD_VERT)?;
+        let pixel_module = ShaderModule::new(context, "pixel.frag", shaders::PIXEL_FRAG)?;
+        let vertex_bindings = [vk::VertexInputBindingDescription {
+            binding: 0,
+            stride: std::mem::size_of::<Vertex>() as u32,
+            input_rate: vk::VertexInputRate::VERTEX,
+        }];
+        let vertex_attributes = [
+            vk::VertexInputAttributeDescription {
+                location: 0,
+                binding: 0,
+                format: vk::Format::R32G32B32_SFLOAT,
+                offset: std::mem::offset_of!(Vertex, position) as u32,
+            },
+            vk::VertexInputAttributeDescription {
+                location: 1,
+                binding: 0,
+                format: vk::Format::R32G32B32_SFLOAT,
+                offset: std::mem::offset_of!(Vertex, normal) as u32,
+            },
+        ];
+        let mut pipelines = Vec::new();
+        for &kind in &kinds {
+            let specialization = Specialization::default()
+                .int(0, kind)
+                .int(1, point_count)
+                .int(2, directional_count);
+            let name = format!("pixel shading, material kind {kind}");
+            pipelines.push(Pipeline::graphics(
+                context,
+                &GraphicsPipelineDesc {
+                    name: &name,
+                    stages: vec![
+                        Stage {
+                            stage: vk::ShaderStageFlags::VERTEX,
+                            module: &vertex_module,
+                            specialization: None,
+                        },
+                        Stage {
+                            stage: vk::ShaderStageFlags::FRAGMENT,
+                            module: &pixel_module,
+                            specialization: Some(&specialization),
+                        },
+                    ],
+                    layout: &layout,
+                    vertex_bindings: &vertex_bindings,
+                    vertex_attributes: &vertex_attributes,
+                    topology: vk::PrimitiveTopology::TRIANGLE_LIST,
+                    patch_control_points: None,
+                    polygon_mode: vk::PolygonMode::FILL,
+                    cull_mode: vk::CullModeFlags::NONE,
+                    front_face: vk::FrontFace::COUNTER_CLOCKWISE,
+                    color_format: COLOR_FORMAT,
+                    depth_format: Some(DEPTH_FORMAT),
+                },
+            )?);
+        }
+        context.name(descriptor_set, "forward descriptor set");
+        let clear = scene.settings.clear_color;
+        Ok(Renderer {
+            context: context.clone(),
+            vertices: vertex_buffer,
+            indices: index_buffer,
+            _lights: light_buffer,
+            _materials: material_buffer,
+            layout,
+            _pool: pool,
+            descriptor_set,
+            pipelines,
+            draws,
+            clear_color: [clear.x, clear.y, clear.z, 0.0],
+        })
+    }
+
+    /// Records the forward pass into `target`, leaving the colour image ready for `after`.
+    pub fn record(&self, cmd: vk::CommandBuffer, target: &RenderTarget, view: &View, after: AfterPass) {
+        let device = &self.context.device;
+        let extent = target.extent();
+        target.begin(device, cmd, self.clear_color);
+        let mut constants = DrawConstants {
+            view_proj: camera::view_projection(&view.camera, extent.width, extent.height),
+            eye: view.camera.eye.extend(1.0),
+            viewport: Vec4::new(
+                extent.width as f32,
+                extent.height as f32,
+                view.epsilon,
+                view.n_max as f32,
+            ),
+            ..Default::default()
+        };
+        // SAFETY: `cmd` is recording inside the rendering begun above; every bound object is
+        // owned by `self` and outlives the submission (callers wait before dropping).
+        unsafe {
+            device.cmd_bind_vertex_buffers(cmd, 0, &[self.vertices.raw], &[0]);
+            device.cmd_bind_index_buffer(cmd, self.indices.raw, 0, vk::IndexType::UINT32);
+            device.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                self.layout.raw,
+                0,
+                &[self.descriptor_set],
+                &[],
+            );
+            for draw in &self.draws {
+                constants.material_index = draw.material_index;
+                constants.mesh_index = draw.mesh_index;
+                device.cmd_bind_pipeline(
+                    cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    self.pipelines[draw.pipeline].raw,
+                );
+                device.cmd_push_constants(
+                    cmd,
+                    self.layout.raw,
+                    vk::ShaderStageFlags::ALL_GRAPHICS,
+                    0,
+                    bytemuck::bytes_of(&constants),
+                );
+                device.cmd_draw_indexed(cmd, draw.index_count, 1, draw.first_index, 0, 0);
+            }
+        }
+        target.end(device, cmd, after);
+    }
+
+    /// Renders one frame into `target` and reads the float image back.
+    pub fn render(&self, target: &RenderTarget, view: &View) -> Result<FloatImage> {
+        target.render_and_read(&self.context, |cmd| self.record(cmd, target, view, AfterPass::Readback))
+    }
+}
+
+/// Renders `scene` headless at `width`×`height` with `view`.
+pub fn render_headless(
+    context: &Arc<Context>,
+    scene: &Scene,
+    view: &View,
+    width: u32,
+    height: u32,
+) -> Result<FloatImage> {
+    let renderer = Renderer::new(context, scene)?;
+    let target = RenderTarget::new(context, vk::Extent2D { width, height })?;
+    renderer.render(&target, view)
+}

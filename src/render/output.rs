@@ -1,0 +1,90 @@
+//! Writing rendered images: PNG (exposure, ACES filmic tone map, sRGB, 8 bits) and OpenEXR
+//! (linear float RGB, alpha = geometric coverage). The tone map is the twin of
+//! `glsl/include/tonemap.glsl`, which the viewer uses.
+
+use crate::error::{Error, Result};
+use crate::vk::target::FloatImage;
+use std::path::Path;
+
+/// The ACES filmic curve (Narkowicz 2015 fit), clamped to [0, 1].
+pub fn aces_filmic(x: f32) -> f32 {
+    ((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0)
+}
+
+/// The sRGB opto-electronic transfer function.
+pub fn srgb_encode(linear: f32) -> f32 {
+    if linear <= 0.003_130_8 {
+        linear * 12.92
+    } else {
+        1.055 * linear.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// Linear radiance to an 8-bit sRGB display value.
+pub fn display_value(linear: f32, exposure: f32) -> u8 {
+    let mapped = aces_filmic(linear.max(0.0) * exposure);
+    (srgb_encode(mapped) * 255.0 + 0.5).clamp(0.0, 255.0) as u8
+}
+
+/// The tone-mapped 8-bit RGBA image (alpha = coverage).
+pub fn tone_mapped(image: &FloatImage, exposure: f32) -> image::RgbaImage {
+    let mut out = image::RgbaImage::new(image.width, image.height);
+    for (pixel, value) in out.pixels_mut().zip(&image.pixels) {
+        *pixel = image::Rgba([
+            display_value(value[0], exposure),
+            display_value(value[1], exposure),
+            display_value(value[2], exposure),
+            (value[3].clamp(0.0, 1.0) * 255.0 + 0.5) as u8,
+        ]);
+    }
+    out
+}
+
+/// Writes `image` to `path`; the extension picks the format (`.png` or `.exr`).
+pub fn write_image(image: &FloatImage, path: &Path, exposure: f32) -> Result<()> {
+    let fail = |message: String| Error::Output { path: path.to_path_buf(), message };
+    let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    match extension.as_deref() {
+        Some("png") => {
+            // PNG keeps opaque colour so viewers show the clear colour; coverage is in the EXR.
+            let mut rgba = tone_mapped(image, exposure);
+            rgba.pixels_mut().for_each(|p| p.0[3] = 255);
+            rgba.save_with_format(path, image::ImageFormat::Png)
+                .map_err(|e| fail(format!("cannot write PNG: {e}")))
+        }
+        Some("exr") => {
+            let data: Vec<f32> = image.pixels.iter().flatten().copied().collect();
+            let buffer = image::Rgba32FImage::from_raw(image.width, image.height, data)
+                .expect("pixel count matches the size");
+            buffer
+                .save_with_format(path, image::ImageFormat::OpenExr)
+                .map_err(|e| fail(format!("cannot write OpenEXR: {e}")))
+        }
+        _ => Err(fail("unknown image format: use a .png or .exr file name".into())),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tone_map_is_monotonic_and_bounded() {
+        let mut previous = 0u8;
+        for i in 0..1000 {
+            let v = display_value(i as f32 * 0.01, 1.0);
+            assert!(v >= previous, "not monotonic at {i}");
+            previous = v;
+        }
+        assert_eq!(display_value(0.0, 1.0), 0);
+        assert_eq!(display_value(-5.0, 1.0), 0);
+        assert_eq!(display_value(1.0e6, 1.0), 255);
+        assert_eq!(display_value(f32::NAN, 1.0), 0, "NaN must not reach the file as garbage");
+    }
+
+    #[test]
+    fn srgb_matches_reference_points() {
+        assert!((srgb_encode(0.5) - 0.735_356_6).abs() < 1e-6);
+        assert!((srgb_encode(0.001) - 0.012_92).abs() < 1e-7);
+    }
+}

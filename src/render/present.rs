@@ -1,0 +1,187 @@
+//! The display pass: tone maps the float render target into a swapchain image with the same
+//! transform as PNG output (exposure, ACES filmic, sRGB).
+
+use crate::error::{Result, VkContext as _};
+use crate::shaders;
+use crate::vk::memory::transition;
+use crate::vk::pipeline::{
+    DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderModule, Specialization,
+    Stage,
+};
+use crate::vk::target::RenderTarget;
+use crate::vk::Context;
+use ash::vk;
+use std::sync::Arc;
+
+pub struct PresentPass {
+    context: Arc<Context>,
+    sampler: vk::Sampler,
+    layout: PipelineLayout,
+    _pool: DescriptorPool,
+    set: vk::DescriptorSet,
+    pipeline: Pipeline,
+}
+
+impl PresentPass {
+    /// A pass writing `format` images; `encode_srgb` when the format does not encode itself.
+    pub fn new(context: &Arc<Context>, format: vk::Format, encode_srgb: bool) -> Result<PresentPass> {
+        let sampler_info = vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::NEAREST)
+            .min_filter(vk::Filter::NEAREST)
+            .max_lod(0.0);
+        // SAFETY: valid create info; destroyed in `Drop`.
+        let sampler = unsafe { context.device.create_sampler(&sampler_info, None) }
+            .while_("creating the present sampler")?;
+        let binding = [vk::DescriptorSetLayoutBinding::default()
+            .binding(0)
+            .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+            .descriptor_count(1)
+            .stage_flags(vk::ShaderStageFlags::FRAGMENT)];
+        let push = [vk::PushConstantRange::default().stage_flags(vk::ShaderStageFlags::FRAGMENT).size(4)];
+        let layout = PipelineLayout::new(context, "present layout", &[&binding], &push)?;
+        let pool = DescriptorPool::new(
+            context,
+            "present descriptors",
+            1,
+            &[vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                descriptor_count: 1,
+            }],
+        )?;
+        let set = pool.allocate(layout.set_layouts[0])?;
+        let vertex = ShaderModule::new(context, "fullscreen.vert", shaders::FULLSCREEN_VERT)?;
+        let fragment = ShaderModule::new(context, "present.frag", shaders::PRESENT_FRAG)?;
+        let specialization = Specialization::default().boolean(0, encode_srgb);
+        let pipeline = Pipeline::graphics(
+            context,
+            &GraphicsPipelineDesc {
+                name: "present",
+                stages: vec![
+                    Stage { stage: vk::ShaderStageFlags::VERTEX, module: &vertex, specialization: None },
+                    Stage {
+                        stage: vk::ShaderStageFlags::FRAGMENT,
+                        module: &fragment,
+                        specialization: Some(&specialization),
+                    },
+                ],
+                layout: &layout,
+                vertex_bindings: &[],
+                vertex_attributes: &[],
+                topology: vk::PrimitiveTopology::TRIANGLE_LIST,
+                patch_control_points: None,
+                polygon_mode: vk::PolygonMode::FILL,
+                cull_mode: vk::CullModeFlags::NONE,
+                front_face: vk::FrontFace::COUNTER_CLOCKWISE,
+                color_format: format,
+                depth_format: None,
+            },
+        )?;
+        // SAFETY: live sampler handle.
+        context.name(sampler, "present sampler");
+        Ok(PresentPass { context: context.clone(), sampler, layout, _pool: pool, set, pipeline })
+    }
+
+    /// Points the pass at `target` (call again after the target is recreated, device idle).
+    pub fn bind_target(&self, target: &RenderTarget) {
+        let image_info = [vk::DescriptorImageInfo {
+            sampler: self.sampler,
+            image_view: target.color.view,
+            image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        }];
+        let write = [vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(0)
+            .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+            .image_info(&image_info)];
+        // SAFETY: the set is not in use by any pending command buffer (caller waited).
+        unsafe { self.context.device.update_descriptor_sets(&write, &[]) };
+    }
+
+    /// Records the tone-mapping draw into a swapchain image and leaves it ready to present.
+    pub fn record(
+        &self,
+        cmd: vk::CommandBuffer,
+        image: vk::Image,
+        view: vk::ImageView,
+        extent: vk::Extent2D,
+        exposure: f32,
+    ) {
+        let device = &self.context.device;
+        transition(
+            device,
+            cmd,
+            image,
+            vk::ImageAspectFlags::COLOR,
+            (
+                vk::ImageLayout::UNDEFINED,
+                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                vk::AccessFlags2::NONE,
+            ),
+            (
+                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+            ),
+        );
+        let attachment = [vk::RenderingAttachmentInfo::default()
+            .image_view(view)
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::DONT_CARE)
+            .store_op(vk::AttachmentStoreOp::STORE)];
+        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent };
+        let rendering =
+            vk::RenderingInfo::default().render_area(area).layer_count(1).color_attachments(&attachment);
+        let viewport = [vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: extent.width as f32,
+            height: extent.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        }];
+        // SAFETY: `cmd` is recording; image and view belong to the live swapchain, and the
+        // render target was left in SHADER_READ_ONLY_OPTIMAL by the forward pass.
+        unsafe {
+            device.cmd_begin_rendering(cmd, &rendering);
+            device.cmd_set_viewport(cmd, 0, &viewport);
+            device.cmd_set_scissor(cmd, 0, &[area]);
+            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw);
+            device.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                self.layout.raw,
+                0,
+                &[self.set],
+                &[],
+            );
+            device.cmd_push_constants(
+                cmd,
+                self.layout.raw,
+                vk::ShaderStageFlags::FRAGMENT,
+                0,
+                &exposure.to_ne_bytes(),
+            );
+            device.cmd_draw(cmd, 3, 1, 0, 0);
+            device.cmd_end_rendering(cmd);
+        }
+        transition(
+            device,
+            cmd,
+            image,
+            vk::ImageAspectFlags::COLOR,
+            (
+                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+            ),
+            (vk::ImageLayout::PRESENT_SRC_KHR, vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
+        );
+    }
+}
+
+impl Drop for PresentPass {
+    fn drop(&mut self) {
+        // SAFETY: the owner waits for the device before dropping the pass.
+        unsafe { self.context.device.destroy_sampler(self.sampler, None) };
+    }
+}

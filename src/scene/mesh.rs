@@ -1,0 +1,742 @@
+//! OBJ loading for [`super::Scene`]: reads a Wavefront OBJ file through `tobj`, checks it,
+//! applies the mesh transform and produces finite, unit-length vertex normals.
+//!
+//! The file is scanned once before `tobj` sees it, so that the problems a person is most likely
+//! to make (a non-finite coordinate, a face index of 0 or past the end, a face with fewer than
+//! three corners) are reported with the vertex number and line, and so that no input can reach
+//! the index arithmetic inside `tobj` that would overflow.
+
+use std::collections::HashMap;
+use std::io::{BufRead, Read};
+use std::path::Path;
+
+use glam::{DVec3, Mat3, Vec3};
+
+/// The mesh transform from a `[[meshes]]` entry: scale, then rotation (Euler angles in degrees,
+/// about X, then Y, then Z), then translation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Transform {
+    pub scale: Vec3,
+    pub rotate_degrees: Vec3,
+    pub translate: Vec3,
+}
+
+impl Default for Transform {
+    fn default() -> Self {
+        Transform {
+            scale: Vec3::ONE,
+            rotate_degrees: Vec3::ZERO,
+            translate: Vec3::ZERO,
+        }
+    }
+}
+
+impl Transform {
+    /// The rotation part, `Rz · Ry · Rx` (so X is applied first).
+    fn rotation(&self) -> Mat3 {
+        let r = self.rotate_degrees;
+        Mat3::from_rotation_z(r.z.to_radians())
+            * Mat3::from_rotation_y(r.y.to_radians())
+            * Mat3::from_rotation_x(r.x.to_radians())
+    }
+
+    /// Whether the transform mirrors space (an odd number of negative scale factors).
+    fn mirrors(&self) -> bool {
+        self.scale.x * self.scale.y * self.scale.z < 0.0
+    }
+}
+
+/// Geometry of one OBJ file in world space, ready for [`super::Mesh`].
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct LoadedMesh {
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    pub indices: Vec<u32>,
+}
+
+/// Why an OBJ file could not be used; the caller adds the file's path.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct ObjProblem {
+    /// 1-based line of the OBJ file the problem is on, where one line is to blame.
+    pub line: Option<usize>,
+    pub message: String,
+}
+
+impl ObjProblem {
+    fn new(message: impl Into<String>) -> Self {
+        ObjProblem {
+            line: None,
+            message: message.into(),
+        }
+    }
+
+    fn at(line: usize, message: impl Into<String>) -> Self {
+        ObjProblem {
+            line: Some(line),
+            message: message.into(),
+        }
+    }
+}
+
+/// Reads, checks, triangulates and transforms the OBJ file at `path`.
+pub(crate) fn load_obj(path: &Path, transform: &Transform) -> Result<LoadedMesh, ObjProblem> {
+    let bytes =
+        std::fs::read(path).map_err(|e| ObjProblem::new(format!("cannot read file: {e}")))?;
+    load_obj_bytes(&bytes, transform)
+}
+
+/// [`load_obj`] on the contents of a file.
+pub(crate) fn load_obj_bytes(
+    bytes: &[u8],
+    transform: &Transform,
+) -> Result<LoadedMesh, ObjProblem> {
+    let text = std::str::from_utf8(bytes).map_err(|e| {
+        let line = 1 + bytes[..e.valid_up_to()]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count();
+        ObjProblem::at(line, "is not valid UTF-8 text")
+    })?;
+    prescan(text)?;
+
+    // `..Default::default()` covers the fields that `tobj` has only with some of its features.
+    #[allow(clippy::needless_update)]
+    let options = tobj::LoadOptions {
+        single_index: true,
+        triangulate: true,
+        ignore_points: true,
+        ignore_lines: true,
+        ..Default::default()
+    };
+    let mut reader = LineCountingReader::new(bytes);
+    // The pre-scan keeps out the inputs known to make `tobj` panic; this is a second guard so
+    // that no file can take the program down. Material libraries are never opened.
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        tobj::load_obj_buf(&mut reader, &options, |_| {
+            Err(tobj::LoadError::OpenFileFailed)
+        })
+    }));
+    let models = match result {
+        Ok(Ok((models, _materials))) => models,
+        Ok(Err(e)) => return Err(describe_tobj_error(e, reader.current_line())),
+        Err(_) => return Err(ObjProblem::new("the OBJ parser failed on this file")),
+    };
+
+    let mut positions = Vec::new();
+    // Per vertex: the file's normal for it, where the file gives every vertex of its object one.
+    let mut given_normals: Vec<Option<Vec3>> = Vec::new();
+    let mut indices = Vec::new();
+    for model in &models {
+        let m = &model.mesh;
+        let base = positions.len();
+        let count = m.positions.len() / 3;
+        let has_normals = m.normals.len() == m.positions.len();
+        for v in 0..count {
+            positions.push(Vec3::from_slice(&m.positions[3 * v..3 * v + 3]));
+            given_normals.push(has_normals.then(|| Vec3::from_slice(&m.normals[3 * v..3 * v + 3])));
+        }
+        for &i in &m.indices {
+            if i as usize >= count {
+                return Err(ObjProblem::new(format!(
+                    "object \"{}\" has a face referring to a vertex that does not exist",
+                    model.name
+                )));
+            }
+            let global = u32::try_from(base + i as usize)
+                .map_err(|_| ObjProblem::new("has more than 2^32 vertices"))?;
+            indices.push(global);
+        }
+    }
+    // Triangulation always gives whole triangles; this keeps a short index list harmless anyway.
+    indices.truncate(indices.len() / 3 * 3);
+    if indices.is_empty() {
+        return Err(ObjProblem::new(
+            "contains no triangles (no `f` lines with 3 or more vertices)",
+        ));
+    }
+
+    let loaded = LoadedMesh {
+        positions,
+        normals: Vec::new(),
+        indices,
+    };
+    finish(loaded, &given_normals, transform)
+}
+
+/// Applies `transform` to positions and given normals, keeps triangles front-facing under a
+/// mirroring transform, and fills in every normal that the file did not give (or gave as zero).
+fn finish(
+    mut mesh: LoadedMesh,
+    given_normals: &[Option<Vec3>],
+    transform: &Transform,
+) -> Result<LoadedMesh, ObjProblem> {
+    let rotation = transform.rotation();
+    for (i, p) in mesh.positions.iter_mut().enumerate() {
+        let world = rotation * (*p * transform.scale) + transform.translate;
+        if !world.is_finite() {
+            return Err(ObjProblem::new(format!(
+                "vertex {} ({}) is not finite after the mesh transform",
+                i + 1,
+                fmt_vec(*p)
+            )));
+        }
+        *p = world;
+    }
+    if transform.mirrors() {
+        for tri in mesh.indices.chunks_exact_mut(3) {
+            tri.swap(1, 2);
+        }
+    }
+
+    // Normals transform with the inverse transpose, R · S⁻¹ for M = R · S.
+    let inverse_scale = transform.scale.recip();
+    let mut normals: Vec<Option<Vec3>> = given_normals
+        .iter()
+        .map(|n| {
+            n.and_then(|n| {
+                let world = (rotation * (n * inverse_scale)).normalize_or_zero();
+                (world != Vec3::ZERO && world.is_finite()).then_some(world)
+            })
+        })
+        .collect();
+    normals.resize(mesh.positions.len(), None);
+    let computed = if normals.iter().any(Option::is_none) {
+        smooth_normals(&mesh.positions, &mesh.indices)
+    } else {
+        Vec::new()
+    };
+    mesh.normals = normals
+        .into_iter()
+        .enumerate()
+        .map(|(i, n)| n.unwrap_or_else(|| computed[i]))
+        .collect();
+    Ok(mesh)
+}
+
+/// Smooth, area-weighted vertex normals. Vertices at exactly the same position are welded first,
+/// so seams in the source data (split vertices) do not show. A vertex whose weighted sum is about
+/// zero (it touches only degenerate faces, or faces that cancel) takes the normal of its largest
+/// adjacent non-degenerate face, or +Z where there is none. Every result is finite and unit
+/// length. Degenerate triangles are kept: they add nothing to the sums.
+pub(crate) fn smooth_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> {
+    // Weld: one group per distinct position (-0.0 and 0.0 are the same position).
+    let mut group_of_position: HashMap<[u32; 3], usize> = HashMap::with_capacity(positions.len());
+    let group: Vec<usize> = positions
+        .iter()
+        .map(|p| {
+            let key = [
+                (p.x + 0.0).to_bits(),
+                (p.y + 0.0).to_bits(),
+                (p.z + 0.0).to_bits(),
+            ];
+            let next = group_of_position.len();
+            *group_of_position.entry(key).or_insert(next)
+        })
+        .collect();
+    let groups = group_of_position.len();
+
+    // In f64, so that neither very large nor very small coordinates overflow or vanish.
+    let mut sum = vec![DVec3::ZERO; groups];
+    let mut weight = vec![0.0f64; groups];
+    // The largest adjacent non-degenerate face: (twice its area, its unit normal).
+    let mut largest: Vec<Option<(f64, DVec3)>> = vec![None; groups];
+    for tri in indices.chunks_exact(3) {
+        let [a, b, c] =
+            [tri[0], tri[1], tri[2]].map(|i| positions.get(i as usize).map(|p| p.as_dvec3()));
+        let (Some(a), Some(b), Some(c)) = (a, b, c) else {
+            continue;
+        };
+        let cross = (b - a).cross(c - a);
+        let area2 = cross.length();
+        if !(area2 > 0.0 && area2.is_finite()) {
+            continue;
+        }
+        let unit = cross / area2;
+        for &i in tri {
+            let g = group[i as usize];
+            sum[g] += cross;
+            weight[g] += area2;
+            if largest[g].map_or(true, |(best, _)| area2 > best) {
+                largest[g] = Some((area2, unit));
+            }
+        }
+    }
+
+    let group_normal: Vec<Vec3> = (0..groups)
+        .map(|g| {
+            let length = sum[g].length();
+            let smooth = (length > 1e-6 * weight[g]).then(|| (sum[g] / length).as_vec3());
+            let candidate = smooth.or_else(|| largest[g].map(|(_, n)| n.as_vec3()));
+            candidate
+                .map(Vec3::normalize_or_zero)
+                .filter(|n| *n != Vec3::ZERO && n.is_finite())
+                .unwrap_or(Vec3::Z)
+        })
+        .collect();
+    group.iter().map(|&g| group_normal[g]).collect()
+}
+
+/// Checks what `tobj` leaves unchecked or reports without a line: non-finite coordinates, face
+/// indices of 0 or outside the file, faces with fewer than three vertices.
+fn prescan(text: &str) -> Result<(), ObjProblem> {
+    let lines = || text.split('\n').map(|l| l.strip_suffix('\r').unwrap_or(l));
+    let mut totals = [0usize; 3]; // v, vt, vn
+    for line in lines() {
+        match line.split_whitespace().next() {
+            Some("v") => totals[0] += 1,
+            Some("vt") => totals[1] += 1,
+            Some("vn") => totals[2] += 1,
+            _ => {}
+        }
+    }
+
+    let mut seen = [0usize; 3];
+    for (number, line) in lines().enumerate().map(|(i, l)| (i + 1, l)) {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => {
+                seen[0] += 1;
+                check_vertex(seen[0], number, words)?;
+            }
+            Some("vt") => seen[1] += 1,
+            Some("vn") => {
+                seen[2] += 1;
+                let values: Vec<f32> = words.take(3).filter_map(|w| w.parse().ok()).collect();
+                if let Some(bad) = values.iter().find(|v| !v.is_finite()) {
+                    return Err(ObjProblem::at(
+                        number,
+                        format!("normal {} has a non-finite coordinate ({bad})", seen[2]),
+                    ));
+                }
+            }
+            Some("f") => check_face(number, words, &seen, &totals)?,
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+fn check_vertex<'a>(
+    vertex: usize,
+    line: usize,
+    mut words: impl Iterator<Item = &'a str>,
+) -> Result<(), ObjProblem> {
+    let xyz: Vec<Option<f32>> = words.by_ref().take(3).map(|w| w.parse().ok()).collect();
+    let rest: Vec<&str> = words.collect();
+    if xyz.len() < 3 || xyz.iter().any(Option::is_none) {
+        return Ok(()); // `tobj` reports this as a parse error, with the line.
+    }
+    let xyz = Vec3::new(
+        xyz[0].unwrap_or(0.0),
+        xyz[1].unwrap_or(0.0),
+        xyz[2].unwrap_or(0.0),
+    );
+    if let Some(bad) = xyz.to_array().into_iter().find(|v| !v.is_finite()) {
+        return Err(ObjProblem::at(
+            line,
+            format!("vertex {vertex} has a non-finite coordinate ({bad})"),
+        ));
+    }
+    // `v x y z w`: `tobj` divides by w.
+    if let [w] = rest[..] {
+        if let Ok(w) = w.parse::<f32>() {
+            if !w.is_finite() || (w != 0.0 && !(xyz / w).is_finite()) {
+                return Err(ObjProblem::at(
+                    line,
+                    format!("vertex {vertex} has a weight w = {w} that makes it non-finite"),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+fn check_face<'a>(
+    line: usize,
+    words: impl Iterator<Item = &'a str>,
+    seen: &[usize; 3],
+    totals: &[usize; 3],
+) -> Result<(), ObjProblem> {
+    const WHAT: [(&str, &str); 3] = [
+        ("vertex", "vertices"),
+        ("texture coordinate", "texture coordinates"),
+        ("normal", "normals"),
+    ];
+    let corners: Vec<&str> = words.collect();
+    if corners.len() < 3 {
+        return Err(ObjProblem::at(
+            line,
+            format!(
+                "face has {} vertices; a polygon needs at least 3",
+                corners.len()
+            ),
+        ));
+    }
+    for corner in corners {
+        let parts: Vec<&str> = corner.split('/').collect();
+        if parts.len() > 3 || parts[0].is_empty() {
+            return Err(ObjProblem::at(
+                line,
+                format!("face corner `{corner}` is not `v`, `v/vt`, `v//vn` or `v/vt/vn`"),
+            ));
+        }
+        for (kind, part) in parts.iter().enumerate().filter(|(_, p)| !p.is_empty()) {
+            let Ok(index) = part.parse::<i64>() else {
+                return Err(ObjProblem::at(
+                    line,
+                    format!("face corner `{corner}` has an index that is not a valid integer"),
+                ));
+            };
+            let (what, plural) = WHAT[kind];
+            let valid = match index {
+                0 => false,
+                // Relative: counts back from the last one defined so far.
+                i if i < 0 => i.unsigned_abs() <= seen[kind] as u64,
+                // Absolute: `tobj` resolves them once the whole file is read.
+                i => i as u64 <= totals[kind] as u64,
+            };
+            if !valid {
+                return Err(ObjProblem::at(
+                    line,
+                    format!(
+                        "face refers to {what} {index}, but the file defines {} {plural}{}",
+                        if index < 0 { seen[kind] } else { totals[kind] },
+                        if index < 0 { " before this line" } else { "" },
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+fn describe_tobj_error(error: tobj::LoadError, line: usize) -> ObjProblem {
+    use tobj::LoadError as E;
+    let at = |message: &str| ObjProblem::at(line, message.to_string());
+    match error {
+        E::ReadError => at("cannot read this line"),
+        E::UnrecognizedCharacter => at("unrecognised character"),
+        E::PositionParseError => at("malformed vertex (`v`) line: expected 3 numbers"),
+        E::ScalingByZeroError => at("vertex has a weight w of 0"),
+        E::ColorParseError => at("malformed vertex colour: expected 3 numbers after the position"),
+        E::NormalParseError => at("malformed normal (`vn`) line: expected 3 numbers"),
+        E::TexcoordParseError => at("malformed texture coordinate (`vt`) line: expected 2 numbers"),
+        E::FaceParseError => at("malformed face (`f`) line"),
+        E::InvalidObjectName => at("malformed object (`o`) or group (`g`) name"),
+        E::InvalidPolygon => at("face has fewer than 3 vertices"),
+        E::FaceVertexOutOfBounds => {
+            ObjProblem::new("a face refers to a vertex that does not exist")
+        }
+        E::FaceTexCoordOutOfBounds => {
+            ObjProblem::new("a face refers to a texture coordinate that does not exist")
+        }
+        E::FaceNormalOutOfBounds => {
+            ObjProblem::new("a face refers to a normal that does not exist")
+        }
+        E::FaceColorOutOfBounds => {
+            ObjProblem::new("vertex colours are given for some vertices but not for others")
+        }
+        other => ObjProblem::new(format!("cannot be parsed: {other}")),
+    }
+}
+
+/// A reader over the file's bytes that counts the lines `tobj` has taken, to put a line number
+/// on its parse errors.
+struct LineCountingReader<'a> {
+    rest: &'a [u8],
+    newlines: usize,
+    after_newline: bool,
+}
+
+impl<'a> LineCountingReader<'a> {
+    fn new(bytes: &'a [u8]) -> Self {
+        LineCountingReader {
+            rest: bytes,
+            newlines: 0,
+            after_newline: true,
+        }
+    }
+
+    /// The 1-based number of the line read last.
+    fn current_line(&self) -> usize {
+        if self.after_newline {
+            self.newlines.max(1)
+        } else {
+            self.newlines + 1
+        }
+    }
+}
+
+impl Read for LineCountingReader<'_> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = buf.len().min(self.rest.len());
+        buf[..n].copy_from_slice(&self.rest[..n]);
+        self.consume(n);
+        Ok(n)
+    }
+}
+
+impl BufRead for LineCountingReader<'_> {
+    fn fill_buf(&mut self) -> std::io::Result<&[u8]> {
+        Ok(self.rest)
+    }
+
+    fn consume(&mut self, amount: usize) {
+        let (taken, rest) = self.rest.split_at(amount.min(self.rest.len()));
+        if let Some(&last) = taken.last() {
+            self.newlines += taken.iter().filter(|&&b| b == b'\n').count();
+            self.after_newline = last == b'\n';
+        }
+        self.rest = rest;
+    }
+}
+
+fn fmt_vec(v: Vec3) -> String {
+    format!("[{}, {}, {}]", v.x, v.y, v.z)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn load(text: &str) -> Result<LoadedMesh, ObjProblem> {
+        load_obj_bytes(text.as_bytes(), &Transform::default())
+    }
+
+    fn assert_unit(n: Vec3) {
+        assert!(
+            n.is_finite() && (n.length() - 1.0).abs() < 1e-6,
+            "not unit: {n}"
+        );
+    }
+
+    #[test]
+    fn flat_quad_normals_are_exactly_z_and_unit() {
+        let mesh = load("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n").unwrap();
+        assert_eq!(
+            mesh.indices.len(),
+            6,
+            "the quad is split into two triangles"
+        );
+        assert_eq!(mesh.normals.len(), mesh.positions.len());
+        for n in &mesh.normals {
+            assert_eq!(*n, Vec3::Z);
+        }
+        // The same quad wound the other way faces -Z.
+        let mesh = load("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 4 3 2 1\n").unwrap();
+        for n in &mesh.normals {
+            assert_eq!(*n, -Vec3::Z);
+        }
+    }
+
+    #[test]
+    fn welded_cube_corner_normals_are_averaged() {
+        // Three unit faces of a cube meeting at the origin, each with its own copy of the corner
+        // (as in a file with per-face vertices), all facing outward (-X, -Y, -Z).
+        let obj = "\
+v 0 0 0\nv 0 1 0\nv 0 1 1\nv 0 0 1\n\
+v 0 0 0\nv 0 0 1\nv 1 0 1\nv 1 0 0\n\
+v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n\
+f 1 4 3 2\nf 5 8 7 6\nf 9 12 11 10\n";
+        let mesh = load(obj).unwrap();
+        let expected = Vec3::splat(-1.0).normalize();
+        let corners: Vec<usize> = (0..mesh.positions.len())
+            .filter(|&i| mesh.positions[i] == Vec3::ZERO)
+            .collect();
+        assert_eq!(corners.len(), 3, "each face keeps its own corner vertex");
+        for i in corners {
+            assert!(
+                (mesh.normals[i] - expected).length() < 1e-6,
+                "{}",
+                mesh.normals[i]
+            );
+            assert_unit(mesh.normals[i]);
+        }
+    }
+
+    #[test]
+    fn degenerate_triangles_get_finite_unit_normals() {
+        // Triangle 1 is fine; triangle 2 is a sliver on a line, sharing a vertex with it;
+        // triangle 3 is a point, alone.
+        let obj =
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nv 3 0 0\nv 5 5 5\nf 1 2 3\nf 2 4 5\nf 6 6 6\n";
+        let mesh = load(obj).unwrap();
+        assert_eq!(mesh.indices.len(), 9, "degenerate triangles are kept");
+        for n in &mesh.normals {
+            assert_unit(*n);
+        }
+        let at = |p: Vec3| mesh.positions.iter().position(|q| *q == p).unwrap();
+        assert_eq!(
+            mesh.normals[at(Vec3::new(3.0, 0.0, 0.0))],
+            Vec3::Z,
+            "no good face: +Z"
+        );
+        assert_eq!(
+            mesh.normals[at(Vec3::new(5.0, 5.0, 5.0))],
+            Vec3::Z,
+            "isolated: +Z"
+        );
+        assert_eq!(
+            mesh.normals[at(Vec3::new(1.0, 0.0, 0.0))],
+            Vec3::Z,
+            "from the good face"
+        );
+
+        // Two faces that cancel exactly (a two-sided sheet) take one face's normal.
+        let mesh = load("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 3 2\n").unwrap();
+        for n in &mesh.normals {
+            assert_unit(*n);
+            assert_eq!(n.z.abs(), 1.0);
+        }
+    }
+
+    #[test]
+    fn given_normals_use_the_inverse_transpose() {
+        // A 45° slope in XY: its normal (-1, 1, 0)/√2. Stretching X by 2 makes the slope
+        // shallower, so the normal tilts towards +Y: (-1/2, 1, 0) normalised.
+        let obj = "v 0 0 0\nv 1 1 0\nv 0 1 1\nvn -1 1 0\nf 1//1 2//1 3//1\n";
+        let t = Transform {
+            scale: Vec3::new(2.0, 1.0, 1.0),
+            ..Default::default()
+        };
+        let mesh = load_obj_bytes(obj.as_bytes(), &t).unwrap();
+        let expected = Vec3::new(-0.5, 1.0, 0.0).normalize();
+        for n in &mesh.normals {
+            assert!((*n - expected).length() < 1e-6, "{n}");
+        }
+        assert_eq!(mesh.positions[1], Vec3::new(2.0, 1.0, 0.0));
+    }
+
+    #[test]
+    fn transform_order_is_scale_rotate_translate() {
+        let t = Transform {
+            scale: Vec3::splat(2.0),
+            rotate_degrees: Vec3::new(0.0, 0.0, 90.0),
+            translate: Vec3::new(10.0, 0.0, 0.0),
+        };
+        let mesh = load_obj_bytes(b"v 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n", &t).unwrap();
+        // (1,0,0) → scaled (2,0,0) → rotated 90° about Z (0,2,0) → translated (10,2,0).
+        assert!((mesh.positions[0] - Vec3::new(10.0, 2.0, 0.0)).length() < 1e-5);
+        // X then Y: (1,0,0) → Rx keeps it → Ry(90°) sends it to (0,0,-1).
+        let t = Transform {
+            rotate_degrees: Vec3::new(90.0, 90.0, 0.0),
+            ..Default::default()
+        };
+        let mesh = load_obj_bytes(b"v 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n", &t).unwrap();
+        assert!((mesh.positions[0] - Vec3::new(0.0, 0.0, -1.0)).length() < 1e-6);
+        // (0,1,0) → Rx(90°) → (0,0,1) → Ry(90°) → (1,0,0).
+        assert!((mesh.positions[1] - Vec3::new(1.0, 0.0, 0.0)).length() < 1e-6);
+    }
+
+    #[test]
+    fn mirroring_keeps_computed_normals_outward() {
+        let quad = b"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+        let t = Transform {
+            scale: Vec3::new(-1.0, 1.0, 1.0),
+            ..Default::default()
+        };
+        let mesh = load_obj_bytes(quad, &t).unwrap();
+        for n in &mesh.normals {
+            assert_eq!(*n, Vec3::Z);
+        }
+        // And the winding seen from +Z is still counter-clockwise.
+        let [a, b, c] = [0, 1, 2].map(|k| mesh.positions[mesh.indices[k] as usize]);
+        assert!((b - a).cross(c - a).z > 0.0);
+    }
+
+    #[test]
+    fn bad_files_are_errors_with_lines_not_panics() {
+        let cases: &[(&str, &str, Option<usize>)] = &[
+            (
+                "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n",
+                "vertex 3 has a non-finite coordinate (NaN)",
+                Some(3),
+            ),
+            (
+                "v 0 0 0\nv 1 0 inf\nv 0 1 0\nf 1 2 3\n",
+                "vertex 2 has a non-finite coordinate (inf)",
+                Some(2),
+            ),
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "vertex 0", Some(4)),
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", "vertex 4", Some(4)),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -4 1 2\n",
+                "vertex -4",
+                Some(4),
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//0 3//1\n",
+                "normal 0",
+                Some(5),
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//99999999999999999 2 3\n",
+                "normal",
+                Some(4),
+            ),
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n", "at least 3", Some(4)),
+            (
+                "v 0 0 0\nv 1 0\nv 0 1 0\nf 1 2 3\n",
+                "malformed vertex",
+                Some(2),
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n",
+                "not a valid integer",
+                Some(4),
+            ),
+            ("v 0 0 0\nv 1 0 0 0\nv 0 1 0\nf 1 2 3\n", "weight", Some(2)),
+            ("v 0 0 0\n", "no triangles", None),
+            ("", "no triangles", None),
+            ("# only points\nv 0 0 0\np 1\nl 1 1\n", "no triangles", None),
+        ];
+        for (obj, expected, line) in cases {
+            let problem = load(obj).expect_err(obj);
+            assert!(problem.message.contains(expected), "{obj:?}: {problem:?}");
+            assert_eq!(problem.line, *line, "{obj:?}: {problem:?}");
+        }
+        let problem = load_obj_bytes(b"v 0 0 0\n\xff\xfe\n", &Transform::default()).unwrap_err();
+        assert_eq!(problem.line, Some(2));
+    }
+
+    #[test]
+    fn objects_are_concatenated_and_normals_kept_or_filled() {
+        let obj = "\
+o a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 -1\nf 1//1 2//1 3//1\n\
+o b\nv 0 0 5\nv 1 0 5\nv 0 1 5\nf 4 5 6\n";
+        let mesh = load(obj).unwrap();
+        assert_eq!(mesh.indices.len(), 6);
+        assert_eq!(mesh.positions.len(), 6);
+        let z0: Vec<Vec3> = (0..6)
+            .filter(|&i| mesh.positions[i].z == 0.0)
+            .map(|i| mesh.normals[i])
+            .collect();
+        let z5: Vec<Vec3> = (0..6)
+            .filter(|&i| mesh.positions[i].z == 5.0)
+            .map(|i| mesh.normals[i])
+            .collect();
+        assert!(
+            z0.iter().all(|n| *n == -Vec3::Z),
+            "the file's normals are used: {z0:?}"
+        );
+        assert!(
+            z5.iter().all(|n| *n == Vec3::Z),
+            "missing normals are computed: {z5:?}"
+        );
+        for &i in &mesh.indices {
+            assert!((i as usize) < mesh.positions.len());
+        }
+    }
+
+    #[test]
+    fn line_counting_reader_counts() {
+        let mut r = LineCountingReader::new(b"a\nb\nc");
+        let mut s = String::new();
+        r.read_line(&mut s).unwrap();
+        assert_eq!(r.current_line(), 1);
+        r.read_line(&mut s).unwrap();
+        assert_eq!(r.current_line(), 2);
+        r.read_line(&mut s).unwrap();
+        assert_eq!(r.current_line(), 3);
+    }
+}

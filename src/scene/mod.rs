@@ -1,0 +1,939 @@
+//! Scenes: the TOML scene schema, its validation, and OBJ mesh loading.
+//!
+//! This module owns everything between a scene file on disk and a checked, world-space
+//! [`Scene`] in memory: the camera, the render settings (shading-error bound `epsilon`,
+//! maximum shading rate `n_max`, exposure, image size), the materials (Lambert, Blinn-Phong,
+//! GGX), the lights (point, directional) and the triangle meshes, read from Wavefront OBJ files
+//! with their transforms applied and with finite, unit-length vertex normals. It knows nothing
+//! of Vulkan or of how a scene is drawn.
+//!
+//! # File format
+//!
+//! A scene is one TOML file; paths in it are relative to the folder the file is in. Unknown
+//! keys are errors. See `scenes/README.md` for the complete schema with every default; in short:
+//!
+//! ```toml
+//! description = "Stanford bunny, Blinn-Phong, two point lights"
+//! source = "free text: where the mesh came from"
+//! [camera]
+//! eye = [0.0, 0.1, 0.3]
+//! target = [0.0, 0.1, 0.0]
+//! up = [0.0, 1.0, 0.0]        # optional, default +Y
+//! fov_y_degrees = 40.0
+//! near = 0.01                  # optional, default 0.001 × far
+//! far = 10.0                   # optional, default: just past the farthest corner of the bounds
+//! [render]                     # optional, as is each key in it
+//! width = 1280
+//! height = 720
+//! epsilon = 0.075
+//! n_max = 16
+//! exposure = 1.0
+//! clear_color = [0.0, 0.0, 0.0]
+//! [[materials]]
+//! name = "clay"
+//! type = "lambert"             # lambert (kd) | blinn_phong (kd, ks, shininess) | ggx (albedo, f0, roughness)
+//! kd = [0.8, 0.8, 0.8]
+//! [[meshes]]
+//! obj = "bunny.obj"
+//! material = "clay"
+//! name = "bunny"               # optional, default the OBJ file's stem
+//! translate = [0, 0, 0]        # optional
+//! rotate_degrees = [0, 0, 0]   # optional: about X, then Y, then Z
+//! scale = 1.0                  # optional: a number or [x, y, z]
+//! [[lights]]
+//! type = "point"               # point (position) | directional (direction)
+//! position = [1, 1, 1]
+//! color = [1, 1, 1]
+//! intensity = 2.0
+//! ```
+//!
+//! # Errors
+//!
+//! [`Scene::load`] never panics. Every [`SceneError`] displays as the path of the file at fault
+//! (the TOML file or an OBJ file), then the item or line, then the problem, for example
+//! `scenes/x.toml: [[meshes]] #2: material "steel" is not defined`.
+
+mod mesh;
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+use serde::de::{self, Deserializer, SeqAccess, Visitor};
+use serde::Deserialize;
+
+/// A loaded, checked scene. Everything is in world space; meshes have their transforms applied.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    /// The TOML file the scene was loaded from, as given to [`Scene::load`].
+    pub path: PathBuf,
+    pub description: String,
+    pub camera: Camera,
+    pub settings: RenderSettings,
+    pub materials: Vec<Material>,
+    pub lights: Vec<Light>,
+    /// At least one after [`Scene::load`].
+    pub meshes: Vec<Mesh>,
+}
+
+/// A perspective camera. `near` and `far` are always set after loading (derived from the
+/// scene bounds when the file leaves them out).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Camera {
+    pub eye: Vec3,
+    pub target: Vec3,
+    /// Unit length, not parallel to `target - eye` (not necessarily perpendicular to it).
+    pub up: Vec3,
+    /// Vertical field of view, in (0, 180).
+    pub fov_y_degrees: f32,
+    /// `0 < near < far`.
+    pub near: f32,
+    pub far: f32,
+}
+
+/// How the scene is to be rendered.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RenderSettings {
+    /// Image size in pixels, each in 1..=16384.
+    pub width: u32,
+    pub height: u32,
+    /// The shading-error bound ε, > 0.
+    pub epsilon: f32,
+    /// The maximum shading rate (samples per side of a patch), in 1..=64.
+    pub n_max: u32,
+    /// Linear scale applied to radiance before display, > 0.
+    pub exposure: f32,
+    /// Linear colour of pixels no mesh covers, each component ≥ 0.
+    pub clear_color: Vec3,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            width: 1280,
+            height: 720,
+            epsilon: 0.075,
+            n_max: 16,
+            exposure: 1.0,
+            clear_color: Vec3::ZERO,
+        }
+    }
+}
+
+/// A named material; meshes refer to materials by index into [`Scene::materials`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Material {
+    pub name: String,
+    pub kind: MaterialKind,
+}
+
+/// The BRDF of a material and its parameters. Colours are linear, each component in [0, 1].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum MaterialKind {
+    /// Diffuse only: `kd · max(n·l, 0)`.
+    Lambert { kd: Vec3 },
+    /// Diffuse plus `ks · max(n·h, 0)^shininess` where `n·l > 0`; shininess in [1, 10⁴].
+    BlinnPhong { kd: Vec3, ks: Vec3, shininess: f32 },
+    /// Lambert `albedo` plus a GGX microfacet specular lobe with Schlick Fresnel from `f0`;
+    /// roughness in [0, 1], α = roughness².
+    Ggx {
+        albedo: Vec3,
+        f0: Vec3,
+        roughness: f32,
+    },
+}
+
+/// A light. Irradiance from a point light falls off as 1/d²; a directional light's does not.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Light {
+    Point {
+        position: Vec3,
+        color: Vec3,
+        intensity: f32,
+    },
+    /// `direction` is unit length and is the direction the light travels (from the light into
+    /// the scene), so the direction towards the light is `-direction`.
+    Directional {
+        direction: Vec3,
+        color: Vec3,
+        intensity: f32,
+    },
+}
+
+/// A triangle mesh in world space.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mesh {
+    pub name: String,
+    /// The OBJ file it was read from (the scene file's folder joined with the `obj` key).
+    pub source: PathBuf,
+    /// Index into [`Scene::materials`].
+    pub material: usize,
+    /// World space, transform applied; all finite.
+    pub positions: Vec<Vec3>,
+    /// World space, unit length, one per position.
+    pub normals: Vec<Vec3>,
+    /// Triangle list, at least one triangle, every index < `positions.len()`. Degenerate
+    /// (zero-area) triangles from the file are kept.
+    pub indices: Vec<u32>,
+}
+
+/// Why a scene could not be loaded. `Display` starts with the path of the file at fault.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// The scene file could not be read.
+    #[error("{}: cannot read file: {error}", path.display())]
+    Io {
+        path: PathBuf,
+        error: std::io::Error,
+    },
+    /// The scene file is not valid TOML, has an unknown key, a missing key or a value of the
+    /// wrong type. `message` is the `toml` crate's.
+    /// `text` is the offending line of the file, trimmed and shortened, so that the key is
+    /// named even where the message does not name it.
+    #[error("{}: {message}{}", path.display(), fmt_location(*line, *column, text))]
+    Parse {
+        path: PathBuf,
+        message: String,
+        line: Option<usize>,
+        column: Option<usize>,
+        text: String,
+    },
+    /// The scene file parsed but a value is out of range or inconsistent. `item` names the
+    /// table and key, e.g. `[[materials]] #2 ("shiny")`, `[camera]`.
+    #[error("{}: {item}: {problem}", path.display())]
+    Invalid {
+        path: PathBuf,
+        item: String,
+        problem: String,
+    },
+    /// An OBJ file named by the scene could not be read or used.
+    #[error(
+        "{}: {}{problem} (used by [[meshes]] #{mesh} in {})",
+        path.display(),
+        fmt_line(*line),
+        scene.display()
+    )]
+    Obj {
+        path: PathBuf,
+        line: Option<usize>,
+        problem: String,
+        scene: PathBuf,
+        mesh: usize,
+    },
+}
+
+fn fmt_location(line: Option<usize>, column: Option<usize>, text: &str) -> String {
+    let text = if text.is_empty() {
+        String::new()
+    } else {
+        format!(": `{text}`")
+    };
+    match (line, column) {
+        (Some(l), Some(c)) => format!(" (line {l}, column {c}{text})"),
+        (Some(l), None) => format!(" (line {l}{text})"),
+        _ => String::new(),
+    }
+}
+
+fn fmt_line(line: Option<usize>) -> String {
+    line.map(|l| format!("line {l}: ")).unwrap_or_default()
+}
+
+impl Scene {
+    /// Reads, parses and checks the scene file at `path` and every OBJ file it names.
+    pub fn load(path: &Path) -> Result<Scene, SceneError> {
+        let text = std::fs::read_to_string(path).map_err(|error| SceneError::Io {
+            path: path.to_path_buf(),
+            error,
+        })?;
+        let file: SceneFile = toml::from_str(&text).map_err(|e| {
+            let (line, column, snippet) = match e.span() {
+                Some(span) => {
+                    let (l, c) = line_column(&text, span.start);
+                    (Some(l), Some(c), line_text(&text, l))
+                }
+                None => (None, None, String::new()),
+            };
+            SceneError::Parse {
+                path: path.to_path_buf(),
+                message: e.message().trim().lines().map(str::trim).collect::<Vec<_>>().join("; "),
+                line,
+                column,
+                text: snippet,
+            }
+        })?;
+        build(path, file)
+    }
+
+    /// The number of triangles in all meshes (degenerate ones included).
+    pub fn triangle_count(&self) -> usize {
+        self.meshes.iter().map(|m| m.indices.len() / 3).sum()
+    }
+
+    /// The world-space axis-aligned bounds `(min, max)` of every mesh vertex, or
+    /// `(Vec3::ZERO, Vec3::ZERO)` for a scene without vertices (which `load` never returns).
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        bounds_of(self.meshes.iter().flat_map(|m| m.positions.iter().copied()))
+    }
+}
+
+fn bounds_of(points: impl Iterator<Item = Vec3>) -> (Vec3, Vec3) {
+    let (min, max) = points.fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
+        (lo.min(p), hi.max(p))
+    });
+    if min.x > max.x {
+        (Vec3::ZERO, Vec3::ZERO)
+    } else {
+        (min, max)
+    }
+}
+
+/// 1-based line and column (in characters) of byte `offset` in `text`.
+fn line_column(text: &str, offset: usize) -> (usize, usize) {
+    let mut offset = offset.min(text.len());
+    while !text.is_char_boundary(offset) {
+        offset -= 1;
+    }
+    let before = &text[..offset];
+    let line = before.matches('\n').count() + 1;
+    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+    (line, before[line_start..].chars().count() + 1)
+}
+
+/// Line `line` (1-based) of `text`, trimmed, cut to at most 60 characters.
+fn line_text(text: &str, line: usize) -> String {
+    let full = text
+        .lines()
+        .nth(line.saturating_sub(1))
+        .unwrap_or("")
+        .trim();
+    let mut short: String = full.chars().take(60).collect();
+    if short.len() < full.len() {
+        short.push_str("...");
+    }
+    short
+}
+
+// ---------------------------------------------------------------------------------------------
+// The file as written (serde), before checking.
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SceneFile {
+    description: String,
+    source: String,
+    camera: CameraFile,
+    #[serde(default)]
+    render: RenderFile,
+    #[serde(default)]
+    materials: Vec<MaterialFile>,
+    #[serde(default)]
+    meshes: Vec<MeshFile>,
+    #[serde(default)]
+    lights: Vec<LightFile>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CameraFile {
+    eye: [f32; 3],
+    target: [f32; 3],
+    up: Option<[f32; 3]>,
+    fov_y_degrees: f32,
+    near: Option<f32>,
+    far: Option<f32>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+struct RenderFile {
+    width: u32,
+    height: u32,
+    epsilon: f32,
+    n_max: u32,
+    exposure: f32,
+    clear_color: [f32; 3],
+}
+
+impl Default for RenderFile {
+    fn default() -> Self {
+        let d = RenderSettings::default();
+        RenderFile {
+            width: d.width,
+            height: d.height,
+            epsilon: d.epsilon,
+            n_max: d.n_max,
+            exposure: d.exposure,
+            clear_color: d.clear_color.to_array(),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum MaterialType {
+    Lambert,
+    BlinnPhong,
+    Ggx,
+}
+
+impl MaterialType {
+    fn as_str(self) -> &'static str {
+        match self {
+            MaterialType::Lambert => "lambert",
+            MaterialType::BlinnPhong => "blinn_phong",
+            MaterialType::Ggx => "ggx",
+        }
+    }
+}
+
+/// One flat table for every material type, so that serde keeps exact error positions; which
+/// keys a type needs and allows is checked in [`check_material`].
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MaterialFile {
+    name: String,
+    #[serde(rename = "type")]
+    kind: MaterialType,
+    kd: Option<[f32; 3]>,
+    ks: Option<[f32; 3]>,
+    shininess: Option<f32>,
+    albedo: Option<[f32; 3]>,
+    f0: Option<[f32; 3]>,
+    roughness: Option<f32>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum LightType {
+    Point,
+    Directional,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LightFile {
+    #[serde(rename = "type")]
+    kind: LightType,
+    position: Option<[f32; 3]>,
+    direction: Option<[f32; 3]>,
+    color: [f32; 3],
+    intensity: f32,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MeshFile {
+    obj: PathBuf,
+    material: String,
+    name: Option<String>,
+    translate: Option<[f32; 3]>,
+    rotate_degrees: Option<[f32; 3]>,
+    scale: Option<Scale>,
+}
+
+/// `scale = 2.0` or `scale = [1, 2, 1]`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Scale([f32; 3]);
+
+impl<'de> Deserialize<'de> for Scale {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct ScaleVisitor;
+
+        impl<'de> Visitor<'de> for ScaleVisitor {
+            type Value = Scale;
+
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a number or an array of three numbers")
+            }
+
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Scale, E> {
+                Ok(Scale([v as f32; 3]))
+            }
+
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Scale, E> {
+                Ok(Scale([v as f32; 3]))
+            }
+
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Scale, E> {
+                Ok(Scale([v as f32; 3]))
+            }
+
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Scale, A::Error> {
+                let mut xyz = [0.0f32; 3];
+                for (i, c) in xyz.iter_mut().enumerate() {
+                    *c = seq
+                        .next_element()?
+                        .ok_or_else(|| de::Error::invalid_length(i, &self))?;
+                }
+                let mut extra = 3;
+                while seq.next_element::<de::IgnoredAny>()?.is_some() {
+                    extra += 1;
+                }
+                if extra > 3 {
+                    return Err(de::Error::invalid_length(extra, &self));
+                }
+                Ok(Scale(xyz))
+            }
+        }
+
+        deserializer.deserialize_any(ScaleVisitor)
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Checking.
+
+/// Builds errors for one item of one file.
+struct Item<'a> {
+    path: &'a Path,
+    item: String,
+}
+
+impl Item<'_> {
+    fn error(&self, problem: impl Into<String>) -> SceneError {
+        SceneError::Invalid {
+            path: self.path.to_path_buf(),
+            item: self.item.clone(),
+            problem: problem.into(),
+        }
+    }
+
+    fn finite(&self, key: &str, v: f32) -> Result<f32, SceneError> {
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(self.error(format!("`{key}` = {v} is not a finite number")))
+        }
+    }
+
+    fn vec3(&self, key: &str, v: [f32; 3]) -> Result<Vec3, SceneError> {
+        if v.iter().all(|c| c.is_finite()) {
+            Ok(Vec3::from_array(v))
+        } else {
+            Err(self.error(format!(
+                "`{key}` = {} has a component that is not a finite number",
+                fmt_array(v)
+            )))
+        }
+    }
+
+    /// A finite number in `lo..=hi` (or `lo < v` / `v < hi` where the bound is open).
+    fn range(&self, key: &str, v: f32, lo: Bound, hi: Bound) -> Result<f32, SceneError> {
+        let v = self.finite(key, v)?;
+        if lo.below(v) && hi.above(v) {
+            Ok(v)
+        } else {
+            Err(self.error(format!("`{key}` = {v} is outside {}", fmt_interval(lo, hi))))
+        }
+    }
+
+    fn vec3_range(&self, key: &str, v: [f32; 3], lo: Bound, hi: Bound) -> Result<Vec3, SceneError> {
+        let v3 = self.vec3(key, v)?;
+        if v.iter().all(|&c| lo.below(c) && hi.above(c)) {
+            Ok(v3)
+        } else {
+            Err(self.error(format!(
+                "`{key}` = {} has a component outside {}",
+                fmt_array(v),
+                fmt_interval(lo, hi)
+            )))
+        }
+    }
+
+    fn required<T>(&self, key: &str, v: Option<T>, why: &str) -> Result<T, SceneError> {
+        v.ok_or_else(|| self.error(format!("missing `{key}` (required {why})")))
+    }
+
+    fn forbidden<T>(&self, key: &str, v: &Option<T>, why: &str) -> Result<(), SceneError> {
+        match v {
+            Some(_) => Err(self.error(format!("`{key}` does not apply {why}"))),
+            None => Ok(()),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+enum Bound {
+    Closed(f32),
+    Open(f32),
+    None,
+}
+
+impl Bound {
+    /// Whether `v` is on the allowed side of this bound taken as a lower bound.
+    fn below(self, v: f32) -> bool {
+        match self {
+            Bound::Closed(b) => v >= b,
+            Bound::Open(b) => v > b,
+            Bound::None => true,
+        }
+    }
+
+    /// Whether `v` is on the allowed side of this bound taken as an upper bound.
+    fn above(self, v: f32) -> bool {
+        match self {
+            Bound::Closed(b) => v <= b,
+            Bound::Open(b) => v < b,
+            Bound::None => true,
+        }
+    }
+}
+
+fn fmt_interval(lo: Bound, hi: Bound) -> String {
+    let lo = match lo {
+        Bound::Closed(b) => format!("[{b}"),
+        Bound::Open(b) => format!("({b}"),
+        Bound::None => "(-inf".to_string(),
+    };
+    let hi = match hi {
+        Bound::Closed(b) => format!("{b}]"),
+        Bound::Open(b) => format!("{b})"),
+        Bound::None => "inf)".to_string(),
+    };
+    format!("{lo}, {hi}")
+}
+
+fn fmt_array(v: [f32; 3]) -> String {
+    format!("[{}, {}, {}]", v[0], v[1], v[2])
+}
+
+use Bound::{Closed, Open};
+
+fn build(path: &Path, file: SceneFile) -> Result<Scene, SceneError> {
+    let top = |key: &str| Item {
+        path,
+        item: format!("`{key}`"),
+    };
+    if file.source.trim().is_empty() {
+        return Err(top("source").error("must say where the meshes come from"));
+    }
+
+    let settings = check_render(path, &file.render)?;
+
+    let mut materials: Vec<Material> = Vec::with_capacity(file.materials.len());
+    for (i, m) in file.materials.iter().enumerate() {
+        let material = check_material(path, i, m)?;
+        if materials.iter().any(|other| other.name == material.name) {
+            return Err(Item {
+                path,
+                item: format!("[[materials]] #{} (\"{}\")", i + 1, m.name),
+            }
+            .error(format!("duplicate material name \"{}\"", m.name)));
+        }
+        materials.push(material);
+    }
+
+    if file.lights.is_empty() {
+        return Err(
+            top("lights").error("the scene has no lights; add at least one [[lights]] table")
+        );
+    }
+    let lights = file
+        .lights
+        .iter()
+        .enumerate()
+        .map(|(i, l)| check_light(path, i, l))
+        .collect::<Result<Vec<_>, _>>()?;
+
+    // The camera checks that do not need the meshes come first, so that a mistake there is
+    // reported without reading any OBJ file.
+    let camera_item = Item {
+        path,
+        item: "[camera]".to_string(),
+    };
+    let camera = check_camera(&camera_item, &file.camera)?;
+
+    if file.meshes.is_empty() {
+        return Err(
+            top("meshes").error("the scene has no meshes; add at least one [[meshes]] table")
+        );
+    }
+    let folder = path.parent().unwrap_or(Path::new(""));
+    let mut meshes = Vec::with_capacity(file.meshes.len());
+    for (i, m) in file.meshes.iter().enumerate() {
+        meshes.push(load_mesh(path, folder, i, m, &materials)?);
+    }
+
+    let (lo, hi) = bounds_of(
+        meshes
+            .iter()
+            .flat_map(|m: &Mesh| m.positions.iter().copied()),
+    );
+    let camera = finish_camera(&camera_item, camera, &file.camera, lo, hi)?;
+
+    Ok(Scene {
+        path: path.to_path_buf(),
+        description: file.description,
+        camera,
+        settings,
+        materials,
+        lights,
+        meshes,
+    })
+}
+
+fn check_render(path: &Path, r: &RenderFile) -> Result<RenderSettings, SceneError> {
+    let item = Item {
+        path,
+        item: "[render]".to_string(),
+    };
+    let size = |key: &str, v: u32| {
+        if (1..=16384).contains(&v) {
+            Ok(v)
+        } else {
+            Err(item.error(format!("`{key}` = {v} is outside 1..=16384")))
+        }
+    };
+    let width = size("width", r.width)?;
+    let height = size("height", r.height)?;
+    if !(1..=64).contains(&r.n_max) {
+        return Err(item.error(format!("`n_max` = {} is outside 1..=64", r.n_max)));
+    }
+    Ok(RenderSettings {
+        width,
+        height,
+        epsilon: item.range("epsilon", r.epsilon, Open(0.0), Bound::None)?,
+        n_max: r.n_max,
+        exposure: item.range("exposure", r.exposure, Open(0.0), Bound::None)?,
+        clear_color: item.vec3_range("clear_color", r.clear_color, Closed(0.0), Bound::None)?,
+    })
+}
+
+fn check_material(path: &Path, index: usize, m: &MaterialFile) -> Result<Material, SceneError> {
+    let item = Item {
+        path,
+        item: format!("[[materials]] #{} (\"{}\")", index + 1, m.name),
+    };
+    if m.name.trim().is_empty() {
+        return Err(item.error("`name` is empty"));
+    }
+    let why = format!("for type \"{}\"", m.kind.as_str());
+    let why_not = format!("to type \"{}\"", m.kind.as_str());
+    let unit = |key: &str, v: [f32; 3]| item.vec3_range(key, v, Closed(0.0), Closed(1.0));
+    let kind = match m.kind {
+        MaterialType::Lambert => {
+            for (key, v) in [("ks", &m.ks), ("albedo", &m.albedo), ("f0", &m.f0)] {
+                item.forbidden(key, v, &why_not)?;
+            }
+            item.forbidden("shininess", &m.shininess, &why_not)?;
+            item.forbidden("roughness", &m.roughness, &why_not)?;
+            MaterialKind::Lambert {
+                kd: unit("kd", item.required("kd", m.kd, &why)?)?,
+            }
+        }
+        MaterialType::BlinnPhong => {
+            for (key, v) in [("albedo", &m.albedo), ("f0", &m.f0)] {
+                item.forbidden(key, v, &why_not)?;
+            }
+            item.forbidden("roughness", &m.roughness, &why_not)?;
+            MaterialKind::BlinnPhong {
+                kd: unit("kd", item.required("kd", m.kd, &why)?)?,
+                ks: unit("ks", item.required("ks", m.ks, &why)?)?,
+                shininess: item.range(
+                    "shininess",
+                    item.required("shininess", m.shininess, &why)?,
+                    Closed(1.0),
+                    Closed(1e4),
+                )?,
+            }
+        }
+        MaterialType::Ggx => {
+            for (key, v) in [("kd", &m.kd), ("ks", &m.ks)] {
+                item.forbidden(key, v, &why_not)?;
+            }
+            item.forbidden("shininess", &m.shininess, &why_not)?;
+            MaterialKind::Ggx {
+                albedo: unit("albedo", item.required("albedo", m.albedo, &why)?)?,
+                f0: unit("f0", item.required("f0", m.f0, &why)?)?,
+                roughness: item.range(
+                    "roughness",
+                    item.required("roughness", m.roughness, &why)?,
+                    Closed(0.0),
+                    Closed(1.0),
+                )?,
+            }
+        }
+    };
+    Ok(Material {
+        name: m.name.clone(),
+        kind,
+    })
+}
+
+fn check_light(path: &Path, index: usize, l: &LightFile) -> Result<Light, SceneError> {
+    let kind = match l.kind {
+        LightType::Point => "point",
+        LightType::Directional => "directional",
+    };
+    let item = Item {
+        path,
+        item: format!("[[lights]] #{} ({kind})", index + 1),
+    };
+    let color = item.vec3_range("color", l.color, Closed(0.0), Bound::None)?;
+    let intensity = item.range("intensity", l.intensity, Closed(0.0), Bound::None)?;
+    let why = format!("for type \"{kind}\"");
+    let why_not = format!("to type \"{kind}\"");
+    Ok(match l.kind {
+        LightType::Point => {
+            let position = item.vec3("position", item.required("position", l.position, &why)?)?;
+            item.forbidden("direction", &l.direction, &why_not)?;
+            Light::Point {
+                position,
+                color,
+                intensity,
+            }
+        }
+        LightType::Directional => {
+            let raw = item.required("direction", l.direction, &why)?;
+            item.forbidden("position", &l.position, &why_not)?;
+            let direction = item.vec3("direction", raw)?.normalize_or_zero();
+            if direction == Vec3::ZERO || !direction.is_finite() {
+                return Err(item.error(format!("`direction` = {} is zero", fmt_array(raw))));
+            }
+            Light::Directional {
+                direction,
+                color,
+                intensity,
+            }
+        }
+    })
+}
+
+/// Checks everything about the camera except `near`/`far`, which may need the scene bounds.
+fn check_camera(item: &Item, c: &CameraFile) -> Result<Camera, SceneError> {
+    let eye = item.vec3("eye", c.eye)?;
+    let target = item.vec3("target", c.target)?;
+    let raw_up = c.up.unwrap_or([0.0, 1.0, 0.0]);
+    let up = item.vec3("up", raw_up)?;
+    let fov_y_degrees = item.range("fov_y_degrees", c.fov_y_degrees, Open(0.0), Open(180.0))?;
+    let view = (target - eye).normalize_or_zero();
+    if view == Vec3::ZERO || !view.is_finite() {
+        return Err(item.error(format!(
+            "`eye` and `target` are the same point {}",
+            fmt_array(c.eye)
+        )));
+    }
+    let up = up.normalize_or_zero();
+    if up == Vec3::ZERO || !up.is_finite() {
+        return Err(item.error(format!("`up` = {} is zero", fmt_array(raw_up))));
+    }
+    if view.cross(up).length() < 1e-4 {
+        return Err(item.error(format!(
+            "`up` = {} is parallel to the view direction (from `eye` to `target`)",
+            fmt_array(raw_up)
+        )));
+    }
+    if let Some(near) = c.near {
+        item.range("near", near, Open(0.0), Bound::None)?;
+    }
+    if let Some(far) = c.far {
+        item.range("far", far, Open(0.0), Bound::None)?;
+    }
+    Ok(Camera {
+        eye,
+        target,
+        up,
+        fov_y_degrees,
+        near: 0.0,
+        far: 0.0,
+    })
+}
+
+/// Fills in `near` and `far`: a missing `far` lies just past the bounds corner farthest from
+/// the eye (and past the target), a missing `near` is `far / 1000`.
+fn finish_camera(
+    item: &Item,
+    mut camera: Camera,
+    c: &CameraFile,
+    lo: Vec3,
+    hi: Vec3,
+) -> Result<Camera, SceneError> {
+    let far = match c.far {
+        Some(far) => far,
+        None => {
+            let eye = camera.eye.as_dvec3();
+            let mut farthest = (camera.target.as_dvec3() - eye).length();
+            for i in 0..8 {
+                let corner =
+                    Vec3::select(glam::BVec3::new(i & 1 == 0, i & 2 == 0, i & 4 == 0), lo, hi);
+                farthest = farthest.max((corner.as_dvec3() - eye).length());
+            }
+            let far = (farthest * 1.01) as f32;
+            if !far.is_finite() {
+                return Err(
+                    item.error("cannot derive `far` from the scene bounds (too large); give `far`")
+                );
+            }
+            far
+        }
+    };
+    let near = c.near.unwrap_or(far * 1e-3);
+    if !(near > 0.0 && near.is_finite()) {
+        return Err(item.error(format!(
+            "derived `near` = {near} is not a positive number; give `near`"
+        )));
+    }
+    if near >= far {
+        return Err(item.error(format!("`near` = {near} is not less than `far` = {far}")));
+    }
+    camera.near = near;
+    camera.far = far;
+    Ok(camera)
+}
+
+fn load_mesh(
+    path: &Path,
+    folder: &Path,
+    index: usize,
+    m: &MeshFile,
+    materials: &[Material],
+) -> Result<Mesh, SceneError> {
+    let item = Item {
+        path,
+        item: format!("[[meshes]] #{} (\"{}\")", index + 1, m.obj.display()),
+    };
+    let material = materials
+        .iter()
+        .position(|mat| mat.name == m.material)
+        .ok_or_else(|| item.error(format!("material \"{}\" is not defined", m.material)))?;
+    let scale = item.vec3("scale", m.scale.unwrap_or(Scale([1.0; 3])).0)?;
+    if scale.to_array().contains(&0.0) {
+        return Err(item.error(format!(
+            "`scale` = {} has a zero component",
+            fmt_array(scale.to_array())
+        )));
+    }
+    let transform = mesh::Transform {
+        scale,
+        rotate_degrees: item.vec3("rotate_degrees", m.rotate_degrees.unwrap_or([0.0; 3]))?,
+        translate: item.vec3("translate", m.translate.unwrap_or([0.0; 3]))?,
+    };
+    let source = folder.join(&m.obj);
+    let name = match &m.name {
+        Some(name) => name.clone(),
+        None => m
+            .obj
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+    };
+    let loaded = mesh::load_obj(&source, &transform).map_err(|p| SceneError::Obj {
+        path: source.clone(),
+        line: p.line,
+        problem: p.message,
+        scene: path.to_path_buf(),
+        mesh: index + 1,
+    })?;
+    Ok(Mesh {
+        name,
+        source,
+        material,
+        positions: loaded.positions,
+        normals: loaded.normals,
+        indices: loaded.indices,
+    })
+}
+
+#[cfg(test)]
+mod tests;

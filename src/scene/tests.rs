@@ -1,0 +1,605 @@
+//! Tests of scene loading: the schema, every kind of error, and the shipped scenes.
+
+use super::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// A fresh folder under the system temporary folder, removed when dropped.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(name: &str) -> TempDir {
+        static COUNTER: AtomicUsize = AtomicUsize::new(0);
+        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+        let dir =
+            std::env::temp_dir().join(format!("multirate-scene-{}-{name}-{n}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        TempDir(dir)
+    }
+
+    fn write(&self, name: &str, text: &str) -> PathBuf {
+        let path = self.0.join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+const QUAD_OBJ: &str = "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nf 1 4 3 2\n";
+
+const MINIMAL: &str = r#"
+description = "one quad"
+source = "written by the test"
+[camera]
+eye = [0, 1, 3]
+target = [0, 0, 0]
+fov_y_degrees = 45
+[[materials]]
+name = "clay"
+type = "lambert"
+kd = [0.8, 0.8, 0.8]
+[[meshes]]
+obj = "quad.obj"
+material = "clay"
+[[lights]]
+type = "directional"
+direction = [0, -2, 0]
+color = [1, 1, 1]
+intensity = 1.0
+"#;
+
+/// Writes `quad.obj` and a scene, and loads the scene.
+fn load_text(dir: &TempDir, scene: &str) -> (PathBuf, Result<Scene, SceneError>) {
+    dir.write("quad.obj", QUAD_OBJ);
+    let path = dir.write("scene.toml", scene);
+    let result = Scene::load(&path);
+    (path, result)
+}
+
+/// Loads `scene` and asserts that it fails with a message that starts with the path of the
+/// file at fault and contains every one of `needles`.
+#[track_caller]
+fn expect_error(scene: &str, needles: &[&str]) -> String {
+    let dir = TempDir::new("err");
+    let (path, result) = load_text(&dir, scene);
+    let message = result.expect_err("the scene should not load").to_string();
+    assert!(
+        message.starts_with(&path.display().to_string()),
+        "{message:?} does not start with {}",
+        path.display()
+    );
+    for needle in needles {
+        assert!(
+            message.contains(needle),
+            "{message:?} does not mention {needle:?}"
+        );
+    }
+    message
+}
+
+/// `MINIMAL` with `from` replaced by `to` (which must change it).
+#[track_caller]
+fn minimal_with(from: &str, to: &str) -> String {
+    assert!(MINIMAL.contains(from), "{from:?}");
+    MINIMAL.replacen(from, to, 1)
+}
+
+#[test]
+fn minimal_scene_loads_with_defaults() {
+    let dir = TempDir::new("minimal");
+    let (path, result) = load_text(&dir, MINIMAL);
+    let scene = result.unwrap();
+    assert_eq!(scene.path, path);
+    assert_eq!(scene.description, "one quad");
+    assert_eq!(scene.settings, RenderSettings::default());
+    assert_eq!(scene.settings.width, 1280);
+    assert_eq!(scene.settings.epsilon, 0.075);
+    assert_eq!(scene.settings.n_max, 16);
+    assert_eq!(scene.camera.up, Vec3::Y);
+    assert_eq!(scene.camera.eye, Vec3::new(0.0, 1.0, 3.0));
+    assert_eq!(
+        scene.materials,
+        vec![Material {
+            name: "clay".into(),
+            kind: MaterialKind::Lambert {
+                kd: Vec3::splat(0.8)
+            }
+        }]
+    );
+    assert_eq!(
+        scene.lights,
+        vec![Light::Directional {
+            direction: -Vec3::Y,
+            color: Vec3::ONE,
+            intensity: 1.0
+        }]
+    );
+    assert_eq!(scene.meshes.len(), 1);
+    let mesh = &scene.meshes[0];
+    assert_eq!(mesh.name, "quad");
+    assert_eq!(mesh.source, dir.0.join("quad.obj"));
+    assert_eq!(mesh.material, 0);
+    assert_eq!(scene.triangle_count(), 2);
+    assert_eq!(
+        scene.bounds(),
+        (Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 0.0, 1.0))
+    );
+    for n in &mesh.normals {
+        assert_eq!(*n, Vec3::Y);
+    }
+    // far: just past the farthest corner, (±1, 0, -1) from (0, 1, 3): √(1 + 1 + 16).
+    let far = 18f32.sqrt() * 1.01;
+    assert!(
+        (scene.camera.far - far).abs() < 1e-5,
+        "{}",
+        scene.camera.far
+    );
+    assert!(
+        (scene.camera.near - far * 1e-3).abs() < 1e-7,
+        "{}",
+        scene.camera.near
+    );
+}
+
+#[test]
+fn every_key_is_read() {
+    let dir = TempDir::new("full");
+    let scene = r#"
+description = "all keys"
+source = "test"
+[camera]
+eye = [0, 1, 3]
+target = [0, 0, 0]
+up = [0, 0, 2]
+fov_y_degrees = 30.0
+near = 0.5
+far = 50
+[render]
+width = 640
+height = 480
+epsilon = 0.1
+n_max = 8
+exposure = 2.0
+clear_color = [0.1, 0.2, 0.3]
+[[materials]]
+name = "shiny"
+type = "blinn_phong"
+kd = [0.5, 0.1, 0.1]
+ks = [0.4, 0.4, 0.4]
+shininess = 64.0
+[[materials]]
+name = "metal"
+type = "ggx"
+albedo = [0.1, 0.1, 0.1]
+f0 = [0.9, 0.6, 0.3]
+roughness = 0.3
+[[meshes]]
+obj = "quad.obj"
+material = "metal"
+name = "floor"
+translate = [0, -1, 0]
+rotate_degrees = [0, 90, 0]
+scale = [2, 1, 3]
+[[meshes]]
+obj = "./quad.obj"
+material = "shiny"
+scale = 0.5
+[[lights]]
+type = "point"
+position = [1, 1, 1]
+color = [1, 0.5, 0]
+intensity = 2
+"#;
+    let scene = load_text(&dir, scene).1.unwrap();
+    assert_eq!(scene.camera.up, Vec3::Z);
+    assert_eq!((scene.camera.near, scene.camera.far), (0.5, 50.0));
+    assert_eq!(
+        scene.settings,
+        RenderSettings {
+            width: 640,
+            height: 480,
+            epsilon: 0.1,
+            n_max: 8,
+            exposure: 2.0,
+            clear_color: Vec3::new(0.1, 0.2, 0.3)
+        }
+    );
+    assert_eq!(
+        scene.materials[0].kind,
+        MaterialKind::BlinnPhong {
+            kd: Vec3::new(0.5, 0.1, 0.1),
+            ks: Vec3::splat(0.4),
+            shininess: 64.0
+        }
+    );
+    assert_eq!(
+        scene.materials[1].kind,
+        MaterialKind::Ggx {
+            albedo: Vec3::splat(0.1),
+            f0: Vec3::new(0.9, 0.6, 0.3),
+            roughness: 0.3
+        }
+    );
+    assert_eq!(
+        scene.lights[0],
+        Light::Point {
+            position: Vec3::ONE,
+            color: Vec3::new(1.0, 0.5, 0.0),
+            intensity: 2.0
+        }
+    );
+    let floor = &scene.meshes[0];
+    assert_eq!((floor.name.as_str(), floor.material), ("floor", 1));
+    // x in ±2, z in ±3, then 90° about Y swaps them (x' = z, z' = -x), then down by 1.
+    let (lo, hi) = bounds_of(floor.positions.iter().copied());
+    assert!((lo - Vec3::new(-3.0, -1.0, -2.0)).length() < 1e-5, "{lo}");
+    assert!((hi - Vec3::new(3.0, -1.0, 2.0)).length() < 1e-5, "{hi}");
+    let small = &scene.meshes[1];
+    assert_eq!((small.name.as_str(), small.material), ("quad", 0));
+    assert_eq!(
+        bounds_of(small.positions.iter().copied()),
+        (Vec3::new(-0.5, 0.0, -0.5), Vec3::new(0.5, 0.0, 0.5))
+    );
+    assert_eq!(scene.triangle_count(), 4);
+}
+
+#[test]
+fn unknown_key_is_an_error_with_its_line() {
+    let text = minimal_with("color = [1, 1, 1]", "colour = [1, 1, 1]");
+    expect_error(
+        &text,
+        &[
+            "unknown field `colour`",
+            "expected one of",
+            "line 18, column 1: `colour = [1, 1, 1]`",
+        ],
+    );
+    expect_error(
+        &minimal_with("fov_y_degrees = 45", "fov_y_degrees = 45\nfov = 3"),
+        &["unknown field `fov`", "line 8, column 1: `fov = 3`"],
+    );
+    expect_error(
+        &format!("{MINIMAL}\n[extra]\nx = 1\n"),
+        &["unknown field `extra`"],
+    );
+}
+
+#[test]
+fn malformed_toml_is_an_error_with_its_line() {
+    expect_error(
+        &minimal_with("kd = [0.8, 0.8, 0.8]", "kd = [0.8, 0.8"),
+        &["line 12"],
+    );
+    expect_error(
+        &minimal_with("intensity = 1.0", "intensity = \"bright\""),
+        &["intensity = \"bright\"", "line 19, column 13"],
+    );
+    expect_error(
+        &minimal_with("kd = [0.8, 0.8, 0.8]", "kd = [0.8, 0.8]"),
+        &["invalid length 2", "line 11", "kd = [0.8, 0.8]"],
+    );
+    expect_error(
+        &minimal_with("type = \"directional\"", "type = \"spot\""),
+        &["unknown variant `spot`", "line 16"],
+    );
+    expect_error(
+        &minimal_with("fov_y_degrees = 45\n", ""),
+        &["missing field `fov_y_degrees`"],
+    );
+    expect_error(
+        &minimal_with("source = \"written by the test\"\n", ""),
+        &["missing field `source`"],
+    );
+    let text = minimal_with(
+        "material = \"clay\"",
+        "material = \"clay\"\nscale = \"big\"",
+    );
+    expect_error(
+        &text,
+        &["scale", "a number or an array of three numbers", "line 15"],
+    );
+    let text = minimal_with(
+        "material = \"clay\"",
+        "material = \"clay\"\nscale = [1, 2, 3, 4]",
+    );
+    expect_error(&text, &["invalid length 4", "line 15"]);
+}
+
+#[test]
+fn missing_scene_file_is_an_error() {
+    let dir = TempDir::new("missing");
+    let path = dir.0.join("missing.toml");
+    let message = Scene::load(&path).unwrap_err().to_string();
+    assert!(
+        message.starts_with(&path.display().to_string()),
+        "{message}"
+    );
+    assert!(message.contains("cannot read file"), "{message}");
+    assert!(
+        message.contains("No such file or directory") || message.contains("not found"),
+        "{message}"
+    );
+}
+
+#[test]
+fn missing_obj_is_an_error_naming_it() {
+    let dir = TempDir::new("noobj");
+    let path = dir.write("scene.toml", &MINIMAL.replace("quad.obj", "nothing.obj"));
+    let message = Scene::load(&path).unwrap_err().to_string();
+    let obj = dir.0.join("nothing.obj");
+    assert!(message.starts_with(&obj.display().to_string()), "{message}");
+    assert!(message.contains("cannot read file"), "{message}");
+    assert!(message.contains("[[meshes]] #1"), "{message}");
+    assert!(
+        message.contains(&path.display().to_string()),
+        "the scene is named too: {message}"
+    );
+}
+
+#[test]
+fn nan_coordinate_in_obj_is_an_error_naming_the_vertex() {
+    let dir = TempDir::new("nan");
+    dir.write(
+        "quad.obj",
+        "# a comment\nv -1 0 -1\nv 1 0 -1\nv 1 NaN 1\nv -1 0 1\nf 1 4 3 2\n",
+    );
+    let path = dir.write("scene.toml", MINIMAL);
+    let error = Scene::load(&path).unwrap_err();
+    let message = error.to_string();
+    let obj = dir.0.join("quad.obj");
+    assert!(message.starts_with(&obj.display().to_string()), "{message}");
+    assert!(
+        message.contains("vertex 3 has a non-finite coordinate (NaN)"),
+        "{message}"
+    );
+    assert!(message.contains("line 4"), "{message}");
+    assert!(
+        matches!(
+            error,
+            SceneError::Obj {
+                line: Some(4),
+                mesh: 1,
+                ..
+            }
+        ),
+        "{error:?}"
+    );
+}
+
+#[test]
+fn bad_obj_files_are_errors_naming_them() {
+    for (obj, needle) in [
+        ("v 0 0 0\nv 1 0 0\nf 1 2 3\n", "vertex 3"),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\n", "no triangles"),
+        ("v 0 0 0\nv 1 zero 0\nv 0 1 0\nf 1 2 3\n", "line 2"),
+    ] {
+        let dir = TempDir::new("badobj");
+        dir.write("quad.obj", obj);
+        let path = dir.write("scene.toml", MINIMAL);
+        let message = Scene::load(&path).unwrap_err().to_string();
+        assert!(
+            message.starts_with(&dir.0.join("quad.obj").display().to_string()),
+            "{message}"
+        );
+        assert!(message.contains(needle), "{message}");
+    }
+}
+
+#[test]
+fn unknown_material_is_an_error() {
+    expect_error(
+        &minimal_with("material = \"clay\"", "material = \"steel\""),
+        &["[[meshes]] #1", "material \"steel\" is not defined"],
+    );
+}
+
+#[test]
+fn duplicate_material_is_an_error() {
+    let text = minimal_with(
+        "[[meshes]]",
+        "[[materials]]\nname = \"clay\"\ntype = \"lambert\"\nkd = [0, 0, 0]\n[[meshes]]",
+    );
+    expect_error(
+        &text,
+        &["[[materials]] #2", "duplicate material name \"clay\""],
+    );
+}
+
+#[test]
+fn out_of_range_values_are_errors_naming_the_key() {
+    let cases: &[(&str, &str, &[&str])] = &[
+        (
+            "kd = [0.8, 0.8, 0.8]",
+            "kd = [0.8, 1.5, 0.8]",
+            &["[[materials]] #1 (\"clay\")", "`kd`", "[0, 1]"],
+        ),
+        (
+            "kd = [0.8, 0.8, 0.8]",
+            "kd = [0.8, nan, 0.8]",
+            &["`kd`", "not a finite number"],
+        ),
+        (
+            "kd = [0.8, 0.8, 0.8]",
+            "kd = [0.8, 0.8, 0.8]\nroughness = 0.5",
+            &["`roughness` does not apply"],
+        ),
+        (
+            "type = \"lambert\"\nkd = [0.8, 0.8, 0.8]",
+            "type = \"ggx\"\nalbedo = [1, 1, 1]\nf0 = [0.04, 0.04, 0.04]\nroughness = 1.5",
+            &["`roughness` = 1.5", "[0, 1]"],
+        ),
+        (
+            "type = \"lambert\"\nkd = [0.8, 0.8, 0.8]",
+            "type = \"ggx\"\nalbedo = [1, 1, 1]\nroughness = 0.5",
+            &["missing `f0`"],
+        ),
+        (
+            "type = \"lambert\"\nkd = [0.8, 0.8, 0.8]",
+            "type = \"blinn_phong\"\nkd = [0, 0, 0]\nks = [1, 1, 1]\nshininess = 0.5",
+            &["`shininess` = 0.5"],
+        ),
+        (
+            "type = \"lambert\"\nkd = [0.8, 0.8, 0.8]",
+            "type = \"blinn_phong\"\nkd = [0, 0, 0]\nks = [1, 1, 1]\nshininess = 20000",
+            &["`shininess` = 20000"],
+        ),
+        (
+            "fov_y_degrees = 45",
+            "fov_y_degrees = 180",
+            &["[camera]", "`fov_y_degrees` = 180", "(0, 180)"],
+        ),
+        (
+            "fov_y_degrees = 45",
+            "fov_y_degrees = inf",
+            &["`fov_y_degrees` = inf", "not a finite number"],
+        ),
+        (
+            "fov_y_degrees = 45",
+            "fov_y_degrees = 45\nnear = 2\nfar = 1",
+            &["`near` = 2 is not less than `far` = 1"],
+        ),
+        (
+            "fov_y_degrees = 45",
+            "fov_y_degrees = 45\nnear = 0",
+            &["`near` = 0"],
+        ),
+        (
+            "fov_y_degrees = 45",
+            "fov_y_degrees = 45\nnear = 10",
+            &["`near` = 10 is not less than `far`"],
+        ),
+        (
+            "eye = [0, 1, 3]",
+            "eye = [0, 0, 0]",
+            &["`eye` and `target` are the same point"],
+        ),
+        ("eye = [0, 1, 3]", "eye = [0, 3, 0]", &["`up`", "parallel"]),
+        (
+            "eye = [0, 1, 3]",
+            "eye = [0, 1, 3]\nup = [0, 0, 0]",
+            &["`up`", "zero"],
+        ),
+        (
+            "intensity = 1.0",
+            "intensity = -1.0",
+            &["[[lights]] #1 (directional)", "`intensity` = -1"],
+        ),
+        (
+            "color = [1, 1, 1]",
+            "color = [1, -1, 1]",
+            &["`color`", "outside [0, inf)"],
+        ),
+        (
+            "direction = [0, -2, 0]",
+            "direction = [0, 0, 0]",
+            &["`direction`", "zero"],
+        ),
+        (
+            "direction = [0, -2, 0]",
+            "position = [0, -2, 0]",
+            &["missing `direction`"],
+        ),
+        (
+            "direction = [0, -2, 0]",
+            "direction = [0, -2, 0]\nposition = [0, 0, 0]",
+            &["`position` does not apply"],
+        ),
+        (
+            "type = \"directional\"\ndirection = [0, -2, 0]",
+            "type = \"point\"\nposition = [0, 1e40, 0]",
+            &["`position`", "not a finite number"],
+        ),
+        (
+            "material = \"clay\"",
+            "material = \"clay\"\nscale = [1, 0, 1]",
+            &["[[meshes]] #1 (\"quad.obj\")", "`scale`", "zero"],
+        ),
+        (
+            "material = \"clay\"",
+            "material = \"clay\"\ntranslate = [1, nan, 1]",
+            &["`translate`"],
+        ),
+        (
+            "material = \"clay\"",
+            "material = \"clay\"\nrotate_degrees = [1, 2, -inf]",
+            &["`rotate_degrees`"],
+        ),
+        (
+            "source = \"written by the test\"",
+            "source = \" \"",
+            &["`source`"],
+        ),
+        ("name = \"clay\"", "name = \"\"", &["`name` is empty"]),
+    ];
+    for (from, to, needles) in cases {
+        expect_error(&minimal_with(from, to), needles);
+    }
+
+    let render_cases: &[(&str, &[&str])] = &[
+        ("width = 0", &["[render]", "`width` = 0", "1..=16384"]),
+        ("height = 16385", &["`height` = 16385"]),
+        ("epsilon = 0.0", &["`epsilon` = 0"]),
+        ("n_max = 0", &["`n_max` = 0", "1..=64"]),
+        ("n_max = 65", &["`n_max` = 65"]),
+        ("exposure = -1", &["`exposure` = -1"]),
+        ("clear_color = [0, 0, -0.5]", &["`clear_color`"]),
+        ("width = -3", &["width", "line 5"]),
+    ];
+    for (line, needles) in render_cases {
+        let text = minimal_with("[camera]", &format!("[render]\n{line}\n[camera]"));
+        expect_error(&text, needles);
+    }
+}
+
+#[test]
+fn a_scene_needs_a_mesh_and_a_light() {
+    let no_lights = MINIMAL.split("[[lights]]").next().unwrap();
+    expect_error(no_lights, &["`lights`", "no lights"]);
+    let start = MINIMAL.find("[[meshes]]").unwrap();
+    let end = MINIMAL.find("[[lights]]").unwrap();
+    let no_meshes = format!("{}{}", &MINIMAL[..start], &MINIMAL[end..]);
+    expect_error(&no_meshes, &["`meshes`", "no meshes"]);
+}
+
+#[test]
+fn all_shipped_scenes_load() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut found = Vec::new();
+    let mut folders = vec![root.clone()];
+    while let Some(folder) = folders.pop() {
+        for entry in std::fs::read_dir(&folder).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                folders.push(path);
+            } else if path.extension().is_some_and(|e| e == "toml") {
+                found.push(path);
+            }
+        }
+    }
+    found.sort();
+    assert!(
+        found.len() >= 6,
+        "expected the shipped scenes under {}: {found:?}",
+        root.display()
+    );
+    for path in found {
+        let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        assert!(scene.triangle_count() > 0);
+        for mesh in &scene.meshes {
+            assert_eq!(mesh.positions.len(), mesh.normals.len());
+            assert!(mesh
+                .normals
+                .iter()
+                .all(|n| n.is_finite() && (n.length() - 1.0).abs() < 1e-5));
+            assert!(mesh
+                .indices
+                .iter()
+                .all(|&i| (i as usize) < mesh.positions.len()));
+        }
+    }
+}

@@ -1,0 +1,64 @@
+//! Rust twins of the GLSL shading functions, used by CPU tests and tools. The formula is the
+//! one in the README ("What is rendered"); `glsl/include/brdf.glsl` is its GPU half.
+
+pub mod brdf;
+
+use crate::scene::{Light, MaterialKind};
+use brdf::{ggx_alpha, ggx_d, safe_normalize, schlick_f, smith_v, MIN_LIGHT_DISTANCE_SQUARED};
+use glam::Vec3;
+
+/// Reflected radiance per unit irradiance for one light; n, l, v are unit vectors.
+pub fn reflect_one_light(n: Vec3, l: Vec3, v: Vec3, material: &MaterialKind) -> Vec3 {
+    let n_dot_l = n.dot(l);
+    if n_dot_l <= 0.0 {
+        return Vec3::ZERO;
+    }
+    let h = safe_normalize(l + v);
+    let n_dot_h = n.dot(h).max(0.0);
+    match *material {
+        MaterialKind::Lambert { kd } => kd * n_dot_l,
+        MaterialKind::BlinnPhong { kd, ks, shininess } => {
+            kd * n_dot_l + ks * n_dot_h.powf(shininess)
+        }
+        MaterialKind::Ggx { albedo, f0, roughness } => {
+            let alpha = ggx_alpha(roughness);
+            let k = 0.5 * alpha;
+            let n_dot_v = n.dot(v).max(0.0);
+            let v_dot_h = v.dot(h).clamp(0.0, 1.0);
+            let specular =
+                ggx_d(n_dot_h, alpha) * schlick_f(v_dot_h, f0) * smith_v(n_dot_l, n_dot_v, k) * 0.25;
+            (albedo + specular) * n_dot_l
+        }
+    }
+}
+
+/// Direction to the light (unit) and the irradiance it delivers facing it, at `position`.
+pub fn light_at(light: &Light, position: Vec3) -> (Vec3, Vec3) {
+    match *light {
+        Light::Point { position: light_position, color, intensity } => {
+            let to_light = light_position - position;
+            let d2 = to_light.dot(to_light).max(MIN_LIGHT_DISTANCE_SQUARED);
+            (to_light * (1.0 / d2.sqrt()), color * intensity / d2)
+        }
+        Light::Directional { direction, color, intensity } => (-direction, color * intensity),
+    }
+}
+
+/// Outgoing radiance at a surface point, summed over `lights`. `normal` need not be unit.
+pub fn shade_point(
+    position: Vec3,
+    normal: Vec3,
+    eye: Vec3,
+    material: &MaterialKind,
+    lights: &[Light],
+) -> Vec3 {
+    let n = safe_normalize(normal);
+    let v = safe_normalize(eye - position);
+    lights
+        .iter()
+        .map(|light| {
+            let (l, irradiance) = light_at(light, position);
+            reflect_one_light(n, l, v, material) * irradiance
+        })
+        .sum()
+}

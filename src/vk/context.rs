@@ -1,0 +1,552 @@
+//! The Vulkan instance, the chosen physical device, the logical device, its one queue, the
+//! memory allocator and the validation messenger. `Context::headless()` needs no window system;
+//! `Context::windowed(..)` also enables presentation and returns a surface.
+
+use crate::error::{Error, Result, VkContext};
+use ash::vk;
+use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+use raw_window_handle::{HasDisplayHandle, HasWindowHandle, RawDisplayHandle};
+use std::ffi::{c_void, CStr, CString};
+use std::mem::ManuallyDrop;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
+
+const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
+
+/// How to create a context.
+#[derive(Clone, Debug, Default)]
+pub struct ContextOptions {
+    /// Enable the Khronos validation layer and count every warning and error it reports.
+    pub validate: bool,
+    /// Pick the first device whose name contains this text (case-insensitive).
+    pub device_name: Option<String>,
+}
+
+/// Optional device features the renderer uses when present.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct OptionalFeatures {
+    pub pipeline_statistics: bool,
+    pub fill_mode_non_solid: bool,
+    pub geometry_shader: bool,
+}
+
+/// Facts about the chosen device, for reports.
+#[derive(Clone, Debug)]
+pub struct DeviceInfo {
+    pub name: String,
+    pub driver: String,
+    pub api_version: String,
+    pub timestamp_period_ns: f32,
+    pub timestamp_valid_bits: u32,
+    pub max_tessellation_level: u32,
+}
+
+/// Warnings and errors reported by the validation layer (and the loader) since start-up.
+#[derive(Debug, Default)]
+pub struct ValidationLog {
+    count: AtomicUsize,
+    messages: Mutex<Vec<String>>,
+}
+
+impl ValidationLog {
+    pub fn count(&self) -> usize {
+        self.count.load(Ordering::SeqCst)
+    }
+
+    pub fn messages(&self) -> Vec<String> {
+        self.messages.lock().map(|m| m.clone()).unwrap_or_default()
+    }
+}
+
+/// Everything a pass needs to talk to the GPU. Shared as `Arc<Context>`; resources keep an
+/// `Arc` so the device outlives them.
+pub struct Context {
+    pub entry: ash::Entry,
+    pub instance: ash::Instance,
+    pub physical_device: vk::PhysicalDevice,
+    pub device: ash::Device,
+    pub queue_family: u32,
+    queue: Mutex<vk::Queue>,
+    pub allocator: ManuallyDrop<Mutex<Allocator>>,
+    pub features: OptionalFeatures,
+    pub info: DeviceInfo,
+    pub surface_instance: Option<ash::khr::surface::Instance>,
+    debug_instance: Option<ash::ext::debug_utils::Instance>,
+    debug_device: Option<ash::ext::debug_utils::Device>,
+    messenger: vk::DebugUtilsMessengerEXT,
+    validation: Arc<ValidationLog>,
+    one_shot_pool: Mutex<vk::CommandPool>,
+}
+
+unsafe extern "system" fn debug_callback(
+    severity: vk::DebugUtilsMessageSeverityFlagsEXT,
+    kind: vk::DebugUtilsMessageTypeFlagsEXT,
+    data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
+    user: *mut c_void,
+) -> vk::Bool32 {
+    // SAFETY: the loader passes valid callback data for the duration of the call, and `user`
+    // is the `ValidationLog` that the owning `Context` keeps alive until the messenger is gone.
+    let (message, log) = unsafe {
+        let text = (*data).message_as_c_str().map(|m| m.to_string_lossy().into_owned());
+        (text.unwrap_or_default(), &*(user as *const ValidationLog))
+    };
+    let line = format!("[{severity:?} {kind:?}] {message}");
+    eprintln!("vulkan: {line}");
+    log.count.fetch_add(1, Ordering::SeqCst);
+    if let Ok(mut messages) = log.messages.lock() {
+        messages.push(line);
+    }
+    vk::FALSE
+}
+
+struct Candidate {
+    device: vk::PhysicalDevice,
+    queue_family: u32,
+    score: u32,
+}
+
+impl Context {
+    /// A context without presentation, for offscreen rendering and tests.
+    pub fn headless(options: &ContextOptions) -> Result<Arc<Context>> {
+        Self::create(options, None).map(|(context, _)| context)
+    }
+
+    /// A context that can present to `window`, and the window's surface.
+    pub fn windowed<W>(options: &ContextOptions, window: &W) -> Result<(Arc<Context>, vk::SurfaceKHR)>
+    where
+        W: HasDisplayHandle + HasWindowHandle,
+    {
+        let (context, surface) = Self::create(options, Some(window))?;
+        Ok((context, surface.expect("a windowed context always has a surface")))
+    }
+
+    fn create(
+        options: &ContextOptions,
+        window: Option<&dyn WindowHandles>,
+    ) -> Result<(Arc<Context>, Option<vk::SurfaceKHR>)> {
+        // SAFETY: loading libvulkan runs its initialisers; it is the system's Vulkan loader.
+        let entry = unsafe { ash::Entry::load()? };
+        let display: Option<RawDisplayHandle> = match window {
+            Some(w) => Some(w.display()?),
+            None => None,
+        };
+
+        // SAFETY: plain queries on a loaded entry.
+        let layers = unsafe { entry.enumerate_instance_layer_properties() }
+            .while_("listing instance layers")?;
+        let has_validation_layer = layers
+            .iter()
+            .any(|l| l.layer_name_as_c_str().is_ok_and(|n| n == VALIDATION_LAYER));
+        if options.validate && !has_validation_layer {
+            return Err(Error::ValidationLayerMissing);
+        }
+        // SAFETY: plain query on a loaded entry.
+        let available_extensions = unsafe { entry.enumerate_instance_extension_properties(None) }
+            .while_("listing instance extensions")?;
+        let has_debug_utils = available_extensions.iter().any(|e| {
+            e.extension_name_as_c_str().is_ok_and(|n| n == ash::ext::debug_utils::NAME)
+        });
+
+        let mut extensions: Vec<*const i8> = Vec::new();
+        if has_debug_utils {
+            extensions.push(ash::ext::debug_utils::NAME.as_ptr());
+        }
+        if let Some(display) = display {
+            let required = ash_window::enumerate_required_extensions(display)
+                .while_("listing the surface extensions of this window system")?;
+            extensions.extend_from_slice(required);
+        }
+        let layer_names: Vec<*const i8> =
+            if options.validate { vec![VALIDATION_LAYER.as_ptr()] } else { Vec::new() };
+
+        let app_name = CString::new("multirate").expect("no interior NUL");
+        let app_info = vk::ApplicationInfo::default()
+            .application_name(&app_name)
+            .application_version(1)
+            .engine_name(&app_name)
+            .api_version(vk::API_VERSION_1_3);
+        let validation = Arc::new(ValidationLog::default());
+        let mut messenger_info = vk::DebugUtilsMessengerCreateInfoEXT::default()
+            .message_severity(
+                vk::DebugUtilsMessageSeverityFlagsEXT::WARNING
+                    | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
+            )
+            .message_type(
+                vk::DebugUtilsMessageTypeFlagsEXT::GENERAL
+                    | vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
+                    | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
+            )
+            .pfn_user_callback(Some(debug_callback))
+            .user_data(Arc::as_ptr(&validation) as *mut c_void);
+        let mut instance_info = vk::InstanceCreateInfo::default()
+            .application_info(&app_info)
+            .enabled_extension_names(&extensions)
+            .enabled_layer_names(&layer_names);
+        if options.validate && has_debug_utils {
+            // Also report problems in vkCreateInstance and vkDestroyInstance themselves.
+            instance_info = instance_info.push_next(&mut messenger_info);
+        }
+        // SAFETY: every pointer in `instance_info` refers to locals that outlive the call.
+        let instance = unsafe { entry.create_instance(&instance_info, None) }
+            .while_("creating the Vulkan instance")?;
+
+        let (debug_instance, messenger) = if has_debug_utils {
+            let debug = ash::ext::debug_utils::Instance::new(&entry, &instance);
+            let messenger = if options.validate {
+                // SAFETY: the callback's user data (`validation`) lives as long as the context.
+                unsafe { debug.create_debug_utils_messenger(&messenger_info, None) }
+                    .while_("creating the validation messenger")?
+            } else {
+                vk::DebugUtilsMessengerEXT::null()
+            };
+            (Some(debug), messenger)
+        } else {
+            (None, vk::DebugUtilsMessengerEXT::null())
+        };
+
+        let surface_instance =
+            display.map(|_| ash::khr::surface::Instance::new(&entry, &instance));
+        let surface = match window {
+            Some(w) => Some(w.create_surface(&entry, &instance)?),
+            None => None,
+        };
+
+        let chosen = match pick_device(
+            &instance,
+            surface_instance.as_ref().zip(surface),
+            options.device_name.as_deref(),
+        ) {
+            Ok(chosen) => chosen,
+            Err(error) => {
+                // SAFETY: nothing else was created from the instance yet except these.
+                unsafe {
+                    if let (Some(s), Some(surface)) = (&surface_instance, surface) {
+                        s.destroy_surface(surface, None);
+                    }
+                    if let Some(debug) = &debug_instance {
+                        if messenger != vk::DebugUtilsMessengerEXT::null() {
+                            debug.destroy_debug_utils_messenger(messenger, None);
+                        }
+                    }
+                    instance.destroy_instance(None);
+                }
+                return Err(error);
+            }
+        };
+
+        // SAFETY: plain queries on a valid physical device.
+        let (supported, properties) = unsafe {
+            (
+                instance.get_physical_device_features(chosen.device),
+                instance.get_physical_device_properties(chosen.device),
+            )
+        };
+        let features = OptionalFeatures {
+            pipeline_statistics: supported.pipeline_statistics_query == vk::TRUE,
+            fill_mode_non_solid: supported.fill_mode_non_solid == vk::TRUE,
+            geometry_shader: supported.geometry_shader == vk::TRUE,
+        };
+        let enabled = vk::PhysicalDeviceFeatures::default()
+            .tessellation_shader(true)
+            .pipeline_statistics_query(features.pipeline_statistics)
+            .fill_mode_non_solid(features.fill_mode_non_solid)
+            .geometry_shader(features.geometry_shader)
+            .vertex_pipeline_stores_and_atomics(supported.vertex_pipeline_stores_and_atomics == vk::TRUE)
+            .fragment_stores_and_atomics(supported.fragment_stores_and_atomics == vk::TRUE);
+        let mut vulkan13 = vk::PhysicalDeviceVulkan13Features::default()
+            .dynamic_rendering(true)
+            .synchronization2(true);
+        let priorities = [1.0f32];
+        let queue_info = [vk::DeviceQueueCreateInfo::default()
+            .queue_family_index(chosen.queue_family)
+            .queue_priorities(&priorities)];
+        let device_extensions: Vec<*const i8> = if surface.is_some() {
+            vec![ash::khr::swapchain::NAME.as_ptr()]
+        } else {
+            Vec::new()
+        };
+        let device_info = vk::DeviceCreateInfo::default()
+            .queue_create_infos(&queue_info)
+            .enabled_extension_names(&device_extensions)
+            .enabled_features(&enabled)
+            .push_next(&mut vulkan13);
+        // SAFETY: the create info only points at locals that outlive the call.
+        let device = unsafe { instance.create_device(chosen.device, &device_info, None) }
+            .while_("creating the logical device")?;
+        // SAFETY: the family was requested with one queue.
+        let queue = unsafe { device.get_device_queue(chosen.queue_family, 0) };
+
+        let allocator = Allocator::new(&AllocatorCreateDesc {
+            instance: instance.clone(),
+            device: device.clone(),
+            physical_device: chosen.device,
+            debug_settings: Default::default(),
+            buffer_device_address: false,
+            allocation_sizes: Default::default(),
+        })
+        .map_err(|source| Error::Allocation { what: "the allocator".into(), source })?;
+
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(chosen.queue_family)
+            .flags(vk::CommandPoolCreateFlags::TRANSIENT);
+        // SAFETY: valid device and create info.
+        let one_shot_pool = unsafe { device.create_command_pool(&pool_info, None) }
+            .while_("creating the upload command pool")?;
+
+        let debug_device =
+            debug_instance.as_ref().map(|_| ash::ext::debug_utils::Device::new(&instance, &device));
+        let info = device_info_of(&instance, chosen.device, &properties, chosen.queue_family);
+        let context = Arc::new(Context {
+            entry,
+            instance,
+            physical_device: chosen.device,
+            device,
+            queue_family: chosen.queue_family,
+            queue: Mutex::new(queue),
+            allocator: ManuallyDrop::new(Mutex::new(allocator)),
+            features,
+            info,
+            surface_instance,
+            debug_instance,
+            debug_device,
+            messenger,
+            validation,
+            one_shot_pool: Mutex::new(one_shot_pool),
+        });
+        Ok((context, surface))
+    }
+
+    /// Warnings and errors the validation layer reported so far.
+    pub fn validation(&self) -> &ValidationLog {
+        &self.validation
+    }
+
+    /// Gives a Vulkan object a name that GPU captures and validation messages show.
+    pub fn name<H: vk::Handle>(&self, object: H, name: &str) {
+        let Some(debug) = &self.debug_device else { return };
+        let Ok(name) = CString::new(name) else { return };
+        let info = vk::DebugUtilsObjectNameInfoEXT::default().object_handle(object).object_name(&name);
+        // SAFETY: `object` is a live handle of this device; naming is advisory, so a failure
+        // is ignored on purpose.
+        let _ = unsafe { debug.set_debug_utils_object_name(&info) };
+    }
+
+    /// Submits command buffers to the queue (the queue is externally synchronised).
+    pub fn submit(&self, submits: &[vk::SubmitInfo2<'_>], fence: vk::Fence) -> Result<()> {
+        let queue = self.queue.lock().expect("queue lock is never poisoned");
+        // SAFETY: the queue is guarded by the mutex; the caller keeps the buffers alive.
+        unsafe { self.device.queue_submit2(*queue, submits, fence) }.while_("submitting work")
+    }
+
+    /// Presents on the queue.
+    pub fn present(
+        &self,
+        swapchain: &ash::khr::swapchain::Device,
+        info: &vk::PresentInfoKHR<'_>,
+    ) -> Result<bool, vk::Result> {
+        let queue = self.queue.lock().expect("queue lock is never poisoned");
+        // SAFETY: the queue is guarded by the mutex; `info` refers to live objects.
+        unsafe { swapchain.queue_present(*queue, info) }
+    }
+
+    /// Records commands with `record`, submits them and waits until they finish.
+    pub fn run_once(&self, record: impl FnOnce(vk::CommandBuffer)) -> Result<()> {
+        let pool = self.one_shot_pool.lock().expect("pool lock is never poisoned");
+        let alloc_info = vk::CommandBufferAllocateInfo::default()
+            .command_pool(*pool)
+            .level(vk::CommandBufferLevel::PRIMARY)
+            .command_buffer_count(1);
+        // SAFETY: the pool is guarded by the mutex for the whole recording and wait.
+        let cmd = unsafe { self.device.allocate_command_buffers(&alloc_info) }
+            .while_("allocating a one-shot command buffer")?[0];
+        let begin =
+            vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+        // SAFETY: freshly allocated command buffer.
+        unsafe { self.device.begin_command_buffer(cmd, &begin) }.while_("beginning commands")?;
+        record(cmd);
+        // SAFETY: recording started above.
+        unsafe { self.device.end_command_buffer(cmd) }.while_("ending commands")?;
+        // SAFETY: plain fence creation.
+        let fence = unsafe { self.device.create_fence(&vk::FenceCreateInfo::default(), None) }
+            .while_("creating a fence")?;
+        let cmd_info = [vk::CommandBufferSubmitInfo::default().command_buffer(cmd)];
+        let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmd_info)];
+        let result = self.submit(&submit, fence).and_then(|_| {
+            // SAFETY: the fence belongs to this device and was just submitted.
+            unsafe { self.device.wait_for_fences(&[fence], true, u64::MAX) }
+                .while_("waiting for one-shot commands")
+        });
+        // SAFETY: the work finished (or never started), so the fence and buffer are idle.
+        unsafe {
+            self.device.destroy_fence(fence, None);
+            self.device.free_command_buffers(*pool, &[cmd]);
+        }
+        result
+    }
+
+    /// Waits until the device is idle.
+    pub fn wait_idle(&self) -> Result<()> {
+        let _queue = self.queue.lock().expect("queue lock is never poisoned");
+        // SAFETY: holding the queue lock keeps other submissions out while waiting.
+        unsafe { self.device.device_wait_idle() }.while_("waiting for the device")
+    }
+}
+
+impl Drop for Context {
+    fn drop(&mut self) {
+        // SAFETY: every resource holds an `Arc<Context>`, so none is alive any more; the
+        // allocator is dropped before the device it allocates from.
+        unsafe {
+            let _ = self.device.device_wait_idle();
+            let pool = *self.one_shot_pool.get_mut().expect("not poisoned");
+            self.device.destroy_command_pool(pool, None);
+            ManuallyDrop::drop(&mut self.allocator);
+            self.device.destroy_device(None);
+            if let Some(debug) = &self.debug_instance {
+                if self.messenger != vk::DebugUtilsMessengerEXT::null() {
+                    debug.destroy_debug_utils_messenger(self.messenger, None);
+                }
+            }
+            self.instance.destroy_instance(None);
+        }
+    }
+}
+
+/// Handles of a window, boxed behind one trait object for `Context::create`.
+trait WindowHandles {
+    fn display(&self) -> Result<RawDisplayHandle>;
+    fn create_surface(&self, entry: &ash::Entry, instance: &ash::Instance) -> Result<vk::SurfaceKHR>;
+}
+
+impl<W: HasDisplayHandle + HasWindowHandle> WindowHandles for W {
+    fn display(&self) -> Result<RawDisplayHandle> {
+        self.display_handle()
+            .map(|h| h.as_raw())
+            .map_err(|e| Error::Window(format!("no display handle: {e}")))
+    }
+
+    fn create_surface(&self, entry: &ash::Entry, instance: &ash::Instance) -> Result<vk::SurfaceKHR> {
+        let window = self
+            .window_handle()
+            .map_err(|e| Error::Window(format!("no window handle: {e}")))?
+            .as_raw();
+        // SAFETY: the handles come from a live window that outlives the surface (the viewer
+        // destroys the swapchain and surface before the window).
+        unsafe { ash_window::create_surface(entry, instance, self.display()?, window, None) }
+            .while_("creating the window surface")
+    }
+}
+
+fn pick_device(
+    instance: &ash::Instance,
+    surface: Option<(&ash::khr::surface::Instance, vk::SurfaceKHR)>,
+    wanted_name: Option<&str>,
+) -> Result<Candidate> {
+    // SAFETY: plain query on a valid instance.
+    let devices = unsafe { instance.enumerate_physical_devices() }
+        .while_("listing physical devices")?;
+    let mut rejected = Vec::new();
+    let mut best: Option<Candidate> = None;
+    for device in devices {
+        // SAFETY: plain queries on an enumerated physical device.
+        let (properties, features, families) = unsafe {
+            (
+                instance.get_physical_device_properties(device),
+                instance.get_physical_device_features(device),
+                instance.get_physical_device_queue_family_properties(device),
+            )
+        };
+        let name = properties
+            .device_name_as_c_str()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        if let Some(wanted) = wanted_name {
+            if !name.to_lowercase().contains(&wanted.to_lowercase()) {
+                rejected.push(format!("{name}: not the requested device \"{wanted}\""));
+                continue;
+            }
+        }
+        if properties.api_version < vk::API_VERSION_1_3 {
+            rejected.push(format!(
+                "{name}: supports Vulkan {}.{}, 1.3 is needed",
+                vk::api_version_major(properties.api_version),
+                vk::api_version_minor(properties.api_version)
+            ));
+            continue;
+        }
+        if features.tessellation_shader != vk::TRUE {
+            rejected.push(format!("{name}: no tessellationShader feature (multirate shading needs the hardware tessellator)"));
+            continue;
+        }
+        let family = families.iter().enumerate().position(|(index, family)| {
+            let graphics = family.queue_flags.contains(vk::QueueFlags::GRAPHICS);
+            let present = surface.is_none_or(|(loader, surface)| {
+                // SAFETY: valid device, family index and surface.
+                unsafe {
+                    loader.get_physical_device_surface_support(device, index as u32, surface)
+                }
+                .unwrap_or(false)
+            });
+            graphics && present
+        });
+        let Some(queue_family) = family else {
+            rejected.push(format!("{name}: no graphics queue that can present to the window"));
+            continue;
+        };
+        let score = match properties.device_type {
+            vk::PhysicalDeviceType::DISCRETE_GPU => 4,
+            vk::PhysicalDeviceType::INTEGRATED_GPU => 3,
+            vk::PhysicalDeviceType::VIRTUAL_GPU => 2,
+            _ => 1,
+        };
+        if best.as_ref().is_none_or(|b| score > b.score) {
+            best = Some(Candidate { device, queue_family: queue_family as u32, score });
+        }
+    }
+    best.ok_or_else(|| {
+        if rejected.is_empty() {
+            Error::NoDevice("the Vulkan loader found no device (Debian: install mesa-vulkan-drivers for lavapipe)".into())
+        } else {
+            Error::NoDevice(rejected.join("; "))
+        }
+    })
+}
+
+fn device_info_of(
+    instance: &ash::Instance,
+    device: vk::PhysicalDevice,
+    properties: &vk::PhysicalDeviceProperties,
+    queue_family: u32,
+) -> DeviceInfo {
+    let mut driver = vk::PhysicalDeviceDriverProperties::default();
+    let mut properties2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver);
+    // SAFETY: plain query on a Vulkan 1.3 physical device.
+    let families = unsafe {
+        instance.get_physical_device_properties2(device, &mut properties2);
+        instance.get_physical_device_queue_family_properties(device)
+    };
+    let name = properties
+        .device_name_as_c_str()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let driver_name = driver.driver_name_as_c_str().map(|n| n.to_string_lossy().into_owned());
+    let driver_info = driver.driver_info_as_c_str().map(|n| n.to_string_lossy().into_owned());
+    let api = properties.api_version;
+    DeviceInfo {
+        name,
+        driver: format!("{} {}", driver_name.unwrap_or_default(), driver_info.unwrap_or_default())
+            .trim()
+            .to_string(),
+        api_version: format!(
+            "{}.{}.{}",
+            vk::api_version_major(api),
+            vk::api_version_minor(api),
+            vk::api_version_patch(api)
+        ),
+        timestamp_period_ns: properties.limits.timestamp_period,
+        timestamp_valid_bits: families
+            .get(queue_family as usize)
+            .map_or(0, |f| f.timestamp_valid_bits),
+        max_tessellation_level: properties.limits.max_tessellation_generation_level,
+    }
+}

@@ -1,0 +1,251 @@
+//! Buffers and images backed by gpu-allocator. Each owns its memory and frees it in `Drop`;
+//! each holds an `Arc<Context>` so the device outlives it.
+
+use super::context::Context;
+use crate::error::{Error, Result, VkContext};
+use ash::vk;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use gpu_allocator::MemoryLocation;
+use std::sync::Arc;
+
+/// A buffer and its memory.
+pub struct Buffer {
+    context: Arc<Context>,
+    pub raw: vk::Buffer,
+    pub size: vk::DeviceSize,
+    allocation: Option<Allocation>,
+}
+
+impl Buffer {
+    /// An uninitialised buffer of `size` bytes in `location`, named `name` for captures.
+    pub fn new(
+        context: &Arc<Context>,
+        name: &str,
+        size: vk::DeviceSize,
+        usage: vk::BufferUsageFlags,
+        location: MemoryLocation,
+    ) -> Result<Buffer> {
+        let device = &context.device;
+        let info = vk::BufferCreateInfo::default()
+            .size(size.max(4))
+            .usage(usage)
+            .sharing_mode(vk::SharingMode::EXCLUSIVE);
+        // SAFETY: valid create info; the buffer is destroyed in `Drop`.
+        let raw = unsafe { device.create_buffer(&info, None) }.while_("creating a buffer")?;
+        // SAFETY: `raw` is a live buffer of this device.
+        let requirements = unsafe { device.get_buffer_memory_requirements(raw) };
+        let allocation = context
+            .allocator
+            .lock()
+            .expect("allocator lock is never poisoned")
+            .allocate(&AllocationCreateDesc {
+                name,
+                requirements,
+                location,
+                linear: true,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            });
+        let allocation = match allocation {
+            Ok(allocation) => allocation,
+            Err(source) => {
+                // SAFETY: the buffer was never bound or used.
+                unsafe { device.destroy_buffer(raw, None) };
+                return Err(Error::Allocation { what: name.to_string(), source });
+            }
+        };
+        let buffer = Buffer { context: context.clone(), raw, size, allocation: Some(allocation) };
+        let allocation = buffer.allocation.as_ref().expect("just set");
+        // SAFETY: the memory was allocated for this buffer's requirements.
+        unsafe { device.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) }
+            .while_("binding buffer memory")?;
+        context.name(raw, name);
+        Ok(buffer)
+    }
+
+    /// A device-local buffer holding `data`, uploaded through a staging buffer.
+    pub fn with_data<T: bytemuck::Pod>(
+        context: &Arc<Context>,
+        name: &str,
+        usage: vk::BufferUsageFlags,
+        data: &[T],
+    ) -> Result<Buffer> {
+        let bytes: &[u8] = bytemuck::cast_slice(data);
+        let size = bytes.len().max(4) as vk::DeviceSize;
+        let staging = Buffer::new(
+            context,
+            &format!("{name} (staging)"),
+            size,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::CpuToGpu,
+        )?;
+        staging.write(bytes);
+        let buffer = Buffer::new(
+            context,
+            name,
+            size,
+            usage | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?;
+        context.run_once(|cmd| {
+            let region = [vk::BufferCopy::default().size(size)];
+            // SAFETY: both buffers are live and large enough; `run_once` waits for completion.
+            unsafe { context.device.cmd_copy_buffer(cmd, staging.raw, buffer.raw, &region) };
+        })?;
+        Ok(buffer)
+    }
+
+    /// Host-visible bytes of the buffer (None for device-only memory).
+    pub fn mapped(&self) -> Option<&[u8]> {
+        let allocation = self.allocation.as_ref()?;
+        allocation.mapped_slice()
+    }
+
+    /// Copies `bytes` to the start of a host-visible buffer.
+    pub fn write(&self, bytes: &[u8]) {
+        let allocation = self.allocation.as_ref().expect("buffer has memory");
+        let ptr = allocation.mapped_ptr().expect("write() needs a host-visible buffer");
+        assert!(bytes.len() as u64 <= self.size, "write past the end of the buffer");
+        // SAFETY: the mapping is at least `size` bytes long and not aliased by any reference.
+        unsafe {
+            std::ptr::copy_nonoverlapping(bytes.as_ptr(), ptr.as_ptr().cast::<u8>(), bytes.len())
+        };
+    }
+}
+
+impl Drop for Buffer {
+    fn drop(&mut self) {
+        if let Some(allocation) = self.allocation.take() {
+            let _ = self.context.allocator.lock().map(|mut a| a.free(allocation));
+        }
+        // SAFETY: the owner guarantees the GPU no longer uses the buffer.
+        unsafe { self.context.device.destroy_buffer(self.raw, None) };
+    }
+}
+
+/// A 2D image, its memory and one view of all of it.
+pub struct Image {
+    context: Arc<Context>,
+    pub raw: vk::Image,
+    pub view: vk::ImageView,
+    pub format: vk::Format,
+    pub extent: vk::Extent2D,
+    allocation: Option<Allocation>,
+}
+
+impl Image {
+    /// A device-local 2D image with one mip level.
+    pub fn new(
+        context: &Arc<Context>,
+        name: &str,
+        extent: vk::Extent2D,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        aspect: vk::ImageAspectFlags,
+    ) -> Result<Image> {
+        let device = &context.device;
+        let info = vk::ImageCreateInfo::default()
+            .image_type(vk::ImageType::TYPE_2D)
+            .format(format)
+            .extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 })
+            .mip_levels(1)
+            .array_layers(1)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .tiling(vk::ImageTiling::OPTIMAL)
+            .usage(usage)
+            .sharing_mode(vk::SharingMode::EXCLUSIVE)
+            .initial_layout(vk::ImageLayout::UNDEFINED);
+        // SAFETY: valid create info; destroyed in `Drop`.
+        let raw = unsafe { device.create_image(&info, None) }.while_("creating an image")?;
+        // SAFETY: `raw` is a live image of this device.
+        let requirements = unsafe { device.get_image_memory_requirements(raw) };
+        let allocation = context
+            .allocator
+            .lock()
+            .expect("allocator lock is never poisoned")
+            .allocate(&AllocationCreateDesc {
+                name,
+                requirements,
+                location: MemoryLocation::GpuOnly,
+                linear: false,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            });
+        let allocation = match allocation {
+            Ok(allocation) => allocation,
+            Err(source) => {
+                // SAFETY: the image was never bound or used.
+                unsafe { device.destroy_image(raw, None) };
+                return Err(Error::Allocation { what: name.to_string(), source });
+            }
+        };
+        let mut image = Image {
+            context: context.clone(),
+            raw,
+            view: vk::ImageView::null(),
+            format,
+            extent,
+            allocation: Some(allocation),
+        };
+        let allocation = image.allocation.as_ref().expect("just set");
+        // SAFETY: memory allocated for this image's requirements.
+        unsafe { device.bind_image_memory(raw, allocation.memory(), allocation.offset()) }
+            .while_("binding image memory")?;
+        let view_info = vk::ImageViewCreateInfo::default()
+            .image(raw)
+            .view_type(vk::ImageViewType::TYPE_2D)
+            .format(format)
+            .subresource_range(subresource_range(aspect));
+        // SAFETY: the image is bound; the view is destroyed in `Drop` before the image.
+        image.view = unsafe { device.create_image_view(&view_info, None) }
+            .while_("creating an image view")?;
+        context.name(raw, name);
+        context.name(image.view, &format!("{name} view"));
+        Ok(image)
+    }
+}
+
+impl Drop for Image {
+    fn drop(&mut self) {
+        // SAFETY: the owner guarantees the GPU no longer uses the image.
+        unsafe {
+            if self.view != vk::ImageView::null() {
+                self.context.device.destroy_image_view(self.view, None);
+            }
+            self.context.device.destroy_image(self.raw, None);
+        }
+        if let Some(allocation) = self.allocation.take() {
+            let _ = self.context.allocator.lock().map(|mut a| a.free(allocation));
+        }
+    }
+}
+
+/// All mips and layers of one aspect.
+pub fn subresource_range(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceRange {
+    vk::ImageSubresourceRange::default()
+        .aspect_mask(aspect)
+        .level_count(vk::REMAINING_MIP_LEVELS)
+        .layer_count(vk::REMAINING_ARRAY_LAYERS)
+}
+
+/// Records one image layout transition with synchronization2.
+#[allow(clippy::too_many_arguments)]
+pub fn transition(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    image: vk::Image,
+    aspect: vk::ImageAspectFlags,
+    (old_layout, src_stage, src_access): (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2),
+    (new_layout, dst_stage, dst_access): (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2),
+) {
+    let barrier = [vk::ImageMemoryBarrier2::default()
+        .image(image)
+        .subresource_range(subresource_range(aspect))
+        .old_layout(old_layout)
+        .new_layout(new_layout)
+        .src_stage_mask(src_stage)
+        .src_access_mask(src_access)
+        .dst_stage_mask(dst_stage)
+        .dst_access_mask(dst_access)];
+    let dependency = vk::DependencyInfo::default().image_memory_barriers(&barrier);
+    // SAFETY: `cmd` is recording and `image` is live.
+    unsafe { device.cmd_pipeline_barrier2(cmd, &dependency) };
+}

@@ -1,0 +1,9 @@
+//! Vulkan plumbing, one module per concern. Knows nothing of scenes or shading.
+
+pub mod context;
+pub mod memory;
+pub mod pipeline;
+pub mod swapchain;
+pub mod target;
+
+pub use context::{Context, ContextOptions};

@@ -1,0 +1,281 @@
+//! Shader modules, specialization constants, pipeline layouts and graphics pipelines for
+//! dynamic rendering. Every object here destroys itself in `Drop`.
+
+use super::context::Context;
+use crate::error::{Result, VkContext};
+use ash::vk;
+use std::ffi::CStr;
+use std::sync::Arc;
+
+const ENTRY_POINT: &CStr = c"main";
+
+/// Values for a stage's `layout(constant_id = N)` constants, in the order they are pushed.
+#[derive(Clone, Debug, Default)]
+pub struct Specialization {
+    entries: Vec<vk::SpecializationMapEntry>,
+    data: Vec<u8>,
+}
+
+impl Specialization {
+    /// Sets constant `id` (a GLSL `int`).
+    pub fn int(mut self, id: u32, value: i32) -> Self {
+        self.push(id, &value.to_ne_bytes());
+        self
+    }
+
+    /// Sets constant `id` (a GLSL `bool`, 32 bits in SPIR-V).
+    pub fn boolean(mut self, id: u32, value: bool) -> Self {
+        self.push(id, &u32::from(value).to_ne_bytes());
+        self
+    }
+
+    /// Sets constant `id` (a GLSL `float`).
+    pub fn float(mut self, id: u32, value: f32) -> Self {
+        self.push(id, &value.to_ne_bytes());
+        self
+    }
+
+    fn push(&mut self, id: u32, bytes: &[u8]) {
+        self.entries.push(vk::SpecializationMapEntry {
+            constant_id: id,
+            offset: self.data.len() as u32,
+            size: bytes.len(),
+        });
+        self.data.extend_from_slice(bytes);
+    }
+
+    fn info(&self) -> vk::SpecializationInfo<'_> {
+        vk::SpecializationInfo::default().map_entries(&self.entries).data(&self.data)
+    }
+}
+
+/// A compiled SPIR-V module.
+pub struct ShaderModule {
+    context: Arc<Context>,
+    pub raw: vk::ShaderModule,
+}
+
+impl ShaderModule {
+    pub fn new(context: &Arc<Context>, name: &str, spirv: &[u8]) -> Result<ShaderModule> {
+        let words = crate::shaders::words(spirv);
+        let info = vk::ShaderModuleCreateInfo::default().code(&words);
+        // SAFETY: `words` is SPIR-V produced by build.rs; destroyed in `Drop`.
+        let raw = unsafe { context.device.create_shader_module(&info, None) }
+            .while_("creating a shader module")?;
+        context.name(raw, name);
+        Ok(ShaderModule { context: context.clone(), raw })
+    }
+}
+
+impl Drop for ShaderModule {
+    fn drop(&mut self) {
+        // SAFETY: modules are only needed while pipelines are created.
+        unsafe { self.context.device.destroy_shader_module(self.raw, None) };
+    }
+}
+
+/// Descriptor set layouts and push constant ranges of a family of pipelines.
+pub struct PipelineLayout {
+    context: Arc<Context>,
+    pub raw: vk::PipelineLayout,
+    pub set_layouts: Vec<vk::DescriptorSetLayout>,
+}
+
+impl PipelineLayout {
+    /// One layout per entry of `sets` (each a list of bindings), plus `push_constants`.
+    pub fn new(
+        context: &Arc<Context>,
+        name: &str,
+        sets: &[&[vk::DescriptorSetLayoutBinding<'_>]],
+        push_constants: &[vk::PushConstantRange],
+    ) -> Result<PipelineLayout> {
+        let mut layout = PipelineLayout {
+            context: context.clone(),
+            raw: vk::PipelineLayout::null(),
+            set_layouts: Vec::new(),
+        };
+        for bindings in sets {
+            let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(bindings);
+            // SAFETY: valid create info; destroyed in `Drop`.
+            let set_layout = unsafe { context.device.create_descriptor_set_layout(&info, None) }
+                .while_("creating a descriptor set layout")?;
+            layout.set_layouts.push(set_layout);
+        }
+        let info = vk::PipelineLayoutCreateInfo::default()
+            .set_layouts(&layout.set_layouts)
+            .push_constant_ranges(push_constants);
+        // SAFETY: the set layouts are live; destroyed in `Drop`.
+        layout.raw = unsafe { context.device.create_pipeline_layout(&info, None) }
+            .while_("creating a pipeline layout")?;
+        context.name(layout.raw, name);
+        Ok(layout)
+    }
+}
+
+impl Drop for PipelineLayout {
+    fn drop(&mut self) {
+        // SAFETY: pipelines using the layout are dropped by their owners first.
+        unsafe {
+            self.context.device.destroy_pipeline_layout(self.raw, None);
+            for &set_layout in &self.set_layouts {
+                self.context.device.destroy_descriptor_set_layout(set_layout, None);
+            }
+        }
+    }
+}
+
+/// One shader stage of a pipeline.
+pub struct Stage<'a> {
+    pub stage: vk::ShaderStageFlags,
+    pub module: &'a ShaderModule,
+    pub specialization: Option<&'a Specialization>,
+}
+
+/// Everything that varies between the project's graphics pipelines.
+pub struct GraphicsPipelineDesc<'a> {
+    pub name: &'a str,
+    pub stages: Vec<Stage<'a>>,
+    pub layout: &'a PipelineLayout,
+    pub vertex_bindings: &'a [vk::VertexInputBindingDescription],
+    pub vertex_attributes: &'a [vk::VertexInputAttributeDescription],
+    pub topology: vk::PrimitiveTopology,
+    /// Control points per patch when the pipeline tessellates.
+    pub patch_control_points: Option<u32>,
+    pub polygon_mode: vk::PolygonMode,
+    pub cull_mode: vk::CullModeFlags,
+    pub front_face: vk::FrontFace,
+    pub color_format: vk::Format,
+    pub depth_format: Option<vk::Format>,
+}
+
+/// A graphics pipeline.
+pub struct Pipeline {
+    context: Arc<Context>,
+    pub raw: vk::Pipeline,
+}
+
+impl Pipeline {
+    pub fn graphics(context: &Arc<Context>, desc: &GraphicsPipelineDesc<'_>) -> Result<Pipeline> {
+        let specializations: Vec<vk::SpecializationInfo<'_>> = desc
+            .stages
+            .iter()
+            .map(|s| s.specialization.map(Specialization::info).unwrap_or_default())
+            .collect();
+        let stages: Vec<vk::PipelineShaderStageCreateInfo<'_>> = desc
+            .stages
+            .iter()
+            .zip(&specializations)
+            .map(|(stage, specialization)| {
+                let info = vk::PipelineShaderStageCreateInfo::default()
+                    .stage(stage.stage)
+                    .module(stage.module.raw)
+                    .name(ENTRY_POINT);
+                if stage.specialization.is_some() {
+                    info.specialization_info(specialization)
+                } else {
+                    info
+                }
+            })
+            .collect();
+        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
+            .vertex_binding_descriptions(desc.vertex_bindings)
+            .vertex_attribute_descriptions(desc.vertex_attributes);
+        let input_assembly =
+            vk::PipelineInputAssemblyStateCreateInfo::default().topology(desc.topology);
+        let tessellation = vk::PipelineTessellationStateCreateInfo::default()
+            .patch_control_points(desc.patch_control_points.unwrap_or(0));
+        let viewport = vk::PipelineViewportStateCreateInfo::default()
+            .viewport_count(1)
+            .scissor_count(1);
+        let rasterization = vk::PipelineRasterizationStateCreateInfo::default()
+            .polygon_mode(desc.polygon_mode)
+            .cull_mode(desc.cull_mode)
+            .front_face(desc.front_face)
+            .line_width(1.0);
+        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+            .depth_test_enable(desc.depth_format.is_some())
+            .depth_write_enable(desc.depth_format.is_some())
+            .depth_compare_op(vk::CompareOp::LESS);
+        let blend_attachment = [vk::PipelineColorBlendAttachmentState::default()
+            .color_write_mask(vk::ColorComponentFlags::RGBA)];
+        let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachment);
+        let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+        let color_formats = [desc.color_format];
+        let mut rendering = vk::PipelineRenderingCreateInfo::default()
+            .color_attachment_formats(&color_formats)
+            .depth_attachment_format(desc.depth_format.unwrap_or(vk::Format::UNDEFINED));
+        let mut info = vk::GraphicsPipelineCreateInfo::default()
+            .stages(&stages)
+            .vertex_input_state(&vertex_input)
+            .input_assembly_state(&input_assembly)
+            .viewport_state(&viewport)
+            .rasterization_state(&rasterization)
+            .multisample_state(&multisample)
+            .depth_stencil_state(&depth)
+            .color_blend_state(&blend)
+            .dynamic_state(&dynamic)
+            .layout(desc.layout.raw)
+            .push_next(&mut rendering);
+        if desc.patch_control_points.is_some() {
+            info = info.tessellation_state(&tessellation);
+        }
+        // SAFETY: every pointer in `info` refers to locals alive for the call.
+        let raw = unsafe {
+            context.device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+        }
+        .map_err(|(_, result)| result)
+        .while_("creating a graphics pipeline")?[0];
+        context.name(raw, desc.name);
+        Ok(Pipeline { context: context.clone(), raw })
+    }
+}
+
+impl Drop for Pipeline {
+    fn drop(&mut self) {
+        // SAFETY: the owner guarantees no command buffer in flight uses the pipeline.
+        unsafe { self.context.device.destroy_pipeline(self.raw, None) };
+    }
+}
+
+/// A descriptor pool that frees its sets when dropped.
+pub struct DescriptorPool {
+    context: Arc<Context>,
+    pub raw: vk::DescriptorPool,
+}
+
+impl DescriptorPool {
+    pub fn new(
+        context: &Arc<Context>,
+        name: &str,
+        max_sets: u32,
+        sizes: &[vk::DescriptorPoolSize],
+    ) -> Result<DescriptorPool> {
+        let info = vk::DescriptorPoolCreateInfo::default().max_sets(max_sets).pool_sizes(sizes);
+        // SAFETY: valid create info; destroyed in `Drop`.
+        let raw = unsafe { context.device.create_descriptor_pool(&info, None) }
+            .while_("creating a descriptor pool")?;
+        context.name(raw, name);
+        Ok(DescriptorPool { context: context.clone(), raw })
+    }
+
+    /// Allocates one set of `layout`.
+    pub fn allocate(&self, layout: vk::DescriptorSetLayout) -> Result<vk::DescriptorSet> {
+        let layouts = [layout];
+        let info = vk::DescriptorSetAllocateInfo::default()
+            .descriptor_pool(self.raw)
+            .set_layouts(&layouts);
+        // SAFETY: pool and layout are live.
+        Ok(unsafe { self.context.device.allocate_descriptor_sets(&info) }
+            .while_("allocating a descriptor set")?[0])
+    }
+}
+
+impl Drop for DescriptorPool {
+    fn drop(&mut self) {
+        // SAFETY: the owner guarantees no command buffer in flight uses the sets.
+        unsafe { self.context.device.destroy_descriptor_pool(self.raw, None) };
+    }
+}

@@ -1,0 +1,379 @@
+//! The interactive viewer: a winit window whose frames are rendered into the float target by
+//! the same passes as headless rendering, then tone mapped into the swapchain.
+//! Drag with the left button to orbit, scroll to zoom, Esc to quit. The title shows the frame
+//! time. A `ViewScript` drives the same loop without a person, for tests.
+
+use crate::error::{Error, Result, VkContext as _};
+use crate::render::camera::Orbit;
+use crate::render::present::PresentPass;
+use crate::render::{Renderer, View};
+use crate::scene::Scene;
+use crate::vk::swapchain::{Acquired, Swapchain};
+use crate::vk::target::{AfterPass, RenderTarget};
+use crate::vk::{Context, ContextOptions};
+use ash::vk;
+use std::path::Path;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+use winit::application::ApplicationHandler;
+use winit::dpi::PhysicalSize;
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::keyboard::{Key, NamedKey};
+use winit::window::{Window, WindowId};
+
+/// Scripted actions for automated runs: resize at a frame, close at a later one.
+#[derive(Clone, Debug)]
+pub struct ViewScript {
+    pub resize_at_frame: u32,
+    pub resize_to: (u32, u32),
+    pub close_at_frame: u32,
+}
+
+/// What a viewer session did.
+#[derive(Clone, Debug, Default)]
+pub struct ViewReport {
+    pub frames_presented: u32,
+    pub swapchain_recreations: u32,
+    pub final_extent: (u32, u32),
+    pub validation_messages: usize,
+}
+
+/// Opens a window on the scene at `scene_path` and runs until it is closed.
+pub fn view(scene_path: &Path, options: &ContextOptions, script: Option<ViewScript>) -> Result<ViewReport> {
+    let scene = Scene::load(scene_path)?;
+    let event_loop = new_event_loop()?;
+    event_loop.set_control_flow(ControlFlow::Poll);
+    let mut app = App {
+        orbit: Orbit::from_camera(&scene.camera),
+        view: View::of_scene(&scene),
+        scene,
+        options: options.clone(),
+        script,
+        state: None,
+        report: ViewReport::default(),
+        error: None,
+        drag: None,
+        last_frame: Instant::now(),
+        smoothed_frame: Duration::ZERO,
+    };
+    event_loop.run_app(&mut app).map_err(|e| Error::Window(format!("event loop: {e}")))?;
+    if let Some(error) = app.error {
+        return Err(error);
+    }
+    if let Some(state) = app.state.take() {
+        app.report.validation_messages = state.context.validation().count();
+    }
+    Ok(app.report)
+}
+
+fn new_event_loop() -> Result<EventLoop<()>> {
+    let mut builder = EventLoop::builder();
+    #[cfg(all(unix, not(target_os = "macos")))]
+    {
+        // Tests run the viewer off the main thread.
+        use winit::platform::x11::EventLoopBuilderExtX11;
+        builder.with_any_thread(true);
+    }
+    builder.build().map_err(|e| Error::Window(format!("cannot open the display: {e}")))
+}
+
+/// Per-window GPU state. Field order is drop order: GPU objects go before the window.
+struct WindowState {
+    frame: FrameSync,
+    present: PresentPass,
+    target: RenderTarget,
+    renderer: Renderer,
+    swapchain: Swapchain,
+    needs_recreate: bool,
+    context: Arc<Context>,
+    window: Arc<Window>,
+}
+
+/// One frame in flight: its command buffer, acquire semaphore and fence.
+struct FrameSync {
+    context: Arc<Context>,
+    pool: vk::CommandPool,
+    cmd: vk::CommandBuffer,
+    image_available: vk::Semaphore,
+    in_flight: vk::Fence,
+}
+
+impl FrameSync {
+    fn new(context: &Arc<Context>) -> Result<FrameSync> {
+        let device = &context.device;
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(context.queue_family)
+            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        // SAFETY: plain object creation on a live device; destroyed in `Drop`.
+        unsafe {
+            let pool = device.create_command_pool(&pool_info, None).while_("creating the frame command pool")?;
+            let alloc = vk::CommandBufferAllocateInfo::default()
+                .command_pool(pool)
+                .level(vk::CommandBufferLevel::PRIMARY)
+                .command_buffer_count(1);
+            let cmd = device.allocate_command_buffers(&alloc).while_("allocating the frame command buffer")?[0];
+            let image_available = device
+                .create_semaphore(&vk::SemaphoreCreateInfo::default(), None)
+                .while_("creating a semaphore")?;
+            let in_flight = device
+                .create_fence(&vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED), None)
+                .while_("creating a fence")?;
+            context.name(cmd, "frame commands");
+            Ok(FrameSync { context: context.clone(), pool, cmd, image_available, in_flight })
+        }
+    }
+}
+
+impl Drop for FrameSync {
+    fn drop(&mut self) {
+        let _ = self.context.wait_idle();
+        // SAFETY: the device is idle, so none of these is in use.
+        unsafe {
+            self.context.device.destroy_fence(self.in_flight, None);
+            self.context.device.destroy_semaphore(self.image_available, None);
+            self.context.device.destroy_command_pool(self.pool, None);
+        }
+    }
+}
+
+struct App {
+    scene: Scene,
+    view: View,
+    orbit: Orbit,
+    options: ContextOptions,
+    script: Option<ViewScript>,
+    state: Option<WindowState>,
+    report: ViewReport,
+    error: Option<Error>,
+    drag: Option<(f64, f64)>,
+    last_frame: Instant,
+    smoothed_frame: Duration,
+}
+
+fn extent_of(size: PhysicalSize<u32>) -> vk::Extent2D {
+    vk::Extent2D { width: size.width, height: size.height }
+}
+
+impl App {
+    fn create_state(&self, event_loop: &ActiveEventLoop) -> Result<WindowState> {
+        let settings = &self.scene.settings;
+        let attributes = Window::default_attributes()
+            .with_title("multirate")
+            .with_inner_size(PhysicalSize::new(settings.width, settings.height));
+        let window = Arc::new(
+            event_loop
+                .create_window(attributes)
+                .map_err(|e| Error::Window(format!("cannot create a window: {e}")))?,
+        );
+        let (context, surface) = Context::windowed(&self.options, window.as_ref())?;
+        let size = extent_of(window.inner_size());
+        let swapchain = Swapchain::new(&context, surface, size)?;
+        let renderer = Renderer::new(&context, &self.scene)?;
+        let target = RenderTarget::new(&context, swapchain.extent.max_one())?;
+        let present = PresentPass::new(&context, swapchain.format.format, !swapchain.is_srgb())?;
+        present.bind_target(&target);
+        let frame = FrameSync::new(&context)?;
+        Ok(WindowState {
+            frame,
+            present,
+            target,
+            renderer,
+            swapchain,
+            needs_recreate: false,
+            context,
+            window,
+        })
+    }
+
+    /// Renders and presents one frame; returns whether an image was presented.
+    fn draw_frame(&mut self) -> Result<bool> {
+        let Some(state) = self.state.as_mut() else { return Ok(false) };
+        let size = extent_of(state.window.inner_size());
+        if size.width == 0 || size.height == 0 {
+            return Ok(false); // minimised: nothing to draw into
+        }
+        if state.needs_recreate || state.swapchain.images.is_empty() || size != state.swapchain.extent {
+            if !state.swapchain.recreate(size)? {
+                return Ok(false);
+            }
+            state.target = RenderTarget::new(&state.context, state.swapchain.extent)?;
+            state.present.bind_target(&state.target);
+            state.needs_recreate = false;
+            self.report.swapchain_recreations += 1;
+        }
+        let device = &state.context.device;
+        let frame = &state.frame;
+        // SAFETY: the fence belongs to this device; waiting makes the command buffer and the
+        // acquire semaphore of the previous frame reusable.
+        unsafe { device.wait_for_fences(&[frame.in_flight], true, u64::MAX) }.while_("waiting for the last frame")?;
+        let index = match state.swapchain.acquire(frame.image_available)? {
+            Acquired::Image(index) => index,
+            Acquired::OutOfDate => {
+                state.needs_recreate = true;
+                return Ok(false);
+            }
+        };
+        // SAFETY: the previous submission of this command buffer finished (fence above).
+        unsafe {
+            device.reset_fences(&[frame.in_flight]).while_("resetting the frame fence")?;
+            device
+                .reset_command_buffer(frame.cmd, vk::CommandBufferResetFlags::empty())
+                .while_("resetting the frame commands")?;
+            device
+                .begin_command_buffer(frame.cmd, &vk::CommandBufferBeginInfo::default())
+                .while_("beginning the frame commands")?;
+        }
+        let mut view = self.view.clone();
+        view.camera = self.orbit.apply(&self.scene.camera);
+        state.renderer.record(frame.cmd, &state.target, &view, AfterPass::Sampled);
+        state.present.record(
+            frame.cmd,
+            state.swapchain.images[index as usize],
+            state.swapchain.views[index as usize],
+            state.swapchain.extent,
+            self.scene.settings.exposure,
+        );
+        // SAFETY: recording began above.
+        unsafe { device.end_command_buffer(frame.cmd) }.while_("ending the frame commands")?;
+        let wait = [vk::SemaphoreSubmitInfo::default()
+            .semaphore(frame.image_available)
+            .stage_mask(vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT)];
+        let signal = [vk::SemaphoreSubmitInfo::default()
+            .semaphore(state.swapchain.render_finished[index as usize])
+            .stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)];
+        let cmd_info = [vk::CommandBufferSubmitInfo::default().command_buffer(frame.cmd)];
+        let submit = [vk::SubmitInfo2::default()
+            .wait_semaphore_infos(&wait)
+            .command_buffer_infos(&cmd_info)
+            .signal_semaphore_infos(&signal)];
+        state.context.submit(&submit, frame.in_flight)?;
+        if state.swapchain.present(index)? {
+            state.needs_recreate = true;
+        }
+        Ok(true)
+    }
+
+    fn update_title(&mut self) {
+        let now = Instant::now();
+        let frame = now - self.last_frame;
+        self.last_frame = now;
+        self.smoothed_frame = self.smoothed_frame.mul_f64(0.9) + frame.mul_f64(0.1);
+        if let Some(state) = &self.state {
+            if self.report.frames_presented % 10 == 0 {
+                state.window.set_title(&format!(
+                    "multirate: {} ({}) {:.2} ms",
+                    self.scene.path.display(),
+                    "pixel",
+                    self.smoothed_frame.as_secs_f64() * 1e3
+                ));
+            }
+        }
+    }
+
+    fn run_script(&mut self, event_loop: &ActiveEventLoop) {
+        let (Some(script), Some(state)) = (&self.script, &self.state) else { return };
+        let frames = self.report.frames_presented;
+        if frames == script.resize_at_frame {
+            let _ = state.window.request_inner_size(PhysicalSize::new(script.resize_to.0, script.resize_to.1));
+        }
+        if frames >= script.close_at_frame {
+            event_loop.exit();
+        }
+    }
+
+    fn fail(&mut self, event_loop: &ActiveEventLoop, error: Error) {
+        self.error = Some(error);
+        event_loop.exit();
+    }
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.state.is_some() {
+            return;
+        }
+        match self.create_state(event_loop) {
+            Ok(state) => {
+                state.window.request_redraw();
+                self.state = Some(state);
+            }
+            Err(error) => self.fail(event_loop, error),
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::KeyboardInput { event, .. } if event.state == ElementState::Pressed => {
+                if event.logical_key == Key::Named(NamedKey::Escape) {
+                    event_loop.exit();
+                }
+            }
+            WindowEvent::Resized(_) => {
+                if let Some(state) = self.state.as_mut() {
+                    state.needs_recreate = true;
+                }
+            }
+            WindowEvent::MouseInput { state: pressed, button: MouseButton::Left, .. } => {
+                self.drag = (pressed == ElementState::Pressed).then_some((f64::NAN, f64::NAN));
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                if let Some((x, y)) = self.drag {
+                    if x.is_finite() {
+                        self.orbit.rotate((position.x - x) as f32, (position.y - y) as f32);
+                    }
+                    self.drag = Some((position.x, position.y));
+                }
+            }
+            WindowEvent::MouseWheel { delta, .. } => {
+                let steps = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => y,
+                    MouseScrollDelta::PixelDelta(p) => (p.y / 40.0) as f32,
+                };
+                self.orbit.zoom(steps);
+            }
+            WindowEvent::RedrawRequested => {
+                match self.draw_frame() {
+                    Ok(true) => {
+                        self.report.frames_presented += 1;
+                        if let Some(state) = &self.state {
+                            let extent = state.swapchain.extent;
+                            self.report.final_extent = (extent.width, extent.height);
+                        }
+                        self.update_title();
+                        self.run_script(event_loop);
+                    }
+                    Ok(false) => {}
+                    Err(error) => return self.fail(event_loop, error),
+                }
+                if let Some(state) = &self.state {
+                    state.window.request_redraw();
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
+        if let Some(state) = &self.state {
+            state.window.request_redraw();
+        }
+    }
+
+    fn exiting(&mut self, _event_loop: &ActiveEventLoop) {
+        if let Some(state) = &self.state {
+            self.report.validation_messages = state.context.validation().count();
+        }
+    }
+}
+
+trait ExtentExt {
+    fn max_one(self) -> Self;
+}
+
+impl ExtentExt for vk::Extent2D {
+    fn max_one(self) -> Self {
+        vk::Extent2D { width: self.width.max(1), height: self.height.max(1) }
+    }
+}

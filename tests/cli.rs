@@ -1,0 +1,155 @@
+//! The `multirate` binary end to end: a successful render with validation, and bad inputs
+//! that must fail with a message naming the file and the problem, never a panic.
+
+mod common;
+
+use common::repo_path;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli").join(name);
+    std::fs::create_dir_all(&dir).expect("create scratch folder");
+    dir
+}
+
+fn multirate(args: &[&str]) -> (bool, String, String) {
+    let output = Command::new(env!("CARGO_BIN_EXE_multirate"))
+        .args(args)
+        .env_remove("DISPLAY")
+        .output()
+        .expect("run multirate");
+    (
+        output.status.success(),
+        String::from_utf8_lossy(&output.stdout).into_owned(),
+        String::from_utf8_lossy(&output.stderr).into_owned(),
+    )
+}
+
+/// Runs `render` on `scene` and asserts it fails cleanly with every `expected` text in stderr.
+fn assert_render_fails(scene: &Path, expected: &[&str]) {
+    let out = scratch("failures").join("never.png");
+    let (ok, _, stderr) = multirate(&["render", "--scene", scene.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert!(!ok, "rendering {} should fail", scene.display());
+    assert!(!stderr.contains("panicked"), "panic instead of an error:\n{stderr}");
+    for text in expected {
+        assert!(stderr.contains(text), "stderr lacks {text:?}:\n{stderr}");
+    }
+    assert!(!out.exists(), "a failed render must not leave an image");
+}
+
+const VALID_SCENE: &str = r#"
+description = "one triangle"
+source = "written by the test"
+[camera]
+eye = [0.0, 0.0, 3.0]
+target = [0.0, 0.0, 0.0]
+fov_y_degrees = 50.0
+[[materials]]
+name = "grey"
+type = "lambert"
+kd = [0.5, 0.5, 0.5]
+[[meshes]]
+obj = "MESH"
+material = "grey"
+[[lights]]
+type = "directional"
+direction = [0.0, 0.0, -1.0]
+color = [1.0, 1.0, 1.0]
+intensity = 1.0
+"#;
+
+fn write_scene(name: &str, toml: &str, obj: Option<&str>) -> PathBuf {
+    let dir = scratch(name);
+    let mesh = dir.join("mesh.obj");
+    if let Some(obj) = obj {
+        std::fs::write(&mesh, obj).unwrap();
+    }
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, toml.replace("MESH", "mesh.obj")).unwrap();
+    path
+}
+
+const TRIANGLE: &str = "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n";
+
+#[test]
+fn renders_png_and_exr_with_coverage() {
+    let scene = repo_path("scenes/test/lambert_directional.toml");
+    let dir = scratch("success");
+    let png = dir.join("out.png");
+    let exr = dir.join("out.exr");
+    for out in [&png, &exr] {
+        let (ok, stdout, stderr) = multirate(&[
+            "--validate", "render", "--scene", scene.to_str().unwrap(), "--out", out.to_str().unwrap(),
+            "--width", "64", "--height", "48",
+        ]);
+        assert!(ok, "render failed:\n{stderr}");
+        assert!(stdout.contains(out.to_str().unwrap()), "prints where the image went: {stdout}");
+        assert!(!stderr.contains("vulkan:"), "validation messages:\n{stderr}");
+    }
+    let png = image::open(&png).expect("PNG decodes").to_rgba8();
+    assert_eq!(png.dimensions(), (64, 48));
+    let exr = image::open(&exr).expect("EXR decodes").to_rgba32f();
+    assert_eq!(exr.dimensions(), (64, 48));
+    let covered = exr.pixels().filter(|p| p.0[3] == 1.0).count();
+    let empty = exr.pixels().filter(|p| p.0[3] == 0.0).count();
+    assert_eq!(covered + empty, 64 * 48, "alpha is exactly coverage: 0 or 1");
+    assert!(covered > 0 && empty > 0, "the test scene shows surface and background");
+    assert!(exr.pixels().filter(|p| p.0[3] == 1.0).any(|p| p.0[0] > 0.0), "lit surface");
+}
+
+#[test]
+fn missing_scene_names_the_file() {
+    let missing = scratch("missing").join("no-such-scene.toml");
+    assert_render_fails(&missing, &["no-such-scene.toml", "cannot read"]);
+}
+
+#[test]
+fn malformed_toml_names_the_file_and_line() {
+    let path = write_scene("malformed", "description = \"x\"\n[camera\neye = [0, 0, 1]\n", Some(TRIANGLE));
+    assert_render_fails(&path, &[path.to_str().unwrap(), "line 2"]);
+}
+
+#[test]
+fn unknown_key_names_the_file_and_key() {
+    let toml = VALID_SCENE.replace("kd = [0.5, 0.5, 0.5]", "kd = [0.5, 0.5, 0.5]\ncolour = [1.0, 0.0, 0.0]");
+    let path = write_scene("unknown-key", &toml, Some(TRIANGLE));
+    assert_render_fails(&path, &[path.to_str().unwrap(), "colour"]);
+}
+
+#[test]
+fn missing_mesh_names_the_obj() {
+    let path = write_scene("missing-mesh", VALID_SCENE, None);
+    assert_render_fails(&path, &["mesh.obj"]);
+}
+
+#[test]
+fn nan_coordinates_name_the_obj() {
+    let obj = "v -1 -1 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n";
+    let path = write_scene("nan", VALID_SCENE, Some(obj));
+    assert_render_fails(&path, &["mesh.obj", "NaN"]);
+}
+
+#[test]
+fn unknown_material_is_named() {
+    let toml = VALID_SCENE.replace("material = \"grey\"", "material = \"steel\"");
+    let path = write_scene("unknown-material", &toml, Some(TRIANGLE));
+    assert_render_fails(&path, &[path.to_str().unwrap(), "steel"]);
+}
+
+#[test]
+fn unknown_output_format_is_named() {
+    let scene = repo_path("scenes/test/lambert_directional.toml");
+    let out = scratch("format").join("image.bmp");
+    let (ok, _, stderr) = multirate(&["render", "--scene", scene.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert!(!ok && !stderr.contains("panicked"));
+    assert!(stderr.contains("image.bmp") && stderr.contains(".png or .exr"), "{stderr}");
+}
+
+#[test]
+fn unknown_mode_is_rejected_by_the_parser() {
+    let scene = repo_path("scenes/test/lambert_directional.toml");
+    let (ok, _, stderr) = multirate(&["render", "--scene", scene.to_str().unwrap(), "--out", "x.png", "--mode", "sparkly"]);
+    assert!(!ok && !stderr.contains("panicked"));
+    assert!(stderr.contains("sparkly"), "{stderr}");
+}

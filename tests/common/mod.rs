@@ -1,0 +1,92 @@
+//! Helpers shared by the GPU tests: a validated headless context, CPU ray casting of scenes
+//! and a check that the validation layer stayed silent.
+#![allow(dead_code)]
+
+use glam::{DVec3, Vec3};
+use multirate::scene::Scene;
+use multirate::vk::{Context, ContextOptions};
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// A headless context with the Khronos validation layer on.
+pub fn validated_context() -> Arc<Context> {
+    Context::headless(&ContextOptions { validate: true, device_name: None })
+        .expect("a Vulkan device with tessellation (lavapipe in CI) and the validation layer")
+}
+
+/// Fails the test if the validation layer reported anything.
+pub fn assert_validation_clean(context: &Context) {
+    let log = context.validation();
+    assert_eq!(log.count(), 0, "validation messages:\n{}", log.messages().join("\n"));
+}
+
+/// A path inside the repository.
+pub fn repo_path(relative: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(relative)
+}
+
+/// Where a ray hits the scene: mesh, triangle and barycentric coordinates of the hit.
+#[derive(Clone, Copy, Debug)]
+pub struct Hit {
+    pub distance: f64,
+    pub mesh: usize,
+    pub triangle: usize,
+    pub barycentric: [f64; 3],
+}
+
+impl Hit {
+    /// Interpolated world position and (unnormalised) normal at the hit, in f64.
+    pub fn attributes(&self, scene: &Scene) -> (DVec3, DVec3) {
+        let mesh = &scene.meshes[self.mesh];
+        let corner = |k: usize| mesh.indices[self.triangle * 3 + k] as usize;
+        let mut position = DVec3::ZERO;
+        let mut normal = DVec3::ZERO;
+        for k in 0..3 {
+            position += mesh.positions[corner(k)].as_dvec3() * self.barycentric[k];
+            normal += mesh.normals[corner(k)].as_dvec3() * self.barycentric[k];
+        }
+        (position, normal)
+    }
+}
+
+/// Nearest intersection of a ray with every triangle of the scene (Möller–Trumbore in f64).
+pub fn ray_cast(scene: &Scene, origin: Vec3, direction: Vec3) -> Option<Hit> {
+    let origin = origin.as_dvec3();
+    let direction = direction.as_dvec3();
+    let mut best: Option<Hit> = None;
+    for (mesh_index, mesh) in scene.meshes.iter().enumerate() {
+        for (triangle, corners) in mesh.indices.chunks_exact(3).enumerate() {
+            let a = mesh.positions[corners[0] as usize].as_dvec3();
+            let b = mesh.positions[corners[1] as usize].as_dvec3();
+            let c = mesh.positions[corners[2] as usize].as_dvec3();
+            let e1 = b - a;
+            let e2 = c - a;
+            let p = direction.cross(e2);
+            let det = e1.dot(p);
+            if det.abs() < 1e-18 {
+                continue;
+            }
+            let inv = 1.0 / det;
+            let s = origin - a;
+            let u = s.dot(p) * inv;
+            if !(0.0..=1.0).contains(&u) {
+                continue;
+            }
+            let q = s.cross(e1);
+            let v = direction.dot(q) * inv;
+            if v < 0.0 || u + v > 1.0 {
+                continue;
+            }
+            let t = e2.dot(q) * inv;
+            if t > 0.0 && best.is_none_or(|h| t < h.distance) {
+                best = Some(Hit {
+                    distance: t,
+                    mesh: mesh_index,
+                    triangle,
+                    barycentric: [1.0 - u - v, u, v],
+                });
+            }
+        }
+    }
+    best
+}

@@ -1,0 +1,54 @@
+//! The viewer opens a window, renders, survives a resize (swapchain recreation) and closes
+//! cleanly with the validation layer on. Uses the display in `DISPLAY`, or starts Xvfb.
+
+mod common;
+
+use multirate::vk::ContextOptions;
+use multirate::window::{view, ViewScript};
+use std::io::{BufRead, BufReader};
+use std::process::{Child, Command, Stdio};
+
+/// Starts `Xvfb` on a free display and returns it (killed on drop) when no display is set.
+struct VirtualDisplay(Option<Child>);
+
+impl VirtualDisplay {
+    fn ensure() -> VirtualDisplay {
+        if std::env::var_os("DISPLAY").is_some_and(|d| !d.is_empty()) {
+            return VirtualDisplay(None);
+        }
+        let mut child = Command::new("Xvfb")
+            .args(["-displayfd", "1", "-screen", "0", "1024x768x24", "-nolisten", "tcp"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("no DISPLAY and no Xvfb to start (Debian package xvfb)");
+        let mut line = String::new();
+        BufReader::new(child.stdout.take().expect("piped"))
+            .read_line(&mut line)
+            .expect("Xvfb reports its display number");
+        std::env::set_var("DISPLAY", format!(":{}", line.trim()));
+        VirtualDisplay(Some(child))
+    }
+}
+
+impl Drop for VirtualDisplay {
+    fn drop(&mut self) {
+        if let Some(child) = &mut self.0 {
+            let _ = child.kill();
+            let _ = child.wait();
+        }
+    }
+}
+
+#[test]
+fn window_opens_resizes_and_closes_cleanly() {
+    let _display = VirtualDisplay::ensure();
+    let scene = common::repo_path("scenes/test/lambert_directional.toml");
+    let script = ViewScript { resize_at_frame: 3, resize_to: (200, 150), close_at_frame: 12 };
+    let report = view(&scene, &ContextOptions { validate: true, device_name: None }, Some(script))
+        .expect("the viewer runs");
+    assert!(report.frames_presented >= 12, "{report:?}");
+    assert!(report.swapchain_recreations >= 1, "the resize must recreate the swapchain: {report:?}");
+    assert_eq!(report.final_extent, (200, 150), "{report:?}");
+    assert_eq!(report.validation_messages, 0, "{report:?}");
+}
