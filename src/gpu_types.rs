@@ -36,7 +36,8 @@ pub struct DrawConstants {
     pub viewport: Vec4,
     pub material_index: u32,
     pub mesh_index: u32,
-    pub pad0: u32,
+    /// Tessellation level of the `fixed:N` mode.
+    pub fixed_level: u32,
     pub pad1: u32,
 }
 

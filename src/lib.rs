@@ -7,6 +7,7 @@
 //! - [`render`]: passes and pipeline variants that join the three above, and image output.
 //! - [`window`]: the interactive viewer.
 
+pub mod analysis;
 pub mod error;
 pub mod gpu_types;
 pub mod render;

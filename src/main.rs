@@ -52,7 +52,7 @@ struct RenderArgs {
     /// Height in pixels (default: the scene's).
     #[arg(long)]
     height: Option<u32>,
-    /// Shading mode.
+    /// Shading mode: pixel (reference), vertex (Gouraud) or fixed:N (tessellated at level N).
     #[arg(long, default_value = "pixel")]
     mode: Mode,
 }
@@ -94,12 +94,10 @@ fn render(args: &RenderArgs, gpu: &GpuArgs) -> Result<()> {
     let non_finite = image.pixels.iter().flatten().filter(|v| !v.is_finite()).count();
     anyhow::ensure!(non_finite == 0, "the rendered image holds {non_finite} non-finite values");
     println!(
-        "{}: {width}x{height}, {} triangles, {} on {}",
+        "{}: {width}x{height}, {} triangles, mode {} on {}",
         args.out.display(),
         scene.triangle_count(),
-        match view.mode {
-            Mode::Pixel => "per-pixel shading",
-        },
+        view.mode,
         context.info.name
     );
     let messages = context.validation().count();

@@ -10,6 +10,15 @@ pub const FORWARD_VERT: &[u8] = spirv!("forward.vert");
 pub const PIXEL_FRAG: &[u8] = spirv!("pixel.frag");
 pub const FULLSCREEN_VERT: &[u8] = spirv!("fullscreen.vert");
 pub const PRESENT_FRAG: &[u8] = spirv!("present.frag");
+pub const GOURAUD_VERT: &[u8] = spirv!("gouraud.vert");
+pub const COLOR_FRAG: &[u8] = spirv!("color.frag");
+pub const PATCH_VERT: &[u8] = spirv!("patch.vert");
+pub const FIXED_TESC: &[u8] = spirv!("fixed.tesc");
+pub const SHADE_TESE: &[u8] = spirv!("shade.tese");
+pub const CAPTURE_VERT: &[u8] = spirv!("capture.vert");
+pub const CAPTURE_TESC: &[u8] = spirv!("capture.tesc");
+pub const CAPTURE_TESE: &[u8] = spirv!("capture.tese");
+pub const CAPTURE_GEOM: &[u8] = spirv!("capture.geom");
 
 /// Every embedded module, by stage file name (used by the layout test).
 pub const ALL: &[(&str, &[u8])] = &[
@@ -17,6 +26,15 @@ pub const ALL: &[(&str, &[u8])] = &[
     ("pixel.frag", PIXEL_FRAG),
     ("fullscreen.vert", FULLSCREEN_VERT),
     ("present.frag", PRESENT_FRAG),
+    ("gouraud.vert", GOURAUD_VERT),
+    ("color.frag", COLOR_FRAG),
+    ("patch.vert", PATCH_VERT),
+    ("fixed.tesc", FIXED_TESC),
+    ("shade.tese", SHADE_TESE),
+    ("capture.vert", CAPTURE_VERT),
+    ("capture.tesc", CAPTURE_TESC),
+    ("capture.tese", CAPTURE_TESE),
+    ("capture.geom", CAPTURE_GEOM),
 ];
 
 /// Decodes SPIR-V bytes into aligned words.

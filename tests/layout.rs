@@ -145,7 +145,7 @@ fn draw_constants_match_glsl() {
             ("viewport", offset_of!(DrawConstants, viewport)),
             ("material_index", offset_of!(DrawConstants, material_index)),
             ("mesh_index", offset_of!(DrawConstants, mesh_index)),
-            ("pad0", offset_of!(DrawConstants, pad0)),
+            ("fixed_level", offset_of!(DrawConstants, fixed_level)),
             ("pad1", offset_of!(DrawConstants, pad1)),
         ],
         size_of::<DrawConstants>(),

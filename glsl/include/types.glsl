@@ -24,7 +24,7 @@ struct DrawConstants {
     vec4 viewport;       // x, y: target size in pixels; z: epsilon; w: n_max
     uint material_index; // index into the material buffer
     uint mesh_index;
-    uint pad0;
+    uint fixed_level;    // tessellation level of the fixed:N mode
     uint pad1;
 };
 

@@ -2,6 +2,7 @@
 //! materials and lights, and the forward pass that draws into a render target.
 
 pub mod camera;
+pub mod capture;
 pub mod output;
 pub mod present;
 
@@ -20,20 +21,42 @@ use ash::vk;
 use glam::{Vec3, Vec4};
 use std::sync::Arc;
 
-/// How shading is sampled. Only the per-pixel reference exists so far.
+/// How shading is sampled. Every mode runs the same BRDF code (`glsl/include/brdf.glsl`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Mode {
     /// Full shading in the fragment shader at every pixel: the reference.
     #[default]
     Pixel,
+    /// Gouraud: shade the triangle's three vertices, interpolate; no subdivision, no fallback.
+    Vertex,
+    /// Tessellate every triangle at inner = outer = N and shade the sub-vertices in the TES.
+    Fixed(u32),
 }
+
+/// Highest tessellation level Vulkan guarantees (`maxTessellationGenerationLevel` ≥ 64).
+pub const MAX_LEVEL: u32 = 64;
 
 impl std::str::FromStr for Mode {
     type Err = String;
     fn from_str(text: &str) -> Result<Mode, String> {
         match text {
             "pixel" => Ok(Mode::Pixel),
-            other => Err(format!("unknown mode \"{other}\" (known: pixel)")),
+            "vertex" => Ok(Mode::Vertex),
+            _ => match text.strip_prefix("fixed:").map(str::parse::<u32>) {
+                Some(Ok(level)) if (1..=MAX_LEVEL).contains(&level) => Ok(Mode::Fixed(level)),
+                Some(_) => Err(format!("\"{text}\": the level of fixed:N must be an integer in 1..={MAX_LEVEL}")),
+                None => Err(format!("unknown mode \"{text}\" (known: pixel, vertex, fixed:N)")),
+            },
+        }
+    }
+}
+
+impl std::fmt::Display for Mode {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Mode::Pixel => write!(f, "pixel"),
+            Mode::Vertex => write!(f, "vertex"),
+            Mode::Fixed(level) => write!(f, "fixed:{level}"),
         }
     }
 }
@@ -102,6 +125,23 @@ impl View {
     }
 }
 
+/// The pipelines of one material kind, one per mode.
+struct Variant {
+    pixel: Pipeline,
+    vertex: Pipeline,
+    tessellated: Pipeline,
+}
+
+impl Variant {
+    fn for_mode(&self, mode: Mode) -> &Pipeline {
+        match mode {
+            Mode::Pixel => &self.pixel,
+            Mode::Vertex => &self.vertex,
+            Mode::Fixed(_) => &self.tessellated,
+        }
+    }
+}
+
 struct DrawCall {
     first_index: u32,
     index_count: u32,
@@ -120,7 +160,7 @@ pub struct Renderer {
     layout: PipelineLayout,
     _pool: DescriptorPool,
     descriptor_set: vk::DescriptorSet,
-    pipelines: Vec<Pipeline>,
+    variants: Vec<Variant>,
     draws: Vec<DrawCall>,
     clear_color: [f32; 4],
 }
@@ -211,62 +251,22 @@ impl Renderer {
         // SAFETY: the set and buffers are live and not in use.
         unsafe { context.device.update_descriptor_sets(&writes, &[]) };
 
-        let vertex_module = ShaderModule::new(context, "forward.vert", shaders::FORWARD_VERT)?;
-        let pixel_module = ShaderModule::new(context, "pixel.frag", shaders::PIXEL_FRAG)?;
-        let vertex_bindings = [vk::VertexInputBindingDescription {
-            binding: 0,
-            stride: std::mem::size_of::<Vertex>() as u32,
-            input_rate: vk::VertexInputRate::VERTEX,
-        }];
-        let vertex_attributes = [
-            vk::VertexInputAttributeDescription {
-                location: 0,
-                binding: 0,
-                format: vk::Format::R32G32B32_SFLOAT,
-                offset: std::mem::offset_of!(Vertex, position) as u32,
-            },
-            vk::VertexInputAttributeDescription {
-                location: 1,
-                binding: 0,
-                format: vk::Format::R32G32B32_SFLOAT,
-                offset: std::mem::offset_of!(Vertex, normal) as u32,
-            },
-        ];
-        let mut pipelines = Vec::new();
+        let modules = Modules {
+            forward_vert: ShaderModule::new(context, "forward.vert", shaders::FORWARD_VERT)?,
+            pixel_frag: ShaderModule::new(context, "pixel.frag", shaders::PIXEL_FRAG)?,
+            gouraud_vert: ShaderModule::new(context, "gouraud.vert", shaders::GOURAUD_VERT)?,
+            color_frag: ShaderModule::new(context, "color.frag", shaders::COLOR_FRAG)?,
+            patch_vert: ShaderModule::new(context, "patch.vert", shaders::PATCH_VERT)?,
+            fixed_tesc: ShaderModule::new(context, "fixed.tesc", shaders::FIXED_TESC)?,
+            shade_tese: ShaderModule::new(context, "shade.tese", shaders::SHADE_TESE)?,
+        };
+        let mut variants = Vec::new();
         for &kind in &kinds {
             let specialization = Specialization::default()
                 .int(0, kind)
                 .int(1, point_count)
                 .int(2, directional_count);
-            let name = format!("pixel shading, material kind {kind}");
-            pipelines.push(Pipeline::graphics(
-                context,
-                &GraphicsPipelineDesc {
-                    name: &name,
-                    stages: vec![
-                        Stage {
-                            stage: vk::ShaderStageFlags::VERTEX,
-                            module: &vertex_module,
-                            specialization: None,
-                        },
-                        Stage {
-                            stage: vk::ShaderStageFlags::FRAGMENT,
-                            module: &pixel_module,
-                            specialization: Some(&specialization),
-                        },
-                    ],
-                    layout: &layout,
-                    vertex_bindings: &vertex_bindings,
-                    vertex_attributes: &vertex_attributes,
-                    topology: vk::PrimitiveTopology::TRIANGLE_LIST,
-                    patch_control_points: None,
-                    polygon_mode: vk::PolygonMode::FILL,
-                    cull_mode: vk::CullModeFlags::NONE,
-                    front_face: vk::FrontFace::COUNTER_CLOCKWISE,
-                    color_format: COLOR_FORMAT,
-                    depth_format: Some(DEPTH_FORMAT),
-                },
-            )?);
+            variants.push(modules.variant(context, &layout, kind, &specialization)?);
         }
         context.name(descriptor_set, "forward descriptor set");
         let clear = scene.settings.clear_color;
@@ -279,7 +279,7 @@ impl Renderer {
             layout,
             _pool: pool,
             descriptor_set,
-            pipelines,
+            variants,
             draws,
             clear_color: [clear.x, clear.y, clear.z, 0.0],
         })
@@ -299,6 +299,10 @@ impl Renderer {
                 view.epsilon,
                 view.n_max as f32,
             ),
+            fixed_level: match view.mode {
+                Mode::Fixed(level) => level,
+                _ => 1,
+            },
             ..Default::default()
         };
         // SAFETY: `cmd` is recording inside the rendering begun above; every bound object is
@@ -317,11 +321,8 @@ impl Renderer {
             for draw in &self.draws {
                 constants.material_index = draw.material_index;
                 constants.mesh_index = draw.mesh_index;
-                device.cmd_bind_pipeline(
-                    cmd,
-                    vk::PipelineBindPoint::GRAPHICS,
-                    self.pipelines[draw.pipeline].raw,
-                );
+                let pipeline = self.variants[draw.pipeline].for_mode(view.mode);
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
                 device.cmd_push_constants(
                     cmd,
                     self.layout.raw,
@@ -352,4 +353,100 @@ pub fn render_headless(
     let renderer = Renderer::new(context, scene)?;
     let target = RenderTarget::new(context, vk::Extent2D { width, height })?;
     renderer.render(&target, view)
+}
+
+/// The shader modules of the forward passes, alive while pipelines are built.
+struct Modules {
+    forward_vert: ShaderModule,
+    pixel_frag: ShaderModule,
+    gouraud_vert: ShaderModule,
+    color_frag: ShaderModule,
+    patch_vert: ShaderModule,
+    fixed_tesc: ShaderModule,
+    shade_tese: ShaderModule,
+}
+
+const VERTEX_BINDINGS: [vk::VertexInputBindingDescription; 1] = [vk::VertexInputBindingDescription {
+    binding: 0,
+    stride: std::mem::size_of::<Vertex>() as u32,
+    input_rate: vk::VertexInputRate::VERTEX,
+}];
+
+const VERTEX_ATTRIBUTES: [vk::VertexInputAttributeDescription; 2] = [
+    vk::VertexInputAttributeDescription {
+        location: 0,
+        binding: 0,
+        format: vk::Format::R32G32B32_SFLOAT,
+        offset: std::mem::offset_of!(Vertex, position) as u32,
+    },
+    vk::VertexInputAttributeDescription {
+        location: 1,
+        binding: 0,
+        format: vk::Format::R32G32B32_SFLOAT,
+        offset: std::mem::offset_of!(Vertex, normal) as u32,
+    },
+];
+
+impl Modules {
+    /// The pixel, vertex and tessellated pipelines of one material kind.
+    fn variant(
+        &self,
+        context: &Arc<Context>,
+        layout: &PipelineLayout,
+        kind: i32,
+        specialization: &Specialization,
+    ) -> Result<Variant> {
+        let stage = |stage, module, specialised: bool| Stage {
+            stage,
+            module,
+            specialization: specialised.then_some(specialization),
+        };
+        let build = |name: String, stages: Vec<Stage<'_>>, tessellated: bool| {
+            Pipeline::graphics(
+                context,
+                &GraphicsPipelineDesc {
+                    name: &name,
+                    stages,
+                    layout,
+                    vertex_bindings: &VERTEX_BINDINGS,
+                    vertex_attributes: &VERTEX_ATTRIBUTES,
+                    topology: if tessellated {
+                        vk::PrimitiveTopology::PATCH_LIST
+                    } else {
+                        vk::PrimitiveTopology::TRIANGLE_LIST
+                    },
+                    patch_control_points: tessellated.then_some(3),
+                    polygon_mode: vk::PolygonMode::FILL,
+                    cull_mode: vk::CullModeFlags::NONE,
+                    front_face: vk::FrontFace::COUNTER_CLOCKWISE,
+                    color_format: Some(COLOR_FORMAT),
+                    depth_format: Some(DEPTH_FORMAT),
+                    rasterizer_discard: false,
+                },
+            )
+        };
+        use vk::ShaderStageFlags as S;
+        Ok(Variant {
+            pixel: build(
+                format!("pixel mode, material kind {kind}"),
+                vec![stage(S::VERTEX, &self.forward_vert, false), stage(S::FRAGMENT, &self.pixel_frag, true)],
+                false,
+            )?,
+            vertex: build(
+                format!("vertex mode, material kind {kind}"),
+                vec![stage(S::VERTEX, &self.gouraud_vert, true), stage(S::FRAGMENT, &self.color_frag, false)],
+                false,
+            )?,
+            tessellated: build(
+                format!("fixed mode, material kind {kind}"),
+                vec![
+                    stage(S::VERTEX, &self.patch_vert, false),
+                    stage(S::TESSELLATION_CONTROL, &self.fixed_tesc, false),
+                    stage(S::TESSELLATION_EVALUATION, &self.shade_tese, true),
+                    stage(S::FRAGMENT, &self.color_frag, false),
+                ],
+                true,
+            )?,
+        })
+    }
 }

@@ -72,8 +72,9 @@ impl PresentPass {
                 polygon_mode: vk::PolygonMode::FILL,
                 cull_mode: vk::CullModeFlags::NONE,
                 front_face: vk::FrontFace::COUNTER_CLOCKWISE,
-                color_format: format,
+                color_format: Some(format),
                 depth_format: None,
+                rasterizer_discard: false,
             },
         )?;
         // SAFETY: live sampler handle.

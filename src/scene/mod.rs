@@ -256,7 +256,13 @@ impl Scene {
             };
             SceneError::Parse {
                 path: path.to_path_buf(),
-                message: e.message().trim().lines().map(str::trim).collect::<Vec<_>>().join("; "),
+                message: e
+                    .message()
+                    .trim()
+                    .lines()
+                    .map(str::trim)
+                    .collect::<Vec<_>>()
+                    .join("; "),
                 line,
                 column,
                 text: snippet,

@@ -28,6 +28,8 @@ pub struct OptionalFeatures {
     pub pipeline_statistics: bool,
     pub fill_mode_non_solid: bool,
     pub geometry_shader: bool,
+    /// Storage-buffer writes and atomics in vertex, tessellation and geometry stages.
+    pub vertex_pipeline_stores: bool,
 }
 
 /// Facts about the chosen device, for reports.
@@ -245,13 +247,14 @@ impl Context {
             pipeline_statistics: supported.pipeline_statistics_query == vk::TRUE,
             fill_mode_non_solid: supported.fill_mode_non_solid == vk::TRUE,
             geometry_shader: supported.geometry_shader == vk::TRUE,
+            vertex_pipeline_stores: supported.vertex_pipeline_stores_and_atomics == vk::TRUE,
         };
         let enabled = vk::PhysicalDeviceFeatures::default()
             .tessellation_shader(true)
             .pipeline_statistics_query(features.pipeline_statistics)
             .fill_mode_non_solid(features.fill_mode_non_solid)
             .geometry_shader(features.geometry_shader)
-            .vertex_pipeline_stores_and_atomics(supported.vertex_pipeline_stores_and_atomics == vk::TRUE)
+            .vertex_pipeline_stores_and_atomics(features.vertex_pipeline_stores)
             .fragment_stores_and_atomics(supported.fragment_stores_and_atomics == vk::TRUE);
         let mut vulkan13 = vk::PhysicalDeviceVulkan13Features::default()
             .dynamic_rendering(true)
@@ -466,16 +469,8 @@ fn pick_device(
                 continue;
             }
         }
-        if properties.api_version < vk::API_VERSION_1_3 {
-            rejected.push(format!(
-                "{name}: supports Vulkan {}.{}, 1.3 is needed",
-                vk::api_version_major(properties.api_version),
-                vk::api_version_minor(properties.api_version)
-            ));
-            continue;
-        }
-        if features.tessellation_shader != vk::TRUE {
-            rejected.push(format!("{name}: no tessellationShader feature (multirate shading needs the hardware tessellator)"));
+        if let Some(reason) = unsuitability(&properties, &features) {
+            rejected.push(format!("{name}: {reason}"));
             continue;
         }
         let family = families.iter().enumerate().position(|(index, family)| {
@@ -510,6 +505,26 @@ fn pick_device(
             Error::NoDevice(rejected.join("; "))
         }
     })
+}
+
+/// Why a device cannot run the renderer, or `None` when it can.
+pub fn unsuitability(
+    properties: &vk::PhysicalDeviceProperties,
+    features: &vk::PhysicalDeviceFeatures,
+) -> Option<String> {
+    if properties.api_version < vk::API_VERSION_1_3 {
+        return Some(format!(
+            "supports Vulkan {}.{}, 1.3 is needed",
+            vk::api_version_major(properties.api_version),
+            vk::api_version_minor(properties.api_version)
+        ));
+    }
+    if features.tessellation_shader != vk::TRUE {
+        return Some(
+            "no tessellationShader feature (multirate shading needs the hardware tessellator)".into(),
+        );
+    }
+    None
 }
 
 fn device_info_of(
@@ -548,5 +563,22 @@ fn device_info_of(
             .get(queue_family as usize)
             .map_or(0, |f| f.timestamp_valid_bits),
         max_tessellation_level: properties.limits.max_tessellation_generation_level,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_device_without_tessellation_is_rejected_with_the_reason() {
+        let properties = vk::PhysicalDeviceProperties { api_version: vk::API_VERSION_1_3, ..Default::default() };
+        let mut features = vk::PhysicalDeviceFeatures::default();
+        let reason = unsuitability(&properties, &features).expect("rejected");
+        assert!(reason.contains("tessellationShader"), "{reason}");
+        features.tessellation_shader = vk::TRUE;
+        assert_eq!(unsuitability(&properties, &features), None);
+        let old = vk::PhysicalDeviceProperties { api_version: vk::API_VERSION_1_1, ..Default::default() };
+        assert!(unsuitability(&old, &features).expect("rejected").contains("1.3 is needed"));
     }
 }

@@ -144,8 +144,11 @@ pub struct GraphicsPipelineDesc<'a> {
     pub polygon_mode: vk::PolygonMode,
     pub cull_mode: vk::CullModeFlags,
     pub front_face: vk::FrontFace,
-    pub color_format: vk::Format,
+    /// No attachment at all (for example a capture pipeline that discards rasterisation).
+    pub color_format: Option<vk::Format>,
     pub depth_format: Option<vk::Format>,
+    /// Stop after the last pre-rasterisation stage (captures that only write buffers).
+    pub rasterizer_discard: bool,
 }
 
 /// A graphics pipeline.
@@ -188,6 +191,7 @@ impl Pipeline {
             .viewport_count(1)
             .scissor_count(1);
         let rasterization = vk::PipelineRasterizationStateCreateInfo::default()
+            .rasterizer_discard_enable(desc.rasterizer_discard)
             .polygon_mode(desc.polygon_mode)
             .cull_mode(desc.cull_mode)
             .front_face(desc.front_face)
@@ -200,10 +204,12 @@ impl Pipeline {
             .depth_compare_op(vk::CompareOp::LESS);
         let blend_attachment = [vk::PipelineColorBlendAttachmentState::default()
             .color_write_mask(vk::ColorComponentFlags::RGBA)];
-        let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachment);
+        let attachment_count = usize::from(desc.color_format.is_some());
+        let blend = vk::PipelineColorBlendStateCreateInfo::default()
+            .attachments(&blend_attachment[..attachment_count]);
         let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
-        let color_formats = [desc.color_format];
+        let color_formats: Vec<vk::Format> = desc.color_format.into_iter().collect();
         let mut rendering = vk::PipelineRenderingCreateInfo::default()
             .color_attachment_formats(&color_formats)
             .depth_attachment_format(desc.depth_format.unwrap_or(vk::Format::UNDEFINED));

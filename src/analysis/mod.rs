@@ -1,0 +1,3 @@
+//! CPU analysis tools: the model of the hardware tessellator and the brute-force oracle.
+
+pub mod tessellator;

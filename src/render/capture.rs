@@ -1,0 +1,194 @@
+//! Captures what the driver's fixed-function tessellator emits for one patch: the
+//! `gl_TessCoord` of every TES invocation and every emitted triangle (as its three
+//! `gl_TessCoord` values, in arrival order), written to storage buffers by the TES and a
+//! geometry shader with rasterisation discarded. The tessellator model in
+//! `analysis::tessellator` is tested against these captures.
+
+use crate::error::{Error, Result};
+use crate::shaders;
+use crate::vk::memory::Buffer;
+use crate::vk::pipeline::{
+    DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderModule, Stage,
+};
+use crate::vk::Context;
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+use std::sync::Arc;
+
+/// Room for this many TES invocations and triangles per capture (level 64 emits 3169 and 6144).
+const CAPACITY: usize = 16384;
+/// Counter and padding before each buffer's array (std430: uint + uint[3]).
+const HEADER_BYTES: usize = 16;
+
+/// What the tessellator emitted for one patch.
+#[derive(Clone, Debug, Default)]
+pub struct CapturedPattern {
+    /// `gl_TessCoord` of every TES invocation, in invocation order (may repeat a vertex).
+    pub tess_coords: Vec<[f32; 3]>,
+    /// Every triangle as the three `gl_TessCoord` values of its corners, in winding order.
+    pub triangles: Vec<[[f32; 3]; 3]>,
+}
+
+/// A pipeline that tessellates one patch and records the result.
+pub struct TessellationCapture {
+    context: Arc<Context>,
+    coords: Buffer,
+    triangles: Buffer,
+    layout: PipelineLayout,
+    _pool: DescriptorPool,
+    set: vk::DescriptorSet,
+    pipeline: Pipeline,
+}
+
+impl TessellationCapture {
+    pub fn new(context: &Arc<Context>) -> Result<TessellationCapture> {
+        if !(context.features.geometry_shader && context.features.vertex_pipeline_stores) {
+            return Err(Error::NoDevice(format!(
+                "{}: capturing the tessellator needs geometryShader and vertexPipelineStoresAndAtomics",
+                context.info.name
+            )));
+        }
+        let coords = Buffer::new(
+            context,
+            "captured tess coords",
+            (HEADER_BYTES + CAPACITY * 16) as vk::DeviceSize,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::GpuToCpu,
+        )?;
+        let triangles = Buffer::new(
+            context,
+            "captured triangles",
+            (HEADER_BYTES + CAPACITY * 48) as vk::DeviceSize,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::GpuToCpu,
+        )?;
+        let bindings = [
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(0)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::TESSELLATION_EVALUATION),
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(1)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::GEOMETRY),
+        ];
+        let push = [vk::PushConstantRange::default()
+            .stage_flags(vk::ShaderStageFlags::TESSELLATION_CONTROL)
+            .size(20)];
+        let layout = PipelineLayout::new(context, "tessellation capture layout", &[&bindings], &push)?;
+        let pool = DescriptorPool::new(
+            context,
+            "tessellation capture descriptors",
+            1,
+            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 2 }],
+        )?;
+        let set = pool.allocate(layout.set_layouts[0])?;
+        let infos = [
+            [vk::DescriptorBufferInfo { buffer: coords.raw, offset: 0, range: vk::WHOLE_SIZE }],
+            [vk::DescriptorBufferInfo { buffer: triangles.raw, offset: 0, range: vk::WHOLE_SIZE }],
+        ];
+        let writes: Vec<_> = infos
+            .iter()
+            .enumerate()
+            .map(|(binding, info)| {
+                vk::WriteDescriptorSet::default()
+                    .dst_set(set)
+                    .dst_binding(binding as u32)
+                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                    .buffer_info(info)
+            })
+            .collect();
+        // SAFETY: the set and buffers are live and unused.
+        unsafe { context.device.update_descriptor_sets(&writes, &[]) };
+
+        let vert = ShaderModule::new(context, "capture.vert", shaders::CAPTURE_VERT)?;
+        let tesc = ShaderModule::new(context, "capture.tesc", shaders::CAPTURE_TESC)?;
+        let tese = ShaderModule::new(context, "capture.tese", shaders::CAPTURE_TESE)?;
+        let geom = ShaderModule::new(context, "capture.geom", shaders::CAPTURE_GEOM)?;
+        use vk::ShaderStageFlags as S;
+        let pipeline = Pipeline::graphics(
+            context,
+            &GraphicsPipelineDesc {
+                name: "tessellation capture",
+                stages: vec![
+                    Stage { stage: S::VERTEX, module: &vert, specialization: None },
+                    Stage { stage: S::TESSELLATION_CONTROL, module: &tesc, specialization: None },
+                    Stage { stage: S::TESSELLATION_EVALUATION, module: &tese, specialization: None },
+                    Stage { stage: S::GEOMETRY, module: &geom, specialization: None },
+                ],
+                layout: &layout,
+                vertex_bindings: &[],
+                vertex_attributes: &[],
+                topology: vk::PrimitiveTopology::PATCH_LIST,
+                patch_control_points: Some(3),
+                polygon_mode: vk::PolygonMode::FILL,
+                cull_mode: vk::CullModeFlags::NONE,
+                front_face: vk::FrontFace::COUNTER_CLOCKWISE,
+                color_format: None,
+                depth_format: None,
+                rasterizer_discard: true,
+            },
+        )?;
+        Ok(TessellationCapture { context: context.clone(), coords, triangles, layout, _pool: pool, set, pipeline })
+    }
+
+    /// Tessellates one patch with these levels (as a TCS would write them) and reads back
+    /// what was emitted.
+    pub fn capture(&self, inner: f32, outer: [f32; 3]) -> Result<CapturedPattern> {
+        self.coords.write(&[0u8; HEADER_BYTES]);
+        self.triangles.write(&[0u8; HEADER_BYTES]);
+        let mut levels = [0u8; 20];
+        for (k, value) in outer.iter().chain([0.0, inner].iter()).enumerate() {
+            levels[4 * k..4 * k + 4].copy_from_slice(&value.to_ne_bytes());
+        }
+        let device = &self.context.device;
+        self.context.run_once(|cmd| {
+            let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: vk::Extent2D { width: 1, height: 1 } };
+            let rendering = vk::RenderingInfo::default().render_area(area).layer_count(1);
+            let viewport = [vk::Viewport { x: 0.0, y: 0.0, width: 1.0, height: 1.0, min_depth: 0.0, max_depth: 1.0 }];
+            let barrier = [vk::MemoryBarrier2::default()
+                .src_stage_mask(vk::PipelineStageFlags2::PRE_RASTERIZATION_SHADERS)
+                .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
+                .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+                .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+            // SAFETY: `cmd` is recording; all objects are owned by `self`; the host writes
+            // above are made visible by the queue submission.
+            unsafe {
+                device.cmd_begin_rendering(cmd, &rendering);
+                device.cmd_set_viewport(cmd, 0, &viewport);
+                device.cmd_set_scissor(cmd, 0, &[area]);
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw);
+                device.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    self.layout.raw,
+                    0,
+                    &[self.set],
+                    &[],
+                );
+                device.cmd_push_constants(cmd, self.layout.raw, vk::ShaderStageFlags::TESSELLATION_CONTROL, 0, &levels);
+                device.cmd_draw(cmd, 3, 1, 0, 0);
+                device.cmd_end_rendering(cmd);
+                device.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&barrier));
+            }
+        })?;
+        let read = |buffer: &Buffer, stride: usize| -> (usize, Vec<f32>) {
+            let bytes = buffer.mapped().expect("GpuToCpu memory is mapped");
+            let count = u32::from_ne_bytes(bytes[0..4].try_into().expect("4 bytes")) as usize;
+            let count = count.min(CAPACITY);
+            let floats = bytemuck::pod_collect_to_vec::<u8, f32>(&bytes[HEADER_BYTES..HEADER_BYTES + count * stride]);
+            (count, floats)
+        };
+        let (coord_count, coords) = read(&self.coords, 16);
+        let (triangle_count, corners) = read(&self.triangles, 48);
+        let vec3 = |f: &[f32]| [f[0], f[1], f[2]];
+        Ok(CapturedPattern {
+            tess_coords: (0..coord_count).map(|i| vec3(&coords[4 * i..])).collect(),
+            triangles: (0..triangle_count)
+                .map(|t| [vec3(&corners[12 * t..]), vec3(&corners[12 * t + 4..]), vec3(&corners[12 * t + 8..])])
+                .collect(),
+        })
+    }
+}
