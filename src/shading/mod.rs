@@ -2,6 +2,7 @@
 //! one in the README ("What is rendered"); `glsl/include/brdf.glsl` is its GPU half.
 
 pub mod brdf;
+pub mod estimator;
 
 use crate::scene::{Light, MaterialKind};
 use brdf::{ggx_alpha, ggx_d, safe_normalize, schlick_f, smith_v, MIN_LIGHT_DISTANCE_SQUARED};
