@@ -62,6 +62,9 @@ struct ViewArgs {
     /// Scene file (TOML).
     #[arg(long, default_value_os_t = default_scene())]
     scene: PathBuf,
+    /// Initial shading mode (keys P, V, F, + and - change it in the window).
+    #[arg(long, default_value = "pixel")]
+    mode: Mode,
 }
 
 /// `scenes/bunny.toml` from the working directory, or from the source tree.
@@ -114,10 +117,10 @@ fn main() -> Result<()> {
     match &cli.command {
         Some(Command::Render(args)) => render(args, &cli.gpu),
         Some(Command::View(args)) => {
-            multirate::window::view(&args.scene, &options(&cli.gpu), None).map(|_| ())
+            multirate::window::view(&args.scene, args.mode, &options(&cli.gpu), None).map(|_| ())
                 .with_context(|| format!("viewing {}", args.scene.display()))
         }
-        None if has_display() => multirate::window::view(&default_scene(), &options(&cli.gpu), None)
+        None if has_display() => multirate::window::view(&default_scene(), Mode::Pixel, &options(&cli.gpu), None)
             .map(|_| ())
             .context("opening the viewer (set no DISPLAY to render headless instead)"),
         None => {

@@ -1,12 +1,12 @@
 //! The interactive viewer: a winit window whose frames are rendered into the float target by
 //! the same passes as headless rendering, then tone mapped into the swapchain.
-//! Drag with the left button to orbit, scroll to zoom, Esc to quit. The title shows the frame
-//! time. A `ViewScript` drives the same loop without a person, for tests.
+//! Drag with the left button to orbit, scroll to zoom, Esc to quit. Keys pick the mode: P
+//! pixel, V vertex, F fixed:N, + and - change N. The title shows the mode and the frame time. A `ViewScript` drives the same loop without a person, for tests.
 
 use crate::error::{Error, Result, VkContext as _};
 use crate::render::camera::Orbit;
 use crate::render::present::PresentPass;
-use crate::render::{Renderer, View};
+use crate::render::{Mode, Renderer, View, MAX_LEVEL};
 use crate::scene::Scene;
 use crate::vk::swapchain::{Acquired, Swapchain};
 use crate::vk::target::{AfterPass, RenderTarget};
@@ -39,14 +39,19 @@ pub struct ViewReport {
     pub validation_messages: usize,
 }
 
-/// Opens a window on the scene at `scene_path` and runs until it is closed.
-pub fn view(scene_path: &Path, options: &ContextOptions, script: Option<ViewScript>) -> Result<ViewReport> {
+/// Opens a window on the scene at `scene_path` in `mode` and runs until it is closed.
+pub fn view(
+    scene_path: &Path,
+    mode: Mode,
+    options: &ContextOptions,
+    script: Option<ViewScript>,
+) -> Result<ViewReport> {
     let scene = Scene::load(scene_path)?;
     let event_loop = new_event_loop()?;
     event_loop.set_control_flow(ControlFlow::Poll);
     let mut app = App {
         orbit: Orbit::from_camera(&scene.camera),
-        view: View::of_scene(&scene),
+        view: View { mode, ..View::of_scene(&scene) },
         scene,
         options: options.clone(),
         script,
@@ -54,6 +59,7 @@ pub fn view(scene_path: &Path, options: &ContextOptions, script: Option<ViewScri
         report: ViewReport::default(),
         error: None,
         drag: None,
+        fixed_level: if let Mode::Fixed(level) = mode { level } else { 4 },
         last_frame: Instant::now(),
         smoothed_frame: Duration::ZERO,
     };
@@ -147,6 +153,8 @@ struct App {
     report: ViewReport,
     error: Option<Error>,
     drag: Option<(f64, f64)>,
+    /// The level `F` returns to after visiting other modes.
+    fixed_level: u32,
     last_frame: Instant,
     smoothed_frame: Duration,
 }
@@ -264,7 +272,7 @@ impl App {
                 state.window.set_title(&format!(
                     "multirate: {} ({}) {:.2} ms",
                     self.scene.path.display(),
-                    "pixel",
+                    self.view.mode,
                     self.smoothed_frame.as_secs_f64() * 1e3
                 ));
             }
@@ -279,6 +287,25 @@ impl App {
         }
         if frames >= script.close_at_frame {
             event_loop.exit();
+        }
+    }
+
+    /// Mode keys: P pixel, V vertex, F fixed:N, + / - change N (and switch to fixed:N).
+    fn on_key(&mut self, text: &str) {
+        let level = match self.view.mode {
+            Mode::Fixed(level) => level,
+            _ => self.fixed_level,
+        };
+        self.view.mode = match text.to_ascii_lowercase().as_str() {
+            "p" => Mode::Pixel,
+            "v" => Mode::Vertex,
+            "f" => Mode::Fixed(level),
+            "+" | "=" => Mode::Fixed((level + 1).min(MAX_LEVEL)),
+            "-" => Mode::Fixed(level.saturating_sub(1).max(1)),
+            _ => return,
+        };
+        if let Mode::Fixed(level) = self.view.mode {
+            self.fixed_level = level;
         }
     }
 
@@ -306,8 +333,10 @@ impl ApplicationHandler for App {
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
             WindowEvent::KeyboardInput { event, .. } if event.state == ElementState::Pressed => {
-                if event.logical_key == Key::Named(NamedKey::Escape) {
-                    event_loop.exit();
+                match event.logical_key.as_ref() {
+                    Key::Named(NamedKey::Escape) => event_loop.exit(),
+                    Key::Character(text) => self.on_key(text),
+                    _ => {}
                 }
             }
             WindowEvent::Resized(_) => {

@@ -92,7 +92,8 @@ fn random_case(rng: &mut Rng, brdf: Brdf) -> Case {
     let view_dist = rng.log(0.3, 30.0);
     let centre = eye + view_dir * view_dist;
     // Base normal: mostly towards the eye, sometimes grazing or away.
-    let base = tilt(rng, -view_dir, rng.range(0.0, 1.75));
+    let tilt_angle = rng.range(0.0, 1.75);
+    let base = tilt(rng, -view_dir, tilt_angle);
     let (t1, t2) = base.any_orthonormal_pair();
     // Size and shape (in the plane ⊥ base): general, needle, or exactly degenerate.
     let size = view_dist * rng.log(0.002, 0.5);
@@ -114,7 +115,8 @@ fn random_case(rng: &mut Rng, brdf: Brdf) -> Case {
     let spread = if rng.chance(0.05) { 0.0 } else { rng.log(1e-4, 1.0) };
     let mut normals = [base; 3];
     for n in &mut normals {
-        *n = tilt(rng, base, spread * rng.f());
+        let angle = spread * rng.f();
+        *n = tilt(rng, base, angle);
         if rng.chance(0.05) {
             *n *= rng.range(0.5, 2.0);
         }
@@ -123,7 +125,8 @@ fn random_case(rng: &mut Rng, brdf: Brdf) -> Case {
     let count = 1 + (rng.next_u64() % 3) as usize;
     let mut lights = Vec::with_capacity(count);
     for _ in 0..count {
-        let dir = tilt(rng, base, rng.range(0.0, 1.8));
+        let angle = rng.range(0.0, 1.8);
+        let dir = tilt(rng, base, angle);
         let color = rng.color(0.2, 1.0);
         if rng.chance(0.7) {
             let dist = size * rng.log(0.3, 300.0);

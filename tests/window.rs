@@ -1,8 +1,9 @@
-//! The viewer opens a window, renders, survives a resize (swapchain recreation) and closes
+//! The viewer opens a window (in a tessellated mode), renders, survives a resize (swapchain recreation) and closes
 //! cleanly with the validation layer on. Uses the display in `DISPLAY`, or starts Xvfb.
 
 mod common;
 
+use multirate::render::Mode;
 use multirate::vk::ContextOptions;
 use multirate::window::{view, ViewScript};
 use std::io::{BufRead, BufReader};
@@ -45,7 +46,7 @@ fn window_opens_resizes_and_closes_cleanly() {
     let _display = VirtualDisplay::ensure();
     let scene = common::repo_path("scenes/test/lambert_directional.toml");
     let script = ViewScript { resize_at_frame: 3, resize_to: (200, 150), close_at_frame: 12 };
-    let report = view(&scene, &ContextOptions { validate: true, device_name: None }, Some(script))
+    let report = view(&scene, Mode::Fixed(3), &ContextOptions { validate: true, device_name: None }, Some(script))
         .expect("the viewer runs");
     assert!(report.frames_presented >= 12, "{report:?}");
     assert!(report.swapchain_recreations >= 1, "the resize must recreate the swapchain: {report:?}");
