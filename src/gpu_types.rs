@@ -38,8 +38,17 @@ pub struct DrawConstants {
     pub mesh_index: u32,
     /// Tessellation level of the `fixed:N` mode.
     pub fixed_level: u32,
+    /// Index of the draw's first triangle in the scene (level records).
+    pub patch_base: u32,
+    /// Bit 0 ([`FLAG_HEAT_MAP`]): show the level heat map instead of shading.
+    pub flags: u32,
+    pub pad0: u32,
     pub pad1: u32,
+    pub pad2: u32,
 }
+
+/// `DrawConstants::flags` bit: colour by tessellation level instead of shading.
+pub const FLAG_HEAT_MAP: u32 = 1;
 
 /// Vertex buffer layout: world-space position and normal.
 #[repr(C)]

@@ -2,8 +2,10 @@
 
 use anyhow::{Context as _, Result};
 use clap::{Args, Parser, Subcommand};
-use multirate::render::{output, render_headless, Mode, View};
+use multirate::analysis::report;
+use multirate::render::{output, render_headless, Mode, View, MAX_LEVEL};
 use multirate::scene::Scene;
+use multirate::shading::estimator::{Discontinuity, EstimatorSettings, Split};
 use multirate::vk::{Context, ContextOptions};
 use std::path::{Path, PathBuf};
 
@@ -26,6 +28,24 @@ enum Command {
     Render(RenderArgs),
     /// Open a window on a scene (drag to orbit, wheel to zoom, Esc to quit).
     View(ViewArgs),
+    /// Per visible triangle: the estimator's levels, fallback and predicted error (CSV), and
+    /// with --oracle the brute-force truth; prints a summary.
+    Analyze(AnalyzeArgs),
+}
+
+#[derive(Args)]
+struct AnalyzeArgs {
+    /// Scene file (TOML).
+    #[arg(long)]
+    scene: PathBuf,
+    /// Output CSV.
+    #[arg(long)]
+    out: PathBuf,
+    /// Also compute the oracle's level and the true error at the chosen level (slow).
+    #[arg(long)]
+    oracle: bool,
+    #[command(flatten)]
+    shading: ShadingArgs,
 }
 
 #[derive(Args, Clone)]
@@ -52,9 +72,70 @@ struct RenderArgs {
     /// Height in pixels (default: the scene's).
     #[arg(long)]
     height: Option<u32>,
-    /// Shading mode: pixel (reference), vertex (Gouraud) or fixed:N (tessellated at level N).
+    #[command(flatten)]
+    shading: ShadingArgs,
+}
+
+/// How shading is sampled; unset values come from the scene.
+#[derive(Args, Clone)]
+struct ShadingArgs {
+    /// pixel (reference), vertex (Gouraud), fixed:N (tessellated at level N) or multirate.
     #[arg(long, default_value = "pixel")]
     mode: Mode,
+    /// multirate: L∞ bound on the interpolation error, in linear radiance.
+    #[arg(long)]
+    epsilon: Option<f32>,
+    /// multirate: largest tessellation level before per-pixel fallback (1..=64).
+    #[arg(long)]
+    nmax: Option<u32>,
+    /// multirate: how ε is shared between error terms.
+    #[arg(long, value_parser = parse_split, default_value = "heuristic")]
+    split: Split,
+    /// multirate: where the terminator may cross a triangle, shade it per pixel
+    /// (conservative) or keep a bound valid across the kink (relaxed).
+    #[arg(long, value_parser = parse_discontinuity, default_value = "conservative")]
+    discontinuity: Discontinuity,
+}
+
+fn parse_split(text: &str) -> Result<Split, String> {
+    match text {
+        "uniform" => Ok(Split::Uniform),
+        "heuristic" => Ok(Split::Heuristic),
+        _ => Err("expected uniform or heuristic".into()),
+    }
+}
+
+fn parse_discontinuity(text: &str) -> Result<Discontinuity, String> {
+    match text {
+        "conservative" => Ok(Discontinuity::Conservative),
+        "relaxed" => Ok(Discontinuity::Relaxed),
+        _ => Err("expected conservative or relaxed".into()),
+    }
+}
+
+impl ShadingArgs {
+    /// The scene's view with these settings applied; rejects out-of-range values.
+    fn view(&self, scene: &Scene) -> Result<View> {
+        let mut view = View::of_scene(scene);
+        view.mode = self.mode;
+        view.split = self.split;
+        view.discontinuity = self.discontinuity;
+        if let Some(epsilon) = self.epsilon {
+            anyhow::ensure!(
+                epsilon.is_finite() && epsilon > 0.0,
+                "--epsilon must be a positive number (got {epsilon})"
+            );
+            view.epsilon = epsilon;
+        }
+        if let Some(n_max) = self.nmax {
+            anyhow::ensure!(
+                (1..=MAX_LEVEL).contains(&n_max),
+                "--nmax must be in 1..={MAX_LEVEL} (got {n_max})"
+            );
+            view.n_max = n_max;
+        }
+        Ok(view)
+    }
 }
 
 #[derive(Args)]
@@ -62,9 +143,9 @@ struct ViewArgs {
     /// Scene file (TOML).
     #[arg(long, default_value_os_t = default_scene())]
     scene: PathBuf,
-    /// Initial shading mode (keys P, V, F, + and - change it in the window).
-    #[arg(long, default_value = "pixel")]
-    mode: Mode,
+    /// Initial shading (keys P, V, F, M, + and - change the mode in the window).
+    #[command(flatten)]
+    shading: ShadingArgs,
 }
 
 /// `scenes/bunny.toml` from the working directory, or from the source tree.
@@ -90,8 +171,7 @@ fn render(args: &RenderArgs, gpu: &GpuArgs) -> Result<()> {
         "--width and --height must be between 1 and 16384 (got {width}x{height})"
     );
     let context = Context::headless(&options(gpu))?;
-    let mut view = View::of_scene(&scene);
-    view.mode = args.mode;
+    let view = args.shading.view(&scene)?;
     let image = render_headless(&context, &scene, &view, width, height)?;
     output::write_image(&image, &args.out, scene.settings.exposure)?;
     let non_finite = image.pixels.iter().flatten().filter(|v| !v.is_finite()).count();
@@ -108,6 +188,54 @@ fn render(args: &RenderArgs, gpu: &GpuArgs) -> Result<()> {
     Ok(())
 }
 
+fn view(scene: &Path, shading: &ShadingArgs, gpu: &GpuArgs) -> Result<()> {
+    let loaded = Scene::load(scene)?;
+    let view = shading.view(&loaded)?;
+    multirate::window::view(loaded, view, &options(gpu), None)?;
+    Ok(())
+}
+
+impl Default for ShadingArgs {
+    fn default() -> Self {
+        ShadingArgs {
+            mode: Mode::Pixel,
+            epsilon: None,
+            nmax: None,
+            split: Split::Heuristic,
+            discontinuity: Discontinuity::Conservative,
+        }
+    }
+}
+
+fn analyze(args: &AnalyzeArgs) -> Result<()> {
+    let scene = Scene::load(&args.scene)?;
+    let view = args.shading.view(&scene)?;
+    let settings = EstimatorSettings {
+        epsilon: view.epsilon,
+        n_max: view.n_max,
+        split: view.split,
+        discontinuity: view.discontinuity,
+    };
+    let reports = report::analyze(&scene, &settings, report::Triangles::Visible, args.oracle);
+    std::fs::write(&args.out, report::to_csv(&reports, args.oracle))
+        .with_context(|| format!("{}: cannot write the CSV", args.out.display()))?;
+    let summary = report::summarize(&reports, settings.epsilon);
+    println!(
+        "{}: {} visible triangles, ε = {}, n_max = {}",
+        args.out.display(),
+        summary.triangles,
+        settings.epsilon,
+        settings.n_max
+    );
+    println!("  fallback to per-pixel shading: {}", summary.fallbacks);
+    println!("  shading evaluations (tessellated vertices), estimator: {}", summary.estimator_evaluations);
+    if args.oracle {
+        println!("  shading evaluations (tessellated vertices), oracle:    {}", summary.oracle_evaluations);
+        println!("  tessellated triangles whose true error exceeds ε: {}", summary.violations);
+    }
+    Ok(())
+}
+
 fn has_display() -> bool {
     ["DISPLAY", "WAYLAND_DISPLAY"].iter().any(|v| std::env::var_os(v).is_some_and(|s| !s.is_empty()))
 }
@@ -116,16 +244,20 @@ fn main() -> Result<()> {
     let cli = Cli::parse();
     match &cli.command {
         Some(Command::Render(args)) => render(args, &cli.gpu),
-        Some(Command::View(args)) => {
-            multirate::window::view(&args.scene, args.mode, &options(&cli.gpu), None).map(|_| ())
-                .with_context(|| format!("viewing {}", args.scene.display()))
-        }
-        None if has_display() => multirate::window::view(&default_scene(), Mode::Pixel, &options(&cli.gpu), None)
-            .map(|_| ())
+        Some(Command::Analyze(args)) => analyze(args),
+        Some(Command::View(args)) => view(&args.scene, &args.shading, &cli.gpu)
+            .with_context(|| format!("viewing {}", args.scene.display())),
+        None if has_display() => view(&default_scene(), &ShadingArgs::default(), &cli.gpu)
             .context("opening the viewer (set no DISPLAY to render headless instead)"),
         None => {
             let out = PathBuf::from("multirate.png");
-            let args = RenderArgs { scene: default_scene(), out, width: None, height: None, mode: Mode::Pixel };
+            let args = RenderArgs {
+                scene: default_scene(),
+                out,
+                width: None,
+                height: None,
+                shading: ShadingArgs::default(),
+            };
             render(&args, &cli.gpu)
         }
     }

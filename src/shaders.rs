@@ -15,6 +15,9 @@ pub const COLOR_FRAG: &[u8] = spirv!("color.frag");
 pub const PATCH_VERT: &[u8] = spirv!("patch.vert");
 pub const FIXED_TESC: &[u8] = spirv!("fixed.tesc");
 pub const SHADE_TESE: &[u8] = spirv!("shade.tese");
+pub const MULTIRATE_TESC: &[u8] = spirv!("multirate.tesc");
+pub const MULTIRATE_TESE: &[u8] = spirv!("multirate.tese");
+pub const MULTIRATE_FRAG: &[u8] = spirv!("multirate.frag");
 pub const CAPTURE_VERT: &[u8] = spirv!("capture.vert");
 pub const CAPTURE_TESC: &[u8] = spirv!("capture.tesc");
 pub const CAPTURE_TESE: &[u8] = spirv!("capture.tese");
@@ -31,6 +34,9 @@ pub const ALL: &[(&str, &[u8])] = &[
     ("patch.vert", PATCH_VERT),
     ("fixed.tesc", FIXED_TESC),
     ("shade.tese", SHADE_TESE),
+    ("multirate.tesc", MULTIRATE_TESC),
+    ("multirate.tese", MULTIRATE_TESE),
+    ("multirate.frag", MULTIRATE_FRAG),
     ("capture.vert", CAPTURE_VERT),
     ("capture.tesc", CAPTURE_TESC),
     ("capture.tese", CAPTURE_TESE),

@@ -1,7 +1,8 @@
 //! The interactive viewer: a winit window whose frames are rendered into the float target by
 //! the same passes as headless rendering, then tone mapped into the swapchain.
 //! Drag with the left button to orbit, scroll to zoom, Esc to quit. Keys pick the mode: P
-//! pixel, V vertex, F fixed:N, + and - change N. The title shows the mode and the frame time. A `ViewScript` drives the same loop without a person, for tests.
+//! pixel, V vertex, F fixed:N, M multirate, + and - change N; H toggles the tessellation-level
+//! heat map, W the wireframe. The title shows the mode and the frame time. A `ViewScript` drives the same loop without a person, for tests.
 
 use crate::error::{Error, Result, VkContext as _};
 use crate::render::camera::Orbit;
@@ -12,7 +13,6 @@ use crate::vk::swapchain::{Acquired, Swapchain};
 use crate::vk::target::{AfterPass, RenderTarget};
 use crate::vk::{Context, ContextOptions};
 use ash::vk;
-use std::path::Path;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 use winit::application::ApplicationHandler;
@@ -22,9 +22,11 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{Key, NamedKey};
 use winit::window::{Window, WindowId};
 
-/// Scripted actions for automated runs: resize at a frame, close at a later one.
+/// Scripted actions for automated runs: key presses and a resize at given frames, and the
+/// frame to close at.
 #[derive(Clone, Debug)]
 pub struct ViewScript {
+    pub keys: Vec<(u32, &'static str)>,
     pub resize_at_frame: u32,
     pub resize_to: (u32, u32),
     pub close_at_frame: u32,
@@ -34,24 +36,26 @@ pub struct ViewScript {
 #[derive(Clone, Debug, Default)]
 pub struct ViewReport {
     pub frames_presented: u32,
+    /// The view when the window closed.
+    pub final_view: Option<View>,
     pub swapchain_recreations: u32,
     pub final_extent: (u32, u32),
     pub validation_messages: usize,
 }
 
-/// Opens a window on the scene at `scene_path` in `mode` and runs until it is closed.
+/// Opens a window on `scene`, starting with `view`, and runs until it is closed.
 pub fn view(
-    scene_path: &Path,
-    mode: Mode,
+    scene: Scene,
+    view: View,
     options: &ContextOptions,
     script: Option<ViewScript>,
 ) -> Result<ViewReport> {
-    let scene = Scene::load(scene_path)?;
+    let mode = view.mode;
     let event_loop = new_event_loop()?;
     event_loop.set_control_flow(ControlFlow::Poll);
     let mut app = App {
         orbit: Orbit::from_camera(&scene.camera),
-        view: View { mode, ..View::of_scene(&scene) },
+        view,
         scene,
         options: options.clone(),
         script,
@@ -113,12 +117,14 @@ impl FrameSync {
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
         // SAFETY: plain object creation on a live device; destroyed in `Drop`.
         unsafe {
-            let pool = device.create_command_pool(&pool_info, None).while_("creating the frame command pool")?;
+            let pool =
+                device.create_command_pool(&pool_info, None).while_("creating the frame command pool")?;
             let alloc = vk::CommandBufferAllocateInfo::default()
                 .command_pool(pool)
                 .level(vk::CommandBufferLevel::PRIMARY)
                 .command_buffer_count(1);
-            let cmd = device.allocate_command_buffers(&alloc).while_("allocating the frame command buffer")?[0];
+            let cmd =
+                device.allocate_command_buffers(&alloc).while_("allocating the frame command buffer")?[0];
             let image_available = device
                 .create_semaphore(&vk::SemaphoreCreateInfo::default(), None)
                 .while_("creating a semaphore")?;
@@ -214,7 +220,8 @@ impl App {
         let frame = &state.frame;
         // SAFETY: the fence belongs to this device; waiting makes the command buffer and the
         // acquire semaphore of the previous frame reusable.
-        unsafe { device.wait_for_fences(&[frame.in_flight], true, u64::MAX) }.while_("waiting for the last frame")?;
+        unsafe { device.wait_for_fences(&[frame.in_flight], true, u64::MAX) }
+            .while_("waiting for the last frame")?;
         let index = match state.swapchain.acquire(frame.image_available)? {
             Acquired::Image(index) => index,
             Acquired::OutOfDate => {
@@ -234,6 +241,7 @@ impl App {
         }
         let mut view = self.view.clone();
         view.camera = self.orbit.apply(&self.scene.camera);
+        state.renderer.prepare(&view)?;
         state.renderer.record(frame.cmd, &state.target, &view, AfterPass::Sampled);
         state.present.record(
             frame.cmd,
@@ -280,17 +288,27 @@ impl App {
     }
 
     fn run_script(&mut self, event_loop: &ActiveEventLoop) {
-        let (Some(script), Some(state)) = (&self.script, &self.state) else { return };
         let frames = self.report.frames_presented;
+        let keys: Vec<&'static str> = self
+            .script
+            .iter()
+            .flat_map(|script| script.keys.iter().filter(|(at, _)| *at == frames).map(|(_, key)| *key))
+            .collect();
+        for key in keys {
+            self.on_key(key);
+        }
+        let (Some(script), Some(state)) = (&self.script, &self.state) else { return };
         if frames == script.resize_at_frame {
-            let _ = state.window.request_inner_size(PhysicalSize::new(script.resize_to.0, script.resize_to.1));
+            let _ =
+                state.window.request_inner_size(PhysicalSize::new(script.resize_to.0, script.resize_to.1));
         }
         if frames >= script.close_at_frame {
             event_loop.exit();
         }
     }
 
-    /// Mode keys: P pixel, V vertex, F fixed:N, + / - change N (and switch to fixed:N).
+    /// Mode keys: P pixel, V vertex, F fixed:N, M multirate, + / - change N (and switch to
+    /// fixed:N).
     fn on_key(&mut self, text: &str) {
         let level = match self.view.mode {
             Mode::Fixed(level) => level,
@@ -300,6 +318,21 @@ impl App {
             "p" => Mode::Pixel,
             "v" => Mode::Vertex,
             "f" => Mode::Fixed(level),
+            "m" => Mode::Multirate,
+            "h" => {
+                self.view.heat_map = !self.view.heat_map;
+                return;
+            }
+            "w" => {
+                let supported = self.state.as_mut().map(|s| s.renderer.enable_wireframe());
+                match supported {
+                    Some(Ok(true)) => self.view.wireframe = !self.view.wireframe,
+                    Some(Ok(false)) => eprintln!("wireframe needs the fillModeNonSolid feature"),
+                    Some(Err(error)) => eprintln!("cannot build the wireframe pipelines: {error}"),
+                    None => {}
+                }
+                return;
+            }
             "+" | "=" => Mode::Fixed((level + 1).min(MAX_LEVEL)),
             "-" => Mode::Fixed(level.saturating_sub(1).max(1)),
             _ => return,
@@ -391,6 +424,7 @@ impl ApplicationHandler for App {
     }
 
     fn exiting(&mut self, _event_loop: &ActiveEventLoop) {
+        self.report.final_view = Some(self.view.clone());
         if let Some(state) = &self.state {
             self.report.validation_messages = state.context.validation().count();
         }

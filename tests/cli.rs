@@ -29,7 +29,8 @@ fn multirate(args: &[&str]) -> (bool, String, String) {
 /// Runs `render` on `scene` and asserts it fails cleanly with every `expected` text in stderr.
 fn assert_render_fails(scene: &Path, expected: &[&str]) {
     let out = scratch("failures").join("never.png");
-    let (ok, _, stderr) = multirate(&["render", "--scene", scene.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let (ok, _, stderr) =
+        multirate(&["render", "--scene", scene.to_str().unwrap(), "--out", out.to_str().unwrap()]);
     assert!(!ok, "rendering {} should fail", scene.display());
     assert!(!stderr.contains("panicked"), "panic instead of an error:\n{stderr}");
     for text in expected {
@@ -80,8 +81,16 @@ fn renders_png_and_exr_with_coverage() {
     let exr = dir.join("out.exr");
     for out in [&png, &exr] {
         let (ok, stdout, stderr) = multirate(&[
-            "--validate", "render", "--scene", scene.to_str().unwrap(), "--out", out.to_str().unwrap(),
-            "--width", "64", "--height", "48",
+            "--validate",
+            "render",
+            "--scene",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--width",
+            "64",
+            "--height",
+            "48",
         ]);
         assert!(ok, "render failed:\n{stderr}");
         assert!(stdout.contains(out.to_str().unwrap()), "prints where the image went: {stdout}");
@@ -141,7 +150,8 @@ fn unknown_material_is_named() {
 fn unknown_output_format_is_named() {
     let scene = repo_path("scenes/test/lambert_directional.toml");
     let out = scratch("format").join("image.bmp");
-    let (ok, _, stderr) = multirate(&["render", "--scene", scene.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let (ok, _, stderr) =
+        multirate(&["render", "--scene", scene.to_str().unwrap(), "--out", out.to_str().unwrap()]);
     assert!(!ok && !stderr.contains("panicked"));
     assert!(stderr.contains("image.bmp") && stderr.contains(".png or .exr"), "{stderr}");
 }
@@ -149,7 +159,44 @@ fn unknown_output_format_is_named() {
 #[test]
 fn unknown_mode_is_rejected_by_the_parser() {
     let scene = repo_path("scenes/test/lambert_directional.toml");
-    let (ok, _, stderr) = multirate(&["render", "--scene", scene.to_str().unwrap(), "--out", "x.png", "--mode", "sparkly"]);
+    let (ok, _, stderr) =
+        multirate(&["render", "--scene", scene.to_str().unwrap(), "--out", "x.png", "--mode", "sparkly"]);
     assert!(!ok && !stderr.contains("panicked"));
     assert!(stderr.contains("sparkly"), "{stderr}");
+}
+
+#[test]
+fn analyze_writes_one_row_per_visible_triangle() {
+    let scene = repo_path("scenes/test/lambert_directional.toml");
+    let out = scratch("analyze").join("triangles.csv");
+    let (ok, stdout, stderr) = multirate(&[
+        "analyze",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--oracle",
+        "--epsilon",
+        "0.05",
+    ]);
+    assert!(ok, "analyze failed:\n{stderr}");
+    let csv = std::fs::read_to_string(&out).expect("CSV written");
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    for column in ["mesh", "triangle", "n", "fallback", "predicted_error", "oracle_n", "true_error"] {
+        assert!(header.contains(&column), "column {column} missing: {header:?}");
+    }
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert!(!rows.is_empty() && rows.len() <= 320, "the icosphere has 320 triangles: {} rows", rows.len());
+    let fallback = header.iter().position(|c| *c == "fallback").unwrap();
+    let error = header.iter().position(|c| *c == "true_error").unwrap();
+    for row in &rows {
+        assert_eq!(row.len(), header.len(), "every column filled: {row:?}");
+        if row[fallback] == "false" {
+            let true_error: f64 = row[error].parse().expect("true error of a tessellated triangle");
+            assert!(true_error <= 0.05, "the estimator's level keeps the true error under ε: {row:?}");
+        }
+    }
+    assert!(stdout.contains("shading evaluations"), "prints a summary: {stdout}");
+    assert!(stdout.contains("exceeds ε: 0"), "no violations on the shipped scene: {stdout}");
 }

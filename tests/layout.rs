@@ -44,9 +44,7 @@ fn reflect(spirv: &[u8]) -> Reflection {
                 reflection.names.insert(operands[0], literal_string(&operands[1..]));
             }
             OP_MEMBER_NAME => {
-                reflection
-                    .member_names
-                    .insert((operands[0], operands[1]), literal_string(&operands[2..]));
+                reflection.member_names.insert((operands[0], operands[1]), literal_string(&operands[2..]));
             }
             OP_MEMBER_DECORATE if operands[2] == DECORATION_OFFSET => {
                 reflection.member_offsets.insert((operands[0], operands[1]), operands[3]);
@@ -146,7 +144,11 @@ fn draw_constants_match_glsl() {
             ("material_index", offset_of!(DrawConstants, material_index)),
             ("mesh_index", offset_of!(DrawConstants, mesh_index)),
             ("fixed_level", offset_of!(DrawConstants, fixed_level)),
+            ("patch_base", offset_of!(DrawConstants, patch_base)),
+            ("flags", offset_of!(DrawConstants, flags)),
+            ("pad0", offset_of!(DrawConstants, pad0)),
             ("pad1", offset_of!(DrawConstants, pad1)),
+            ("pad2", offset_of!(DrawConstants, pad2)),
         ],
         size_of::<DrawConstants>(),
     );

@@ -4,11 +4,11 @@
 
 mod common;
 
+use ash::vk;
 use common::{assert_validation_clean, repo_path, validated_context};
 use multirate::render::{Mode, Renderer, View};
 use multirate::scene::Scene;
 use multirate::vk::target::{FloatImage, RenderTarget};
-use ash::vk;
 
 const WIDTH: u32 = 160;
 const HEIGHT: u32 = 120;
@@ -23,7 +23,10 @@ fn render_modes(relative: &str, modes: &[Mode]) -> Vec<FloatImage> {
         .map(|&mode| {
             let view = View { mode, ..View::of_scene(&scene) };
             let image = renderer.render(&target, &view).expect("render");
-            assert!(image.pixels.iter().flatten().all(|v| v.is_finite()), "{relative} {mode}: non-finite value");
+            assert!(
+                image.pixels.iter().flatten().all(|v| v.is_finite()),
+                "{relative} {mode}: non-finite value"
+            );
             image
         })
         .collect();
@@ -88,7 +91,8 @@ fn tessellated_modes_leave_no_cracks() {
         let modes = [Mode::Pixel, Mode::Vertex, Mode::Fixed(2), Mode::Fixed(5), Mode::Fixed(16)];
         let images = render_modes(scene, &modes);
         let holes: Vec<usize> = images[1..].iter().map(|image| cracks(&images[0], image)).collect();
-        let silhouette: Vec<usize> = images[1..].iter().map(|image| coverage_mismatches(&images[0], image)).collect();
+        let silhouette: Vec<usize> =
+            images[1..].iter().map(|image| coverage_mismatches(&images[0], image)).collect();
         eprintln!("{scene}: cracks {holes:?}, coverage differences {silhouette:?} for {:?}", &modes[1..]);
         assert_eq!(holes, vec![0; modes.len() - 1], "{scene}: cracks for {:?}", &modes[1..]);
     }
@@ -96,7 +100,8 @@ fn tessellated_modes_leave_no_cracks() {
 
 #[test]
 fn error_against_pixel_shrinks_with_the_level() {
-    let modes = [Mode::Pixel, Mode::Fixed(1), Mode::Fixed(2), Mode::Fixed(4), Mode::Fixed(8), Mode::Fixed(16)];
+    let modes =
+        [Mode::Pixel, Mode::Fixed(1), Mode::Fixed(2), Mode::Fixed(4), Mode::Fixed(8), Mode::Fixed(16)];
     let images = render_modes("scenes/plane_lights.toml", &modes);
     let errors: Vec<(f32, f32)> = images[1..].iter().map(|image| difference(&images[0], image)).collect();
     eprintln!("plane_lights, (max, mean) error against pixel for fixed 1, 2, 4, 8, 16: {errors:?}");

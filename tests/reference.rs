@@ -45,8 +45,8 @@ fn same_surface(corner: &Option<(usize, f64)>, mesh: usize, distance: f64) -> bo
 fn check_scene(relative: &str) {
     let scene = Scene::load(&repo_path(relative)).expect("shipped scene loads");
     let context = validated_context();
-    let image = render_headless(&context, &scene, &View::of_scene(&scene), WIDTH, HEIGHT)
-        .expect("scene renders");
+    let image =
+        render_headless(&context, &scene, &View::of_scene(&scene), WIDTH, HEIGHT).expect("scene renders");
     assert_validation_clean(&context);
     assert!(
         image.pixels.iter().flatten().all(|v| v.is_finite()),
@@ -72,7 +72,10 @@ fn check_scene(relative: &str) {
                 Some((mesh, distance, expected))
                     if corners.iter().all(|c| same_surface(c, mesh, distance)) =>
                 {
-                    assert_eq!(gpu[3], 1.0, "{relative}: pixel ({x},{y}) is inside a triangle but not covered");
+                    assert_eq!(
+                        gpu[3], 1.0,
+                        "{relative}: pixel ({x},{y}) is inside a triangle but not covered"
+                    );
                     let mut spread = Vec3::ZERO;
                     for (dx, dy) in [(-1.0, 0.0), (1.0, 0.0), (0.0, -1.0), (0.0, 1.0)] {
                         let offset = twin_at(&scene, cx + dx / 16.0, cy + dy / 16.0)

@@ -30,7 +30,11 @@ fn uniform_levels_emit_the_ring_pattern_counts() {
         let vertices = distinct(&captured).len();
         let expected_vertices = (3 * (n as usize + 1).pow(2)).div_ceil(4);
         let expected_triangles = if n == 1 { 1 } else { 3 * (n as usize).pow(2) / 2 };
-        eprintln!("n = {n}: {} invocations, {vertices} distinct, {} triangles", captured.tess_coords.len(), captured.triangles.len());
+        eprintln!(
+            "n = {n}: {} invocations, {vertices} distinct, {} triangles",
+            captured.tess_coords.len(),
+            captured.triangles.len()
+        );
         assert_eq!(vertices, expected_vertices, "distinct vertices at n = {n}");
         assert_eq!(captured.triangles.len(), expected_triangles, "triangles at n = {n}");
         for c in &captured.tess_coords {
@@ -87,11 +91,20 @@ fn model_reproduces_the_driver() {
             }
         }
     }
-    cases.extend([(2.3, [1.5, 3.01, 7.9]), (0.0, [2.0, 2.0, 2.0]), (4.0, [0.0, 3.0, 3.0]), (64.0, [64.0, 1.0, 33.0])]);
+    cases.extend([
+        (2.3, [1.5, 3.01, 7.9]),
+        (0.0, [2.0, 2.0, 2.0]),
+        (4.0, [0.0, 3.0, 3.0]),
+        (64.0, [64.0, 1.0, 33.0]),
+    ]);
     for (inner, outer) in cases {
         let captured = capture.capture(inner, outer).expect("capture");
         let pattern = triangle_pattern(inner, outer);
-        assert_eq!(distinct(&captured), model_vertices(&pattern), "vertices at inner {inner}, outer {outer:?}");
+        assert_eq!(
+            distinct(&captured),
+            model_vertices(&pattern),
+            "vertices at inner {inner}, outer {outer:?}"
+        );
         assert_eq!(
             captured_triangles(&captured),
             model_triangles(&pattern),

@@ -1,9 +1,11 @@
-//! The viewer opens a window (in a tessellated mode), renders, survives a resize (swapchain recreation) and closes
+//! The viewer opens a window (in a tessellated mode), switches modes, heat map and wireframe
+//! by key, renders, survives a resize (swapchain recreation) and closes
 //! cleanly with the validation layer on. Uses the display in `DISPLAY`, or starts Xvfb.
 
 mod common;
 
-use multirate::render::Mode;
+use multirate::render::{Mode, View};
+use multirate::scene::Scene;
 use multirate::vk::ContextOptions;
 use multirate::window::{view, ViewScript};
 use std::io::{BufRead, BufReader};
@@ -45,11 +47,19 @@ impl Drop for VirtualDisplay {
 fn window_opens_resizes_and_closes_cleanly() {
     let _display = VirtualDisplay::ensure();
     let scene = common::repo_path("scenes/test/lambert_directional.toml");
-    let script = ViewScript { resize_at_frame: 3, resize_to: (200, 150), close_at_frame: 12 };
-    let report = view(&scene, Mode::Fixed(3), &ContextOptions { validate: true, device_name: None }, Some(script))
+    // Heat map, wireframe, vertex mode, then back to fixed:4 (F, then +).
+    let keys = vec![(2, "h"), (4, "w"), (6, "v"), (8, "f"), (9, "+")];
+    let script = ViewScript { keys, resize_at_frame: 3, resize_to: (200, 150), close_at_frame: 12 };
+    let scene = Scene::load(&scene).expect("scene loads");
+    let start = View { mode: Mode::Fixed(3), ..View::of_scene(&scene) };
+    let report = view(scene, start, &ContextOptions { validate: true, device_name: None }, Some(script))
         .expect("the viewer runs");
     assert!(report.frames_presented >= 12, "{report:?}");
     assert!(report.swapchain_recreations >= 1, "the resize must recreate the swapchain: {report:?}");
     assert_eq!(report.final_extent, (200, 150), "{report:?}");
     assert_eq!(report.validation_messages, 0, "{report:?}");
+    let last = report.final_view.as_ref().expect("the view at close");
+    assert_eq!(last.mode, Mode::Fixed(4), "keys switch modes: {report:?}");
+    assert!(last.heat_map, "H toggled the heat map on");
+    assert!(last.wireframe, "W toggled the wireframe on (lavapipe has fillModeNonSolid)");
 }

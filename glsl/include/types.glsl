@@ -25,7 +25,11 @@ struct DrawConstants {
     uint material_index; // index into the material buffer
     uint mesh_index;
     uint fixed_level;    // tessellation level of the fixed:N mode
+    uint patch_base;     // index of this draw's first triangle in the scene (level records)
+    uint flags;          // bit 0: show the tessellation level heat map instead of shading
+    uint pad0;
     uint pad1;
+    uint pad2;
 };
 
 #endif

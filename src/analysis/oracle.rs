@@ -25,9 +25,11 @@
 //! `r_cell = r_sub / k`. The missed part is therefore at most `1/k² = 1/36 ≈ 2.8 %` of the
 //! second-order bound `½ r_sub² sup|D²f|` of the sub-triangle, i.e. of what a tight
 //! estimator predicts. The refinement study in this module's tests
-//! (`sampling_density_refinement`) compares `k = 6` with `k = 24` on random shaded
-//! triangles and levels: the maximum relative increase it finds is printed and asserted
-//! to stay under 3 %.
+//! (`sampling_density_refinement`) compares `k = 6` with `k = 24` at the level the estimator
+//! picks, on smooth random cases: the miss stays under 1/36 of the predicted bound (asserted)
+//! and was at most 1.2 % of the `k = 24` maximum when last run. Callers that need more
+//! certainty near `ε` can re-measure with [`true_error_sampled`] (the property test does so
+//! for every case above `ε/2`).
 
 use crate::analysis::tessellator::Pattern;
 use crate::scene::{Light, MaterialKind};
@@ -39,12 +41,7 @@ use glam::Vec3;
 pub const SAMPLES_PER_EDGE: u32 = 6;
 
 /// The shading `f(λ)` at barycentric point `b` of the patch, per channel.
-pub fn shade_at(
-    tri: &TriangleInput,
-    material: &MaterialKind,
-    lights: &[Light],
-    b: [f64; 3],
-) -> [f64; 3] {
+pub fn shade_at(tri: &TriangleInput, material: &MaterialKind, lights: &[Light], b: [f64; 3]) -> [f64; 3] {
     let mix = |v: [Vec3; 3]| -> Vec3 {
         (v[0].as_dvec3() * b[0] + v[1].as_dvec3() * b[1] + v[2].as_dvec3() * b[2]).as_vec3()
     };
@@ -75,11 +72,8 @@ pub fn true_error_sampled(
     stop_above: f64,
 ) -> [f64; 3] {
     let k = k.max(1);
-    let corner_values: Vec<[f64; 3]> = pattern
-        .vertices
-        .iter()
-        .map(|&b| shade_at(tri, material, lights, b))
-        .collect();
+    let corner_values: Vec<[f64; 3]> =
+        pattern.vertices.iter().map(|&b| shade_at(tri, material, lights, b)).collect();
     let mut worst = [0.0f64; 3];
     let kf = f64::from(k);
     for t in &pattern.triangles {
@@ -205,7 +199,11 @@ mod tests {
     #[test]
     fn flat_shading_has_no_error() {
         let tri = curved(0.0);
-        let lights = [Light::Directional { direction: Vec3::new(0.1, 0.2, -1.0).normalize(), color: Vec3::ONE, intensity: 2.0 }];
+        let lights = [Light::Directional {
+            direction: Vec3::new(0.1, 0.2, -1.0).normalize(),
+            color: Vec3::ONE,
+            intensity: 2.0,
+        }];
         for n in [1, 2, 5] {
             let e = true_error(&tri, &lambert(), &lights, &hardware(n));
             assert!(e.iter().all(|&x| x < 1e-6), "{e:?}");
@@ -263,8 +261,16 @@ mod tests {
             };
             let m = match case % 3 {
                 0 => lambert(),
-                1 => MaterialKind::BlinnPhong { kd: Vec3::splat(0.3), ks: Vec3::splat(0.7), shininess: 1.0 + 300.0 * rnd() },
-                _ => MaterialKind::Ggx { albedo: Vec3::splat(0.3), f0: Vec3::splat(0.04), roughness: 0.1 + 0.9 * rnd() },
+                1 => MaterialKind::BlinnPhong {
+                    kd: Vec3::splat(0.3),
+                    ks: Vec3::splat(0.7),
+                    shininess: 1.0 + 300.0 * rnd(),
+                },
+                _ => MaterialKind::Ggx {
+                    albedo: Vec3::splat(0.3),
+                    f0: Vec3::splat(0.04),
+                    roughness: 0.1 + 0.9 * rnd(),
+                },
             };
             let settings = EstimatorSettings { epsilon: 0.02, n_max: 12, ..EstimatorSettings::default() };
             let est = estimate(&tri, &m, &[light], &settings);

@@ -153,13 +153,7 @@ pub fn diameter_ratio(pattern: &Pattern, corners: [[f64; 3]; 3], n: u32) -> f64 
     let largest = pattern
         .triangles
         .iter()
-        .map(|t| {
-            diameter(&[
-                positions[t[0] as usize],
-                positions[t[1] as usize],
-                positions[t[2] as usize],
-            ])
-        })
+        .map(|t| diameter(&[positions[t[0] as usize], positions[t[1] as usize], positions[t[2] as usize]]))
         .fold(0.0, f64::max);
     largest / (patch_diameter / f64::from(n))
 }
@@ -169,9 +163,7 @@ fn diameter(t: &[[f64; 3]; 3]) -> f64 {
     let dist = |a: &[f64; 3], b: &[f64; 3]| {
         ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
     };
-    dist(&t[0], &t[1])
-        .max(dist(&t[1], &t[2]))
-        .max(dist(&t[2], &t[0]))
+    dist(&t[0], &t[1]).max(dist(&t[1], &t[2])).max(dist(&t[2], &t[0]))
 }
 
 /// Applies culling, clamping and `equal_spacing` rounding. `None` means the patch is culled.
@@ -181,11 +173,7 @@ fn round_levels(inner: f32, outer: [f32; 3]) -> Option<(u32, [u32; 3])> {
     }
     let round = |level: f32| -> u32 {
         // The reference's IEEE-754R min/max return the non-NaN operand, so NaN clamps to 1.
-        let clamped = if level.is_nan() {
-            1.0
-        } else {
-            level.clamp(1.0, MAX_LEVEL as f32)
-        };
+        let clamped = if level.is_nan() { 1.0 } else { level.clamp(1.0, MAX_LEVEL as f32) };
         clamped.ceil() as u32
     };
     Some((round(inner), outer.map(round)))
@@ -257,10 +245,7 @@ type Row = Vec<u32>;
 
 /// Tessellates with already rounded levels.
 fn tessellate(inner: u32, outer: [u32; 3]) -> Pattern {
-    let mut mesh = Mesh {
-        points: Vec::new(),
-        triangles: Vec::new(),
-    };
+    let mut mesh = Mesh { points: Vec::new(), triangles: Vec::new() };
 
     if inner == 1 && outer == [1, 1, 1] {
         let v1 = mesh.point(0, FX_ONE); // (0, 1, 0)
@@ -295,9 +280,7 @@ fn tessellate(inner: u32, outer: [u32; 3]) -> Pattern {
     }
     if inner % 2 == 1 {
         // The innermost ring of an odd level is a triangle of three points.
-        let last = rings
-            .last()
-            .expect("an odd inner level >= 3 has an inner ring");
+        let last = rings.last().expect("an odd inner level >= 3 has an inner ring");
         mesh.triangle(last[0][0], last[1][0], last[2][0]);
     }
     finish(mesh)
@@ -337,8 +320,8 @@ fn inner_ring(mesh: &mut Mesh, inner: u32, r: u32) -> [Row; 3] {
     let count = last - first;
     // Distance of the ring from the patch edges, in the coordinate that is constant on
     // a side: the 1-D position of point r scaled by (truncated) 2/3, rounded.
-    let offset = (u64::from(edge_point(inner, r)) * u64::from(FX_TWO_THIRDS) + u64::from(FX_HALF))
-        >> FRAC_BITS;
+    let offset =
+        (u64::from(edge_point(inner, r)) * u64::from(FX_TWO_THIRDS) + u64::from(FX_HALF)) >> FRAC_BITS;
     let offset = offset as u32;
     // Moving inward by `offset` in one coordinate shifts the other two by half of it.
     let shift = offset.div_ceil(2);
@@ -371,13 +354,7 @@ fn inner_ring(mesh: &mut Mesh, inner: u32, r: u32) -> [Row; 3] {
 /// walks the split order forwards (the inner row moving first at each step), the second
 /// half walks it backwards (the outer row first), and odd levels put one more segment
 /// between the halves.
-fn stitch_transition(
-    mesh: &mut Mesh,
-    out_row: &[u32],
-    in_row: &[u32],
-    outer_level: u32,
-    inner_level: u32,
-) {
+fn stitch_transition(mesh: &mut Mesh, out_row: &[u32], in_row: &[u32], outer_level: u32, inner_level: u32) {
     let out_half = outer_level / 2;
     let in_half = inner_level / 2;
     let (mut o, mut i) = (0usize, 0usize);
@@ -469,18 +446,9 @@ fn finish(mesh: Mesh) -> Pattern {
     let vertices = mesh
         .points
         .iter()
-        .map(|&(u, v)| {
-            [
-                f64::from(u) / scale,
-                f64::from(v) / scale,
-                f64::from(FX_ONE - u - v) / scale,
-            ]
-        })
+        .map(|&(u, v)| [f64::from(u) / scale, f64::from(v) / scale, f64::from(FX_ONE - u - v) / scale])
         .collect();
-    Pattern {
-        vertices,
-        triangles: mesh.triangles,
-    }
+    Pattern { vertices, triangles: mesh.triangles }
 }
 
 #[cfg(test)]
@@ -517,17 +485,10 @@ mod tests {
         for t in &p.triangles {
             let [a, b, c] = t.map(|k| fx[k as usize]);
             let det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
-            assert!(
-                det > 0,
-                "triangle {t:?} is degenerate or wound the other way: {a:?} {b:?} {c:?}"
-            );
+            assert!(det > 0, "triangle {t:?} is degenerate or wound the other way: {a:?} {b:?} {c:?}");
             total += det;
         }
-        assert_eq!(
-            total,
-            65536 * 65536,
-            "sub-triangle areas do not add up to the patch"
-        );
+        assert_eq!(total, 65536 * 65536, "sub-triangle areas do not add up to the patch");
 
         // Edges: each directed edge at most once; an undirected edge used by one triangle
         // only must lie on the patch boundary.
@@ -555,11 +516,7 @@ mod tests {
                 );
             }
         }
-        assert_eq!(
-            boundary,
-            outer.iter().sum::<u32>() as usize,
-            "boundary segment count"
-        );
+        assert_eq!(boundary, outer.iter().sum::<u32>() as usize, "boundary segment count");
 
         // Outer edge e (coordinate e == 0) carries exactly outer[e] + 1 vertices.
         for e in 0..3 {
@@ -568,11 +525,7 @@ mod tests {
         }
 
         // Euler characteristic of a disc.
-        let (v, e, f) = (
-            fx.len() as i64,
-            undirected.len() as i64,
-            p.triangles.len() as i64,
-        );
+        let (v, e, f) = (fx.len() as i64, undirected.len() as i64, p.triangles.len() as i64);
         assert_eq!(v - e + f, 1);
     }
 
@@ -643,27 +596,9 @@ mod tests {
         let h = 32768;
         assert_eq!(
             fixed(&p),
-            vec![
-                v(0, 65536),
-                v(0, h),
-                v(0, 0),
-                v(h, 0),
-                v(65536, 0),
-                v(h, h),
-                v(0x5555, 0x5555)
-            ]
+            vec![v(0, 65536), v(0, h), v(0, 0), v(h, 0), v(65536, 0), v(h, h), v(0x5555, 0x5555)]
         );
-        assert_eq!(
-            p.triangles,
-            vec![
-                [0, 1, 6],
-                [1, 2, 6],
-                [2, 3, 6],
-                [3, 4, 6],
-                [4, 5, 6],
-                [5, 0, 6]
-            ]
-        );
+        assert_eq!(p.triangles, vec![[0, 1, 6], [1, 2, 6], [2, 3, 6], [3, 4, 6], [4, 5, 6], [5, 0, 6]]);
     }
 
     #[test]
@@ -720,23 +655,14 @@ mod tests {
         }
         // ...the extremes against every inner level...
         for inner in 1..=64 {
-            for outer in [
-                [1, 1, 1],
-                [64, 64, 64],
-                [1, 64, 1],
-                [64, 1, 63],
-                [2, 3, 64],
-                [33, 32, 31],
-            ] {
+            for outer in [[1, 1, 1], [64, 64, 64], [1, 64, 1], [64, 1, 63], [2, 3, 64], [33, 32, 31]] {
                 check_triangulation(&pattern_u(inner, outer), outer);
             }
         }
         // ...and a pseudo-random sweep over the full range.
         let mut state: u64 = 0x9e37_79b9_7f4a_7c15;
         let mut level = || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
+            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
             ((state >> 33) % 64) as u32 + 1
         };
         for _ in 0..3000 {
@@ -766,42 +692,23 @@ mod tests {
     #[test]
     fn level_rounding_and_clamping() {
         // equal_spacing rounds up.
-        assert_eq!(
-            triangle_pattern(2.3, [1.5, 3.01, 4.0]),
-            pattern_u(3, [2, 4, 4])
-        );
-        assert_eq!(
-            triangle_pattern(1.0001, [1.0, 1.0, 1.0]),
-            pattern_u(2, [1, 1, 1])
-        );
+        assert_eq!(triangle_pattern(2.3, [1.5, 3.01, 4.0]), pattern_u(3, [2, 4, 4]));
+        assert_eq!(triangle_pattern(1.0001, [1.0, 1.0, 1.0]), pattern_u(2, [1, 1, 1]));
         // Clamped to [1, 64].
-        assert_eq!(
-            triangle_pattern(100.0, [64.5, f32::INFINITY, 1e9]),
-            pattern_u(64, [64; 3])
-        );
-        assert_eq!(
-            triangle_pattern(0.25, [0.5, 1e-30, 1.0]),
-            pattern_u(1, [1, 1, 1])
-        );
+        assert_eq!(triangle_pattern(100.0, [64.5, f32::INFINITY, 1e9]), pattern_u(64, [64; 3]));
+        assert_eq!(triangle_pattern(0.25, [0.5, 1e-30, 1.0]), pattern_u(1, [1, 1, 1]));
         // Outer levels <= 0 or NaN cull the patch.
         for bad in [0.0, -0.0, -1.0, f32::NAN, f32::NEG_INFINITY] {
             for e in 0..3 {
                 let mut outer = [3.0; 3];
                 outer[e] = bad;
-                assert_eq!(
-                    triangle_pattern(3.0, outer),
-                    Pattern::default(),
-                    "outer {outer:?}"
-                );
+                assert_eq!(triangle_pattern(3.0, outer), Pattern::default(), "outer {outer:?}");
             }
         }
         // The inner level never culls: the driver clamps it to 1 (which, next to outer
         // levels > 1, then acts as 2).
         for bad in [0.0, -5.0, f32::NAN] {
-            assert_eq!(
-                triangle_pattern(bad, [3.0, 2.0, 1.0]),
-                pattern_u(1, [3, 2, 1])
-            );
+            assert_eq!(triangle_pattern(bad, [3.0, 2.0, 1.0]), pattern_u(1, [3, 2, 1]));
             assert_eq!(triangle_pattern(bad, [1.0; 3]), pattern_u(1, [1, 1, 1]));
         }
     }
@@ -815,18 +722,11 @@ mod tests {
                 assert_eq!(edge_point(m, p) + edge_point(m, m - p), FX_ONE);
             }
             let edge = |p: &Pattern| -> Vec<i64> {
-                let mut vs: Vec<i64> = fixed(p)
-                    .iter()
-                    .filter(|c| c[0] == 0)
-                    .map(|c| c[1])
-                    .collect();
+                let mut vs: Vec<i64> = fixed(p).iter().filter(|c| c[0] == 0).map(|c| c[1]).collect();
                 vs.sort();
                 vs
             };
-            assert_eq!(
-                edge(&pattern_u(1, [m, 5, 7])),
-                edge(&pattern_u(64, [m, 1, 2]))
-            );
+            assert_eq!(edge(&pattern_u(1, [m, 5, 7])), edge(&pattern_u(64, [m, 1, 2])));
         }
     }
 
@@ -846,41 +746,17 @@ mod tests {
         [c, [c[1], c[2], c[0]], [c[2], c[0], c[1]]]
     }
 
-    const EQUILATERAL: [[f64; 3]; 3] = [
-        [0.0, 0.0, 0.0],
-        [1.0, 0.0, 0.0],
-        [0.5, 0.866_025_403_784_438_6, 0.0],
-    ];
+    const EQUILATERAL: [[f64; 3]; 3] =
+        [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.5, 0.866_025_403_784_438_6, 0.0]];
 
     const THIN: [(&str, [[f64; 3]; 3]); 7] = [
-        (
-            "right 20:1",
-            [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.05, 0.0]],
-        ),
-        (
-            "right 1000:1",
-            [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.001, 0.0]],
-        ),
-        (
-            "isosceles 20:1",
-            [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.5, 0.05, 0.0]],
-        ),
-        (
-            "obtuse sliver",
-            [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.8, 0.02, 0.0]],
-        ),
-        (
-            "needle 20:1",
-            [[0.0, 0.0, 0.0], [0.05, 0.0, 0.0], [0.025, 1.0, 0.0]],
-        ),
-        (
-            "needle 1000:1",
-            [[0.0, 0.0, 0.0], [0.001, 0.0, 0.0], [0.0005, 1.0, 0.0]],
-        ),
-        (
-            "3-D sliver",
-            [[0.0, 0.0, 0.0], [0.0, 1.0, 1.0], [0.01, 0.5, 0.5]],
-        ),
+        ("right 20:1", [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.05, 0.0]]),
+        ("right 1000:1", [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.001, 0.0]]),
+        ("isosceles 20:1", [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.5, 0.05, 0.0]]),
+        ("obtuse sliver", [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.8, 0.02, 0.0]]),
+        ("needle 20:1", [[0.0, 0.0, 0.0], [0.05, 0.0, 0.0], [0.025, 1.0, 0.0]]),
+        ("needle 1000:1", [[0.0, 0.0, 0.0], [0.001, 0.0, 0.0], [0.0005, 1.0, 0.0]]),
+        ("3-D sliver", [[0.0, 0.0, 0.0], [0.0, 1.0, 1.0], [0.01, 0.5, 0.5]]),
     ];
 
     #[test]
@@ -893,7 +769,9 @@ mod tests {
         for c in rotations(EQUILATERAL) {
             let (r16, n16) = max_ratio(c, 1..=16);
             let (r64, n64) = max_ratio(c, 1..=64);
-            println!("equilateral: max ratio {r16:.4} (n = {n16}) for n <= 16, {r64:.4} (n = {n64}) for n <= 64");
+            println!(
+                "equilateral: max ratio {r16:.4} (n = {n16}) for n <= 16, {r64:.4} (n = {n64}) for n <= 64"
+            );
             // Fixed-point placement pushes it a little above the ideal value.
             assert!(r16 >= ideal - 1e-4 && r16 < 1.156, "ratio {r16}");
             assert!(r64 < 1.173, "ratio {r64}");
@@ -909,7 +787,9 @@ mod tests {
             for c in rotations(corners) {
                 let (r16, n16) = max_ratio(c, 1..=16);
                 let (r64, n64) = max_ratio(c, 1..=64);
-                println!("{name}: max ratio {r16:.4} (n = {n16}) for n <= 16, {r64:.4} (n = {n64}) for n <= 64");
+                println!(
+                    "{name}: max ratio {r16:.4} (n = {n16}) for n <= 16, {r64:.4} (n = {n64}) for n <= 64"
+                );
                 max16 = max16.max(r16);
                 max64 = max64.max(r64);
             }

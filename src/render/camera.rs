@@ -80,11 +80,8 @@ impl Orbit {
 
     /// The scene camera moved to this orbit position (up stays +Y).
     pub fn apply(&self, camera: &Camera) -> Camera {
-        let direction = Vec3::new(
-            self.pitch.cos() * self.yaw.sin(),
-            self.pitch.sin(),
-            self.pitch.cos() * self.yaw.cos(),
-        );
+        let direction =
+            Vec3::new(self.pitch.cos() * self.yaw.sin(), self.pitch.sin(), self.pitch.cos() * self.yaw.cos());
         Camera {
             eye: self.target + direction * self.distance,
             target: self.target,

@@ -131,7 +131,15 @@ impl TessellationCapture {
                 rasterizer_discard: true,
             },
         )?;
-        Ok(TessellationCapture { context: context.clone(), coords, triangles, layout, _pool: pool, set, pipeline })
+        Ok(TessellationCapture {
+            context: context.clone(),
+            coords,
+            triangles,
+            layout,
+            _pool: pool,
+            set,
+            pipeline,
+        })
     }
 
     /// Tessellates one patch with these levels (as a TCS would write them) and reads back
@@ -145,9 +153,11 @@ impl TessellationCapture {
         }
         let device = &self.context.device;
         self.context.run_once(|cmd| {
-            let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: vk::Extent2D { width: 1, height: 1 } };
+            let area =
+                vk::Rect2D { offset: vk::Offset2D::default(), extent: vk::Extent2D { width: 1, height: 1 } };
             let rendering = vk::RenderingInfo::default().render_area(area).layer_count(1);
-            let viewport = [vk::Viewport { x: 0.0, y: 0.0, width: 1.0, height: 1.0, min_depth: 0.0, max_depth: 1.0 }];
+            let viewport =
+                [vk::Viewport { x: 0.0, y: 0.0, width: 1.0, height: 1.0, min_depth: 0.0, max_depth: 1.0 }];
             let barrier = [vk::MemoryBarrier2::default()
                 .src_stage_mask(vk::PipelineStageFlags2::PRE_RASTERIZATION_SHADERS)
                 .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
@@ -168,7 +178,13 @@ impl TessellationCapture {
                     &[self.set],
                     &[],
                 );
-                device.cmd_push_constants(cmd, self.layout.raw, vk::ShaderStageFlags::TESSELLATION_CONTROL, 0, &levels);
+                device.cmd_push_constants(
+                    cmd,
+                    self.layout.raw,
+                    vk::ShaderStageFlags::TESSELLATION_CONTROL,
+                    0,
+                    &levels,
+                );
                 device.cmd_draw(cmd, 3, 1, 0, 0);
                 device.cmd_end_rendering(cmd);
                 device.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&barrier));
@@ -178,7 +194,8 @@ impl TessellationCapture {
             let bytes = buffer.mapped().expect("GpuToCpu memory is mapped");
             let count = u32::from_ne_bytes(bytes[0..4].try_into().expect("4 bytes")) as usize;
             let count = count.min(CAPACITY);
-            let floats = bytemuck::pod_collect_to_vec::<u8, f32>(&bytes[HEADER_BYTES..HEADER_BYTES + count * stride]);
+            let floats =
+                bytemuck::pod_collect_to_vec::<u8, f32>(&bytes[HEADER_BYTES..HEADER_BYTES + count * stride]);
             (count, floats)
         };
         let (coord_count, coords) = read(&self.coords, 16);
@@ -187,7 +204,9 @@ impl TessellationCapture {
         Ok(CapturedPattern {
             tess_coords: (0..coord_count).map(|i| vec3(&coords[4 * i..])).collect(),
             triangles: (0..triangle_count)
-                .map(|t| [vec3(&corners[12 * t..]), vec3(&corners[12 * t + 4..]), vec3(&corners[12 * t + 8..])])
+                .map(|t| {
+                    [vec3(&corners[12 * t..]), vec3(&corners[12 * t + 4..]), vec3(&corners[12 * t + 8..])]
+                })
                 .collect(),
         })
     }

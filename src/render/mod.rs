@@ -8,18 +8,21 @@ pub mod present;
 
 use crate::analysis::tessellator::uniform_vertex_count;
 use crate::error::Result;
-use crate::gpu_types::{DrawConstants, GpuLight, GpuMaterial, Vertex};
+use crate::gpu_types::{DrawConstants, GpuLight, GpuMaterial, Vertex, FLAG_HEAT_MAP};
+use crate::scene::adjacency::{adjacency_patches, PATCH_SIZE};
 use crate::scene::{Camera, Light, MaterialKind, Scene};
 use crate::shaders;
+use crate::shading::estimator::{Discontinuity, Split};
 use crate::vk::memory::Buffer;
 use crate::vk::pipeline::{
-    DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderModule, Specialization,
-    Stage,
+    DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderModule, Specialization, Stage,
 };
 use crate::vk::target::{AfterPass, FloatImage, RenderTarget, COLOR_FORMAT, DEPTH_FORMAT};
+use crate::vk::timing::{GpuTimer, PipelineStatistics};
 use crate::vk::Context;
 use ash::vk;
 use glam::{Vec3, Vec4};
+use std::cell::OnceCell;
 use std::sync::Arc;
 
 /// How shading is sampled. Every mode runs the same BRDF code (`glsl/include/brdf.glsl`).
@@ -32,6 +35,9 @@ pub enum Mode {
     Vertex,
     /// Tessellate every triangle at inner = outer = N and shade the sub-vertices in the TES.
     Fixed(u32),
+    /// Per triangle, the smallest level whose error bound is under ε (the TCS estimator);
+    /// triangles that would need more than n_max are shaded per pixel.
+    Multirate,
 }
 
 /// Highest tessellation level Vulkan guarantees (`maxTessellationGenerationLevel` ≥ 64).
@@ -43,10 +49,13 @@ impl std::str::FromStr for Mode {
         match text {
             "pixel" => Ok(Mode::Pixel),
             "vertex" => Ok(Mode::Vertex),
+            "multirate" => Ok(Mode::Multirate),
             _ => match text.strip_prefix("fixed:").map(str::parse::<u32>) {
                 Some(Ok(level)) if (1..=MAX_LEVEL).contains(&level) => Ok(Mode::Fixed(level)),
-                Some(_) => Err(format!("\"{text}\": the level of fixed:N must be an integer in 1..={MAX_LEVEL}")),
-                None => Err(format!("unknown mode \"{text}\" (known: pixel, vertex, fixed:N)")),
+                Some(_) => {
+                    Err(format!("\"{text}\": the level of fixed:N must be an integer in 1..={MAX_LEVEL}"))
+                }
+                None => Err(format!("unknown mode \"{text}\" (known: pixel, vertex, fixed:N, multirate)")),
             },
         }
     }
@@ -58,6 +67,7 @@ impl std::fmt::Display for Mode {
             Mode::Pixel => write!(f, "pixel"),
             Mode::Vertex => write!(f, "vertex"),
             Mode::Fixed(level) => write!(f, "fixed:{level}"),
+            Mode::Multirate => write!(f, "multirate"),
         }
     }
 }
@@ -90,10 +100,8 @@ pub fn gpu_lights(lights: &[Light]) -> (Vec<GpuLight>, i32, i32) {
     let mut directionals = Vec::new();
     for light in lights {
         match *light {
-            Light::Point { position, color, intensity } => points.push(GpuLight {
-                position: position.extend(1.0),
-                radiance: (color * intensity).extend(0.0),
-            }),
+            Light::Point { position, color, intensity } => points
+                .push(GpuLight { position: position.extend(1.0), radiance: (color * intensity).extend(0.0) }),
             Light::Directional { direction, color, intensity } => directionals.push(GpuLight {
                 position: direction.extend(0.0),
                 radiance: (color * intensity).extend(0.0),
@@ -105,13 +113,30 @@ pub fn gpu_lights(lights: &[Light]) -> (Vec<GpuLight>, i32, i32) {
     (points, counts.0, counts.1)
 }
 
+/// GPU times and counts of measured frames.
+#[derive(Clone, Debug)]
+pub struct Measurement {
+    /// Forward-pass milliseconds of every measured frame.
+    pub gpu_ms: Vec<f64>,
+    /// Pipeline statistics of the last frame, where the device has them.
+    pub statistics: Option<PipelineStatistics>,
+}
+
 /// What a frame is rendered with.
 #[derive(Clone, Debug)]
 pub struct View {
     pub camera: Camera,
     pub mode: Mode,
+    /// L∞ error bound of `multirate` mode, linear radiance.
     pub epsilon: f32,
+    /// Largest level of `multirate` mode before per-pixel fallback.
     pub n_max: u32,
+    pub split: Split,
+    pub discontinuity: Discontinuity,
+    /// Colour by tessellation level (heat map) instead of shading.
+    pub heat_map: bool,
+    /// Draw triangle edges only (where the device has `fillModeNonSolid`).
+    pub wireframe: bool,
 }
 
 impl View {
@@ -122,6 +147,10 @@ impl View {
             mode: Mode::Pixel,
             epsilon: scene.settings.epsilon,
             n_max: scene.settings.n_max,
+            split: Split::Heuristic,
+            discontinuity: Discontinuity::Conservative,
+            heat_map: false,
+            wireframe: false,
         }
     }
 }
@@ -131,21 +160,53 @@ struct Variant {
     pixel: Pipeline,
     vertex: Pipeline,
     tessellated: Pipeline,
+    /// Indexed by `split` and `discontinuity` (their specialization constants); built on
+    /// first use by `Renderer::prepare`, since the estimator makes them slow to compile.
+    multirate: [[OnceCell<Pipeline>; 2]; 2],
+    kind: i32,
+    record_levels: bool,
+    polygon_mode: vk::PolygonMode,
 }
 
 impl Variant {
-    fn for_mode(&self, mode: Mode) -> &Pipeline {
-        match mode {
-            Mode::Pixel => &self.pixel,
-            Mode::Vertex => &self.vertex,
-            Mode::Fixed(_) => &self.tessellated,
+    /// The pipeline of `view` (None: a multirate pipeline not yet prepared).
+    fn for_view(&self, view: &View) -> Option<&Pipeline> {
+        match view.mode {
+            Mode::Pixel => Some(&self.pixel),
+            Mode::Vertex => Some(&self.vertex),
+            Mode::Fixed(_) => Some(&self.tessellated),
+            Mode::Multirate => self.multirate_cell(view).get(),
         }
+    }
+
+    fn multirate_cell(&self, view: &View) -> &OnceCell<Pipeline> {
+        &self.multirate[split_id(view.split) as usize][discontinuity_id(view.discontinuity) as usize]
+    }
+}
+
+/// The SPLIT specialization constant.
+fn split_id(split: Split) -> i32 {
+    match split {
+        Split::Uniform => 0,
+        Split::Heuristic => 1,
+    }
+}
+
+/// The DISCONTINUITY specialization constant.
+fn discontinuity_id(discontinuity: Discontinuity) -> i32 {
+    match discontinuity {
+        Discontinuity::Conservative => 0,
+        Discontinuity::Relaxed => 1,
     }
 }
 
 struct DrawCall {
+    /// Index of the mesh's first triangle in the scene.
+    first_triangle: u32,
     first_index: u32,
     index_count: u32,
+    /// Where this mesh's 12-index adjacency patches start in the patch index buffer.
+    first_patch_index: u32,
     material_index: u32,
     mesh_index: u32,
     pipeline: usize,
@@ -156,12 +217,19 @@ pub struct Renderer {
     context: Arc<Context>,
     vertices: Buffer,
     indices: Buffer,
+    patch_indices: Buffer,
     _lights: Buffer,
     _materials: Buffer,
     layout: PipelineLayout,
     _pool: DescriptorPool,
     descriptor_set: vk::DescriptorSet,
     variants: Vec<Variant>,
+    /// The same pipelines drawing edges only, built by `enable_wireframe`.
+    wireframe_variants: Option<Vec<Variant>>,
+    /// Kept for the level-recording variants, built on demand.
+    modules: Modules,
+    specializations: Vec<(i32, Specialization)>,
+    levels: Buffer,
     draws: Vec<DrawCall>,
     clear_color: [f32; 4],
     /// Most tessellated vertices one draw may emit, where the driver needs a limit.
@@ -172,45 +240,60 @@ impl Renderer {
     pub fn new(context: &Arc<Context>, scene: &Scene) -> Result<Renderer> {
         let mut vertices = Vec::new();
         let mut indices = Vec::new();
+        let mut patch_indices = Vec::new();
         let mut draws = Vec::new();
         let mut kinds: Vec<i32> = Vec::new();
         for (mesh_index, mesh) in scene.meshes.iter().enumerate() {
             let base = vertices.len() as u32;
-            vertices.extend(mesh.positions.iter().zip(&mesh.normals).map(|(p, n)| Vertex {
-                position: p.to_array(),
-                normal: n.to_array(),
-            }));
+            vertices.extend(
+                mesh.positions
+                    .iter()
+                    .zip(&mesh.normals)
+                    .map(|(p, n)| Vertex { position: p.to_array(), normal: n.to_array() }),
+            );
             let first_index = indices.len() as u32;
             indices.extend(mesh.indices.iter().map(|i| i + base));
+            let first_patch_index = patch_indices.len() as u32;
+            patch_indices.extend(adjacency_patches(mesh).iter().map(|i| i + base));
             let kind = material_kind_id(&scene.materials[mesh.material].kind);
             let pipeline = kinds.iter().position(|&k| k == kind).unwrap_or_else(|| {
                 kinds.push(kind);
                 kinds.len() - 1
             });
             draws.push(DrawCall {
+                first_triangle: first_index / 3,
                 first_index,
                 index_count: mesh.indices.len() as u32,
+                first_patch_index,
                 material_index: mesh.material as u32,
                 mesh_index: mesh_index as u32,
                 pipeline,
             });
         }
         let (lights, point_count, directional_count) = gpu_lights(&scene.lights);
-        let materials: Vec<GpuMaterial> =
-            scene.materials.iter().map(|m| gpu_material(&m.kind)).collect();
+        let materials: Vec<GpuMaterial> = scene.materials.iter().map(|m| gpu_material(&m.kind)).collect();
 
         let vertex_buffer =
             Buffer::with_data(context, "scene vertices", vk::BufferUsageFlags::VERTEX_BUFFER, &vertices)?;
         let index_buffer =
             Buffer::with_data(context, "scene indices", vk::BufferUsageFlags::INDEX_BUFFER, &indices)?;
+        let patch_index_buffer = Buffer::with_data(
+            context,
+            "scene adjacency patches",
+            vk::BufferUsageFlags::INDEX_BUFFER,
+            &patch_indices,
+        )?;
+        let level_buffer = Buffer::new(
+            context,
+            "level records",
+            (indices.len() / 3 * 16) as vk::DeviceSize,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            gpu_allocator::MemoryLocation::GpuToCpu,
+        )?;
         let light_buffer =
             Buffer::with_data(context, "scene lights", vk::BufferUsageFlags::STORAGE_BUFFER, &lights)?;
-        let material_buffer = Buffer::with_data(
-            context,
-            "scene materials",
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            &materials,
-        )?;
+        let material_buffer =
+            Buffer::with_data(context, "scene materials", vk::BufferUsageFlags::STORAGE_BUFFER, &materials)?;
 
         let stages = vk::ShaderStageFlags::ALL_GRAPHICS;
         let bindings = [
@@ -224,6 +307,11 @@ impl Renderer {
                 .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
                 .descriptor_count(1)
                 .stage_flags(stages),
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(2)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(stages),
         ];
         let push = [vk::PushConstantRange::default()
             .stage_flags(stages)
@@ -233,12 +321,13 @@ impl Renderer {
             context,
             "forward descriptors",
             1,
-            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 2 }],
+            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 3 }],
         )?;
         let descriptor_set = pool.allocate(layout.set_layouts[0])?;
         let buffer_infos = [
             [vk::DescriptorBufferInfo { buffer: light_buffer.raw, offset: 0, range: vk::WHOLE_SIZE }],
             [vk::DescriptorBufferInfo { buffer: material_buffer.raw, offset: 0, range: vk::WHOLE_SIZE }],
+            [vk::DescriptorBufferInfo { buffer: level_buffer.raw, offset: 0, range: vk::WHOLE_SIZE }],
         ];
         let writes: Vec<vk::WriteDescriptorSet<'_>> = buffer_infos
             .iter()
@@ -262,14 +351,24 @@ impl Renderer {
             patch_vert: ShaderModule::new(context, "patch.vert", shaders::PATCH_VERT)?,
             fixed_tesc: ShaderModule::new(context, "fixed.tesc", shaders::FIXED_TESC)?,
             shade_tese: ShaderModule::new(context, "shade.tese", shaders::SHADE_TESE)?,
+            multirate_tesc: ShaderModule::new(context, "multirate.tesc", shaders::MULTIRATE_TESC)?,
+            multirate_tese: ShaderModule::new(context, "multirate.tese", shaders::MULTIRATE_TESE)?,
+            multirate_frag: ShaderModule::new(context, "multirate.frag", shaders::MULTIRATE_FRAG)?,
         };
         let mut variants = Vec::new();
+        let mut specializations = Vec::new();
         for &kind in &kinds {
-            let specialization = Specialization::default()
-                .int(0, kind)
-                .int(1, point_count)
-                .int(2, directional_count);
-            variants.push(modules.variant(context, &layout, kind, &specialization)?);
+            let specialization =
+                Specialization::default().int(0, kind).int(1, point_count).int(2, directional_count);
+            variants.push(modules.variant(
+                context,
+                &layout,
+                kind,
+                &specialization,
+                false,
+                vk::PolygonMode::FILL,
+            )?);
+            specializations.push((kind, specialization));
         }
         context.name(descriptor_set, "forward descriptor set");
         let clear = scene.settings.clear_color;
@@ -277,12 +376,17 @@ impl Renderer {
             context: context.clone(),
             vertices: vertex_buffer,
             indices: index_buffer,
+            patch_indices: patch_index_buffer,
             _lights: light_buffer,
             _materials: material_buffer,
             layout,
             _pool: pool,
             descriptor_set,
             variants,
+            wireframe_variants: None,
+            modules,
+            specializations,
+            levels: level_buffer,
             draws,
             clear_color: [clear.x, clear.y, clear.z, 0.0],
             tessellated_vertex_budget: tessellated_vertex_budget(&context.info),
@@ -291,22 +395,79 @@ impl Renderer {
 
     /// Records the forward pass into `target`, leaving the colour image ready for `after`.
     pub fn record(&self, cmd: vk::CommandBuffer, target: &RenderTarget, view: &View, after: AfterPass) {
+        let variants = match (&self.wireframe_variants, view.wireframe) {
+            (Some(lines), true) => lines,
+            _ => &self.variants,
+        };
+        self.record_with(variants, cmd, target, view, after);
+    }
+
+    /// Builds the pipelines `view` needs that are built on first use (multirate mode).
+    pub fn prepare(&self, view: &View) -> Result<()> {
+        if view.mode == Mode::Multirate {
+            let wireframe = self.wireframe_variants.as_ref().filter(|_| view.wireframe);
+            for variants in std::iter::once(&self.variants).chain(wireframe) {
+                self.prepare_variants(variants, view)?;
+            }
+        }
+        Ok(())
+    }
+
+    fn prepare_variants(&self, variants: &[Variant], view: &View) -> Result<()> {
+        for (variant, (_, specialization)) in variants.iter().zip(&self.specializations) {
+            let cell = variant.multirate_cell(view);
+            if cell.get().is_none() {
+                let pipeline =
+                    self.modules.multirate(&self.context, &self.layout, variant, specialization, view)?;
+                let _ = cell.set(pipeline);
+            }
+        }
+        Ok(())
+    }
+
+    /// Builds the wireframe pipelines (once); false when the device cannot draw lines
+    /// (`fillModeNonSolid`), in which case `View::wireframe` is ignored.
+    pub fn enable_wireframe(&mut self) -> Result<bool> {
+        if !self.context.features.fill_mode_non_solid {
+            return Ok(false);
+        }
+        if self.wireframe_variants.is_none() {
+            let mut lines = Vec::new();
+            for (kind, specialization) in &self.specializations {
+                lines.push(self.modules.variant(
+                    &self.context,
+                    &self.layout,
+                    *kind,
+                    specialization,
+                    false,
+                    vk::PolygonMode::LINE,
+                )?);
+            }
+            self.wireframe_variants = Some(lines);
+        }
+        Ok(true)
+    }
+
+    fn record_with(
+        &self,
+        variants: &[Variant],
+        cmd: vk::CommandBuffer,
+        target: &RenderTarget,
+        view: &View,
+        after: AfterPass,
+    ) {
         let device = &self.context.device;
         let extent = target.extent();
         target.begin(device, cmd, self.clear_color);
         let mut constants = DrawConstants {
             view_proj: camera::view_projection(&view.camera, extent.width, extent.height),
             eye: view.camera.eye.extend(1.0),
-            viewport: Vec4::new(
-                extent.width as f32,
-                extent.height as f32,
-                view.epsilon,
-                view.n_max as f32,
-            ),
+            viewport: Vec4::new(extent.width as f32, extent.height as f32, view.epsilon, view.n_max as f32),
             fixed_level: match view.mode {
                 Mode::Fixed(level) => level,
                 _ => 1,
             },
+            flags: if view.heat_map { FLAG_HEAT_MAP } else { 0 },
             ..Default::default()
         };
         // SAFETY: `cmd` is recording inside the rendering begun above; every bound object is
@@ -325,29 +486,114 @@ impl Renderer {
             for draw in &self.draws {
                 constants.material_index = draw.material_index;
                 constants.mesh_index = draw.mesh_index;
-                let pipeline = self.variants[draw.pipeline].for_mode(view.mode);
-                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
-                device.cmd_push_constants(
-                    cmd,
-                    self.layout.raw,
-                    vk::ShaderStageFlags::ALL_GRAPHICS,
-                    0,
-                    bytemuck::bytes_of(&constants),
-                );
-                let patches = match view.mode {
-                    Mode::Fixed(level) => self.patches_per_draw(level),
-                    _ => u32::MAX,
+                let Some(pipeline) = variants[draw.pipeline].for_view(view) else {
+                    debug_assert!(false, "render, measure and the viewer prepare the view first");
+                    continue;
                 };
-                let chunk = patches.saturating_mul(3);
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
+                let (first_index, index_count, patches, indices_per_primitive) = match view.mode {
+                    Mode::Pixel | Mode::Vertex => (draw.first_index, draw.index_count, u32::MAX, 3),
+                    Mode::Fixed(level) => {
+                        (draw.first_index, draw.index_count, self.patches_per_draw(level), 3)
+                    }
+                    Mode::Multirate => (
+                        draw.first_patch_index,
+                        draw.index_count / 3 * PATCH_SIZE as u32,
+                        self.patches_per_draw(view.n_max),
+                        PATCH_SIZE as u32,
+                    ),
+                };
+                if view.mode == Mode::Multirate {
+                    device.cmd_bind_index_buffer(cmd, self.patch_indices.raw, 0, vk::IndexType::UINT32);
+                }
+                let chunk = patches.saturating_mul(indices_per_primitive);
                 let mut first = 0;
-                while first < draw.index_count {
-                    let count = chunk.min(draw.index_count - first);
-                    device.cmd_draw_indexed(cmd, count, 1, draw.first_index + first, 0, 0);
+                while first < index_count {
+                    let count = chunk.min(index_count - first);
+                    constants.patch_base = draw.first_triangle + first / indices_per_primitive;
+                    device.cmd_push_constants(
+                        cmd,
+                        self.layout.raw,
+                        vk::ShaderStageFlags::ALL_GRAPHICS,
+                        0,
+                        bytemuck::bytes_of(&constants),
+                    );
+                    device.cmd_draw_indexed(cmd, count, 1, first_index + first, 0, 0);
                     first += count;
+                }
+                if view.mode == Mode::Multirate {
+                    device.cmd_bind_index_buffer(cmd, self.indices.raw, 0, vk::IndexType::UINT32);
                 }
             }
         }
         target.end(device, cmd, after);
+    }
+
+    /// Renders `view` in `multirate` mode with the level-recording variant and returns, per
+    /// triangle of the scene (meshes in order), `[level, outer0, outer1, outer2]` as the
+    /// control stage chose them (level 0: per-pixel fallback).
+    pub fn record_levels(&self, target: &RenderTarget, view: &View) -> Result<Vec<[f32; 4]>> {
+        let mut recording = Vec::new();
+        for (kind, specialization) in &self.specializations {
+            recording.push(self.modules.variant(
+                &self.context,
+                &self.layout,
+                *kind,
+                specialization,
+                true,
+                vk::PolygonMode::FILL,
+            )?);
+        }
+        let view = View { mode: Mode::Multirate, ..view.clone() };
+        self.prepare_variants(&recording, &view)?;
+        target.render_and_read(&self.context, |cmd| {
+            self.record_with(&recording, cmd, target, &view, AfterPass::Readback);
+            let barrier = [vk::MemoryBarrier2::default()
+                .src_stage_mask(vk::PipelineStageFlags2::TESSELLATION_CONTROL_SHADER)
+                .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
+                .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+                .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+            // SAFETY: recording command buffer.
+            unsafe {
+                self.context
+                    .device
+                    .cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&barrier))
+            };
+        })?;
+        let bytes = self.levels.mapped().expect("GpuToCpu memory is mapped");
+        Ok(bytemuck::pod_collect_to_vec::<u8, [f32; 4]>(&bytes[..self.levels.size as usize]))
+    }
+
+    /// Renders `warmup` frames, then `frames` measured ones: GPU milliseconds of the forward
+    /// pass per measured frame (timestamps outside the pass) and the pipeline statistics of
+    /// the last frame. Each frame is submitted and waited for on its own, so frames do not
+    /// overlap.
+    pub fn measure(
+        &self,
+        target: &RenderTarget,
+        view: &View,
+        warmup: u32,
+        frames: u32,
+    ) -> Result<Measurement> {
+        self.prepare(view)?;
+        let timer = GpuTimer::new(&self.context, 1, 1)?;
+        let mut gpu_ms = Vec::with_capacity(frames as usize);
+        let mut statistics = None;
+        for frame in 0..warmup + frames {
+            self.context.run_once(|cmd| {
+                timer.reset(cmd, 0);
+                timer.timestamp(cmd, 0, 0, false);
+                timer.statistics(cmd, 0, true);
+                self.record(cmd, target, view, AfterPass::Sampled);
+                timer.statistics(cmd, 0, false);
+                timer.timestamp(cmd, 0, 0, true);
+            })?;
+            if frame >= warmup {
+                gpu_ms.push(timer.pass_milliseconds(0)?[0]);
+                statistics = timer.read_statistics(0)?;
+            }
+        }
+        Ok(Measurement { gpu_ms, statistics })
     }
 
     /// How many patches one draw may hold when every patch is tessellated at `level`.
@@ -360,6 +606,7 @@ impl Renderer {
 
     /// Renders one frame into `target` and reads the float image back.
     pub fn render(&self, target: &RenderTarget, view: &View) -> Result<FloatImage> {
+        self.prepare(view)?;
         target.render_and_read(&self.context, |cmd| self.record(cmd, target, view, AfterPass::Readback))
     }
 }
@@ -394,6 +641,9 @@ struct Modules {
     patch_vert: ShaderModule,
     fixed_tesc: ShaderModule,
     shade_tese: ShaderModule,
+    multirate_tesc: ShaderModule,
+    multirate_tese: ShaderModule,
+    multirate_frag: ShaderModule,
 }
 
 const VERTEX_BINDINGS: [vk::VertexInputBindingDescription; 1] = [vk::VertexInputBindingDescription {
@@ -425,13 +675,15 @@ impl Modules {
         layout: &PipelineLayout,
         kind: i32,
         specialization: &Specialization,
+        record_levels: bool,
+        polygon_mode: vk::PolygonMode,
     ) -> Result<Variant> {
         let stage = |stage, module, specialised: bool| Stage {
             stage,
             module,
             specialization: specialised.then_some(specialization),
         };
-        let build = |name: String, stages: Vec<Stage<'_>>, tessellated: bool| {
+        let build = |name: String, stages: Vec<Stage<'_>>, control_points: Option<u32>| {
             Pipeline::graphics(
                 context,
                 &GraphicsPipelineDesc {
@@ -440,13 +692,13 @@ impl Modules {
                     layout,
                     vertex_bindings: &VERTEX_BINDINGS,
                     vertex_attributes: &VERTEX_ATTRIBUTES,
-                    topology: if tessellated {
+                    topology: if control_points.is_some() {
                         vk::PrimitiveTopology::PATCH_LIST
                     } else {
                         vk::PrimitiveTopology::TRIANGLE_LIST
                     },
-                    patch_control_points: tessellated.then_some(3),
-                    polygon_mode: vk::PolygonMode::FILL,
+                    patch_control_points: control_points,
+                    polygon_mode,
                     cull_mode: vk::CullModeFlags::NONE,
                     front_face: vk::FrontFace::COUNTER_CLOCKWISE,
                     color_format: Some(COLOR_FORMAT),
@@ -460,12 +712,12 @@ impl Modules {
             pixel: build(
                 format!("pixel mode, material kind {kind}"),
                 vec![stage(S::VERTEX, &self.forward_vert, false), stage(S::FRAGMENT, &self.pixel_frag, true)],
-                false,
+                None,
             )?,
             vertex: build(
                 format!("vertex mode, material kind {kind}"),
                 vec![stage(S::VERTEX, &self.gouraud_vert, true), stage(S::FRAGMENT, &self.color_frag, false)],
-                false,
+                None,
             )?,
             tessellated: build(
                 format!("fixed mode, material kind {kind}"),
@@ -475,8 +727,56 @@ impl Modules {
                     stage(S::TESSELLATION_EVALUATION, &self.shade_tese, true),
                     stage(S::FRAGMENT, &self.color_frag, false),
                 ],
-                true,
+                Some(3),
             )?,
+            multirate: Default::default(),
+            kind,
+            record_levels,
+            polygon_mode,
         })
+    }
+}
+
+impl Modules {
+    /// The multirate pipeline of `variant` for `view`'s split and discontinuity handling.
+    fn multirate(
+        &self,
+        context: &Arc<Context>,
+        layout: &PipelineLayout,
+        variant: &Variant,
+        specialization: &Specialization,
+        view: &View,
+    ) -> Result<Pipeline> {
+        let (split, discontinuity) = (split_id(view.split), discontinuity_id(view.discontinuity));
+        let specialization =
+            specialization.clone().int(3, split).int(4, discontinuity).boolean(5, variant.record_levels);
+        let stage = |stage, module| Stage { stage, module, specialization: Some(&specialization) };
+        use vk::ShaderStageFlags as S;
+        Pipeline::graphics(
+            context,
+            &GraphicsPipelineDesc {
+                name: &format!(
+                    "multirate mode, material kind {}, split {split}, discontinuity {discontinuity}",
+                    variant.kind
+                ),
+                stages: vec![
+                    stage(S::VERTEX, &self.patch_vert),
+                    stage(S::TESSELLATION_CONTROL, &self.multirate_tesc),
+                    stage(S::TESSELLATION_EVALUATION, &self.multirate_tese),
+                    stage(S::FRAGMENT, &self.multirate_frag),
+                ],
+                layout,
+                vertex_bindings: &VERTEX_BINDINGS,
+                vertex_attributes: &VERTEX_ATTRIBUTES,
+                topology: vk::PrimitiveTopology::PATCH_LIST,
+                patch_control_points: Some(PATCH_SIZE as u32),
+                polygon_mode: variant.polygon_mode,
+                cull_mode: vk::CullModeFlags::NONE,
+                front_face: vk::FrontFace::COUNTER_CLOCKWISE,
+                color_format: Some(COLOR_FORMAT),
+                depth_format: Some(DEPTH_FORMAT),
+                rasterizer_discard: false,
+            },
+        )
     }
 }

@@ -5,8 +5,7 @@ use crate::error::{Result, VkContext as _};
 use crate::shaders;
 use crate::vk::memory::transition;
 use crate::vk::pipeline::{
-    DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderModule, Specialization,
-    Stage,
+    DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderModule, Specialization, Stage,
 };
 use crate::vk::target::RenderTarget;
 use crate::vk::Context;
@@ -43,10 +42,7 @@ impl PresentPass {
             context,
             "present descriptors",
             1,
-            &[vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                descriptor_count: 1,
-            }],
+            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, descriptor_count: 1 }],
         )?;
         let set = pool.allocate(layout.set_layouts[0])?;
         let vertex = ShaderModule::new(context, "fullscreen.vert", shaders::FULLSCREEN_VERT)?;

@@ -23,11 +23,7 @@ pub(crate) struct Transform {
 
 impl Default for Transform {
     fn default() -> Self {
-        Transform {
-            scale: Vec3::ONE,
-            rotate_degrees: Vec3::ZERO,
-            translate: Vec3::ZERO,
-        }
+        Transform { scale: Vec3::ONE, rotate_degrees: Vec3::ZERO, translate: Vec3::ZERO }
     }
 }
 
@@ -64,37 +60,24 @@ pub(crate) struct ObjProblem {
 
 impl ObjProblem {
     fn new(message: impl Into<String>) -> Self {
-        ObjProblem {
-            line: None,
-            message: message.into(),
-        }
+        ObjProblem { line: None, message: message.into() }
     }
 
     fn at(line: usize, message: impl Into<String>) -> Self {
-        ObjProblem {
-            line: Some(line),
-            message: message.into(),
-        }
+        ObjProblem { line: Some(line), message: message.into() }
     }
 }
 
 /// Reads, checks, triangulates and transforms the OBJ file at `path`.
 pub(crate) fn load_obj(path: &Path, transform: &Transform) -> Result<LoadedMesh, ObjProblem> {
-    let bytes =
-        std::fs::read(path).map_err(|e| ObjProblem::new(format!("cannot read file: {e}")))?;
+    let bytes = std::fs::read(path).map_err(|e| ObjProblem::new(format!("cannot read file: {e}")))?;
     load_obj_bytes(&bytes, transform)
 }
 
 /// [`load_obj`] on the contents of a file.
-pub(crate) fn load_obj_bytes(
-    bytes: &[u8],
-    transform: &Transform,
-) -> Result<LoadedMesh, ObjProblem> {
+pub(crate) fn load_obj_bytes(bytes: &[u8], transform: &Transform) -> Result<LoadedMesh, ObjProblem> {
     let text = std::str::from_utf8(bytes).map_err(|e| {
-        let line = 1 + bytes[..e.valid_up_to()]
-            .iter()
-            .filter(|&&b| b == b'\n')
-            .count();
+        let line = 1 + bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count();
         ObjProblem::at(line, "is not valid UTF-8 text")
     })?;
     prescan(text)?;
@@ -112,9 +95,7 @@ pub(crate) fn load_obj_bytes(
     // The pre-scan keeps out the inputs known to make `tobj` panic; this is a second guard so
     // that no file can take the program down. Material libraries are never opened.
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        tobj::load_obj_buf(&mut reader, &options, |_| {
-            Err(tobj::LoadError::OpenFileFailed)
-        })
+        tobj::load_obj_buf(&mut reader, &options, |_| Err(tobj::LoadError::OpenFileFailed))
     }));
     let models = match result {
         Ok(Ok((models, _materials))) => models,
@@ -150,16 +131,10 @@ pub(crate) fn load_obj_bytes(
     // Triangulation always gives whole triangles; this keeps a short index list harmless anyway.
     indices.truncate(indices.len() / 3 * 3);
     if indices.is_empty() {
-        return Err(ObjProblem::new(
-            "contains no triangles (no `f` lines with 3 or more vertices)",
-        ));
+        return Err(ObjProblem::new("contains no triangles (no `f` lines with 3 or more vertices)"));
     }
 
-    let loaded = LoadedMesh {
-        positions,
-        normals: Vec::new(),
-        indices,
-    };
+    let loaded = LoadedMesh { positions, normals: Vec::new(), indices };
     finish(loaded, &given_normals, transform)
 }
 
@@ -205,11 +180,7 @@ fn finish(
     } else {
         Vec::new()
     };
-    mesh.normals = normals
-        .into_iter()
-        .enumerate()
-        .map(|(i, n)| n.unwrap_or_else(|| computed[i]))
-        .collect();
+    mesh.normals = normals.into_iter().enumerate().map(|(i, n)| n.unwrap_or_else(|| computed[i])).collect();
     Ok(mesh)
 }
 
@@ -224,11 +195,7 @@ pub(crate) fn smooth_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> {
     let group: Vec<usize> = positions
         .iter()
         .map(|p| {
-            let key = [
-                (p.x + 0.0).to_bits(),
-                (p.y + 0.0).to_bits(),
-                (p.z + 0.0).to_bits(),
-            ];
+            let key = [(p.x + 0.0).to_bits(), (p.y + 0.0).to_bits(), (p.z + 0.0).to_bits()];
             let next = group_of_position.len();
             *group_of_position.entry(key).or_insert(next)
         })
@@ -241,8 +208,7 @@ pub(crate) fn smooth_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> {
     // The largest adjacent non-degenerate face: (twice its area, its unit normal).
     let mut largest: Vec<Option<(f64, DVec3)>> = vec![None; groups];
     for tri in indices.chunks_exact(3) {
-        let [a, b, c] =
-            [tri[0], tri[1], tri[2]].map(|i| positions.get(i as usize).map(|p| p.as_dvec3()));
+        let [a, b, c] = [tri[0], tri[1], tri[2]].map(|i| positions.get(i as usize).map(|p| p.as_dvec3()));
         let (Some(a), Some(b), Some(c)) = (a, b, c) else {
             continue;
         };
@@ -326,16 +292,9 @@ fn check_vertex<'a>(
     if xyz.len() < 3 || xyz.iter().any(Option::is_none) {
         return Ok(()); // `tobj` reports this as a parse error, with the line.
     }
-    let xyz = Vec3::new(
-        xyz[0].unwrap_or(0.0),
-        xyz[1].unwrap_or(0.0),
-        xyz[2].unwrap_or(0.0),
-    );
+    let xyz = Vec3::new(xyz[0].unwrap_or(0.0), xyz[1].unwrap_or(0.0), xyz[2].unwrap_or(0.0));
     if let Some(bad) = xyz.to_array().into_iter().find(|v| !v.is_finite()) {
-        return Err(ObjProblem::at(
-            line,
-            format!("vertex {vertex} has a non-finite coordinate ({bad})"),
-        ));
+        return Err(ObjProblem::at(line, format!("vertex {vertex} has a non-finite coordinate ({bad})")));
     }
     // `v x y z w`: `tobj` divides by w.
     if let [w] = rest[..] {
@@ -357,19 +316,13 @@ fn check_face<'a>(
     seen: &[usize; 3],
     totals: &[usize; 3],
 ) -> Result<(), ObjProblem> {
-    const WHAT: [(&str, &str); 3] = [
-        ("vertex", "vertices"),
-        ("texture coordinate", "texture coordinates"),
-        ("normal", "normals"),
-    ];
+    const WHAT: [(&str, &str); 3] =
+        [("vertex", "vertices"), ("texture coordinate", "texture coordinates"), ("normal", "normals")];
     let corners: Vec<&str> = words.collect();
     if corners.len() < 3 {
         return Err(ObjProblem::at(
             line,
-            format!(
-                "face has {} vertices; a polygon needs at least 3",
-                corners.len()
-            ),
+            format!("face has {} vertices; a polygon needs at least 3", corners.len()),
         ));
     }
     for corner in corners {
@@ -424,15 +377,11 @@ fn describe_tobj_error(error: tobj::LoadError, line: usize) -> ObjProblem {
         E::FaceParseError => at("malformed face (`f`) line"),
         E::InvalidObjectName => at("malformed object (`o`) or group (`g`) name"),
         E::InvalidPolygon => at("face has fewer than 3 vertices"),
-        E::FaceVertexOutOfBounds => {
-            ObjProblem::new("a face refers to a vertex that does not exist")
-        }
+        E::FaceVertexOutOfBounds => ObjProblem::new("a face refers to a vertex that does not exist"),
         E::FaceTexCoordOutOfBounds => {
             ObjProblem::new("a face refers to a texture coordinate that does not exist")
         }
-        E::FaceNormalOutOfBounds => {
-            ObjProblem::new("a face refers to a normal that does not exist")
-        }
+        E::FaceNormalOutOfBounds => ObjProblem::new("a face refers to a normal that does not exist"),
         E::FaceColorOutOfBounds => {
             ObjProblem::new("vertex colours are given for some vertices but not for others")
         }
@@ -450,11 +399,7 @@ struct LineCountingReader<'a> {
 
 impl<'a> LineCountingReader<'a> {
     fn new(bytes: &'a [u8]) -> Self {
-        LineCountingReader {
-            rest: bytes,
-            newlines: 0,
-            after_newline: true,
-        }
+        LineCountingReader { rest: bytes, newlines: 0, after_newline: true }
     }
 
     /// The 1-based number of the line read last.
@@ -504,20 +449,13 @@ mod tests {
     }
 
     fn assert_unit(n: Vec3) {
-        assert!(
-            n.is_finite() && (n.length() - 1.0).abs() < 1e-6,
-            "not unit: {n}"
-        );
+        assert!(n.is_finite() && (n.length() - 1.0).abs() < 1e-6, "not unit: {n}");
     }
 
     #[test]
     fn flat_quad_normals_are_exactly_z_and_unit() {
         let mesh = load("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n").unwrap();
-        assert_eq!(
-            mesh.indices.len(),
-            6,
-            "the quad is split into two triangles"
-        );
+        assert_eq!(mesh.indices.len(), 6, "the quad is split into two triangles");
         assert_eq!(mesh.normals.len(), mesh.positions.len());
         for n in &mesh.normals {
             assert_eq!(*n, Vec3::Z);
@@ -540,16 +478,11 @@ v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n\
 f 1 4 3 2\nf 5 8 7 6\nf 9 12 11 10\n";
         let mesh = load(obj).unwrap();
         let expected = Vec3::splat(-1.0).normalize();
-        let corners: Vec<usize> = (0..mesh.positions.len())
-            .filter(|&i| mesh.positions[i] == Vec3::ZERO)
-            .collect();
+        let corners: Vec<usize> =
+            (0..mesh.positions.len()).filter(|&i| mesh.positions[i] == Vec3::ZERO).collect();
         assert_eq!(corners.len(), 3, "each face keeps its own corner vertex");
         for i in corners {
-            assert!(
-                (mesh.normals[i] - expected).length() < 1e-6,
-                "{}",
-                mesh.normals[i]
-            );
+            assert!((mesh.normals[i] - expected).length() < 1e-6, "{}", mesh.normals[i]);
             assert_unit(mesh.normals[i]);
         }
     }
@@ -558,29 +491,16 @@ f 1 4 3 2\nf 5 8 7 6\nf 9 12 11 10\n";
     fn degenerate_triangles_get_finite_unit_normals() {
         // Triangle 1 is fine; triangle 2 is a sliver on a line, sharing a vertex with it;
         // triangle 3 is a point, alone.
-        let obj =
-            "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nv 3 0 0\nv 5 5 5\nf 1 2 3\nf 2 4 5\nf 6 6 6\n";
+        let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nv 3 0 0\nv 5 5 5\nf 1 2 3\nf 2 4 5\nf 6 6 6\n";
         let mesh = load(obj).unwrap();
         assert_eq!(mesh.indices.len(), 9, "degenerate triangles are kept");
         for n in &mesh.normals {
             assert_unit(*n);
         }
         let at = |p: Vec3| mesh.positions.iter().position(|q| *q == p).unwrap();
-        assert_eq!(
-            mesh.normals[at(Vec3::new(3.0, 0.0, 0.0))],
-            Vec3::Z,
-            "no good face: +Z"
-        );
-        assert_eq!(
-            mesh.normals[at(Vec3::new(5.0, 5.0, 5.0))],
-            Vec3::Z,
-            "isolated: +Z"
-        );
-        assert_eq!(
-            mesh.normals[at(Vec3::new(1.0, 0.0, 0.0))],
-            Vec3::Z,
-            "from the good face"
-        );
+        assert_eq!(mesh.normals[at(Vec3::new(3.0, 0.0, 0.0))], Vec3::Z, "no good face: +Z");
+        assert_eq!(mesh.normals[at(Vec3::new(5.0, 5.0, 5.0))], Vec3::Z, "isolated: +Z");
+        assert_eq!(mesh.normals[at(Vec3::new(1.0, 0.0, 0.0))], Vec3::Z, "from the good face");
 
         // Two faces that cancel exactly (a two-sided sheet) take one face's normal.
         let mesh = load("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 3 2\n").unwrap();
@@ -595,10 +515,7 @@ f 1 4 3 2\nf 5 8 7 6\nf 9 12 11 10\n";
         // A 45° slope in XY: its normal (-1, 1, 0)/√2. Stretching X by 2 makes the slope
         // shallower, so the normal tilts towards +Y: (-1/2, 1, 0) normalised.
         let obj = "v 0 0 0\nv 1 1 0\nv 0 1 1\nvn -1 1 0\nf 1//1 2//1 3//1\n";
-        let t = Transform {
-            scale: Vec3::new(2.0, 1.0, 1.0),
-            ..Default::default()
-        };
+        let t = Transform { scale: Vec3::new(2.0, 1.0, 1.0), ..Default::default() };
         let mesh = load_obj_bytes(obj.as_bytes(), &t).unwrap();
         let expected = Vec3::new(-0.5, 1.0, 0.0).normalize();
         for n in &mesh.normals {
@@ -618,10 +535,7 @@ f 1 4 3 2\nf 5 8 7 6\nf 9 12 11 10\n";
         // (1,0,0) → scaled (2,0,0) → rotated 90° about Z (0,2,0) → translated (10,2,0).
         assert!((mesh.positions[0] - Vec3::new(10.0, 2.0, 0.0)).length() < 1e-5);
         // X then Y: (1,0,0) → Rx keeps it → Ry(90°) sends it to (0,0,-1).
-        let t = Transform {
-            rotate_degrees: Vec3::new(90.0, 90.0, 0.0),
-            ..Default::default()
-        };
+        let t = Transform { rotate_degrees: Vec3::new(90.0, 90.0, 0.0), ..Default::default() };
         let mesh = load_obj_bytes(b"v 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n", &t).unwrap();
         assert!((mesh.positions[0] - Vec3::new(0.0, 0.0, -1.0)).length() < 1e-6);
         // (0,1,0) → Rx(90°) → (0,0,1) → Ry(90°) → (1,0,0).
@@ -631,10 +545,7 @@ f 1 4 3 2\nf 5 8 7 6\nf 9 12 11 10\n";
     #[test]
     fn mirroring_keeps_computed_normals_outward() {
         let quad = b"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
-        let t = Transform {
-            scale: Vec3::new(-1.0, 1.0, 1.0),
-            ..Default::default()
-        };
+        let t = Transform { scale: Vec3::new(-1.0, 1.0, 1.0), ..Default::default() };
         let mesh = load_obj_bytes(quad, &t).unwrap();
         for n in &mesh.normals {
             assert_eq!(*n, Vec3::Z);
@@ -647,44 +558,16 @@ f 1 4 3 2\nf 5 8 7 6\nf 9 12 11 10\n";
     #[test]
     fn bad_files_are_errors_with_lines_not_panics() {
         let cases: &[(&str, &str, Option<usize>)] = &[
-            (
-                "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n",
-                "vertex 3 has a non-finite coordinate (NaN)",
-                Some(3),
-            ),
-            (
-                "v 0 0 0\nv 1 0 inf\nv 0 1 0\nf 1 2 3\n",
-                "vertex 2 has a non-finite coordinate (inf)",
-                Some(2),
-            ),
+            ("v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n", "vertex 3 has a non-finite coordinate (NaN)", Some(3)),
+            ("v 0 0 0\nv 1 0 inf\nv 0 1 0\nf 1 2 3\n", "vertex 2 has a non-finite coordinate (inf)", Some(2)),
             ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "vertex 0", Some(4)),
             ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", "vertex 4", Some(4)),
-            (
-                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -4 1 2\n",
-                "vertex -4",
-                Some(4),
-            ),
-            (
-                "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//0 3//1\n",
-                "normal 0",
-                Some(5),
-            ),
-            (
-                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//99999999999999999 2 3\n",
-                "normal",
-                Some(4),
-            ),
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -4 1 2\n", "vertex -4", Some(4)),
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//0 3//1\n", "normal 0", Some(5)),
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//99999999999999999 2 3\n", "normal", Some(4)),
             ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n", "at least 3", Some(4)),
-            (
-                "v 0 0 0\nv 1 0\nv 0 1 0\nf 1 2 3\n",
-                "malformed vertex",
-                Some(2),
-            ),
-            (
-                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n",
-                "not a valid integer",
-                Some(4),
-            ),
+            ("v 0 0 0\nv 1 0\nv 0 1 0\nf 1 2 3\n", "malformed vertex", Some(2)),
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n", "not a valid integer", Some(4)),
             ("v 0 0 0\nv 1 0 0 0\nv 0 1 0\nf 1 2 3\n", "weight", Some(2)),
             ("v 0 0 0\n", "no triangles", None),
             ("", "no triangles", None),
@@ -707,22 +590,10 @@ o b\nv 0 0 5\nv 1 0 5\nv 0 1 5\nf 4 5 6\n";
         let mesh = load(obj).unwrap();
         assert_eq!(mesh.indices.len(), 6);
         assert_eq!(mesh.positions.len(), 6);
-        let z0: Vec<Vec3> = (0..6)
-            .filter(|&i| mesh.positions[i].z == 0.0)
-            .map(|i| mesh.normals[i])
-            .collect();
-        let z5: Vec<Vec3> = (0..6)
-            .filter(|&i| mesh.positions[i].z == 5.0)
-            .map(|i| mesh.normals[i])
-            .collect();
-        assert!(
-            z0.iter().all(|n| *n == -Vec3::Z),
-            "the file's normals are used: {z0:?}"
-        );
-        assert!(
-            z5.iter().all(|n| *n == Vec3::Z),
-            "missing normals are computed: {z5:?}"
-        );
+        let z0: Vec<Vec3> = (0..6).filter(|&i| mesh.positions[i].z == 0.0).map(|i| mesh.normals[i]).collect();
+        let z5: Vec<Vec3> = (0..6).filter(|&i| mesh.positions[i].z == 5.0).map(|i| mesh.normals[i]).collect();
+        assert!(z0.iter().all(|n| *n == -Vec3::Z), "the file's normals are used: {z0:?}");
+        assert!(z5.iter().all(|n| *n == Vec3::Z), "missing normals are computed: {z5:?}");
         for &i in &mesh.indices {
             assert!((i as usize) < mesh.positions.len());
         }

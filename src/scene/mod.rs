@@ -53,6 +53,7 @@
 //! (the TOML file or an OBJ file), then the item or line, then the problem, for example
 //! `scenes/x.toml: [[meshes]] #2: material "steel" is not defined`.
 
+pub mod adjacency;
 mod mesh;
 
 use std::fmt;
@@ -136,11 +137,7 @@ pub enum MaterialKind {
     BlinnPhong { kd: Vec3, ks: Vec3, shininess: f32 },
     /// Lambert `albedo` plus a GGX microfacet specular lobe with Schlick Fresnel from `f0`;
     /// roughness in [0, 1], α = roughness².
-    Ggx {
-        albedo: Vec3,
-        f0: Vec3,
-        roughness: f32,
-    },
+    Ggx { albedo: Vec3, f0: Vec3, roughness: f32 },
 }
 
 /// A light. Irradiance from a point light falls off as 1/d²; a directional light's does not.
@@ -182,30 +179,17 @@ pub struct Mesh {
 pub enum SceneError {
     /// The scene file could not be read.
     #[error("{}: cannot read file: {error}", path.display())]
-    Io {
-        path: PathBuf,
-        error: std::io::Error,
-    },
+    Io { path: PathBuf, error: std::io::Error },
     /// The scene file is not valid TOML, has an unknown key, a missing key or a value of the
     /// wrong type. `message` is the `toml` crate's.
     /// `text` is the offending line of the file, trimmed and shortened, so that the key is
     /// named even where the message does not name it.
     #[error("{}: {message}{}", path.display(), fmt_location(*line, *column, text))]
-    Parse {
-        path: PathBuf,
-        message: String,
-        line: Option<usize>,
-        column: Option<usize>,
-        text: String,
-    },
+    Parse { path: PathBuf, message: String, line: Option<usize>, column: Option<usize>, text: String },
     /// The scene file parsed but a value is out of range or inconsistent. `item` names the
     /// table and key, e.g. `[[materials]] #2 ("shiny")`, `[camera]`.
     #[error("{}: {item}: {problem}", path.display())]
-    Invalid {
-        path: PathBuf,
-        item: String,
-        problem: String,
-    },
+    Invalid { path: PathBuf, item: String, problem: String },
     /// An OBJ file named by the scene could not be read or used.
     #[error(
         "{}: {}{problem} (used by [[meshes]] #{mesh} in {})",
@@ -213,21 +197,11 @@ pub enum SceneError {
         fmt_line(*line),
         scene.display()
     )]
-    Obj {
-        path: PathBuf,
-        line: Option<usize>,
-        problem: String,
-        scene: PathBuf,
-        mesh: usize,
-    },
+    Obj { path: PathBuf, line: Option<usize>, problem: String, scene: PathBuf, mesh: usize },
 }
 
 fn fmt_location(line: Option<usize>, column: Option<usize>, text: &str) -> String {
-    let text = if text.is_empty() {
-        String::new()
-    } else {
-        format!(": `{text}`")
-    };
+    let text = if text.is_empty() { String::new() } else { format!(": `{text}`") };
     match (line, column) {
         (Some(l), Some(c)) => format!(" (line {l}, column {c}{text})"),
         (Some(l), None) => format!(" (line {l}{text})"),
@@ -242,10 +216,8 @@ fn fmt_line(line: Option<usize>) -> String {
 impl Scene {
     /// Reads, parses and checks the scene file at `path` and every OBJ file it names.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|error| SceneError::Io {
-            path: path.to_path_buf(),
-            error,
-        })?;
+        let text = std::fs::read_to_string(path)
+            .map_err(|error| SceneError::Io { path: path.to_path_buf(), error })?;
         let file: SceneFile = toml::from_str(&text).map_err(|e| {
             let (line, column, snippet) = match e.span() {
                 Some(span) => {
@@ -256,13 +228,7 @@ impl Scene {
             };
             SceneError::Parse {
                 path: path.to_path_buf(),
-                message: e
-                    .message()
-                    .trim()
-                    .lines()
-                    .map(str::trim)
-                    .collect::<Vec<_>>()
-                    .join("; "),
+                message: e.message().trim().lines().map(str::trim).collect::<Vec<_>>().join("; "),
                 line,
                 column,
                 text: snippet,
@@ -284,9 +250,7 @@ impl Scene {
 }
 
 fn bounds_of(points: impl Iterator<Item = Vec3>) -> (Vec3, Vec3) {
-    let (min, max) = points.fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
-        (lo.min(p), hi.max(p))
-    });
+    let (min, max) = points.fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| (lo.min(p), hi.max(p)));
     if min.x > max.x {
         (Vec3::ZERO, Vec3::ZERO)
     } else {
@@ -308,11 +272,7 @@ fn line_column(text: &str, offset: usize) -> (usize, usize) {
 
 /// Line `line` (1-based) of `text`, trimmed, cut to at most 60 characters.
 fn line_text(text: &str, line: usize) -> String {
-    let full = text
-        .lines()
-        .nth(line.saturating_sub(1))
-        .unwrap_or("")
-        .trim();
+    let full = text.lines().nth(line.saturating_sub(1)).unwrap_or("").trim();
     let mut short: String = full.chars().take(60).collect();
     if short.len() < full.len() {
         short.push_str("...");
@@ -468,9 +428,7 @@ impl<'de> Deserialize<'de> for Scale {
             fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Scale, A::Error> {
                 let mut xyz = [0.0f32; 3];
                 for (i, c) in xyz.iter_mut().enumerate() {
-                    *c = seq
-                        .next_element()?
-                        .ok_or_else(|| de::Error::invalid_length(i, &self))?;
+                    *c = seq.next_element()?.ok_or_else(|| de::Error::invalid_length(i, &self))?;
                 }
                 let mut extra = 3;
                 while seq.next_element::<de::IgnoredAny>()?.is_some() {
@@ -517,10 +475,7 @@ impl Item<'_> {
         if v.iter().all(|c| c.is_finite()) {
             Ok(Vec3::from_array(v))
         } else {
-            Err(self.error(format!(
-                "`{key}` = {} has a component that is not a finite number",
-                fmt_array(v)
-            )))
+            Err(self.error(format!("`{key}` = {} has a component that is not a finite number", fmt_array(v))))
         }
     }
 
@@ -607,10 +562,7 @@ fn fmt_array(v: [f32; 3]) -> String {
 use Bound::{Closed, Open};
 
 fn build(path: &Path, file: SceneFile) -> Result<Scene, SceneError> {
-    let top = |key: &str| Item {
-        path,
-        item: format!("`{key}`"),
-    };
+    let top = |key: &str| Item { path, item: format!("`{key}`") };
     if file.source.trim().is_empty() {
         return Err(top("source").error("must say where the meshes come from"));
     }
@@ -621,19 +573,14 @@ fn build(path: &Path, file: SceneFile) -> Result<Scene, SceneError> {
     for (i, m) in file.materials.iter().enumerate() {
         let material = check_material(path, i, m)?;
         if materials.iter().any(|other| other.name == material.name) {
-            return Err(Item {
-                path,
-                item: format!("[[materials]] #{} (\"{}\")", i + 1, m.name),
-            }
-            .error(format!("duplicate material name \"{}\"", m.name)));
+            return Err(Item { path, item: format!("[[materials]] #{} (\"{}\")", i + 1, m.name) }
+                .error(format!("duplicate material name \"{}\"", m.name)));
         }
         materials.push(material);
     }
 
     if file.lights.is_empty() {
-        return Err(
-            top("lights").error("the scene has no lights; add at least one [[lights]] table")
-        );
+        return Err(top("lights").error("the scene has no lights; add at least one [[lights]] table"));
     }
     let lights = file
         .lights
@@ -644,16 +591,11 @@ fn build(path: &Path, file: SceneFile) -> Result<Scene, SceneError> {
 
     // The camera checks that do not need the meshes come first, so that a mistake there is
     // reported without reading any OBJ file.
-    let camera_item = Item {
-        path,
-        item: "[camera]".to_string(),
-    };
+    let camera_item = Item { path, item: "[camera]".to_string() };
     let camera = check_camera(&camera_item, &file.camera)?;
 
     if file.meshes.is_empty() {
-        return Err(
-            top("meshes").error("the scene has no meshes; add at least one [[meshes]] table")
-        );
+        return Err(top("meshes").error("the scene has no meshes; add at least one [[meshes]] table"));
     }
     let folder = path.parent().unwrap_or(Path::new(""));
     let mut meshes = Vec::with_capacity(file.meshes.len());
@@ -661,11 +603,7 @@ fn build(path: &Path, file: SceneFile) -> Result<Scene, SceneError> {
         meshes.push(load_mesh(path, folder, i, m, &materials)?);
     }
 
-    let (lo, hi) = bounds_of(
-        meshes
-            .iter()
-            .flat_map(|m: &Mesh| m.positions.iter().copied()),
-    );
+    let (lo, hi) = bounds_of(meshes.iter().flat_map(|m: &Mesh| m.positions.iter().copied()));
     let camera = finish_camera(&camera_item, camera, &file.camera, lo, hi)?;
 
     Ok(Scene {
@@ -680,10 +618,7 @@ fn build(path: &Path, file: SceneFile) -> Result<Scene, SceneError> {
 }
 
 fn check_render(path: &Path, r: &RenderFile) -> Result<RenderSettings, SceneError> {
-    let item = Item {
-        path,
-        item: "[render]".to_string(),
-    };
+    let item = Item { path, item: "[render]".to_string() };
     let size = |key: &str, v: u32| {
         if (1..=16384).contains(&v) {
             Ok(v)
@@ -707,10 +642,7 @@ fn check_render(path: &Path, r: &RenderFile) -> Result<RenderSettings, SceneErro
 }
 
 fn check_material(path: &Path, index: usize, m: &MaterialFile) -> Result<Material, SceneError> {
-    let item = Item {
-        path,
-        item: format!("[[materials]] #{} (\"{}\")", index + 1, m.name),
-    };
+    let item = Item { path, item: format!("[[materials]] #{} (\"{}\")", index + 1, m.name) };
     if m.name.trim().is_empty() {
         return Err(item.error("`name` is empty"));
     }
@@ -724,9 +656,7 @@ fn check_material(path: &Path, index: usize, m: &MaterialFile) -> Result<Materia
             }
             item.forbidden("shininess", &m.shininess, &why_not)?;
             item.forbidden("roughness", &m.roughness, &why_not)?;
-            MaterialKind::Lambert {
-                kd: unit("kd", item.required("kd", m.kd, &why)?)?,
-            }
+            MaterialKind::Lambert { kd: unit("kd", item.required("kd", m.kd, &why)?)? }
         }
         MaterialType::BlinnPhong => {
             for (key, v) in [("albedo", &m.albedo), ("f0", &m.f0)] {
@@ -761,10 +691,7 @@ fn check_material(path: &Path, index: usize, m: &MaterialFile) -> Result<Materia
             }
         }
     };
-    Ok(Material {
-        name: m.name.clone(),
-        kind,
-    })
+    Ok(Material { name: m.name.clone(), kind })
 }
 
 fn check_light(path: &Path, index: usize, l: &LightFile) -> Result<Light, SceneError> {
@@ -772,10 +699,7 @@ fn check_light(path: &Path, index: usize, l: &LightFile) -> Result<Light, SceneE
         LightType::Point => "point",
         LightType::Directional => "directional",
     };
-    let item = Item {
-        path,
-        item: format!("[[lights]] #{} ({kind})", index + 1),
-    };
+    let item = Item { path, item: format!("[[lights]] #{} ({kind})", index + 1) };
     let color = item.vec3_range("color", l.color, Closed(0.0), Bound::None)?;
     let intensity = item.range("intensity", l.intensity, Closed(0.0), Bound::None)?;
     let why = format!("for type \"{kind}\"");
@@ -784,11 +708,7 @@ fn check_light(path: &Path, index: usize, l: &LightFile) -> Result<Light, SceneE
         LightType::Point => {
             let position = item.vec3("position", item.required("position", l.position, &why)?)?;
             item.forbidden("direction", &l.direction, &why_not)?;
-            Light::Point {
-                position,
-                color,
-                intensity,
-            }
+            Light::Point { position, color, intensity }
         }
         LightType::Directional => {
             let raw = item.required("direction", l.direction, &why)?;
@@ -797,11 +717,7 @@ fn check_light(path: &Path, index: usize, l: &LightFile) -> Result<Light, SceneE
             if direction == Vec3::ZERO || !direction.is_finite() {
                 return Err(item.error(format!("`direction` = {} is zero", fmt_array(raw))));
             }
-            Light::Directional {
-                direction,
-                color,
-                intensity,
-            }
+            Light::Directional { direction, color, intensity }
         }
     })
 }
@@ -815,10 +731,7 @@ fn check_camera(item: &Item, c: &CameraFile) -> Result<Camera, SceneError> {
     let fov_y_degrees = item.range("fov_y_degrees", c.fov_y_degrees, Open(0.0), Open(180.0))?;
     let view = (target - eye).normalize_or_zero();
     if view == Vec3::ZERO || !view.is_finite() {
-        return Err(item.error(format!(
-            "`eye` and `target` are the same point {}",
-            fmt_array(c.eye)
-        )));
+        return Err(item.error(format!("`eye` and `target` are the same point {}", fmt_array(c.eye))));
     }
     let up = up.normalize_or_zero();
     if up == Vec3::ZERO || !up.is_finite() {
@@ -836,14 +749,7 @@ fn check_camera(item: &Item, c: &CameraFile) -> Result<Camera, SceneError> {
     if let Some(far) = c.far {
         item.range("far", far, Open(0.0), Bound::None)?;
     }
-    Ok(Camera {
-        eye,
-        target,
-        up,
-        fov_y_degrees,
-        near: 0.0,
-        far: 0.0,
-    })
+    Ok(Camera { eye, target, up, fov_y_degrees, near: 0.0, far: 0.0 })
 }
 
 /// Fills in `near` and `far`: a missing `far` lies just past the bounds corner farthest from
@@ -861,24 +767,19 @@ fn finish_camera(
             let eye = camera.eye.as_dvec3();
             let mut farthest = (camera.target.as_dvec3() - eye).length();
             for i in 0..8 {
-                let corner =
-                    Vec3::select(glam::BVec3::new(i & 1 == 0, i & 2 == 0, i & 4 == 0), lo, hi);
+                let corner = Vec3::select(glam::BVec3::new(i & 1 == 0, i & 2 == 0, i & 4 == 0), lo, hi);
                 farthest = farthest.max((corner.as_dvec3() - eye).length());
             }
             let far = (farthest * 1.01) as f32;
             if !far.is_finite() {
-                return Err(
-                    item.error("cannot derive `far` from the scene bounds (too large); give `far`")
-                );
+                return Err(item.error("cannot derive `far` from the scene bounds (too large); give `far`"));
             }
             far
         }
     };
     let near = c.near.unwrap_or(far * 1e-3);
     if !(near > 0.0 && near.is_finite()) {
-        return Err(item.error(format!(
-            "derived `near` = {near} is not a positive number; give `near`"
-        )));
+        return Err(item.error(format!("derived `near` = {near} is not a positive number; give `near`")));
     }
     if near >= far {
         return Err(item.error(format!("`near` = {near} is not less than `far` = {far}")));
@@ -895,20 +796,14 @@ fn load_mesh(
     m: &MeshFile,
     materials: &[Material],
 ) -> Result<Mesh, SceneError> {
-    let item = Item {
-        path,
-        item: format!("[[meshes]] #{} (\"{}\")", index + 1, m.obj.display()),
-    };
+    let item = Item { path, item: format!("[[meshes]] #{} (\"{}\")", index + 1, m.obj.display()) };
     let material = materials
         .iter()
         .position(|mat| mat.name == m.material)
         .ok_or_else(|| item.error(format!("material \"{}\" is not defined", m.material)))?;
     let scale = item.vec3("scale", m.scale.unwrap_or(Scale([1.0; 3])).0)?;
     if scale.to_array().contains(&0.0) {
-        return Err(item.error(format!(
-            "`scale` = {} has a zero component",
-            fmt_array(scale.to_array())
-        )));
+        return Err(item.error(format!("`scale` = {} has a zero component", fmt_array(scale.to_array()))));
     }
     let transform = mesh::Transform {
         scale,
@@ -918,11 +813,7 @@ fn load_mesh(
     let source = folder.join(&m.obj);
     let name = match &m.name {
         Some(name) => name.clone(),
-        None => m
-            .obj
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default(),
+        None => m.obj.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(),
     };
     let loaded = mesh::load_obj(&source, &transform).map_err(|p| SceneError::Obj {
         path: source.clone(),

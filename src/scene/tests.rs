@@ -10,8 +10,7 @@ impl TempDir {
     fn new(name: &str) -> TempDir {
         static COUNTER: AtomicUsize = AtomicUsize::new(0);
         let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-        let dir =
-            std::env::temp_dir().join(format!("multirate-scene-{}-{name}-{n}", std::process::id()));
+        let dir = std::env::temp_dir().join(format!("multirate-scene-{}-{name}-{n}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
         TempDir(dir)
@@ -74,10 +73,7 @@ fn expect_error(scene: &str, needles: &[&str]) -> String {
         path.display()
     );
     for needle in needles {
-        assert!(
-            message.contains(needle),
-            "{message:?} does not mention {needle:?}"
-        );
+        assert!(message.contains(needle), "{message:?} does not mention {needle:?}");
     }
     message
 }
@@ -104,20 +100,11 @@ fn minimal_scene_loads_with_defaults() {
     assert_eq!(scene.camera.eye, Vec3::new(0.0, 1.0, 3.0));
     assert_eq!(
         scene.materials,
-        vec![Material {
-            name: "clay".into(),
-            kind: MaterialKind::Lambert {
-                kd: Vec3::splat(0.8)
-            }
-        }]
+        vec![Material { name: "clay".into(), kind: MaterialKind::Lambert { kd: Vec3::splat(0.8) } }]
     );
     assert_eq!(
         scene.lights,
-        vec![Light::Directional {
-            direction: -Vec3::Y,
-            color: Vec3::ONE,
-            intensity: 1.0
-        }]
+        vec![Light::Directional { direction: -Vec3::Y, color: Vec3::ONE, intensity: 1.0 }]
     );
     assert_eq!(scene.meshes.len(), 1);
     let mesh = &scene.meshes[0];
@@ -125,25 +112,14 @@ fn minimal_scene_loads_with_defaults() {
     assert_eq!(mesh.source, dir.0.join("quad.obj"));
     assert_eq!(mesh.material, 0);
     assert_eq!(scene.triangle_count(), 2);
-    assert_eq!(
-        scene.bounds(),
-        (Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 0.0, 1.0))
-    );
+    assert_eq!(scene.bounds(), (Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 0.0, 1.0)));
     for n in &mesh.normals {
         assert_eq!(*n, Vec3::Y);
     }
     // far: just past the farthest corner, (±1, 0, -1) from (0, 1, 3): √(1 + 1 + 16).
     let far = 18f32.sqrt() * 1.01;
-    assert!(
-        (scene.camera.far - far).abs() < 1e-5,
-        "{}",
-        scene.camera.far
-    );
-    assert!(
-        (scene.camera.near - far * 1e-3).abs() < 1e-7,
-        "{}",
-        scene.camera.near
-    );
+    assert!((scene.camera.far - far).abs() < 1e-5, "{}", scene.camera.far);
+    assert!((scene.camera.near - far * 1e-3).abs() < 1e-7, "{}", scene.camera.near);
 }
 
 #[test]
@@ -211,27 +187,15 @@ intensity = 2
     );
     assert_eq!(
         scene.materials[0].kind,
-        MaterialKind::BlinnPhong {
-            kd: Vec3::new(0.5, 0.1, 0.1),
-            ks: Vec3::splat(0.4),
-            shininess: 64.0
-        }
+        MaterialKind::BlinnPhong { kd: Vec3::new(0.5, 0.1, 0.1), ks: Vec3::splat(0.4), shininess: 64.0 }
     );
     assert_eq!(
         scene.materials[1].kind,
-        MaterialKind::Ggx {
-            albedo: Vec3::splat(0.1),
-            f0: Vec3::new(0.9, 0.6, 0.3),
-            roughness: 0.3
-        }
+        MaterialKind::Ggx { albedo: Vec3::splat(0.1), f0: Vec3::new(0.9, 0.6, 0.3), roughness: 0.3 }
     );
     assert_eq!(
         scene.lights[0],
-        Light::Point {
-            position: Vec3::ONE,
-            color: Vec3::new(1.0, 0.5, 0.0),
-            intensity: 2.0
-        }
+        Light::Point { position: Vec3::ONE, color: Vec3::new(1.0, 0.5, 0.0), intensity: 2.0 }
     );
     let floor = &scene.meshes[0];
     assert_eq!((floor.name.as_str(), floor.material), ("floor", 1));
@@ -253,28 +217,18 @@ fn unknown_key_is_an_error_with_its_line() {
     let text = minimal_with("color = [1, 1, 1]", "colour = [1, 1, 1]");
     expect_error(
         &text,
-        &[
-            "unknown field `colour`",
-            "expected one of",
-            "line 18, column 1: `colour = [1, 1, 1]`",
-        ],
+        &["unknown field `colour`", "expected one of", "line 18, column 1: `colour = [1, 1, 1]`"],
     );
     expect_error(
         &minimal_with("fov_y_degrees = 45", "fov_y_degrees = 45\nfov = 3"),
         &["unknown field `fov`", "line 8, column 1: `fov = 3`"],
     );
-    expect_error(
-        &format!("{MINIMAL}\n[extra]\nx = 1\n"),
-        &["unknown field `extra`"],
-    );
+    expect_error(&format!("{MINIMAL}\n[extra]\nx = 1\n"), &["unknown field `extra`"]);
 }
 
 #[test]
 fn malformed_toml_is_an_error_with_its_line() {
-    expect_error(
-        &minimal_with("kd = [0.8, 0.8, 0.8]", "kd = [0.8, 0.8"),
-        &["line 12"],
-    );
+    expect_error(&minimal_with("kd = [0.8, 0.8, 0.8]", "kd = [0.8, 0.8"), &["line 12"]);
     expect_error(
         &minimal_with("intensity = 1.0", "intensity = \"bright\""),
         &["intensity = \"bright\"", "line 19, column 13"],
@@ -287,26 +241,11 @@ fn malformed_toml_is_an_error_with_its_line() {
         &minimal_with("type = \"directional\"", "type = \"spot\""),
         &["unknown variant `spot`", "line 16"],
     );
-    expect_error(
-        &minimal_with("fov_y_degrees = 45\n", ""),
-        &["missing field `fov_y_degrees`"],
-    );
-    expect_error(
-        &minimal_with("source = \"written by the test\"\n", ""),
-        &["missing field `source`"],
-    );
-    let text = minimal_with(
-        "material = \"clay\"",
-        "material = \"clay\"\nscale = \"big\"",
-    );
-    expect_error(
-        &text,
-        &["scale", "a number or an array of three numbers", "line 15"],
-    );
-    let text = minimal_with(
-        "material = \"clay\"",
-        "material = \"clay\"\nscale = [1, 2, 3, 4]",
-    );
+    expect_error(&minimal_with("fov_y_degrees = 45\n", ""), &["missing field `fov_y_degrees`"]);
+    expect_error(&minimal_with("source = \"written by the test\"\n", ""), &["missing field `source`"]);
+    let text = minimal_with("material = \"clay\"", "material = \"clay\"\nscale = \"big\"");
+    expect_error(&text, &["scale", "a number or an array of three numbers", "line 15"]);
+    let text = minimal_with("material = \"clay\"", "material = \"clay\"\nscale = [1, 2, 3, 4]");
     expect_error(&text, &["invalid length 4", "line 15"]);
 }
 
@@ -315,15 +254,9 @@ fn missing_scene_file_is_an_error() {
     let dir = TempDir::new("missing");
     let path = dir.0.join("missing.toml");
     let message = Scene::load(&path).unwrap_err().to_string();
-    assert!(
-        message.starts_with(&path.display().to_string()),
-        "{message}"
-    );
+    assert!(message.starts_with(&path.display().to_string()), "{message}");
     assert!(message.contains("cannot read file"), "{message}");
-    assert!(
-        message.contains("No such file or directory") || message.contains("not found"),
-        "{message}"
-    );
+    assert!(message.contains("No such file or directory") || message.contains("not found"), "{message}");
 }
 
 #[test]
@@ -335,40 +268,21 @@ fn missing_obj_is_an_error_naming_it() {
     assert!(message.starts_with(&obj.display().to_string()), "{message}");
     assert!(message.contains("cannot read file"), "{message}");
     assert!(message.contains("[[meshes]] #1"), "{message}");
-    assert!(
-        message.contains(&path.display().to_string()),
-        "the scene is named too: {message}"
-    );
+    assert!(message.contains(&path.display().to_string()), "the scene is named too: {message}");
 }
 
 #[test]
 fn nan_coordinate_in_obj_is_an_error_naming_the_vertex() {
     let dir = TempDir::new("nan");
-    dir.write(
-        "quad.obj",
-        "# a comment\nv -1 0 -1\nv 1 0 -1\nv 1 NaN 1\nv -1 0 1\nf 1 4 3 2\n",
-    );
+    dir.write("quad.obj", "# a comment\nv -1 0 -1\nv 1 0 -1\nv 1 NaN 1\nv -1 0 1\nf 1 4 3 2\n");
     let path = dir.write("scene.toml", MINIMAL);
     let error = Scene::load(&path).unwrap_err();
     let message = error.to_string();
     let obj = dir.0.join("quad.obj");
     assert!(message.starts_with(&obj.display().to_string()), "{message}");
-    assert!(
-        message.contains("vertex 3 has a non-finite coordinate (NaN)"),
-        "{message}"
-    );
+    assert!(message.contains("vertex 3 has a non-finite coordinate (NaN)"), "{message}");
     assert!(message.contains("line 4"), "{message}");
-    assert!(
-        matches!(
-            error,
-            SceneError::Obj {
-                line: Some(4),
-                mesh: 1,
-                ..
-            }
-        ),
-        "{error:?}"
-    );
+    assert!(matches!(error, SceneError::Obj { line: Some(4), mesh: 1, .. }), "{error:?}");
 }
 
 #[test]
@@ -382,10 +296,7 @@ fn bad_obj_files_are_errors_naming_them() {
         dir.write("quad.obj", obj);
         let path = dir.write("scene.toml", MINIMAL);
         let message = Scene::load(&path).unwrap_err().to_string();
-        assert!(
-            message.starts_with(&dir.0.join("quad.obj").display().to_string()),
-            "{message}"
-        );
+        assert!(message.starts_with(&dir.0.join("quad.obj").display().to_string()), "{message}");
         assert!(message.contains(needle), "{message}");
     }
 }
@@ -404,30 +315,15 @@ fn duplicate_material_is_an_error() {
         "[[meshes]]",
         "[[materials]]\nname = \"clay\"\ntype = \"lambert\"\nkd = [0, 0, 0]\n[[meshes]]",
     );
-    expect_error(
-        &text,
-        &["[[materials]] #2", "duplicate material name \"clay\""],
-    );
+    expect_error(&text, &["[[materials]] #2", "duplicate material name \"clay\""]);
 }
 
 #[test]
 fn out_of_range_values_are_errors_naming_the_key() {
     let cases: &[(&str, &str, &[&str])] = &[
-        (
-            "kd = [0.8, 0.8, 0.8]",
-            "kd = [0.8, 1.5, 0.8]",
-            &["[[materials]] #1 (\"clay\")", "`kd`", "[0, 1]"],
-        ),
-        (
-            "kd = [0.8, 0.8, 0.8]",
-            "kd = [0.8, nan, 0.8]",
-            &["`kd`", "not a finite number"],
-        ),
-        (
-            "kd = [0.8, 0.8, 0.8]",
-            "kd = [0.8, 0.8, 0.8]\nroughness = 0.5",
-            &["`roughness` does not apply"],
-        ),
+        ("kd = [0.8, 0.8, 0.8]", "kd = [0.8, 1.5, 0.8]", &["[[materials]] #1 (\"clay\")", "`kd`", "[0, 1]"]),
+        ("kd = [0.8, 0.8, 0.8]", "kd = [0.8, nan, 0.8]", &["`kd`", "not a finite number"]),
+        ("kd = [0.8, 0.8, 0.8]", "kd = [0.8, 0.8, 0.8]\nroughness = 0.5", &["`roughness` does not apply"]),
         (
             "type = \"lambert\"\nkd = [0.8, 0.8, 0.8]",
             "type = \"ggx\"\nalbedo = [1, 1, 1]\nf0 = [0.04, 0.04, 0.04]\nroughness = 1.5",
@@ -448,62 +344,22 @@ fn out_of_range_values_are_errors_naming_the_key() {
             "type = \"blinn_phong\"\nkd = [0, 0, 0]\nks = [1, 1, 1]\nshininess = 20000",
             &["`shininess` = 20000"],
         ),
-        (
-            "fov_y_degrees = 45",
-            "fov_y_degrees = 180",
-            &["[camera]", "`fov_y_degrees` = 180", "(0, 180)"],
-        ),
-        (
-            "fov_y_degrees = 45",
-            "fov_y_degrees = inf",
-            &["`fov_y_degrees` = inf", "not a finite number"],
-        ),
+        ("fov_y_degrees = 45", "fov_y_degrees = 180", &["[camera]", "`fov_y_degrees` = 180", "(0, 180)"]),
+        ("fov_y_degrees = 45", "fov_y_degrees = inf", &["`fov_y_degrees` = inf", "not a finite number"]),
         (
             "fov_y_degrees = 45",
             "fov_y_degrees = 45\nnear = 2\nfar = 1",
             &["`near` = 2 is not less than `far` = 1"],
         ),
-        (
-            "fov_y_degrees = 45",
-            "fov_y_degrees = 45\nnear = 0",
-            &["`near` = 0"],
-        ),
-        (
-            "fov_y_degrees = 45",
-            "fov_y_degrees = 45\nnear = 10",
-            &["`near` = 10 is not less than `far`"],
-        ),
-        (
-            "eye = [0, 1, 3]",
-            "eye = [0, 0, 0]",
-            &["`eye` and `target` are the same point"],
-        ),
+        ("fov_y_degrees = 45", "fov_y_degrees = 45\nnear = 0", &["`near` = 0"]),
+        ("fov_y_degrees = 45", "fov_y_degrees = 45\nnear = 10", &["`near` = 10 is not less than `far`"]),
+        ("eye = [0, 1, 3]", "eye = [0, 0, 0]", &["`eye` and `target` are the same point"]),
         ("eye = [0, 1, 3]", "eye = [0, 3, 0]", &["`up`", "parallel"]),
-        (
-            "eye = [0, 1, 3]",
-            "eye = [0, 1, 3]\nup = [0, 0, 0]",
-            &["`up`", "zero"],
-        ),
-        (
-            "intensity = 1.0",
-            "intensity = -1.0",
-            &["[[lights]] #1 (directional)", "`intensity` = -1"],
-        ),
-        (
-            "color = [1, 1, 1]",
-            "color = [1, -1, 1]",
-            &["`color`", "outside [0, inf)"],
-        ),
-        (
-            "direction = [0, -2, 0]",
-            "direction = [0, 0, 0]",
-            &["`direction`", "zero"],
-        ),
-        (
-            "direction = [0, -2, 0]",
-            "position = [0, -2, 0]",
-            &["missing `direction`"],
-        ),
+        ("eye = [0, 1, 3]", "eye = [0, 1, 3]\nup = [0, 0, 0]", &["`up`", "zero"]),
+        ("intensity = 1.0", "intensity = -1.0", &["[[lights]] #1 (directional)", "`intensity` = -1"]),
+        ("color = [1, 1, 1]", "color = [1, -1, 1]", &["`color`", "outside [0, inf)"]),
+        ("direction = [0, -2, 0]", "direction = [0, 0, 0]", &["`direction`", "zero"]),
+        ("direction = [0, -2, 0]", "position = [0, -2, 0]", &["missing `direction`"]),
         (
             "direction = [0, -2, 0]",
             "direction = [0, -2, 0]\nposition = [0, 0, 0]",
@@ -519,21 +375,9 @@ fn out_of_range_values_are_errors_naming_the_key() {
             "material = \"clay\"\nscale = [1, 0, 1]",
             &["[[meshes]] #1 (\"quad.obj\")", "`scale`", "zero"],
         ),
-        (
-            "material = \"clay\"",
-            "material = \"clay\"\ntranslate = [1, nan, 1]",
-            &["`translate`"],
-        ),
-        (
-            "material = \"clay\"",
-            "material = \"clay\"\nrotate_degrees = [1, 2, -inf]",
-            &["`rotate_degrees`"],
-        ),
-        (
-            "source = \"written by the test\"",
-            "source = \" \"",
-            &["`source`"],
-        ),
+        ("material = \"clay\"", "material = \"clay\"\ntranslate = [1, nan, 1]", &["`translate`"]),
+        ("material = \"clay\"", "material = \"clay\"\nrotate_degrees = [1, 2, -inf]", &["`rotate_degrees`"]),
+        ("source = \"written by the test\"", "source = \" \"", &["`source`"]),
         ("name = \"clay\"", "name = \"\"", &["`name` is empty"]),
     ];
     for (from, to, needles) in cases {
@@ -582,24 +426,14 @@ fn all_shipped_scenes_load() {
         }
     }
     found.sort();
-    assert!(
-        found.len() >= 6,
-        "expected the shipped scenes under {}: {found:?}",
-        root.display()
-    );
+    assert!(found.len() >= 6, "expected the shipped scenes under {}: {found:?}", root.display());
     for path in found {
         let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
         assert!(scene.triangle_count() > 0);
         for mesh in &scene.meshes {
             assert_eq!(mesh.positions.len(), mesh.normals.len());
-            assert!(mesh
-                .normals
-                .iter()
-                .all(|n| n.is_finite() && (n.length() - 1.0).abs() < 1e-5));
-            assert!(mesh
-                .indices
-                .iter()
-                .all(|&i| (i as usize) < mesh.positions.len()));
+            assert!(mesh.normals.iter().all(|n| n.is_finite() && (n.length() - 1.0).abs() < 1e-5));
+            assert!(mesh.indices.iter().all(|&i| (i as usize) < mesh.positions.len()));
         }
     }
 }

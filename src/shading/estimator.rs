@@ -30,6 +30,9 @@
 //! one over lights; it is written in f32 with saturating guards so that no input produces
 //! NaN or an infinite level (an overflowing bound means fallback, never a smaller `n`).
 
+// `!(x > y)` is used on purpose throughout: it is also true for NaN, which must mean "no bound".
+#![allow(clippy::neg_cmp_op_on_partial_ord, clippy::needless_range_loop)]
+
 use crate::scene::{Light, MaterialKind};
 use crate::shading::brdf::{ggx_alpha, MIN_LIGHT_DISTANCE_SQUARED};
 use glam::Vec3;
@@ -106,7 +109,7 @@ pub enum Reason {
 }
 
 /// Number of error terms in [`Estimate::terms`].
-pub const TERM_COUNT: usize = 12;
+pub const TERM_COUNT: usize = 13;
 
 /// The error terms. Each second-derivative contribution is booked under the term that
 /// produced it; products of two factors' first derivatives are booked under `Cross`.
@@ -137,6 +140,9 @@ pub enum Term {
     Cross = 10,
     /// `Relaxed` only: the first- and zero-order terms at the terminator `n·l = 0`.
     Terminator = 11,
+    /// Lights whose whole contribution range `[0, sup]` bounds their error better than the
+    /// interpolation bound does even at `n_max` (dim or very spiky lights): a constant term.
+    Range = 12,
 }
 
 /// Names of the terms, indexed like [`Estimate::terms`].
@@ -153,6 +159,7 @@ pub const TERM_NAMES: [&str; TERM_COUNT] = [
     "V",
     "cross",
     "terminator",
+    "range",
 ];
 
 /// What [`estimate`] returns.
@@ -163,16 +170,25 @@ pub struct Estimate {
     /// second-order terms combine as `n = ⌈√(Σ nₜ²)⌉`; with `Uniform` as
     /// `n = ⌈√M · max nₜ⌉`. Finite, `≥ 0`; `f32::MAX` stands for "no level suffices".
     pub terms: [f32; TERM_COUNT],
-    /// The level for inner and outer tessellation levels, in `1..=n_max`. When `fallback`
-    /// is set this is 1: the patch is not subdivided and the fragment shader shades per pixel.
+    /// The real-valued level the triangle needs: every hardware pattern whose effective
+    /// level ([`pattern_level`]) is at least this keeps the error under `ε`. `1` when the
+    /// level-1 bound holds (any pattern will then do), otherwise the smallest `L` with
+    /// `bound(L) ≤ ε` for sub-triangles of radius² `K/L²` (never below 1). Exactly
+    /// [`FALLBACK_LEVEL`] when `fallback` is set. Never NaN. This is what the control
+    /// stage computes for a triangle and each of its neighbours ([`patch_levels`]).
+    pub level: f32,
+    /// The uniform level (inner = outer = `n`) for this triangle alone: the smallest `n` in
+    /// `1..=n_max` with `pattern_level(n, n) ≥ level`. When `fallback` is set this is 1.
+    /// Shared edges may raise the outer levels; [`patch_levels`] gives what is drawn.
     pub n: u32,
     /// Per-pixel fallback: the level would exceed `n_max`, or a discontinuity or
     /// singularity was detected.
     pub fallback: bool,
     /// Why `fallback` is set (`Reason::None` when it is not).
     pub reason: Reason,
-    /// The bound on the per-channel L∞ error at level `n` (at `n_max` when the level is
-    /// the reason for fallback; `f32::MAX` for discontinuities and singularities).
+    /// The bound on the per-channel L∞ error on the uniform pattern at level `n` (at
+    /// `n_max` when the level is the reason for fallback; `f32::MAX` for discontinuities and
+    /// singularities).
     pub predicted_error: f32,
 }
 
@@ -192,19 +208,16 @@ impl Estimate {
 const K23: f32 = 1.154_700_5;
 /// Intermediate bounds above this mean fallback (keeps products of two bounds finite).
 const BIG: f32 = 1.0e18;
-/// Multiplies every bound: f32 rounding in this estimator and in the shading, and the
-/// driver's 16.16 fixed-point placement of the pattern vertices (measured in the tests:
-/// at most 0.2 % in `K` for `n ≤ 16`); `pattern_slack` adds the growth with `n`.
+/// Multiplies every bound: f32 rounding in this estimator and in the shading. (The driver's
+/// 16.16 fixed-point placement of the pattern vertices is in [`pattern_level`].)
 const SAFETY: f32 = 1.01;
 /// Radians added to every cone half-angle (f32 rounding of the directions).
 const ANGLE_PAD: f32 = 2.0e-6;
 /// A cone wider than this is no bound at all (a cap wider than a hemisphere is not convex).
 const MAX_HALF: f32 = FRAC_PI_2 - 1.0e-4;
 
-/// Relative growth of the pattern constant with the level, from the driver's fixed-point
-/// vertex placement: `K(n) ≤ K·(1 + n²·PATTERN_SLACK)` (bounded from the measurements in
-/// `pattern_constants_cover_the_hardware_pattern`).
-const PATTERN_SLACK: f32 = 1.5e-5;
+thread_local! { pub static DBG_FIRST: Cell<bool> = const { Cell::new(false) }; }
+thread_local! { pub static DEBUG: Cell<[f32; 4]> = const { Cell::new([0.0; 4]) }; }
 
 /// Estimates the tessellation level of one triangle. See the module docs and
 /// `docs/estimator.md`.
@@ -218,12 +231,16 @@ pub fn estimate(
     // NaN and non-positive ε become 0: only an exactly flat shading passes then.
     let eps = if settings.epsilon > 0.0 { settings.epsilon } else { 0.0 };
     let frame = Frame::new(tri);
+    DBG_FIRST.with(|d| d.set(true));
     let guard = Guard::default();
     let mut sum = Sums::default();
     let mut reason = Reason::None;
-    for light in lights {
-        if let Err(r) = add_light(&frame, material, light, settings.discontinuity, &mut sum, &guard)
-        {
+    // Point lights first, then directional ones: the order of the GPU's light buffer, so
+    // that the control stage sums the bounds in the same order (bit-identical sums).
+    let points = lights.iter().filter(|l| matches!(l, Light::Point { .. }));
+    let directionals = lights.iter().filter(|l| matches!(l, Light::Directional { .. }));
+    for light in points.chain(directionals) {
+        if let Err(r) = add_light(&frame, material, light, settings.discontinuity, n_max, &mut sum, &guard) {
             reason = worse(reason, r);
         }
     }
@@ -371,11 +388,7 @@ fn cosine(a: &Field, b: &Field, psi: (f32, f32), gd: &Guard) -> Jet {
     h[b.term as usize] += hb;
     h[Term::Dot as usize] += gd.c(2.0 * a.w * b.w);
     let g = gd.c(s_max * (a.w + b.w));
-    Jet {
-        m: p0.cos().abs().max(p1.cos().abs()),
-        g,
-        h,
-    }
+    Jet { m: p0.cos().abs().max(p1.cos().abs()), g, h }
 }
 
 /// `max sin ψ` over `[p0, p1] ⊂ [0, π]`.
@@ -391,11 +404,8 @@ fn max_sin(p0: f32, p1: f32) -> f32 {
 /// `c = 0` to 2/√3 at `c = 1/√3` and falls back to 1 at `c = 1`.
 fn max_phi(p0: f32, p1: f32) -> f32 {
     let (c0, c1) = (p0.cos().abs(), p1.cos().abs());
-    let (lo, hi) = if p0 <= FRAC_PI_2 && p1 >= FRAC_PI_2 {
-        (0.0, c0.max(c1))
-    } else {
-        (c0.min(c1), c0.max(c1))
-    };
+    let (lo, hi) =
+        if p0 <= FRAC_PI_2 && p1 >= FRAC_PI_2 { (0.0, c0.max(c1)) } else { (c0.min(c1), c0.max(c1)) };
     let c = (1.0 / 3.0f32.sqrt()).clamp(lo, hi);
     (0.5 * c + (1.0 - 0.75 * c * c).max(0.0).sqrt()).min(K23)
 }
@@ -448,14 +458,10 @@ fn unit(v: Vec3) -> Vec3 {
 /// stay in it only while the cap is convex.
 fn cone_of(w: [Vec3; 3]) -> Cone {
     let u = w.map(unit);
-    if u.iter().any(|v| *v == Vec3::ZERO) {
+    if u.contains(&Vec3::ZERO) {
         return NO_CONE;
     }
-    let d = [
-        (u[0] - u[1]).length_squared(),
-        (u[1] - u[2]).length_squared(),
-        (u[2] - u[0]).length_squared(),
-    ];
+    let d = [(u[0] - u[1]).length_squared(), (u[1] - u[2]).length_squared(), (u[2] - u[0]).length_squared()];
     // Longest chord (i, j) = pair index k: 0 → (0,1), 1 → (1,2), 2 → (2,0).
     let k = if d[0] >= d[1] && d[0] >= d[2] {
         0
@@ -504,6 +510,81 @@ fn min_length(w: [Vec3; 3], cone: &Cone) -> f32 {
 fn psi_range(a: &Cone, b: &Cone) -> (f32, f32) {
     let t0 = angle(a.axis, b.axis);
     ((t0 - a.half - b.half).max(0.0), (t0 + a.half + b.half).min(PI))
+}
+
+/// Exact range of the bilinear form `q(λ) = (Σλₖaₖ)·(Σλₖbₖ)` over the simplex (a quadratic
+/// in λ): the corners, the extremum along each edge, and the interior critical point.
+/// `n·l` (unnormalised) is such a form for point lights (`bₖ = p − xₖ`, linear for
+/// directional ones), and so is `n·v`; its sign is the sign of the shading's cosine.
+fn bilinear_range(a: [Vec3; 3], b: [Vec3; 3]) -> (f32, f32) {
+    let s = |i: usize, j: usize| 0.5 * (a[i].dot(b[j]) + a[j].dot(b[i]));
+    let (s00, s11, s22) = (s(0, 0), s(1, 1), s(2, 2));
+    let (s01, s12, s02) = (s(0, 1), s(1, 2), s(0, 2));
+    let mut lo = s00.min(s11).min(s22);
+    let mut hi = s00.max(s11).max(s22);
+    for (sii, sjj, sij) in [(s00, s11, s01), (s11, s22, s12), (s22, s00, s02)] {
+        let curv = sii - 2.0 * sij + sjj;
+        let t = (sii - sij) / curv;
+        if t > 0.0 && t < 1.0 {
+            let v = (1.0 - t) * (1.0 - t) * sii + 2.0 * t * (1.0 - t) * sij + t * t * sjj;
+            lo = lo.min(v);
+            hi = hi.max(v);
+        }
+    }
+    // λ = (1 − s − t, s, t): q = s00 + 2dᵀx + xᵀMx, critical where Mx = −d, q* = s00 + dᵀx.
+    let (d1, d2) = (s01 - s00, s02 - s00);
+    let (ma, mb, mc) = (s00 - 2.0 * s01 + s11, s00 - s01 - s02 + s12, s00 - 2.0 * s02 + s22);
+    let det = ma * mc - mb * mb;
+    let x = (-d1 * mc + d2 * mb) / det;
+    let y = (-ma * d2 + mb * d1) / det;
+    if x > 0.0 && y > 0.0 && x + y < 1.0 {
+        let v = s00 + d1 * x + d2 * y;
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    (lo, hi)
+}
+
+/// Angular distance from the unit vector `a` to the spherical triangle spanned by the unit
+/// vectors `u` (which lie in an open hemisphere): 0 inside, otherwise the distance to the
+/// nearest edge arc or corner. Padded to stay a lower bound under f32 rounding.
+fn hull_distance(a: Vec3, u: [Vec3; 3]) -> f32 {
+    let orient = u[0].dot(u[1].cross(u[2]));
+    let side = [a.dot(u[0].cross(u[1])), a.dot(u[1].cross(u[2])), a.dot(u[2].cross(u[0]))];
+    let tol = 1.0e-6;
+    let same_half = a.dot(u[0] + u[1] + u[2]) > 0.0;
+    let inside = same_half
+        && ((orient >= 0.0 && side.iter().all(|&x| x >= -tol))
+            || (orient <= 0.0 && side.iter().all(|&x| x <= tol)));
+    if inside {
+        return 0.0;
+    }
+    let mut best = PI;
+    for (p, q) in [(u[0], u[1]), (u[1], u[2]), (u[2], u[0])] {
+        let ends = angle(a, p).min(angle(a, q));
+        let m = unit(p.cross(q));
+        let mut d = ends;
+        if m != Vec3::ZERO {
+            let foot = a - m * a.dot(m);
+            if p.cross(foot).dot(m) >= 0.0 && foot.cross(q).dot(m) >= 0.0 && foot != Vec3::ZERO {
+                d = d.min(a.dot(m).abs().atan2(foot.length()));
+            }
+        }
+        best = best.min(d);
+    }
+    (best * (1.0 - 1.0e-3) - ANGLE_PAD).max(0.0)
+}
+
+/// Largest angle between `a` and the spherical triangle spanned by unit `u`, valid when it
+/// is below π/2 (then `n̂·a` is quasi-concave on the cone and its minimum sits at a corner);
+/// `π` otherwise.
+fn hull_max_angle(a: Vec3, u: [Vec3; 3]) -> f32 {
+    let m = angle(a, u[0]).max(angle(a, u[1])).max(angle(a, u[2])) + ANGLE_PAD;
+    if m < FRAC_PI_2 {
+        m
+    } else {
+        PI
+    }
 }
 
 // ------------------------------------------------------------------------------------------
@@ -594,6 +675,7 @@ pub fn pattern_constants(e1: Vec3, e2: Vec3) -> PatternConstants {
 /// Scale-free quantities of the triangle.
 struct Frame {
     vertices: [Vec3; 3],
+    eye: Vec3,
     centroid: Vec3,
     /// `max_k |xₖ − centroid|`: how far any point is from the centroid.
     rho_x: f32,
@@ -605,6 +687,13 @@ struct Frame {
     n_cone: Cone,
     /// Lower bound on `|N(λ)|` over the triangle; 0 when the normal can vanish.
     r_n: f32,
+    /// Upper bound on `|N(λ)|`.
+    n_max_len: f32,
+    /// The vertex normals as given, and normalised (corners of the spherical triangle n̂).
+    normals: [Vec3; 3],
+    unit_normals: [Vec3; 3],
+    /// Unit normal of the triangle's plane (zero for a degenerate triangle).
+    plane: Vec3,
     v_cone: Cone,
     /// Lower bound on the distance from the eye to the triangle.
     e_min: f32,
@@ -615,10 +704,7 @@ impl Frame {
     fn new(tri: &TriangleInput) -> Frame {
         let [p0, p1, p2] = tri.positions;
         let centroid = (p0 + p1 + p2) / 3.0;
-        let rho_x = (p0 - centroid)
-            .length()
-            .max((p1 - centroid).length())
-            .max((p2 - centroid).length());
+        let rho_x = (p0 - centroid).length().max((p1 - centroid).length()).max((p2 - centroid).length());
         let px = pattern_constants(p1 - p0, p2 - p0);
         let [n0, n1, n2] = tri.normals;
         let pn = pattern_constants(n1 - n0, n2 - n0);
@@ -633,6 +719,7 @@ impl Frame {
         let e_min = min_length(to_eye, &v_cone);
         Frame {
             vertices: tri.positions,
+            eye: tri.eye,
             centroid,
             rho_x,
             s1: Scale { a: px.sqrt_k1, b: pn.sqrt_k1 },
@@ -641,6 +728,18 @@ impl Frame {
             dn: Scale { a: px.diam, b: pn.diam },
             n_cone,
             r_n,
+            n_max_len: longest,
+            normals: tri.normals,
+            unit_normals: tri.normals.map(unit),
+            plane: {
+                let c = (p1 - p0).cross(p2 - p0);
+                let scale = (p1 - p0).length() * (p2 - p0).length();
+                if c.length() > 1.0e-6 * scale {
+                    unit(c)
+                } else {
+                    Vec3::ZERO
+                }
+            },
             v_cone,
             e_min,
             v_center: unit(tri.eye - centroid),
@@ -650,6 +749,9 @@ impl Frame {
 
 /// Everything about one light that does not depend on the pattern scale.
 struct LightSetup {
+    /// `max |sin|` of the angle between l̂ and the plane normal (1 without a plane): bounds
+    /// `|l̂·Xδ|/|Xδ|`, since position steps lie in the plane.
+    plane_sin: f32,
     /// `1/d_min` for a point light, 0 for a directional one.
     inv_d: f32,
     /// Range of the angle between n̂ and l̂.
@@ -661,6 +763,7 @@ struct LightSetup {
     m_min: f32,
     psi_nh: (f32, f32),
     psi_nv: (f32, f32),
+    nv_sign: Sign,
     /// Range of the angle between l̂ and v̂.
     psi_lv: (f32, f32),
 }
@@ -673,7 +776,55 @@ struct Sums {
     hn: [Vec3; TERM_COUNT],
     lin1: Vec3,
     linn: Vec3,
-    zero: Vec3,
+    /// Constant (n-independent) parts: the Relaxed specular jumps at the terminator...
+    jumps: Vec3,
+    /// ...and the lights bounded by their range, reported as [`Term::Range`].
+    range: Vec3,
+    /// The level-1 bound, per light the smaller of its interpolation bound and its range.
+    one: Vec3,
+}
+
+/// Sign of a cosine over the whole triangle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Sign {
+    Positive,
+    NonPositive,
+    Both,
+}
+
+/// Range of the angle between n̂ and the field `ŵ = normalize(Σλₖwₖ)` (cone `w_cone`), and
+/// the sign of `n·w` over the triangle. The cones give one range (paper Eq. 20, 51); the
+/// exact range `[q₋, q₊]` of the bilinear form `n·w` gives the sign and, through
+/// `q₋/(max|n| max|w|) ≤ cos ≤ q₊/(min|n| min|w|)`, a second range; the tighter ends are kept.
+fn cosine_range(frame: &Frame, w_cone: &Cone, w: [Vec3; 3]) -> ((f32, f32), Sign) {
+    let (mut p0, mut p1) = psi_range(&frame.n_cone, w_cone);
+    let (q_lo, q_hi) = bilinear_range(frame.normals, w);
+    let w_max = w[0].length().max(w[1].length()).max(w[2].length());
+    let w_min = min_length(w, w_cone);
+    let scale = frame.n_max_len * w_max;
+    let tol = 1.0e-5 * scale;
+    let sign = if q_lo > tol {
+        Sign::Positive
+    } else if q_hi < -tol {
+        Sign::NonPositive
+    } else {
+        Sign::Both
+    };
+
+    if q_lo > tol && scale > 0.0 {
+        p1 = p1.min((q_lo / scale).min(1.0).acos() + ANGLE_PAD);
+    }
+    let denom = frame.r_n * w_min;
+    if q_hi > 0.0 && denom > 0.0 {
+        p0 = p0.max((q_hi / denom).min(1.0).acos() - ANGLE_PAD);
+    }
+    if sign == Sign::NonPositive {
+        p0 = p0.max(FRAC_PI_2);
+    }
+    if p0 > p1 {
+        p0 = p1;
+    }
+    ((p0, p1), sign)
 }
 
 /// Colour weights of the diffuse and specular parts.
@@ -691,6 +842,7 @@ fn add_light(
     material: &MaterialKind,
     light: &Light,
     mode: Discontinuity,
+    n_max: u32,
     sum: &mut Sums,
     gd: &Guard,
 ) -> Result<(), Reason> {
@@ -729,16 +881,22 @@ fn add_light(
     if frame.r_n <= 0.0 {
         return Err(Reason::Singular);
     }
-    let psi_nl = psi_range(&frame.n_cone, &l_cone);
-    if psi_nl.0 >= FRAC_PI_2 {
+    // Sign of n·l: exact, from the bilinear form (Σλₖ Nₖ)·(Σλₖ wₖ) over the simplex.
+    let l_vectors = match *light {
+        Light::Point { position, .. } => frame.vertices.map(|x| position - x),
+        Light::Directional { .. } => [l_cone.axis; 3],
+    };
+    let (psi_nl, sign) = cosine_range(frame, &l_cone, l_vectors);
+    if sign == Sign::NonPositive {
         // n·l ≤ 0 everywhere: this light adds exactly 0.
         return Ok(());
     }
-    let straddle = psi_nl.1 >= FRAC_PI_2;
+    let straddle = sign == Sign::Both;
     if straddle && mode == Discontinuity::Conservative {
         return Err(Reason::Discontinuity);
     }
     let mut setup = LightSetup {
+        plane_sin: 1.0,
         inv_d,
         psi_nl,
         straddle,
@@ -746,8 +904,13 @@ fn add_light(
         m_min: 0.0,
         psi_nh: (0.0, PI),
         psi_nv: (0.0, PI),
+        nv_sign: Sign::Both,
         psi_lv: (0.0, PI),
     };
+    if frame.plane != Vec3::ZERO && inv_d > 0.0 {
+        let (g0, g1) = psi_range(&l_cone, &Cone { axis: frame.plane, half: 0.0 });
+        setup.plane_sin = max_sin(g0, g1);
+    }
     let specular = !matches!(material, MaterialKind::Lambert { .. });
     if specular {
         if !(frame.e_min > 0.0) {
@@ -758,10 +921,16 @@ fn add_light(
         if !(psi_lv.1 < PI - 1.0e-3) || !(m_min > 0.0) {
             return Err(Reason::Singular);
         }
-        // ĥ turns at most (|Dl̂| + |Dv̂|)/|l̂ + v̂| per unit |Xδ|; integrate from the centroid.
+        // A cone for ĥ, the tighter of two: (a) ĥ turns at most (|Dl̂| + |Dv̂|)/|l̂ + v̂| per
+        // unit |Xδ|, integrated from the centroid; (b) l̂ + v̂ stays within
+        // δ = 2 sin(θₗ/2) + 2 sin(θᵥ/2) of m₀ = aₗ + aᵥ, so ĥ is within asin(δ/|m₀|) of m̂₀.
         let speed = (inv_d + 1.0 / frame.e_min) / m_min;
-        let h_half = speed * frame.rho_x + ANGLE_PAD;
-        let h_axis = unit(l_center + frame.v_center);
+        let half_a = speed * frame.rho_x + ANGLE_PAD;
+        let axis_a = unit(l_center + frame.v_center);
+        let m0 = l_cone.axis + frame.v_cone.axis;
+        let delta = 2.0 * (0.5 * l_cone.half).sin() + 2.0 * (0.5 * frame.v_cone.half).sin();
+        let half_b = if delta < m0.length() { (delta / m0.length()).asin() + ANGLE_PAD } else { PI };
+        let (h_axis, h_half) = if half_b < half_a { (unit(m0), half_b) } else { (axis_a, half_a) };
         setup.h_cone = if h_axis == Vec3::ZERO || !(h_half < MAX_HALF) {
             NO_CONE
         } else {
@@ -769,8 +938,19 @@ fn add_light(
         };
         setup.m_min = m_min;
         setup.psi_lv = psi_lv;
-        setup.psi_nh = psi_range(&frame.n_cone, &setup.h_cone);
-        setup.psi_nv = psi_range(&frame.n_cone, &frame.v_cone);
+        let (c_nh0, c_nh1) = psi_range(&frame.n_cone, &setup.h_cone);
+        setup.psi_nh = if setup.h_cone.half < PI {
+            (
+                c_nh0.max(hull_distance(setup.h_cone.axis, frame.unit_normals) - setup.h_cone.half),
+                c_nh1.min(hull_max_angle(setup.h_cone.axis, frame.unit_normals) + setup.h_cone.half),
+            )
+        } else {
+            (c_nh0, c_nh1)
+        };
+        let v_vectors = frame.vertices.map(|x| frame.eye - x);
+        let (psi_nv, nv_sign) = cosine_range(frame, &frame.v_cone, v_vectors);
+        setup.psi_nv = psi_nv;
+        setup.nv_sign = nv_sign;
         match *material {
             MaterialKind::BlinnPhong { shininess, .. } => {
                 // max(n·h, 0)^s is C^{1,1} across n·h = 0 only for s ≥ 2.
@@ -781,8 +961,7 @@ fn add_light(
             }
             MaterialKind::Ggx { .. } => {
                 // max(n·v, 0) has a kink in V at n·v = 0.
-                let nv = setup.psi_nv;
-                if nv.0 < FRAC_PI_2 && nv.1 > FRAC_PI_2 {
+                if setup.nv_sign == Sign::Both {
                     return Err(Reason::Discontinuity);
                 }
             }
@@ -790,24 +969,51 @@ fn add_light(
         }
     }
 
-    for level in 0..2 {
+    // This light's bounds: second order per term at level 1 and at levels ≥ 2, the Relaxed
+    // first- and zero-order parts, and the range of its contribution.
+    let mut h = [[Vec3::ZERO; TERM_COUNT]; 2];
+    let (mut lin1, mut linn, mut zero) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
+    let mut range = Vec3::ZERO;
+    for (level, hl) in h.iter_mut().enumerate() {
         let s = if level == 0 { frame.s1 } else { frame.sn };
         let (diff, spec) = light_jets(frame, material, &setup, s, gd);
-        let target = if level == 0 { &mut sum.h1 } else { &mut sum.hn };
-        for t in 0..TERM_COUNT {
+        for (t, ht) in hl.iter_mut().enumerate() {
             let spec_h = Vec3::new(spec[0].h[t], spec[1].h[t], spec[2].h[t]);
-            target[t] += (diff_w * diff.h[t] + spec_w * spec_h) * (0.5 * SAFETY);
+            *ht = (diff_w * diff.h[t] + spec_w * spec_h) * (0.5 * SAFETY);
         }
+        let spec_m = Vec3::new(spec[0].m, spec[1].m, spec[2].m);
+        // The contribution lies in [0, sup] and so does its interpolant.
+        range = (diff_w * diff.m + spec_w * spec_m) * SAFETY;
         if setup.straddle && level == 1 {
             // Relaxed: on a sub-triangle the terminator crosses, |c| ≤ sup|Dc|·diam/n, so
             // the diffuse max(c,0) = (c + |c|)/2 adds ½·sup E'·sup|Dc|(diam)/n; the
             // specular lobe switched on by n·l > 0 adds at most its maximum.
             let att = if setup.inv_d > 0.0 { setup.inv_d * setup.inv_d } else { 1.0 };
-            for (lin, d) in [(&mut sum.lin1, frame.d1), (&mut sum.linn, frame.dn)] {
+            for (lin, d) in [(&mut lin1, frame.d1), (&mut linn, frame.dn)] {
                 let gc = gd.c(d.b / frame.r_n + d.a * setup.inv_d);
-                *lin += diff_w * (0.5 * SAFETY * gd.mul(att, gc));
+                *lin = diff_w * (0.5 * SAFETY * gd.mul(att, gc));
             }
-            sum.zero += spec_w * Vec3::new(spec[0].m, spec[1].m, spec[2].m) * SAFETY;
+            zero = spec_w * spec_m * SAFETY;
+        }
+    }
+    let (tot1, totn) = (sum_terms(&h[0]), sum_terms(&h[1]));
+    let top = pattern_level(n_max, n_max);
+    for c in 0..3 {
+        // Per channel: the smaller of the light's interpolation bound and its range. The
+        // range wins for good if it is below the bound even at n_max (dim or spiky lights).
+        let at_n_max = totn[c] / (top * top) + linn[c] / top + zero[c];
+        if range[c] <= at_n_max {
+            sum.one[c] += (tot1[c] + lin1[c] + zero[c]).min(range[c]);
+            sum.range[c] += range[c];
+        } else {
+            for t in 0..TERM_COUNT {
+                sum.h1[t][c] += h[0][t][c];
+                sum.hn[t][c] += h[1][t][c];
+            }
+            sum.lin1[c] += lin1[c];
+            sum.linn[c] += linn[c];
+            sum.jumps[c] += zero[c];
+            sum.one[c] += (tot1[c] + lin1[c] + zero[c]).min(range[c]);
         }
     }
     Ok(())
@@ -822,25 +1028,20 @@ fn light_jets(
     s: Scale,
     gd: &Guard,
 ) -> (Jet, [Jet; 3]) {
-    let n = Field {
-        w: gd.c(s.b / frame.r_n),
-        x: 0.0,
-        term: Term::Normal,
-    };
-    let l = Field {
-        w: gd.mul(s.a, st.inv_d),
-        x: 0.0,
-        term: Term::Light,
-    };
-    // E' = 1/d²: |DE'| ≤ 2|Dl|/d³, |D²E'| = |6(l̂·Dl)² − 2|Dl|²|/d⁴ ≤ 6|Dl|²/d⁴.
+    let n = Field { w: gd.c(s.b / frame.r_n), x: 0.0, term: Term::Normal };
+    let l = Field { w: gd.mul(s.a, st.inv_d), x: 0.0, term: Term::Light };
+    // E' = 1/d²: DE' = −2(l̂·Dl)/d³, D²E' = (6(l̂·Dl)² − 2|Dl|²)/d⁴, and Dl = −Xδ lies in
+    // the plane, so |l̂·Dl| ≤ sin γ·|Dl| (γ: angle between l̂ and the plane normal).
     let att = if st.inv_d > 0.0 {
         let id = st.inv_d;
         let id2 = gd.mul(id, id);
         let a_id = gd.mul(s.a, id);
+        let sg = st.plane_sin;
         let mut h = NO_H;
         let a_id2 = gd.mul(a_id, a_id);
-        h[Term::Attenuation as usize] = gd.mul(6.0 * a_id2, id2);
-        Jet { m: id2, g: gd.mul(2.0 * a_id, id2), h }
+        let k = (6.0 * sg * sg - 2.0).max(2.0);
+        h[Term::Attenuation as usize] = gd.mul(k * a_id2, id2);
+        Jet { m: id2, g: gd.mul(2.0 * sg * a_id, id2), h }
     } else {
         Jet::constant(1.0)
     };
@@ -851,11 +1052,7 @@ fn light_jets(
         return (diffuse, [zero; 3]);
     }
 
-    let v = Field {
-        w: gd.c(s.a / frame.e_min),
-        x: 0.0,
-        term: Term::View,
-    };
+    let v = Field { w: gd.c(s.a / frame.e_min), x: 0.0, term: Term::View };
     let h = Field {
         w: gd.c((l.w + v.w) / st.m_min),
         x: gd.c(K23 * (l.w * l.w + v.w * v.w) / st.m_min),
@@ -905,7 +1102,7 @@ fn light_jets(
             let gjet = gd.jet(Jet { m: c1 / q1, g: gd.mul(g1, c_g.g), h: gh });
 
             // V_v = 1/(max(n·v, 0)(1−k)+k): constant 1/k where n·v ≤ 0 throughout.
-            let vjet = if st.psi_nv.0 >= FRAC_PI_2 {
+            let vjet = if st.nv_sign == Sign::NonPositive {
                 Jet::constant(1.0 / k)
             } else {
                 let nv = (st.psi_nv.0, st.psi_nv.1.min(FRAC_PI_2));
@@ -973,8 +1170,7 @@ fn ggx_d_jet(c: &Jet, p0: f32, p1: f32, w: f32, alpha: f32, gd: &Guard) -> Jet {
     // 10β²s² − β(3A + 10α²)s + Aα² = 0, A = α² + 6β (increasing on [0,1] when β → 0).
     let big_a = a2 + 6.0 * beta;
     let b2 = 3.0 * big_a + 10.0 * a2;
-    let r2 = 2.0 * big_a * a2
-        / (beta * (b2 + (b2 * b2 - 40.0 * big_a * a2).max(0.0).sqrt())).max(1.0e-30);
+    let r2 = 2.0 * big_a * a2 / (beta * (b2 + (b2 * b2 - 40.0 * big_a * a2).max(0.0).sqrt())).max(1.0e-30);
     let x2 = r2.clamp(s0, s1);
     let u2 = u(x2);
     let d2 = x2 * (big_a - 5.0 * beta * x2) / (u2 * u2 * u2 * u2);
@@ -1010,14 +1206,14 @@ fn sum_terms(h: &[Vec3; TERM_COUNT]) -> Vec3 {
     h.iter().fold(Vec3::ZERO, |acc, x| acc + *x)
 }
 
-/// Bound at level `n` for channel sums `a1` (level 1) / `an` (levels ≥ 2).
-fn bound_at(sum: &Sums, a1: Vec3, an: Vec3, n: u32) -> f32 {
-    let e = if n <= 1 {
-        a1 + sum.lin1 + sum.zero
-    } else {
-        let nf = n as f32;
-        an / (nf * nf) + an * PATTERN_SLACK + sum.linn / nf + sum.zero
-    };
+/// The bound on the uniform pattern at level `n`: per channel the level-1 bound (`n = 1`)
+/// or the bound for sub-triangles of radius² `K/L²`, `L = pattern_level(n, n)`.
+fn bound_at(sum: &Sums, an: Vec3, n: u32) -> f32 {
+    let l = pattern_level(n, n);
+    let mut e = an / (l * l) + sum.linn / l + sum.jumps + sum.range;
+    if n <= 1 {
+        e = e.min(sum.one);
+    }
     let m = e.max_element();
     if m.is_nan() {
         f32::MAX
@@ -1027,9 +1223,14 @@ fn bound_at(sum: &Sums, a1: Vec3, an: Vec3, n: u32) -> f32 {
 }
 
 fn decide(sum: &Sums, eps: f32, n_max: u32, split: Split, reason: Reason) -> Estimate {
-    let a1 = sum_terms(&sum.h1);
     let an = sum_terms(&sum.hn);
-    let finite = |x: f32| if x.is_nan() { f32::MAX } else { x.min(f32::MAX) };
+    let finite = |x: f32| {
+        if x.is_nan() {
+            f32::MAX
+        } else {
+            x.min(f32::MAX)
+        }
+    };
 
     let mut terms = [0.0f32; TERM_COUNT];
     for (t, out) in terms.iter_mut().enumerate() {
@@ -1038,28 +1239,31 @@ fn decide(sum: &Sums, eps: f32, n_max: u32, split: Split, reason: Reason) -> Est
             *out = finite((b / eps).sqrt());
         }
     }
-    let relaxed_on = sum.linn.max_element() > 0.0 || sum.zero.max_element() > 0.0;
+    let jumps = sum.jumps;
+    let zero = sum.jumps + sum.range;
+    let relaxed_on = sum.linn.max_element() > 0.0 || jumps.max_element() > 0.0;
     if relaxed_on {
         let mut worst = 0.0f32;
         for c in 0..3 {
-            worst = worst.max(level_for(0.0, sum.linn[c], sum.zero[c], eps));
+            worst = worst.max(level_for(0.0, sum.linn[c], jumps[c], eps));
         }
         terms[Term::Terminator as usize] = finite(worst);
     }
+    let range_on = sum.range.max_element() > 0.0;
+    if range_on {
+        terms[Term::Range as usize] = if sum.range.max_element() <= eps { 0.0 } else { f32::MAX };
+    }
 
-    let n_real = match split {
+    // `one_ok`: the level-1 bound holds, and then it holds for every pattern (each of
+    // whose sub-triangles lies inside the patch). `need`: the smallest effective level `L`
+    // at which the bound for sub-triangles of radius² `K/L²` and diameter `D/L` holds.
+    let (one_ok, need) = match split {
         Split::Heuristic => {
-            let e1 = (a1 + sum.lin1 + sum.zero).max_element();
-            if e1 <= eps {
-                1.0
-            } else {
-                let mut n = 2.0f32;
-                for c in 0..3 {
-                    let lvl = level_for(an[c], sum.linn[c], sum.zero[c] + an[c] * PATTERN_SLACK, eps);
-                    n = n.max(lvl);
-                }
-                n
+            let mut n = 0.0f32;
+            for c in 0..3 {
+                n = n.max(level_for(an[c], sum.linn[c], zero[c], eps));
             }
+            (sum.one.max_element() <= eps, n)
         }
         Split::Uniform => {
             let mut count = 0u32;
@@ -1071,58 +1275,960 @@ fn decide(sum: &Sums, eps: f32, n_max: u32, split: Split, reason: Reason) -> Est
             if relaxed_on {
                 count += 1;
             }
+            if range_on {
+                count += 1;
+            }
             let share = eps / count.max(1) as f32;
             let one_ok = (0..TERM_COUNT).all(|t| sum.h1[t].max_element() <= share)
-                && (sum.lin1 + sum.zero).max_element() <= share;
-            if one_ok {
-                1.0
-            } else {
-                let mut n = 2.0f32;
-                for t in 0..TERM_COUNT {
-                    for c in 0..3 {
-                        let b = sum.hn[t][c];
-                        n = n.max(level_for(b, 0.0, b * PATTERN_SLACK, share));
-                    }
+                && (sum.lin1 + jumps).max_element() <= share
+                && sum.range.max_element() <= share;
+            let mut n = 0.0f32;
+            for t in 0..TERM_COUNT {
+                for c in 0..3 {
+                    n = n.max(level_for(sum.hn[t][c], 0.0, 0.0, share));
                 }
-                if relaxed_on {
-                    for c in 0..3 {
-                        n = n.max(level_for(0.0, sum.linn[c], sum.zero[c], share));
-                    }
-                }
-                n
             }
+            if relaxed_on {
+                for c in 0..3 {
+                    n = n.max(level_for(0.0, sum.linn[c], jumps[c], share));
+                }
+            }
+            if sum.range.max_element() > share {
+                n = f32::INFINITY;
+            }
+            (one_ok, n)
         }
     };
+    let level = if one_ok { 1.0 } else { need.max(1.0) };
+    { let mut mask = 0u32; for t in 0..TERM_COUNT { if sum.hn[t].max_element() > 0.0 || sum.h1[t].max_element() > 0.0 { mask |= 1 << t; } }
+      DEBUG.with(|d| d.set([mask as f32, relaxed_on as u32 as f32, range_on as u32 as f32, 0.0])); }
 
     let mut reason = reason;
-    let n_ok = n_real <= n_max as f32; // false for NaN and ∞
-    if reason == Reason::None && !n_ok {
+    // false for NaN and ∞
+    if reason == Reason::None && !(level <= pattern_level(n_max, n_max)) {
         reason = Reason::Level;
     }
     match reason {
         Reason::None => {
-            let n = (n_real.ceil() as u32).clamp(1, n_max);
-            Estimate {
-                terms,
-                n,
-                fallback: false,
-                reason,
-                predicted_error: bound_at(sum, a1, an, n),
-            }
+            let n = uniform_level(level, n_max);
+            Estimate { terms, level, n, fallback: false, reason, predicted_error: bound_at(sum, an, n) }
         }
         Reason::Level => Estimate {
             terms,
+            level: FALLBACK_LEVEL,
             n: 1,
             fallback: true,
             reason,
-            predicted_error: bound_at(sum, a1, an, n_max),
+            predicted_error: bound_at(sum, an, n_max),
         },
-        Reason::Discontinuity | Reason::Singular => Estimate {
-            terms,
-            n: 1,
-            fallback: true,
-            reason,
-            predicted_error: f32::MAX,
-        },
+        Reason::Discontinuity | Reason::Singular => {
+            Estimate { terms, level: FALLBACK_LEVEL, n: 1, fallback: true, reason, predicted_error: f32::MAX }
+        }
+    }
+}
+
+// ------------------------------------------------------------------------------------------
+// Shared edges and mixed patterns
+// ------------------------------------------------------------------------------------------
+
+/// [`Estimate::level`] of a triangle that falls back to per-pixel shading: above every
+/// effective level, so it raises the shared edges to `n_max`.
+pub const FALLBACK_LEVEL: f32 = 1.0e6;
+
+/// Levels of one patch as the control stage writes them (whole numbers; the driver rounds
+/// real values up anyway).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PatchLevels {
+    /// `gl_TessLevelInner[0]`; 1 for a fallback patch.
+    pub inner: f32,
+    /// `gl_TessLevelOuter[k]`, the edge opposite vertex `k`: the same on both sides.
+    pub outer: [f32; 3],
+    /// Per-pixel shading (the control stage's `patch_level` 0).
+    pub fallback: bool,
+}
+
+/// The effective level of the hardware pattern (lavapipe's, which is the D3D11 reference
+/// tessellator's) with inner level `inner` and outer level `outer` on an edge: every
+/// sub-triangle of the patch's interior and of that edge's transition strip has enclosing
+/// radius² `≤ K_W/L²` and diameter `≤ D_W/L` under every attribute map `W` (`K_W`, `D_W`:
+/// the seven shapes' constants, [`pattern_constants`]). A patch's level is the smallest
+/// over its three edges. Levels are clamped to `1..=64`. See `docs/estimator.md`.
+pub fn pattern_level(inner: u32, outer: u32) -> f32 {
+    let index = (inner.clamp(1, 64) - 1) * 64 + (outer.clamp(1, 64) - 1);
+    let word = PATTERN_LEVELS[(index / 2) as usize];
+    let q = (word >> (16 * (index % 2))) & 0xffff;
+    q as f32 * (1.0 / 256.0)
+}
+
+/// The smallest `n` in `1..=n_max` whose uniform pattern has effective level `≥ level`;
+/// 0 when there is none (NaN included).
+pub fn uniform_level(level: f32, n_max: u32) -> u32 {
+    for n in 1..=n_max.clamp(1, 64) {
+        if pattern_level(n, n) >= level {
+            return n;
+        }
+    }
+    0
+}
+
+/// The level-combination rule: what the control stage sets for a triangle with real level
+/// `own` ([`Estimate::level`]) whose neighbour across edge `k` has level `neighbours[k]`.
+///
+/// Edge `k` gets the larger of the two triangles' uniform levels ([`uniform_level`]), a
+/// triangle that falls back (no uniform level up to `n_max`, or NaN) asking for nothing (1
+/// if both do): both sides compute the same value, so no T-junctions. The inner level is
+/// the smallest in `1..=n_max` for which the *whole* pattern, transition strips included,
+/// has effective level `≥ own` ([`pattern_level`] of each edge); if there is none, or the
+/// triangle itself falls back, the patch is shaded per pixel (inner 1) and keeps its outer
+/// levels.
+pub fn patch_levels(own: f32, neighbours: [f32; 3], n_max: u32) -> PatchLevels {
+    let n_max = n_max.clamp(1, 64);
+    let own_n = uniform_level(own, n_max);
+    let outer = neighbours.map(|neighbour| own_n.max(uniform_level(neighbour, n_max)).max(1));
+    let mut inner = 0;
+    if own_n > 0 {
+        for i in 1..=n_max {
+            let l =
+                pattern_level(i, outer[0]).min(pattern_level(i, outer[1])).min(pattern_level(i, outer[2]));
+            if l >= own {
+                inner = i;
+                break;
+            }
+        }
+    }
+    PatchLevels { inner: inner.max(1) as f32, outer: outer.map(|o| o as f32), fallback: inner == 0 }
+}
+
+/// [`pattern_level`] of every `(inner, outer)` in `1..=64`, index `(inner − 1)·64 +
+/// (outer − 1)`, in 1/256 (rounded down), two 16-bit entries per word (low half first).
+/// Generated and checked by the tests (`print_pattern_level_table`,
+/// `pattern_level_table_is_current`); `glsl/include/estimator.glsl` holds the same words.
+#[rustfmt::skip]
+const PATTERN_LEVELS: [u32; 2048] = [
+    0x01ff0100, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff,
+    0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff,
+    0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff,
+    0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff,
+    0x01ff0100, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff,
+    0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff,
+    0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff,
+    0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff,
+    0x02000100, 0x02ff02ff, 0x02ff02ff, 0x02ff02ff, 0x02ff02ff, 0x02ff02ff, 0x02ff02ff, 0x02ff02ff,
+    0x02ff02ff, 0x02ff02ff, 0x02ff02ff, 0x02ff02ff, 0x02ff02ff, 0x02ff02ff, 0x02ff02ff, 0x02ff02ff,
+    0x02ff02ff, 0x02ff02ff, 0x02ff02ff, 0x02ff02ff, 0x02ff02ff, 0x02ff02ff, 0x02ff02ff, 0x02ff02ff,
+    0x02ff02ff, 0x02ff02ff, 0x02ff02ff, 0x02ff02ff, 0x02ff02ff, 0x02ff02ff, 0x02ff02ff, 0x02ff02ff,
+    0x02000100, 0x03ff02ff, 0x03ff0355, 0x03ff03ff, 0x03ff0399, 0x03ff03ff, 0x03ff03ff, 0x03ff03ff,
+    0x03ff03c7, 0x03ff03ff, 0x03ff03ff, 0x03ff03ff, 0x03ff03ff, 0x03ff03ff, 0x03ff03ff, 0x03ff03ff,
+    0x03ff03e1, 0x03ff03ff, 0x03ff03ff, 0x03ff03ff, 0x03ff03ff, 0x03ff03ff, 0x03ff03ff, 0x03ff03ff,
+    0x03ff03ff, 0x03ff03ff, 0x03ff03ff, 0x03ff03ff, 0x03ff03ff, 0x03ff03ff, 0x03ff03ff, 0x03ff03ff,
+    0x02000100, 0x040002ff, 0x04ff04ff, 0x04ff04ff, 0x04ff04ff, 0x04ff04ff, 0x04ff04ff, 0x04ff04ff,
+    0x04ff04ff, 0x04ff04ff, 0x04ff04ff, 0x04ff04ff, 0x04ff04ff, 0x04ff04ff, 0x04ff04ff, 0x04ff04ff,
+    0x04ff04ff, 0x04ff04ff, 0x04ff04ff, 0x04ff04ff, 0x04ff04ff, 0x04ff04ff, 0x04ff04ff, 0x04ff04ff,
+    0x04ff04ff, 0x04ff04ff, 0x04ff04ff, 0x04ff04ff, 0x04ff04ff, 0x04ff04ff, 0x04ff04ff, 0x04ff04ff,
+    0x02000100, 0x040002ff, 0x05ff0355, 0x040004aa, 0x05000399, 0x05ff0466, 0x04aa0533, 0x04000449,
+    0x048003c7, 0x05000438, 0x058004aa, 0x05ff051c, 0x0533058d, 0x04aa04e8, 0x04490476, 0x04000422,
+    0x044003e1, 0x047f041d, 0x04c0045a, 0x04ff0496, 0x053f04d2, 0x057f050e, 0x05c0054a, 0x05ff0586,
+    0x058e05c2, 0x0532055e, 0x04e9050c, 0x04aa04c8, 0x0476048f, 0x0448045f, 0x04220434, 0x04000410,
+    0x02000100, 0x040002ff, 0x05ff0460, 0x059906ff, 0x06ff04d8, 0x06ff066a, 0x06ff06ff, 0x0599062d,
+    0x06a1052c, 0x06ff060b, 0x06ff06ff, 0x06ff06ff, 0x06ff06ff, 0x06ff06ff, 0x062d068c, 0x059905dd,
+    0x061a055f, 0x06a005d4, 0x06ff0650, 0x06ff06d2, 0x06ff06ff, 0x06ff06ff, 0x06ff06ff, 0x06ff06ff,
+    0x06ff06ff, 0x06ff06ff, 0x06ff06ff, 0x06ff06ff, 0x068c06c4, 0x062c065b, 0x05dd0602, 0x059905b9,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x07ff06ff, 0x07ff0600, 0x07ff0755, 0x07ff07ff, 0x07ff07ff,
+    0x07ff06cc, 0x07ff0799, 0x07ff07ff, 0x07ff07ff, 0x07ff07ff, 0x07ff07ff, 0x07ff07ff, 0x07ff07ff,
+    0x07ff0755, 0x07ff07c5, 0x07ff07ff, 0x07ff07ff, 0x07ff07ff, 0x07ff07ff, 0x07ff07ff, 0x07ff07ff,
+    0x07ff07ff, 0x07ff07ff, 0x07ff07ff, 0x07ff07ff, 0x07ff07ff, 0x07ff07ff, 0x07ff07ff, 0x07ff07ff,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x080006ff, 0x08ff08ff, 0x08ff08ff, 0x08ff08ff, 0x08ff08ff,
+    0x08ff08ff, 0x08ff08ff, 0x08ff08ff, 0x08ff08ff, 0x08ff08ff, 0x08ff08ff, 0x08ff08ff, 0x08ff08ff,
+    0x08ff08ff, 0x08ff08ff, 0x08ff08ff, 0x08ff08ff, 0x08ff08ff, 0x08ff08ff, 0x08ff08ff, 0x08ff08ff,
+    0x08ff08ff, 0x08ff08ff, 0x08ff08ff, 0x08ff08ff, 0x08ff08ff, 0x08ff08ff, 0x08ff08ff, 0x08ff08ff,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x05b6065c, 0x09ff054b, 0x077f0755, 0x065c06d7, 0x05b605ff,
+    0x077f057b, 0x09ff0709, 0x08750866, 0x077f07ed, 0x06d70723, 0x065d0695, 0x0600062b, 0x05b605d9,
+    0x06890597, 0x077f065c, 0x08a30740, 0x09fd084b, 0x091f091a, 0x087408c5, 0x07ee082d, 0x077f07b3,
+    0x0724074f, 0x06d606fc, 0x069606b5, 0x065c0678, 0x062b0643, 0x05ff0615, 0x05d905eb, 0x05b605c7,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x06c406ff, 0x09ff062f, 0x096d0aff, 0x07b30869, 0x06c4072c,
+    0x096d0672, 0x0aff08b4, 0x0aff0aff, 0x096d0a1d, 0x086908de, 0x07b30806, 0x072c076b, 0x06c406f5,
+    0x07f50699, 0x096c07b2, 0x0aff090a, 0x0aff0ab8, 0x0aff0aff, 0x0afe0aff, 0x0a1f0a86, 0x096c09bf,
+    0x08df0921, 0x086808a1, 0x08070836, 0x07b207dc, 0x076b078e, 0x072b074b, 0x06f5070f, 0x06c406dc,
+    0x02000100, 0x040002ff, 0x05ff049d, 0x060006ff, 0x08920524, 0x0bfd06f2, 0x07a308aa, 0x060006aa,
+    0x07330583, 0x08920683, 0x0a2807a3, 0x0bfd08e6, 0x092e09fe, 0x07a3084e, 0x06ab071a, 0x0600064e,
+    0x069505bd, 0x07320644, 0x07dd06d4, 0x0891076c, 0x0954080f, 0x0a2508be, 0x0b0c0977, 0x0bfb0a3f,
+    0x0a5a0ade, 0x092b09b7, 0x085008b8, 0x07a207f5, 0x071a075b, 0x06aa06e0, 0x064e0679, 0x06000625,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x076d06ff, 0x09ff0628, 0x0bff08f0, 0x0a1c0cfd, 0x076d087a,
+    0x095c06b2, 0x0bd2083b, 0x0cfd0a1d, 0x0cfd0c74, 0x0cfd0cfd, 0x0a1e0b51, 0x087b0932, 0x076d07e6,
+    0x08580708, 0x095a07d7, 0x0a8408be, 0x0bcf09be, 0x0cfd0ade, 0x0cfd0c26, 0x0cfd0cfd, 0x0cfd0cfd,
+    0x0cfd0cfd, 0x0cfd0cfd, 0x0b550c1b, 0x0a1a0aaf, 0x093209a1, 0x087908d2, 0x07e6082b, 0x076d07a6,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x07ff06ff, 0x09ff0600, 0x0bfe0755, 0x0dfe08aa, 0x07ff09ff,
+    0x090006cc, 0x0a000799, 0x0b000866, 0x0c010931, 0x0d0209fe, 0x0dfe0acb, 0x0a010b9a, 0x07ff08db,
+    0x08810755, 0x08fd07c5, 0x09810837, 0x09fd08a8, 0x0a7c091a, 0x0afb098d, 0x0b8209fd, 0x0bfb0a6e,
+    0x0c830ade, 0x0cfb0b54, 0x0d850bcc, 0x0dfa0c3e, 0x0b9a0cae, 0x09fd0abc, 0x08db095f, 0x07ff0864,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x080006ff, 0x09ff0780, 0x0bff09b4, 0x0dff0c2f, 0x0ae80efd,
+    0x0cdb08ca, 0x0efd0a2c, 0x0dbf0bab, 0x0efc0d42, 0x0efd0efc, 0x0efd0efd, 0x0efd0efd, 0x0ae80c90,
+    0x0bdf09b4, 0x0cd70a7d, 0x0deb0b51, 0x0efa0c2c, 0x0efd0d11, 0x0dc30e04, 0x0efd0efa, 0x0efd0efd,
+    0x0efd0efd, 0x0efd0efd, 0x0efd0efd, 0x0efd0efd, 0x0efd0efd, 0x0efa0efd, 0x0c900da1, 0x0ae80ba7,
+    0x02000100, 0x040002ff, 0x055504ff, 0x080006ff, 0x08e308ff, 0x099a0aff, 0x0dff0cfe, 0x0ffe0eff,
+    0x0ffe0b54, 0x0d540ca9, 0x0bbb0e01, 0x0bfe0da2, 0x0dda0e4b, 0x0ffe0ffe, 0x0ffe0ffe, 0x0ffe0ffe,
+    0x0ffe0d33, 0x0ffe0dfa, 0x0ffe0ec9, 0x0d570f92, 0x0d730e45, 0x0bbe0ea3, 0x0d210ca4, 0x0c020e7a,
+    0x0e450d15, 0x0de20fb1, 0x0ffe0f61, 0x0ffe0ffe, 0x0ffe0ffe, 0x0ffe0ffe, 0x0ffe0ffe, 0x0ffe0ffe,
+    0x02000100, 0x040002ff, 0x04db04ff, 0x080006ff, 0x081808ff, 0x08290a63, 0x0b550b0d, 0x10000eff,
+    0x10fe10fe, 0x0c2410fe, 0x0a630dba, 0x0a320bda, 0x0b0a0bd0, 0x0d350d1e, 0x10fe106c, 0x10fe10fe,
+    0x10fe10fe, 0x10fe10fe, 0x0f0310fe, 0x0c26102e, 0x0bb60cea, 0x0a650c9b, 0x0b010b18, 0x0a350bef,
+    0x0ba10af9, 0x0b0f0cc0, 0x0d180bfd, 0x0d3d0e5b, 0x106c0ea9, 0x10fe10fe, 0x10fe10fe, 0x10fe10fe,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x080006ff, 0x09ff08ff, 0x0bff0aff, 0x0a7f0b24, 0x099909ff,
+    0x11fd0945, 0x0eff0ca9, 0x0d320dff, 0x0bff0c8a, 0x0b240b88, 0x0a800acc, 0x0a000a3c, 0x099909c9,
+    0x0cc0096d, 0x11f60c59, 0x10490ec9, 0x0efd0f92, 0x0dfe0e76, 0x0d310d93, 0x0c8b0cd9, 0x0bfe0c41,
+    0x0b890bc1, 0x0b230b54, 0x0acd0af7, 0x0a7f0aa5, 0x0a3c0a5d, 0x09ff0a1d, 0x09c909e3, 0x099909b0,
+    0x02000100, 0x040002ff, 0x056d04ff, 0x080006ff, 0x09ff08ff, 0x09e90aff, 0x0b900c59, 0x0a7b0af6,
+    0x11ff0a18, 0x114612f8, 0x0eee0ff6, 0x0d6a0e18, 0x0c5a0cd6, 0x0b910bee, 0x0af60b3e, 0x0a7b0ab5,
+    0x0e5c0a47, 0x12f80dd9, 0x12f812f8, 0x11441211, 0x0ff41091, 0x0eec0f6a, 0x0e190e7c, 0x0d680dbc,
+    0x0cd70d1b, 0x0c590c95, 0x0bef0c23, 0x0b900bbe, 0x0b3e0b67, 0x0af50b19, 0x0ab50ad4, 0x0a7b0a97,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x07ff06ff, 0x09ff0732, 0x0bfe0aff, 0x09540a65, 0x07ff0891,
+    0x0bff078d, 0x13fb0ada, 0x0ea90e01, 0x0bff0d22, 0x0a660b1a, 0x095509d0, 0x089208ec, 0x07ff0843,
+    0x09b707c3, 0x0bfd0954, 0x0f340b60, 0x13f20e2b, 0x10c7105d, 0x0ea60fa0, 0x0d250dd5, 0x0bfd0c85,
+    0x0b1c0b84, 0x0a640abb, 0x09d20a19, 0x09540991, 0x08ec091e, 0x089108bd, 0x08430868, 0x07ff0820,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x080006ff, 0x09ff07df, 0x0bff0aff, 0x0a7f0bdd, 0x08d7098a,
+    0x0dfe084c, 0x13ff0c76, 0x11c314fb, 0x0dff0f91, 0x0bde0ccb, 0x0a800b1c, 0x098b09fb, 0x08d7092a,
+    0x0afc088d, 0x0dfc0a7e, 0x12900d29, 0x14fb110a, 0x14f714fb, 0x11be1332, 0x0f95108f, 0x0dfc0eb7,
+    0x0cce0d59, 0x0bdc0c4e, 0x0b1e0b7a, 0x0a7e0acc, 0x09fb0a3b, 0x098a09c1, 0x092a0958, 0x08d708fe,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x080006ff, 0x09ff0712, 0x0bff0aff, 0x099f0b6f, 0x07a60875,
+    0x0a6b070e, 0x0eaa0949, 0x15ff0c7c, 0x0eab0f51, 0x0b710cc8, 0x09a00a6a, 0x087608fc, 0x07a60805,
+    0x08e80755, 0x0a6a0875, 0x0c4c09cd, 0x0ea60b6e, 0x11be0d72, 0x15ee1007, 0x117611f7, 0x0ea60fe3,
+    0x0ccc0da0, 0x0b6e0c10, 0x0a6d0ae8, 0x099e0a01, 0x08fc094a, 0x087508b6, 0x0805083a, 0x07a607d3,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x080006ff, 0x09ff07f6, 0x0bff0aff, 0x0b1b0cfe, 0x088f0996,
+    0x0c2e07d2, 0x126a0aa9, 0x15ff0f1b, 0x126c16ea, 0x0d9a0f8a, 0x0b1c0c2d, 0x09970a44, 0x088f0907,
+    0x0a2a0829, 0x0c2c0994, 0x0ed50b58, 0x12640d96, 0x16ea1088, 0x16ea149c, 0x16ea16ea, 0x12641461,
+    0x0f8f10ce, 0x0d960e7c, 0x0c310cd9, 0x0b190b9e, 0x0a440aaa, 0x099409e9, 0x09070949, 0x088f08c7,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x07ff06ff, 0x09ff068b, 0x0bff09c6, 0x0b310cfe, 0x07ff0939,
+    0x0a470727, 0x0d5308ef, 0x11960b32, 0x17f90e22, 0x0edb10a4, 0x0b330cb1, 0x093b0a15, 0x07ff088c,
+    0x0911078a, 0x0a450879, 0x0bb1098a, 0x0d4f0abe, 0x0f3e0c20, 0x118d0dbf, 0x14730f9e, 0x17e711dc,
+    0x122f1389, 0x0ed4104d, 0x0cb60db0, 0x0b2f0be6, 0x0a150a9a, 0x093809a1, 0x088c08dc, 0x07ff0841,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x080006ff, 0x09fe0742, 0x0bff0aff, 0x0d780cfe, 0x09180ab8,
+    0x0c2b0805, 0x10af0a54, 0x15ff0d79, 0x17ff11f8, 0x132718e5, 0x0d7b0fb3, 0x0aba0be5, 0x091809d0,
+    0x0a810882, 0x0c2809b8, 0x0e330b25, 0x10a90cd3, 0x13cd0ed9, 0x17e31159, 0x18e51471, 0x18e51875,
+    0x18e518e5, 0x131c15a1, 0x0fbb1141, 0x0d750e81, 0x0be50ca0, 0x0ab60b45, 0x09d00a3b, 0x0918096e,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x080006ff, 0x094907cb, 0x0bff0a35, 0x0dff0cfb, 0x09090b22,
+    0x0b2207bf, 0x0dac094f, 0x10ce0b23, 0x14c90d44, 0x19f80fd2, 0x0f2a11fb, 0x0b240cc5, 0x090909f1,
+    0x0a0b0853, 0x0b1f092d, 0x0c590a1d, 0x0da70b1f, 0x0f210c3a, 0x10c50d73, 0x12b00ec6, 0x14ba103f,
+    0x173811e1, 0x19e013c2, 0x12fc1546, 0x0f2110d7, 0x0cc50dd9, 0x0b1f0be4, 0x09f10a7b, 0x09090974,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x080006ff, 0x08b408ff, 0x0bff0aff, 0x0dff0cfe, 0x0a8a0d81,
+    0x0d8208d4, 0x0f6b0aea, 0x10f50d83, 0x17f410c8, 0x19fe1516, 0x13f01aec, 0x0d850fff, 0x0a8a0bcb,
+    0x0bf00995, 0x0d7e0abc, 0x0f570c09, 0x11680d7e, 0x12e90f27, 0x13d21114, 0x16221345, 0x1aec15da,
+    0x1aec18e8, 0x1aec1aec, 0x1aec1aec, 0x13e016f0, 0x0fff11ba, 0x0d7e0ea3, 0x0bcb0c8f, 0x0a8a0b1d,
+    0x02000100, 0x040002ff, 0x059a04ff, 0x080006ff, 0x083c07a1, 0x0a8209ed, 0x0dff0c88, 0x0b300eff,
+    0x0d3f08f9, 0x0e000a6b, 0x0eac0bfd, 0x12ab0dac, 0x18400f84, 0x1bf7118a, 0x0f8d1357, 0x0b300cf0,
+    0x0c3409ed, 0x0d3a0abf, 0x0e600b9e, 0x0f820c85, 0x10bf0d78, 0x11250e7b, 0x12640f82, 0x14ea109a,
+    0x169411be, 0x18261301, 0x1a18145b, 0x1bd815b7, 0x13c716d8, 0x0f821162, 0x0cf00e12, 0x0b300bf9,
+    0x02000100, 0x040002ff, 0x054504ff, 0x080006ff, 0x07d608b2, 0x096809f7, 0x0dff0cfe, 0x0da30eff,
+    0x0fd10a7c, 0x0ce30c83, 0x0d050eda, 0x0f750fe4, 0x16d2142b, 0x1bfe186b, 0x14bc1cf7, 0x0da31055,
+    0x0f2e0bcf, 0x10cd0cfd, 0x125a0e49, 0x101f0fad, 0x0f3d1130, 0x0f3510a1, 0x0fdd10c0, 0x116d11ba,
+    0x141c13c8, 0x1933177c, 0x1cf71cf7, 0x1cf71cf7, 0x1cf71cf7, 0x14a81820, 0x1055122e, 0x0da30ed3,
+    0x02000100, 0x040002ff, 0x050004ff, 0x080006ff, 0x078008ff, 0x0893096e, 0x0dff0bd4, 0x0fff0eff,
+    0x0f000b54, 0x0c000ca9, 0x0bca0e00, 0x0d550e19, 0x11ba10a4, 0x1bfe11fb, 0x1df51357, 0x0fff14a8,
+    0x11070d33, 0x11f60dfa, 0x11440ec9, 0x0f040f92, 0x0e041034, 0x0dc50f2f, 0x0e130f05, 0x0f070f86,
+    0x10a910c0, 0x138f12e9, 0x18831546, 0x1be71613, 0x1d0416d8, 0x1dcf17a5, 0x14a8184d, 0x0fff11f6,
+    0x02000100, 0x040002ff, 0x04c404ff, 0x080006ff, 0x073508ff, 0x07ea08f8, 0x0c650a9a, 0x10000eff,
+    0x0e4d0dde, 0x0b440fe9, 0x0ad20d03, 0x0bcd0cbc, 0x0ea30e5c, 0x16341308, 0x1dfe1c1e, 0x15911ef6,
+    0x177c10c6, 0x1578120d, 0x1059136b, 0x0e191187, 0x0d070f23, 0x0ca40e08, 0x0cb80daf, 0x0d4c0de3,
+    0x0e550ea0, 0x10230ff7, 0x12f81233, 0x1829160f, 0x1ef61d5a, 0x1ef61ef6, 0x1ef61ef6, 0x1591194c,
+    0x02000100, 0x040002ff, 0x049204ff, 0x080006c9, 0x06f408ff, 0x07620895, 0x0aaa09ac, 0x10000eff,
+    0x0db610fe, 0x0aaa0f97, 0x0a0e0c36, 0x0aa90baf, 0x0c980cb4, 0x11340fb7, 0x1dfe17c6, 0x1ff81ef8,
+    0x1ff81600, 0x14941744, 0x0f9415ed, 0x0d5710a5, 0x0c390e45, 0x0bbe0d1b, 0x0bac0ca4, 0x0c020ca6,
+    0x0caf0d15, 0x0de20df2, 0x0fad0f61, 0x12b311ba, 0x17c615ab, 0x1ff81cf7, 0x1ff81ff8, 0x1ff81ff8,
+    0x02000100, 0x040002ff, 0x046604ff, 0x0800066a, 0x06bb08ff, 0x06f2083f, 0x096d08f0, 0x10000dc0,
+    0x0d3310fe, 0x0a270eee, 0x096d0b8c, 0x09c60ad9, 0x0b220b77, 0x0e330d82, 0x16011266, 0x20001ef8,
+    0x20ff20ff, 0x13cf20ff, 0x0eeb150f, 0x0cb30fe6, 0x0b8e0d8a, 0x0b020c57, 0x0ad60bcb, 0x0b020bac,
+    0x0b730be8, 0x0c450c78, 0x0d7a0d6d, 0x0f6d0ef8, 0x12661164, 0x17a4155c, 0x20ff1ce5, 0x20ff20ff,
+    0x02000100, 0x040002ff, 0x04db04ff, 0x080006ff, 0x081808ff, 0x082a0a64, 0x0b580b0f, 0x10000eff,
+    0x11ff10f6, 0x0d9a12f9, 0x0c12103b, 0x0c5d0e80, 0x0e420f35, 0x13081266, 0x12341298, 0x118a11da,
+    0x21f41140, 0x1e8f1744, 0x18d6189f, 0x12ea19eb, 0x104014d7, 0x0efc11d8, 0x0e7a107b, 0x0e991003,
+    0x0f2c1038, 0x106a1105, 0x1258128d, 0x13061345, 0x129812ce, 0x12331265, 0x11da1205, 0x118a11b0,
+    0x02000100, 0x040002ff, 0x04aa04ff, 0x080006ff, 0x07c608ff, 0x07a209dd, 0x09fd0a1b, 0x10000efa,
+    0x11ff10fe, 0x0cb712f9, 0x0b260efc, 0x0b2f0d31, 0x0c710d75, 0x0f820f7b, 0x13191387, 0x125e12b6,
+    0x21fd120d, 0x212a22b6, 0x16e61f99, 0x11811948, 0x0f001323, 0x0dc11059, 0x0d2c0f00, 0x0d200e6f,
+    0x0d6f0e6c, 0x0e380edc, 0x0f710fcc, 0x1181116e, 0x138713c3, 0x1318134f, 0x12b612e5, 0x125e1288,
+    0x02000100, 0x040002ff, 0x052404ff, 0x080006ff, 0x097708ff, 0x08fe0aff, 0x0bfb0ca3, 0x0d180dd9,
+    0x11ff0c7e, 0x11fa12f9, 0x0ea614ff, 0x0e5f1264, 0x101810fc, 0x0ed50f6e, 0x0dda0e4e, 0x0d180d73,
+    0x13c20cc7, 0x23cf12ce, 0x1dc8189f, 0x19b719eb, 0x16e91832, 0x13ce15d0, 0x125a1400, 0x12001298,
+    0x10fe1176, 0x1023108c, 0x0f700fc8, 0x0ed30f20, 0x0e4e0e8f, 0x0dd90e12, 0x0d730da3, 0x0d180d43,
+    0x02000100, 0x040002ff, 0x04ee04ff, 0x080006ff, 0x090508ff, 0x08600aff, 0x0a900b72, 0x0dc40e9b,
+    0x11ff0d1b, 0x106e12f9, 0x0d55146c, 0x0cda105d, 0x0deb0ff3, 0x0fb31060, 0x0e9c0f1d, 0x0dc40e29,
+    0x15560d6b, 0x23d9143a, 0x218324ce, 0x1a711eb0, 0x14751a9a, 0x11b5170c, 0x105613d5, 0x0fdd1251,
+    0x0fea11cb, 0x109911a3, 0x106210c5, 0x0fb21008, 0x0f1d0f66, 0x0e9a0edb, 0x0e290e5f, 0x0dc40df5,
+    0x02000100, 0x040002ff, 0x056e04ff, 0x080006ff, 0x09ff08ff, 0x09ec0aff, 0x0cae0cfe, 0x0baf0cf2,
+    0x11ff0ac2, 0x13ff12f3, 0x123014ff, 0x10e11293, 0x0e860f8f, 0x0cf80dab, 0x0bdf0c60, 0x0b0c0b6e,
+    0x0f050ab6, 0x16070e49, 0x25fd145a, 0x1d2a19ec, 0x18231a59, 0x14dd165c, 0x129713a0, 0x10de11a8,
+    0x0f92102b, 0x0e830f03, 0x0dad0e15, 0x0cf60d4f, 0x0c600ca9, 0x0bdd0c1d, 0x0b6e0ba3, 0x0b0c0b3b,
+    0x02000100, 0x040002ff, 0x053204ff, 0x080006ff, 0x09ff08ff, 0x092c0aff, 0x0b210cfd, 0x0c7c0df0,
+    0x11ff0b6f, 0x13ff12f9, 0x102b14ff, 0x0ed41465, 0x0f9010d1, 0x0dd50ea1, 0x0c970d28, 0x0bab0c18,
+    0x10300b4b, 0x18a30f57, 0x25fd168f, 0x21eb26a4, 0x1b4e1e2c, 0x1730190d, 0x146a15ac, 0x125b134c,
+    0x10d41188, 0x0f9a102e, 0x0ea40f1b, 0x0dd30e38, 0x0d280d7c, 0x0c950cdd, 0x0c180c53, 0x0bab0bdf,
+    0x02000100, 0x040002ff, 0x05b604ff, 0x080006ff, 0x09ff08c8, 0x0ae70aff, 0x0c2e0cfe, 0x0a010aea,
+    0x11290951, 0x13ff0ee9, 0x15ff14ff, 0x112a1396, 0x0e110f64, 0x0c2f0d04, 0x0aeb0b7e, 0x0a010a6c,
+    0x0cd809a3, 0x11250c2d, 0x18920fec, 0x27cd15fa, 0x1cf81b3d, 0x172819b3, 0x139c152e, 0x11251241,
+    0x0f671032, 0x0e0e0eb0, 0x0d070d86, 0x0c2d0c96, 0x0b7e0bd3, 0x0ae90b31, 0x0a6c0aa8, 0x0a010a34,
+    0x02000100, 0x040002ff, 0x057604ff, 0x080006ff, 0x09ff08ff, 0x0a080aff, 0x0bb20cfe, 0x0a960b9c,
+    0x11ff09d2, 0x13ff103d, 0x140214ff, 0x113815f1, 0x0f3f10cf, 0x0d0f0e05, 0x0b9d0c44, 0x0a960b0e,
+    0x0dd10a2d, 0x12ed0d0c, 0x1c661172, 0x27d018fd, 0x22722881, 0x1a871deb, 0x15f917f7, 0x12ed1449,
+    0x10d311c6, 0x0f3b0ff9, 0x0e080e9b, 0x0d0c0d85, 0x0c440ca5, 0x0b9b0bed, 0x0b0e0b51, 0x0a960acf,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x080006ff, 0x09ff08ff, 0x0bfd0aff, 0x0dfa0cfe, 0x0a300bac,
+    0x0fc40928, 0x13ff0d4f, 0x15ff14ff, 0x12b2167b, 0x0e631029, 0x0c030d0a, 0x0a820b2f, 0x097809f1,
+    0x0bb80910, 0x0ed30b0e, 0x13810dc2, 0x1b1a119e, 0x29c81797, 0x1cde1ca4, 0x16851934, 0x12ab145a,
+    0x102e114a, 0x0e5f0f34, 0x0d0e0dae, 0x0c000c81, 0x0b2f0b94, 0x0a800ad5, 0x09f10a35, 0x097809b1,
+    0x02000100, 0x040002ff, 0x05bb04ff, 0x080006ff, 0x09ff08ff, 0x0afa0aff, 0x0c480cfe, 0x0aec0ca6,
+    0x119909bf, 0x13ff0e96, 0x15ff14ff, 0x143516ee, 0x0fc111e9, 0x0cf40e28, 0x0b390bfe, 0x0a0b0a94,
+    0x0c9c0996, 0x10490bd8, 0x161c0f01, 0x206913b7, 0x29cb1b83, 0x22f82ae3, 0x1a111dbc, 0x150b1734,
+    0x11ef134f, 0x0fbd10be, 0x0e2c0eea, 0x0cf10d87, 0x0bfe0c73, 0x0b360b97, 0x0a940ae1, 0x0a0b0a4c,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x080006ff, 0x09ff086e, 0x0bff0aff, 0x0c540cfe, 0x09450a7c,
+    0x0dab0868, 0x13ff0bc8, 0x15ff1176, 0x160e16ee, 0x0f7c120b, 0x0c560daa, 0x0a7d0b4d, 0x094509d2,
+    0x0b2e08ce, 0x0da90a7a, 0x11190ca0, 0x16020f77, 0x1dd21367, 0x2bb41944, 0x1d071de4, 0x160218ec,
+    0x121313c7, 0x0f7710a4, 0x0dae0e85, 0x0c530cf7, 0x0b4d0bca, 0x0a7a0ae0, 0x09d20a21, 0x09450987,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x080006ff, 0x09fe08ff, 0x0bfd0aff, 0x0cd60cfe, 0x09de0b41,
+    0x0f0408e6, 0x13f80cc4, 0x15ff13b8, 0x17ec16ee, 0x113c1476, 0x0d6c0f02, 0x0b430c35, 0x09de0a7e,
+    0x0c100958, 0x0f000b40, 0x13410dc4, 0x19b71135, 0x250e163a, 0x2bb81e47, 0x23d72c76, 0x19b71dc8,
+    0x148016b8, 0x113512ad, 0x0f07100b, 0x0d670e2b, 0x0c350cc7, 0x0b400bb5, 0x0a7e0ad9, 0x09de0a29,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x080006ff, 0x099507f5, 0x0bff0aff, 0x0dff0cfe, 0x0a360c18,
+    0x0e4308e1, 0x12680bcc, 0x15ff1016, 0x17ff16ea, 0x119415a4, 0x0d230ef1, 0x0ac70bcc, 0x094f09f6,
+    0x0b0308c5, 0x0d1e0a3d, 0x0fe30c0e, 0x13850e53, 0x18af1142, 0x2079153a, 0x2dfd1ac8, 0x1cef1f35,
+    0x15b118aa, 0x118b135c, 0x0ef71027, 0x0d1e0dfb, 0x0bcc0c6c, 0x0ac40b42, 0x09f60a56, 0x094f099d,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x080006ff, 0x09350877, 0x0bff0aff, 0x0d670cfe, 0x0b110d11,
+    0x0ffc0984, 0x11110cf3, 0x15ff1250, 0x17ff16ee, 0x141418e6, 0x0e7c10b6, 0x0bab0cdf, 0x09f70ab8,
+    0x0bf10959, 0x0e770b0b, 0x11e70d2e, 0x16a80ff1, 0x1deb13aa, 0x2a2f18fd, 0x2dfd210e, 0x24662e59,
+    0x19a21de4, 0x14091670, 0x10bd123e, 0x0e770f85, 0x0cdf0d9f, 0x0ba70c3c, 0x0ab80b27, 0x09f70a51,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x080006ff, 0x08e20795, 0x0bff0aff, 0x0dff0cfe, 0x099b0b70,
+    0x0d1b086b, 0x0ffc0afe, 0x15160ea1, 0x17ff1417, 0x159418e6, 0x0ea3114b, 0x0b720cc9, 0x099b0a6a,
+    0x0b3208f4, 0x0d180a4f, 0x0f7e0bed, 0x12770dde, 0x16671044, 0x1bc81350, 0x23cf173b, 0x2fb61c8e,
+    0x1d66207d, 0x158518c6, 0x11551333, 0x0e9c0fdb, 0x0cc90da3, 0x0b6e0c12, 0x0a6a0ae2, 0x099b09fb,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x080006ff, 0x08960806, 0x0bff0aff, 0x0df80cfe, 0x0a530c79,
+    0x0e7c08f7, 0x0f0e0bf3, 0x12df105e, 0x17ff16ee, 0x199518e6, 0x106013c7, 0x0c7b0e18, 0x0a530b43,
+    0x0c2f0994, 0x0e770b24, 0x11740d0e, 0x15520f6c, 0x1ab61271, 0x21281676, 0x2dfd1bf0, 0x2fbb2404,
+    0x255f302b, 0x19811e35, 0x13d3164f, 0x105811eb, 0x0e180f23, 0x0c770d3a, 0x0b430bd1, 0x0a530ac3,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x080006ff, 0x0855087c, 0x0bff0ac9, 0x0dff0cfe, 0x0b1a0d9f,
+    0x0efb096f, 0x0e4a0bdc, 0x11330efc, 0x17ff131e, 0x19fe18e3, 0x11111560, 0x0c7f0e57, 0x0a1e0b23,
+    0x0ba40950, 0x0d670a96, 0x0f920c12, 0x12210dcc, 0x155a0fd9, 0x19751257, 0x1f13155a, 0x26751928,
+    0x31fd1e0f, 0x1d6621fd, 0x157018cb, 0x110612fa, 0x0e570f92, 0x0c790d58, 0x0b230bc0, 0x0a1e0a96,
+    0x02000100, 0x040002ff, 0x05ff04ff, 0x080006ff, 0x081708ff, 0x0bff0a63, 0x0dff0cfe, 0x0bff0eff,
+    0x0e910a33, 0x0d980d17, 0x0fcc1038, 0x17f7143c, 0x19fe18e6, 0x13951979, 0x0dcb1014, 0x0af30c28,
+    0x0cc20a04, 0x0ee80b81, 0x11a30d47, 0x14a00f66, 0x15a911ff, 0x18b51548, 0x1f331972, 0x2fbb1f09,
+    0x31fd26db, 0x25c332e1, 0x19901e7d, 0x13871624, 0x101411a3, 0x0dc40ed5, 0x0c280ce4, 0x0af30b81,
+    0x02000100, 0x040002ff, 0x05c604ff, 0x080006ff, 0x07e008ff, 0x0b220a07, 0x0dff0cfe, 0x0af50e33,
+    0x0e2d091f, 0x0cfd0b5d, 0x0ea60e34, 0x14be11dd, 0x19fe16d3, 0x157c1aec, 0x0e3710fa, 0x0af50c51,
+    0x0c7a09ee, 0x0e2f0b2b, 0x103d0c95, 0x12930e2f, 0x13dc1008, 0x16031234, 0x1a7a14b6, 0x22ac17ba,
+    0x2a411b60, 0x33aa200c, 0x1e0f238f, 0x156a1903, 0x10fa12f0, 0x0e2f0f74, 0x0c510d28, 0x0af50b94,
+    0x02000100, 0x040002ff, 0x059504ff, 0x080006ff, 0x07ae08ff, 0x0a7109b8, 0x0dff0cfe, 0x0beb0eff,
+    0x0dd409c7, 0x0c7a0c67, 0x0dbb0ea7, 0x127510f7, 0x19fe18e6, 0x19861aec, 0x0fe01367, 0x0beb0d8c,
+    0x0dbd0ab6, 0x0fd60c2b, 0x12720dde, 0x12280fd6, 0x1271122d, 0x140014c1, 0x173c1703, 0x1e1c1bd2,
+    0x2e982248, 0x33af29f1, 0x269b34df, 0x196d1ea8, 0x13671602, 0x0fd61170, 0x0d8c0e92, 0x0beb0ca8,
+    0x02000100, 0x040002ff, 0x056704ff, 0x080006ff, 0x078008fd, 0x09d4096e, 0x0dff0cfe, 0x0d110eff,
+    0x0d800a89, 0x0c010d1f, 0x0cec0e01, 0x10a00fbf, 0x19fe1634, 0x1bfe1ada, 0x10db1566, 0x0c260e09,
+    0x0db10ac8, 0x0f600c01, 0x115f0d60, 0x112b0ee2, 0x11371094, 0x12541285, 0x14b414ab, 0x19861727,
+    0x238c1a02, 0x2ccf1d7c, 0x35e521af, 0x1e0724e3, 0x156618fd, 0x10cf12d4, 0x0e090f42, 0x0c260cff,
+    0x02000100, 0x040002ff, 0x053d04ff, 0x080006ff, 0x075508ff, 0x094e092b, 0x0dff0cfe, 0x0e650eff,
+    0x0d340b61, 0x0b950ead, 0x0c3b0d6f, 0x0f2f0ebc, 0x184613b5, 0x1bfe1aec, 0x136119a2, 0x0d670fbe,
+    0x0f4f0bc3, 0x11720d3b, 0x11900eea, 0x105310d1, 0x103011ee, 0x10f811f1, 0x12bf1317, 0x164715a0,
+    0x1cfa1a94, 0x2de02514, 0x35fb2d86, 0x271736dd, 0x19a21ef6, 0x13511608, 0x0fbe114c, 0x0d670e72,
+    0x02000100, 0x040002ff, 0x051604ff, 0x080006ff, 0x072d08d9, 0x08d608ec, 0x0dff0c54, 0x0e050eff,
+    0x0ceb0ab5, 0x0b310cd5, 0x0b9d0ce9, 0x0df90dd8, 0x14bb11b7, 0x1bfe19ab, 0x15a11cff, 0x0e0510e1,
+    0x0fa70c18, 0x11620d56, 0x10de0eb5, 0x0f8f102e, 0x0f461103, 0x0fcd10d4, 0x112211a0, 0x13c51381,
+    0x18761715, 0x22ac1cef, 0x31592030, 0x379c23bb, 0x1ec42625, 0x158b1957, 0x10e112dd, 0x0e050f46,
+    0x02000100, 0x040002ff, 0x04f504ff, 0x080006ff, 0x070908ff, 0x087308b5, 0x0dff0b96, 0x0fb20eff,
+    0x0caa0ba9, 0x0adb0e39, 0x0b190c78, 0x0d070d1f, 0x124c1039, 0x1bfe19b9, 0x19e61cff, 0x0fb21360,
+    0x11c60d53, 0x138f0ed8, 0x10471090, 0x0eeb11a9, 0x0e871040, 0x0ede0fed, 0x0fe21078, 0x11ed11e7,
+    0x156b149c, 0x1c5d198b, 0x2c8123dc, 0x37a2311b, 0x283138dd, 0x19c61f68, 0x13601608, 0x0fb2114a,
+    0x02000100, 0x040002ff, 0x04d504ff, 0x080006ff, 0x06e708ff, 0x08180881, 0x0dff0aee, 0x10000eff,
+    0x0c6d0ccc, 0x0a8b0df3, 0x0aa20c0e, 0x0c340c79, 0x10600ef6, 0x1bfe1615, 0x1dfe1cfd, 0x10dc15a3,
+    0x12a00df7, 0x12fe0f3b, 0x0fbb109c, 0x0e551105, 0x0dda0f8e, 0x0e0a0f1e, 0x0ecf0f76, 0x1067108c,
+    0x130d129e, 0x1800163f, 0x21e91d28, 0x33fd2272, 0x39e42539, 0x1eef2777, 0x15a31956, 0x10dc12e2,
+    0x02000100, 0x040002ff, 0x04b804ff, 0x080006ff, 0x06c808ff, 0x07c80852, 0x0d1f0a5f, 0x10000eff,
+    0x0c350e1b, 0x0a420dac, 0x0a390bb0, 0x0b830bea, 0x0ee40def, 0x18a61377, 0x1dfe1cff, 0x136d1a0d,
+    0x15ce0fae, 0x127b114b, 0x0f3f1317, 0x0dd01073, 0x0d440ef3, 0x0d550e6c, 0x0de90e9c, 0x0f2c0f6f,
+    0x113e110e, 0x14f013d2, 0x1ba818c3, 0x2c6a232b, 0x39ff3488, 0x28d13adb, 0x1a0d1f9b, 0x136d1628,
+    0x02000100, 0x040002ff, 0x049d04ff, 0x080006e1, 0x06aa08ff, 0x077f0825, 0x0bfc09de, 0x10000eff,
+    0x0bff0dfe, 0x09fe0d69, 0x09d80b58, 0x0ae50b67, 0x0da70d0a, 0x14eb1168, 0x1dfe1ca4, 0x15df1ef8,
+    0x17d910f5, 0x12011243, 0x0eca134d, 0x0d560fec, 0x0cba0e64, 0x0cb20dca, 0x0d1e0dd9, 0x0e1f0e77,
+    0x0fc00fbc, 0x129311df, 0x175b1585, 0x219b1c7e, 0x38982511, 0x3b8d2738, 0x1fa12867, 0x15df19b8,
+    0x02000100, 0x040002ff, 0x048404ff, 0x080006ab, 0x068e08ff, 0x073e07fc, 0x0b12096f, 0x10000eff,
+    0x0bcd0fc0, 0x09c00d2a, 0x09820b08, 0x0a5e0af5, 0x0ca80c4b, 0x124a0fd1, 0x1dfe19e7, 0x1a7d1ef8,
+    0x1994139c, 0x11911560, 0x0e6112ce, 0x0ce90f73, 0x0c420de5, 0x0c250d3d, 0x0c720d32, 0x0d3f0da7,
+    0x0e8d0ea8, 0x10c71058, 0x145a1325, 0x1b4e1825, 0x2b58227e, 0x3b943909, 0x2a483bcb, 0x1a7d2058,
+    0x02000100, 0x040002ff, 0x046d04ff, 0x0800067a, 0x067508ff, 0x070407d6, 0x0a54090e, 0x10000eff,
+    0x0b9f10fe, 0x09890cf2, 0x09360ac1, 0x09e90a90, 0x0bd70ba9, 0x10590e8f, 0x1dfe162c, 0x1ffe1ef8,
+    0x19131600, 0x112d1744, 0x0e03125a, 0x0c880f06, 0x0bd70d75, 0x0bab0cc1, 0x0bdf0ca2, 0x0c830cf6,
+    0x0d940dc4, 0x0f5f0f20, 0x12251155, 0x1731151a, 0x213d1c2e, 0x3b8d2777, 0x3ddb2864, 0x1ffe29c8,
+    0x02000100, 0x040002ff, 0x045704ff, 0x0800064c, 0x065c08ff, 0x06ce07b2, 0x09ae08b5, 0x10000e4c,
+    0x0b7310fe, 0x09540cbb, 0x08ef0a7e, 0x097f0a33, 0x0b1f0b17, 0x0ec80d7d, 0x191f1362, 0x20001ef8,
+    0x18981abe, 0x10cd1a40, 0x0daa11ed, 0x0c2c0ea0, 0x0b740d0c, 0x0b3a0c4e, 0x0b580c1e, 0x0bdc0c57,
+    0x0cba0cfa, 0x0e2f0e13, 0x105f0fd6, 0x142912be, 0x1af617d3, 0x2b71222d, 0x3df13bcb, 0x2b1a3df1,
+    0x02000100, 0x040002ff, 0x044404ff, 0x08000623, 0x064608ff, 0x069f0791, 0x09240867, 0x10000d26,
+    0x0b4a10fe, 0x09240c89, 0x08b00a41, 0x092309e1, 0x0a860a9a, 0x0d8f0c9e, 0x15541155, 0x20001ef8,
+    0x182920ff, 0x107619c1, 0x0d5a118b, 0x0bdb0e45, 0x0b1d0caf, 0x0ad70bea, 0x0ae40bab, 0x0b4d0bce,
+    0x0c040c50, 0x0d380d36, 0x0efe0ea6, 0x11f310f5, 0x16e514cd, 0x21391be4, 0x3df12d2e, 0x3fd83e0f,
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::tessellator::{triangle_pattern, Pattern};
+    use glam::DVec3;
+
+    /// Exact `max_x Σμₖ|vₖ − x|²` of a triangle in f64.
+    fn enclosing_r2(p: [DVec3; 3]) -> f64 {
+        let e =
+            [(p[1] - p[0]).length_squared(), (p[2] - p[1]).length_squared(), (p[0] - p[2]).length_squared()];
+        let d2 = e[0].max(e[1]).max(e[2]);
+        if 2.0 * d2 >= e[0] + e[1] + e[2] {
+            return 0.25 * d2;
+        }
+        let x = (p[1] - p[0]).cross(p[2] - p[0]).length_squared();
+        e[0] * e[1] * e[2] / (4.0 * x)
+    }
+
+    fn pattern_r2(p: &Pattern, corners: [DVec3; 3]) -> f64 {
+        let place = |b: [f64; 3]| corners[0] * b[0] + corners[1] * b[1] + corners[2] * b[2];
+        p.triangles.iter().map(|t| enclosing_r2(t.map(|i| place(p.vertices[i as usize])))).fold(0.0, f64::max)
+    }
+
+    struct Rng(u64);
+    impl Rng {
+        fn f(&mut self) -> f64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    fn random_shapes() -> Vec<[DVec3; 3]> {
+        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        let mut shapes = vec![
+            [DVec3::ZERO, DVec3::X, DVec3::new(0.5, 0.75f64.sqrt(), 0.0)],
+            [DVec3::ZERO, DVec3::X, DVec3::Y],
+            [DVec3::ZERO, DVec3::X, DVec3::new(0.0, 0.001, 0.0)],
+            [DVec3::ZERO, DVec3::X, DVec3::new(0.5, 0.001, 0.0)],
+            [DVec3::ZERO, DVec3::X, DVec3::new(3.0, 0.01, 0.0)],
+        ];
+        for _ in 0..40 {
+            let mut c = [DVec3::ZERO; 3];
+            for p in &mut c {
+                *p = DVec3::new(rng.f(), rng.f(), rng.f());
+            }
+            if rng.f() < 0.3 {
+                c[2] = c[0].lerp(c[1], 2.0 * rng.f() - 0.5) + DVec3::new(rng.f(), rng.f(), rng.f()) * 1e-3;
+            }
+            shapes.push(c);
+        }
+        shapes
+    }
+
+    fn constants_of(c: [DVec3; 3]) -> PatternConstants {
+        pattern_constants((c[1] - c[0]).as_vec3(), (c[2] - c[0]).as_vec3())
+    }
+
+    /// Relative growth of the uniform pattern's constant with the level from the driver's
+    /// fixed-point placement, `K(n) ≤ K·(1 + n²·PATTERN_SLACK)` (the estimator now reads
+    /// it, with the mixed patterns, from [`pattern_level`]).
+    const PATTERN_SLACK: f32 = 2.0e-5;
+
+    /// The pattern constants against the hardware pattern (Vulkan `equal_spacing`, inner =
+    /// outer = n, lavapipe's fixed point): `max over sub-triangles of r² · n² ≤ K (1 + n²·s)`.
+    #[test]
+    fn pattern_constants_cover_the_hardware_pattern() {
+        let shapes = random_shapes();
+        let mut worst_slack = 0.0f64; // max over n of (ratio − 1)/n²
+        let mut worst_ratio_16 = 0.0f64;
+        let mut worst_ratio_64 = 0.0f64;
+        for n in 1..=64u32 {
+            let p = triangle_pattern(n as f32, [n as f32; 3]);
+            for c in &shapes {
+                let k = constants_of(*c);
+                let bound = if n == 1 { k.sqrt_k1 } else { k.sqrt_k };
+                let bound = f64::from(bound).powi(2);
+                let real = pattern_r2(&p, *c) * f64::from(n * n);
+                if bound == 0.0 {
+                    assert!(real < 1e-12);
+                    continue;
+                }
+                let ratio = real / bound;
+                if n <= 16 {
+                    worst_ratio_16 = worst_ratio_16.max(ratio);
+                }
+                worst_ratio_64 = worst_ratio_64.max(ratio);
+                worst_slack = worst_slack.max((ratio - 1.0) / f64::from(n * n));
+                assert!(
+                    ratio <= 1.0 + f64::from(n * n) * f64::from(PATTERN_SLACK) + 1e-4,
+                    "n = {n}, ratio {ratio}, shape {c:?}"
+                );
+            }
+        }
+        println!(
+            "pattern constants: real/predicted r² at most {worst_ratio_16:.5} (n ≤ 16), {worst_ratio_64:.5} (n ≤ 64); (ratio − 1)/n² at most {worst_slack:.2e}"
+        );
+    }
+
+    /// Measures (does not assert) how far mixed levels (outer ≥ inner, as a crack-free TCS
+    /// that raises shared edges to the neighbour's level produces) exceed the uniform
+    /// constants.
+    #[test]
+    fn pattern_constants_with_raised_outer_levels() {
+        let shapes = random_shapes();
+        let mut worst = (0.0f64, 0u32, [0u32; 3]);
+        for n in 1..=12u32 {
+            for m0 in [n, n + 1, n + 3, 16] {
+                for m1 in [n, n + 2, 16] {
+                    for m2 in [n, n + 5] {
+                        let outer = [m0, m1, m2];
+                        let p = triangle_pattern(n as f32, outer.map(|m| m as f32));
+                        for c in &shapes {
+                            let k = constants_of(*c);
+                            let bound = f64::from(if n == 1 { k.sqrt_k1 } else { k.sqrt_k }).powi(2);
+                            if bound == 0.0 {
+                                continue;
+                            }
+                            let ratio = pattern_r2(&p, *c) * f64::from(n * n) / bound;
+                            if ratio > worst.0 {
+                                worst = (ratio, n, outer);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        println!(
+            "raised outer levels: real/predicted r² up to {:.4} (inner {}, outer {:?})",
+            worst.0, worst.1, worst.2
+        );
+    }
+
+    // ----- effective levels of the hardware patterns (mixed inner and outer levels) -----
+
+    /// Points `(s, τ, h)` of the side-frame configurations `{0, s·e, τ·e + h·f}` (`e` the
+    /// side, `f` towards the opposite corner) whose enclosing radius is at most `√K_W` under
+    /// every map `W`: every labelling of the seven shapes that has an edge along the side,
+    /// every segment between two corners of a shape (`s = 0`), segments along the side that
+    /// are not longer than it, and all of their negatives.
+    fn frame_points() -> Vec<[f64; 3]> {
+        // Exact thirds (SHAPES holds f32 approximations).
+        let exact = |x: f32| (f64::from(x) * 3.0).round() / 3.0;
+        let mut points = vec![[1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+        for shape in SHAPES.iter() {
+            let v =
+                [[0.0, 0.0], [exact(shape[0].0), exact(shape[0].1)], [exact(shape[1].0), exact(shape[1].1)]];
+            for a in 0..3 {
+                for b in 0..3 {
+                    if a == b {
+                        continue;
+                    }
+                    let c = 3 - a - b;
+                    let d1 = [v[b][0] - v[a][0], v[b][1] - v[a][1]];
+                    let d2 = [v[c][0] - v[a][0], v[c][1] - v[a][1]];
+                    points.push([0.0, d1[0], d1[1]]);
+                    if d1[1] == 0.0 {
+                        points.push([d1[0], d2[0], d2[1]]);
+                    }
+                }
+            }
+        }
+        let mut all: Vec<[f64; 3]> = Vec::new();
+        for p in points {
+            for q in [p, p.map(|x| -x)] {
+                if !all.iter().any(|r| (0..3).all(|k| (r[k] - q[k]).abs() < 1e-12)) {
+                    all.push(q);
+                }
+            }
+        }
+        all
+    }
+
+    /// Facets `n` (with `n·x ≤ 1` on the hull) of the convex hull of `points`, which is
+    /// symmetric about the origin and full-dimensional: the gauge is `max n·x`.
+    fn hull_facets(points: &[[f64; 3]]) -> Vec<[f64; 3]> {
+        let det3 = |m: [[f64; 3]; 3]| {
+            m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+                - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+        };
+        let mut facets: Vec<[f64; 3]> = Vec::new();
+        let n = points.len();
+        for a in 0..n {
+            for b in a + 1..n {
+                for c in b + 1..n {
+                    let m = [points[a], points[b], points[c]];
+                    let det = det3(m);
+                    if det.abs() < 1e-12 {
+                        continue;
+                    }
+                    // Cramer: n solves m·n = (1, 1, 1).
+                    let normal: [f64; 3] = std::array::from_fn(|k| {
+                        let mut mk = m;
+                        for row in &mut mk {
+                            row[k] = 1.0;
+                        }
+                        det3(mk) / det
+                    });
+                    let dot = |q: &[f64; 3]| normal[0] * q[0] + normal[1] * q[1] + normal[2] * q[2];
+                    if points.iter().all(|q| dot(q) <= 1.0 + 1e-9)
+                        && !facets.iter().any(|f| (0..3).all(|k| (f[k] - normal[k]).abs() < 1e-9))
+                    {
+                        facets.push(normal);
+                    }
+                }
+            }
+        }
+        facets
+    }
+
+    fn gauge(facets: &[[f64; 3]], x: [f64; 3]) -> f64 {
+        facets.iter().map(|n| n[0] * x[0] + n[1] * x[1] + n[2] * x[2]).fold(0.0, f64::max)
+    }
+
+    /// `γ` with `r(W·T) ≤ γ·√K_W` for every map `W`, for the pattern triangle `t`
+    /// (barycentric corners): the smallest over the sides `k` and the choices of a base edge
+    /// of `gauge(s, τ, h) + |dy|`, in the frame of side `k` (`x = b[k+1]` along the side,
+    /// `y = b[k]` towards the opposite corner); `dy`, the base's rise in that frame (the
+    /// fixed-point rings are not exactly parallel to the sides), is charged as a segment along
+    /// `f` of length `|dy|`, whose radius is at most `|dy|·√K`.
+    fn triangle_gauge(facets: &[[f64; 3]], t: [[f64; 3]; 3]) -> f64 {
+        let mut best = f64::INFINITY;
+        for k in 0..3 {
+            let xy = t.map(|b| (b[(k + 1) % 3], b[k]));
+            for a in 0..3 {
+                let (b, c) = ((a + 1) % 3, (a + 2) % 3);
+                let (l, r) = if xy[a].0 <= xy[b].0 { (xy[a], xy[b]) } else { (xy[b], xy[a]) };
+                let g = gauge(facets, [r.0 - l.0, xy[c].0 - l.0, xy[c].1 - l.1]);
+                best = best.min(g + (r.1 - l.1).abs());
+            }
+        }
+        best
+    }
+
+    /// The effective level `L = 1/max γ` of the hardware pattern for `inner`, `outer`:
+    /// every sub-triangle has `r² ≤ K_W/L²` (and diameter `≤ D_W/L`) under every map `W`.
+    fn pattern_level_exact(facets: &[[f64; 3]], inner: u32, outer: [u32; 3]) -> f64 {
+        let p = triangle_pattern(inner as f32, outer.map(|o| o as f32));
+        let worst = p
+            .triangles
+            .iter()
+            .map(|t| triangle_gauge(facets, t.map(|v| p.vertices[v as usize])))
+            .fold(0.0, f64::max);
+        1.0 / worst
+    }
+
+    /// The table entry: the effective level rounded down to a multiple of 1/256 (values within
+    /// 10⁻⁶/256 below a multiple count as it: f64 noise of the gauge, far inside `SAFETY`),
+    /// and at least 1: every sub-triangle lies inside the patch, whose radius is `√K₁ ≤ √K`.
+    fn quantised(level: f64) -> u32 {
+        ((level * 256.0 + 1e-6).floor() as u32).max(256)
+    }
+
+    /// The packed table equals the levels measured on the driver's patterns (a sample of
+    /// inner × outer levels; the full table is the same computation for all 64 × 64).
+    #[test]
+    fn pattern_level_table_matches_the_driver_patterns() {
+        let facets = hull_facets(&frame_points());
+        let levels = [1u32, 2, 3, 4, 5, 8, 13, 16, 31, 64];
+        for &inner in &levels {
+            for &outer in &levels {
+                let expected = quantised(pattern_level_exact(&facets, inner, [outer; 3]));
+                let table = (pattern_level(inner, outer) * 256.0).round() as u32;
+                assert_eq!(table, expected, "inner {inner}, outer {outer}");
+            }
+        }
+    }
+
+    // ----- robustness -----
+
+    fn sane(e: &Estimate, n_max: u32, what: &str) {
+        assert!(e.n >= 1 && e.n <= n_max, "{what}: n = {}", e.n);
+        assert!(
+            e.predicted_error.is_finite() && e.predicted_error >= 0.0,
+            "{what}: predicted {}",
+            e.predicted_error
+        );
+        assert!(e.terms.iter().all(|t| t.is_finite() && *t >= 0.0), "{what}: terms {:?}", e.terms);
+        assert_eq!(e.fallback, e.reason != Reason::None, "{what}");
+        if e.fallback {
+            assert_eq!(e.n, 1, "{what}");
+        }
+    }
+
+    fn base() -> TriangleInput {
+        TriangleInput {
+            positions: [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.3, 0.8, 0.0)],
+            normals: [
+                Vec3::new(-0.1, -0.05, 1.0).normalize(),
+                Vec3::new(0.1, -0.05, 1.0).normalize(),
+                Vec3::new(0.0, 0.1, 1.0).normalize(),
+            ],
+            eye: Vec3::new(0.4, -1.0, 3.0),
+        }
+    }
+
+    fn materials() -> Vec<MaterialKind> {
+        vec![
+            MaterialKind::Lambert { kd: Vec3::new(0.8, 0.5, 0.2) },
+            MaterialKind::BlinnPhong { kd: Vec3::splat(0.4), ks: Vec3::splat(0.6), shininess: 1.0 },
+            MaterialKind::BlinnPhong { kd: Vec3::splat(0.4), ks: Vec3::splat(0.6), shininess: 60.0 },
+            MaterialKind::BlinnPhong { kd: Vec3::splat(0.4), ks: Vec3::splat(0.6), shininess: 1.0e4 },
+            MaterialKind::Ggx { albedo: Vec3::splat(0.5), f0: Vec3::new(0.04, 0.5, 1.0), roughness: 0.0 },
+            MaterialKind::Ggx { albedo: Vec3::splat(0.5), f0: Vec3::splat(0.04), roughness: 0.5 },
+            MaterialKind::Ggx { albedo: Vec3::splat(0.5), f0: Vec3::splat(0.9), roughness: 1.0 },
+        ]
+    }
+
+    fn point(p: Vec3) -> Light {
+        Light::Point { position: p, color: Vec3::new(1.0, 0.9, 0.8), intensity: 4.0 }
+    }
+
+    fn sun(d: Vec3) -> Light {
+        Light::Directional { direction: d.normalize(), color: Vec3::ONE, intensity: 2.0 }
+    }
+
+    fn light_sets(t: &TriangleInput) -> Vec<(&'static str, Vec<Light>)> {
+        let c = (t.positions[0] + t.positions[1] + t.positions[2]) / 3.0;
+        let size = (t.positions[1] - t.positions[0]).length().max(1e-30);
+        vec![
+            ("point above", vec![point(c + Vec3::new(0.1, 0.2, 1.0) * size)]),
+            ("sun", vec![sun(Vec3::new(0.2, 0.3, -1.0))]),
+            ("grazing sun", vec![sun(Vec3::new(1.0, 0.0, -0.02))]),
+            ("sun in the plane", vec![sun(Vec3::new(1.0, 0.3, 0.0))]),
+            ("back-facing sun", vec![sun(Vec3::new(0.0, 0.2, 1.0))]),
+            ("light at a vertex", vec![point(t.positions[1])]),
+            ("light on the surface", vec![point(c)]),
+            ("light just above", vec![point(c + Vec3::Z * 1e-3 * size)]),
+            ("far point", vec![point(c + Vec3::new(3.0, 1.0, 1e4) * size)]),
+            (
+                "dark light at a vertex",
+                vec![Light::Point { position: t.positions[0], color: Vec3::ONE, intensity: 0.0 }],
+            ),
+            (
+                "three lights",
+                vec![
+                    point(c + Vec3::new(-1.0, 0.0, 2.0) * size),
+                    sun(Vec3::new(0.0, 0.0, -1.0)),
+                    sun(Vec3::new(0.0, 1.0, 0.3)),
+                ],
+            ),
+        ]
+    }
+
+    fn triangles() -> Vec<(&'static str, TriangleInput)> {
+        let b = base();
+        let mut out = vec![("base", b)];
+        let mut t = b;
+        t.positions[2] = t.positions[0].lerp(t.positions[1], 0.3);
+        out.push(("zero area", t));
+        let mut t = b;
+        t.positions = [Vec3::new(0.2, 0.1, 0.0); 3];
+        out.push(("a point", t));
+        let mut t = b;
+        t.positions[2] = Vec3::new(0.5, 1e-5, 0.0);
+        out.push(("needle", t));
+        let mut t = b;
+        t.normals = [Vec3::Z; 3];
+        out.push(("identical normals", t));
+        let mut t = b;
+        t.normals = [Vec3::Z, -Vec3::Z, Vec3::X];
+        out.push(("opposite normals", t));
+        let mut t = b;
+        let r = |a: f32| Vec3::new(a.cos(), a.sin(), 0.0);
+        t.normals = [r(0.0), r(2.094_395), r(4.188_79)];
+        out.push(("120 degrees in a plane", t));
+        let mut t = b;
+        t.normals = [Vec3::ZERO, Vec3::Z, Vec3::Z];
+        out.push(("a zero normal", t));
+        let mut t = b;
+        t.normals = [b.normals[0] * 3.0, b.normals[1] * 0.2, b.normals[2]];
+        out.push(("unnormalised normals", t));
+        let mut t = b;
+        t.normals = [
+            Vec3::new(0.7, 0.0, 0.7).normalize(),
+            Vec3::new(-0.7, 0.0, 0.7).normalize(),
+            Vec3::new(0.0, 0.7, 0.7).normalize(),
+        ];
+        out.push(("strongly curved", t));
+        let mut t = b;
+        t.eye = (b.positions[0] + b.positions[1] + b.positions[2]) / 3.0;
+        out.push(("eye on the surface", t));
+        let mut t = b;
+        t.eye = b.positions[0] + Vec3::new(5.0, 0.0, 0.0);
+        out.push(("eye in the plane", t));
+        for (name, scale, offset) in [
+            ("at 1e6", 1.0, 1.0e6),
+            ("size 1e6", 1.0e6, 0.0),
+            ("size 1e-6", 1.0e-6, 0.0),
+            ("1e-6 at 1e3", 1.0e-6, 1.0e3),
+        ] {
+            let mut t = b;
+            t.positions = b.positions.map(|p| p * scale + Vec3::splat(offset));
+            t.eye = b.eye * scale + Vec3::splat(offset);
+            out.push((name, t));
+        }
+        out
+    }
+
+    fn all_settings(eps: f32) -> Vec<EstimatorSettings> {
+        let mut v = Vec::new();
+        for split in [Split::Uniform, Split::Heuristic] {
+            for discontinuity in [Discontinuity::Conservative, Discontinuity::Relaxed] {
+                v.push(EstimatorSettings { epsilon: eps, n_max: 16, split, discontinuity });
+            }
+        }
+        v
+    }
+
+    #[test]
+    fn never_nan_never_out_of_range() {
+        let epsilons = [0.0, -1.0, f32::NAN, f32::INFINITY, 1.0e-30, 1.0e-6, 0.075, 1.0, 1.0e6];
+        let mut count = 0;
+        for (tname, t) in triangles() {
+            for (lname, lights) in light_sets(&t) {
+                for m in materials() {
+                    for &eps in &epsilons {
+                        for s in all_settings(eps) {
+                            let e = estimate(&t, &m, &lights, &s);
+                            sane(&e, 16, &format!("{tname} / {lname} / {m:?} / {s:?}"));
+                            count += 1;
+                        }
+                    }
+                }
+            }
+        }
+        // n_max outside 1..=64 is clamped.
+        for n_max in [0, 1, 64, 1000] {
+            let s = EstimatorSettings { n_max, ..EstimatorSettings::default() };
+            let e = estimate(&base(), &materials()[0], &light_sets(&base())[0].1, &s);
+            sane(&e, n_max.clamp(1, 64), "n_max");
+        }
+        assert!(count > 10_000);
+    }
+
+    fn est(t: &TriangleInput, m: &MaterialKind, lights: &[Light], eps: f32) -> Estimate {
+        estimate(t, m, lights, &EstimatorSettings { epsilon: eps, ..EstimatorSettings::default() })
+    }
+
+    #[test]
+    fn extremes_behave() {
+        let lam = materials()[0];
+        let b = base();
+        let c = (b.positions[0] + b.positions[1] + b.positions[2]) / 3.0;
+        // A light behind the surface everywhere adds nothing.
+        let e = est(&b, &lam, &[sun(Vec3::new(0.0, 0.2, 1.0))], 1e-9);
+        assert!(!e.fallback && e.n == 1 && e.predicted_error == 0.0, "{e:?}");
+        // A light touching the triangle, zero or opposite normals: singular.
+        for lights in [vec![point(b.positions[1])], vec![point(c)]] {
+            assert_eq!(est(&b, &lam, &lights, 0.1).reason, Reason::Singular);
+        }
+        let tris = triangles();
+        for name in ["opposite normals", "120 degrees in a plane", "a zero normal"] {
+            let t = tris.iter().find(|(n, _)| *n == name).unwrap().1;
+            assert_eq!(est(&t, &lam, &[point(c + Vec3::Z)], 0.1).reason, Reason::Singular, "{name}");
+        }
+        // ...unless the light is dark.
+        let dark = [Light::Point { position: b.positions[0], color: Vec3::ONE, intensity: 0.0 }];
+        assert_eq!(est(&b, &lam, &dark, 0.0).n, 1);
+        // Flat shading: exactly n = 1 even for ε = 0.
+        let mut flat = b;
+        flat.normals = [Vec3::Z; 3];
+        let e = est(&flat, &lam, &[sun(-Vec3::Z)], 0.0);
+        assert!(!e.fallback && e.n == 1 && e.predicted_error == 0.0, "{e:?}");
+        // ε = 0 with varying shading: no level suffices.
+        assert_eq!(est(&b, &lam, &[point(c + Vec3::Z)], 0.0).reason, Reason::Level);
+        // Huge ε: level 1.
+        for m in materials() {
+            let e = est(&b, &m, &[point(c + Vec3::new(0.2, 0.1, 2.0))], 1.0e6);
+            assert!(!e.fallback && e.n == 1, "{m:?} {e:?}");
+        }
+        // A terminator through the triangle: Conservative falls back, Relaxed need not.
+        let mut curved = b;
+        curved.normals =
+            [Vec3::new(0.7, 0.0, 0.7).normalize(), Vec3::new(-0.7, 0.0, 0.7).normalize(), Vec3::Z];
+        let grazing = [sun(Vec3::new(-1.0, 0.0, -0.1))];
+        assert_eq!(est(&curved, &lam, &grazing, 0.5).reason, Reason::Discontinuity);
+        let relaxed = EstimatorSettings {
+            epsilon: 0.5,
+            discontinuity: Discontinuity::Relaxed,
+            ..EstimatorSettings::default()
+        };
+        let e = estimate(&curved, &lam, &grazing, &relaxed);
+        assert!(!e.fallback, "{e:?}");
+        assert!(e.term(Term::Terminator) > 0.0);
+        // The sharpest lobes over a curved triangle at the highlight need more than n_max.
+        let bp = MaterialKind::BlinnPhong { kd: Vec3::ZERO, ks: Vec3::ONE, shininess: 1.0e4 };
+        let ggx = MaterialKind::Ggx { albedo: Vec3::ZERO, f0: Vec3::ONE, roughness: 0.0 };
+        let over = [point(Vec3::new(0.4, 1.0, 3.0))];
+        assert!(est(&curved, &bp, &over, 0.075).fallback);
+        assert!(est(&curved, &ggx, &over, 0.075).fallback);
+        // Uniform never asks for less than Heuristic; smaller ε never for less.
+        for m in materials() {
+            let l = [point(c + Vec3::new(0.3, 0.2, 1.5))];
+            let h = est(&b, &m, &l, 0.02);
+            let u = estimate(
+                &b,
+                &m,
+                &l,
+                &EstimatorSettings { epsilon: 0.02, split: Split::Uniform, ..EstimatorSettings::default() },
+            );
+            if !h.fallback && !u.fallback {
+                assert!(u.n >= h.n, "{m:?}");
+            }
+            let mut last = 0;
+            for eps in [1.0, 0.3, 0.1, 0.03, 0.01, 0.003] {
+                let e = est(&b, &m, &l, eps);
+                let n = if e.fallback { 99 } else { e.n };
+                assert!(n >= last, "{m:?} eps {eps}");
+                last = n;
+            }
+        }
+    }
+
+    #[test]
+    fn bilinear_range_is_exact() {
+        // q(λ) = (Σλa)·(Σλb) sampled densely against the closed form.
+        let mut rng = Rng(12345);
+        for _ in 0..200 {
+            let mut v = || Vec3::new(rng.f() as f32 - 0.5, rng.f() as f32 - 0.5, rng.f() as f32 - 0.5);
+            let a = [v(), v(), v()];
+            let b = [v(), v(), v()];
+            let (lo, hi) = bilinear_range(a, b);
+            let (mut slo, mut shi) = (f32::MAX, f32::MIN);
+            for i in 0..=60 {
+                for j in 0..=(60 - i) {
+                    let l = [i as f32 / 60.0, j as f32 / 60.0, (60 - i - j) as f32 / 60.0];
+                    let q = (a[0] * l[0] + a[1] * l[1] + a[2] * l[2])
+                        .dot(b[0] * l[0] + b[1] * l[1] + b[2] * l[2]);
+                    slo = slo.min(q);
+                    shi = shi.max(q);
+                }
+            }
+            assert!(lo <= slo + 1e-5 && hi >= shi - 1e-5, "{lo} {slo} {hi} {shi}");
+            assert!(slo - lo < 2e-3 && hi - shi < 2e-3, "not tight: {lo} {slo} {hi} {shi}");
+        }
+    }
+
+    #[test]
+    fn cones_contain_their_vectors() {
+        let mut rng = Rng(777);
+        for _ in 0..500 {
+            let spread = rng.f() as f32;
+            let base = Vec3::new(rng.f() as f32 - 0.5, rng.f() as f32 - 0.5, rng.f() as f32 - 0.5)
+                .normalize_or(Vec3::Z);
+            let w: [Vec3; 3] = std::array::from_fn(|_| {
+                (base + Vec3::new(rng.f() as f32 - 0.5, rng.f() as f32 - 0.5, rng.f() as f32 - 0.5) * spread)
+                    * (0.5 + rng.f() as f32)
+            });
+            let cone = cone_of(w);
+            if cone.half >= PI {
+                continue;
+            }
+            let r = min_length(w, &cone);
+            for i in 0..=20 {
+                for j in 0..=(20 - i) {
+                    let l = [i as f32 / 20.0, j as f32 / 20.0, (20 - i - j) as f32 / 20.0];
+                    let x = w[0] * l[0] + w[1] * l[1] + w[2] * l[2];
+                    assert!(angle(x, cone.axis) <= cone.half, "outside the cone");
+                    assert!(x.length() >= r * (1.0 - 1e-5), "shorter than the bound");
+                    let d = hull_distance(cone.axis, w.map(unit));
+                    assert!(d <= angle(x, cone.axis) + 1e-6);
+                }
+            }
+        }
     }
 }

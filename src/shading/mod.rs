@@ -18,9 +18,7 @@ pub fn reflect_one_light(n: Vec3, l: Vec3, v: Vec3, material: &MaterialKind) -> 
     let n_dot_h = n.dot(h).max(0.0);
     match *material {
         MaterialKind::Lambert { kd } => kd * n_dot_l,
-        MaterialKind::BlinnPhong { kd, ks, shininess } => {
-            kd * n_dot_l + ks * n_dot_h.powf(shininess)
-        }
+        MaterialKind::BlinnPhong { kd, ks, shininess } => kd * n_dot_l + ks * n_dot_h.powf(shininess),
         MaterialKind::Ggx { albedo, f0, roughness } => {
             let alpha = ggx_alpha(roughness);
             let k = 0.5 * alpha;

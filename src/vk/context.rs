@@ -134,20 +134,19 @@ impl Context {
         };
 
         // SAFETY: plain queries on a loaded entry.
-        let layers = unsafe { entry.enumerate_instance_layer_properties() }
-            .while_("listing instance layers")?;
-        let has_validation_layer = layers
-            .iter()
-            .any(|l| l.layer_name_as_c_str().is_ok_and(|n| n == VALIDATION_LAYER));
+        let layers =
+            unsafe { entry.enumerate_instance_layer_properties() }.while_("listing instance layers")?;
+        let has_validation_layer =
+            layers.iter().any(|l| l.layer_name_as_c_str().is_ok_and(|n| n == VALIDATION_LAYER));
         if options.validate && !has_validation_layer {
             return Err(Error::ValidationLayerMissing);
         }
         // SAFETY: plain query on a loaded entry.
         let available_extensions = unsafe { entry.enumerate_instance_extension_properties(None) }
             .while_("listing instance extensions")?;
-        let has_debug_utils = available_extensions.iter().any(|e| {
-            e.extension_name_as_c_str().is_ok_and(|n| n == ash::ext::debug_utils::NAME)
-        });
+        let has_debug_utils = available_extensions
+            .iter()
+            .any(|e| e.extension_name_as_c_str().is_ok_and(|n| n == ash::ext::debug_utils::NAME));
 
         let mut extensions: Vec<*const i8> = Vec::new();
         if has_debug_utils {
@@ -170,8 +169,7 @@ impl Context {
         let validation = Arc::new(ValidationLog::default());
         let mut messenger_info = vk::DebugUtilsMessengerCreateInfoEXT::default()
             .message_severity(
-                vk::DebugUtilsMessageSeverityFlagsEXT::WARNING
-                    | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
+                vk::DebugUtilsMessageSeverityFlagsEXT::WARNING | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
             )
             .message_type(
                 vk::DebugUtilsMessageTypeFlagsEXT::GENERAL
@@ -189,8 +187,8 @@ impl Context {
             instance_info = instance_info.push_next(&mut messenger_info);
         }
         // SAFETY: every pointer in `instance_info` refers to locals that outlive the call.
-        let instance = unsafe { entry.create_instance(&instance_info, None) }
-            .while_("creating the Vulkan instance")?;
+        let instance =
+            unsafe { entry.create_instance(&instance_info, None) }.while_("creating the Vulkan instance")?;
 
         let (debug_instance, messenger) = if has_debug_utils {
             let debug = ash::ext::debug_utils::Instance::new(&entry, &instance);
@@ -206,8 +204,7 @@ impl Context {
             (None, vk::DebugUtilsMessengerEXT::null())
         };
 
-        let surface_instance =
-            display.map(|_| ash::khr::surface::Instance::new(&entry, &instance));
+        let surface_instance = display.map(|_| ash::khr::surface::Instance::new(&entry, &instance));
         let surface = match window {
             Some(w) => Some(w.create_surface(&entry, &instance)?),
             None => None,
@@ -256,18 +253,14 @@ impl Context {
             .geometry_shader(features.geometry_shader)
             .vertex_pipeline_stores_and_atomics(features.vertex_pipeline_stores)
             .fragment_stores_and_atomics(supported.fragment_stores_and_atomics == vk::TRUE);
-        let mut vulkan13 = vk::PhysicalDeviceVulkan13Features::default()
-            .dynamic_rendering(true)
-            .synchronization2(true);
+        let mut vulkan13 =
+            vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(true).synchronization2(true);
         let priorities = [1.0f32];
         let queue_info = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(chosen.queue_family)
             .queue_priorities(&priorities)];
-        let device_extensions: Vec<*const i8> = if surface.is_some() {
-            vec![ash::khr::swapchain::NAME.as_ptr()]
-        } else {
-            Vec::new()
-        };
+        let device_extensions: Vec<*const i8> =
+            if surface.is_some() { vec![ash::khr::swapchain::NAME.as_ptr()] } else { Vec::new() };
         let device_info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queue_info)
             .enabled_extension_names(&device_extensions)
@@ -362,8 +355,7 @@ impl Context {
         // SAFETY: the pool is guarded by the mutex for the whole recording and wait.
         let cmd = unsafe { self.device.allocate_command_buffers(&alloc_info) }
             .while_("allocating a one-shot command buffer")?[0];
-        let begin =
-            vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+        let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
         // SAFETY: freshly allocated command buffer.
         unsafe { self.device.begin_command_buffer(cmd, &begin) }.while_("beginning commands")?;
         record(cmd);
@@ -429,10 +421,8 @@ impl<W: HasDisplayHandle + HasWindowHandle> WindowHandles for W {
     }
 
     fn create_surface(&self, entry: &ash::Entry, instance: &ash::Instance) -> Result<vk::SurfaceKHR> {
-        let window = self
-            .window_handle()
-            .map_err(|e| Error::Window(format!("no window handle: {e}")))?
-            .as_raw();
+        let window =
+            self.window_handle().map_err(|e| Error::Window(format!("no window handle: {e}")))?.as_raw();
         // SAFETY: the handles come from a live window that outlives the surface (the viewer
         // destroys the swapchain and surface before the window).
         unsafe { ash_window::create_surface(entry, instance, self.display()?, window, None) }
@@ -446,8 +436,7 @@ fn pick_device(
     wanted_name: Option<&str>,
 ) -> Result<Candidate> {
     // SAFETY: plain query on a valid instance.
-    let devices = unsafe { instance.enumerate_physical_devices() }
-        .while_("listing physical devices")?;
+    let devices = unsafe { instance.enumerate_physical_devices() }.while_("listing physical devices")?;
     let mut rejected = Vec::new();
     let mut best: Option<Candidate> = None;
     for device in devices {
@@ -459,10 +448,8 @@ fn pick_device(
                 instance.get_physical_device_queue_family_properties(device),
             )
         };
-        let name = properties
-            .device_name_as_c_str()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
+        let name =
+            properties.device_name_as_c_str().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
         if let Some(wanted) = wanted_name {
             if !name.to_lowercase().contains(&wanted.to_lowercase()) {
                 rejected.push(format!("{name}: not the requested device \"{wanted}\""));
@@ -477,10 +464,8 @@ fn pick_device(
             let graphics = family.queue_flags.contains(vk::QueueFlags::GRAPHICS);
             let present = surface.is_none_or(|(loader, surface)| {
                 // SAFETY: valid device, family index and surface.
-                unsafe {
-                    loader.get_physical_device_surface_support(device, index as u32, surface)
-                }
-                .unwrap_or(false)
+                unsafe { loader.get_physical_device_surface_support(device, index as u32, surface) }
+                    .unwrap_or(false)
             });
             graphics && present
         });
@@ -500,7 +485,9 @@ fn pick_device(
     }
     best.ok_or_else(|| {
         if rejected.is_empty() {
-            Error::NoDevice("the Vulkan loader found no device (Debian: install mesa-vulkan-drivers for lavapipe)".into())
+            Error::NoDevice(
+                "the Vulkan loader found no device (Debian: install mesa-vulkan-drivers for lavapipe)".into(),
+            )
         } else {
             Error::NoDevice(rejected.join("; "))
         }
@@ -540,10 +527,8 @@ fn device_info_of(
         instance.get_physical_device_properties2(device, &mut properties2);
         instance.get_physical_device_queue_family_properties(device)
     };
-    let name = properties
-        .device_name_as_c_str()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
+    let name =
+        properties.device_name_as_c_str().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let driver_name = driver.driver_name_as_c_str().map(|n| n.to_string_lossy().into_owned());
     let driver_info = driver.driver_info_as_c_str().map(|n| n.to_string_lossy().into_owned());
     let api = properties.api_version;
@@ -559,9 +544,7 @@ fn device_info_of(
             vk::api_version_patch(api)
         ),
         timestamp_period_ns: properties.limits.timestamp_period,
-        timestamp_valid_bits: families
-            .get(queue_family as usize)
-            .map_or(0, |f| f.timestamp_valid_bits),
+        timestamp_valid_bits: families.get(queue_family as usize).map_or(0, |f| f.timestamp_valid_bits),
         max_tessellation_level: properties.limits.max_tessellation_generation_level,
     }
 }
@@ -572,7 +555,8 @@ mod tests {
 
     #[test]
     fn a_device_without_tessellation_is_rejected_with_the_reason() {
-        let properties = vk::PhysicalDeviceProperties { api_version: vk::API_VERSION_1_3, ..Default::default() };
+        let properties =
+            vk::PhysicalDeviceProperties { api_version: vk::API_VERSION_1_3, ..Default::default() };
         let mut features = vk::PhysicalDeviceFeatures::default();
         let reason = unsuitability(&properties, &features).expect("rejected");
         assert!(reason.contains("tessellationShader"), "{reason}");

@@ -34,17 +34,15 @@ impl Buffer {
         let raw = unsafe { device.create_buffer(&info, None) }.while_("creating a buffer")?;
         // SAFETY: `raw` is a live buffer of this device.
         let requirements = unsafe { device.get_buffer_memory_requirements(raw) };
-        let allocation = context
-            .allocator
-            .lock()
-            .expect("allocator lock is never poisoned")
-            .allocate(&AllocationCreateDesc {
+        let allocation = context.allocator.lock().expect("allocator lock is never poisoned").allocate(
+            &AllocationCreateDesc {
                 name,
                 requirements,
                 location,
                 linear: true,
                 allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-            });
+            },
+        );
         let allocation = match allocation {
             Ok(allocation) => allocation,
             Err(source) => {
@@ -106,9 +104,7 @@ impl Buffer {
         let ptr = allocation.mapped_ptr().expect("write() needs a host-visible buffer");
         assert!(bytes.len() as u64 <= self.size, "write past the end of the buffer");
         // SAFETY: the mapping is at least `size` bytes long and not aliased by any reference.
-        unsafe {
-            std::ptr::copy_nonoverlapping(bytes.as_ptr(), ptr.as_ptr().cast::<u8>(), bytes.len())
-        };
+        unsafe { std::ptr::copy_nonoverlapping(bytes.as_ptr(), ptr.as_ptr().cast::<u8>(), bytes.len()) };
     }
 }
 
@@ -158,17 +154,15 @@ impl Image {
         let raw = unsafe { device.create_image(&info, None) }.while_("creating an image")?;
         // SAFETY: `raw` is a live image of this device.
         let requirements = unsafe { device.get_image_memory_requirements(raw) };
-        let allocation = context
-            .allocator
-            .lock()
-            .expect("allocator lock is never poisoned")
-            .allocate(&AllocationCreateDesc {
+        let allocation = context.allocator.lock().expect("allocator lock is never poisoned").allocate(
+            &AllocationCreateDesc {
                 name,
                 requirements,
                 location: MemoryLocation::GpuOnly,
                 linear: false,
                 allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-            });
+            },
+        );
         let allocation = match allocation {
             Ok(allocation) => allocation,
             Err(source) => {
@@ -195,8 +189,8 @@ impl Image {
             .format(format)
             .subresource_range(subresource_range(aspect));
         // SAFETY: the image is bound; the view is destroyed in `Drop` before the image.
-        image.view = unsafe { device.create_image_view(&view_info, None) }
-            .while_("creating an image view")?;
+        image.view =
+            unsafe { device.create_image_view(&view_info, None) }.while_("creating an image view")?;
         context.name(raw, name);
         context.name(image.view, &format!("{name} view"));
         Ok(image)

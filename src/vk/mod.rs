@@ -5,5 +5,6 @@ pub mod memory;
 pub mod pipeline;
 pub mod swapchain;
 pub mod target;
+pub mod timing;
 
 pub use context::{Context, ContextOptions};

@@ -60,8 +60,8 @@ impl ShaderModule {
         let words = crate::shaders::words(spirv);
         let info = vk::ShaderModuleCreateInfo::default().code(&words);
         // SAFETY: `words` is SPIR-V produced by build.rs; destroyed in `Drop`.
-        let raw = unsafe { context.device.create_shader_module(&info, None) }
-            .while_("creating a shader module")?;
+        let raw =
+            unsafe { context.device.create_shader_module(&info, None) }.while_("creating a shader module")?;
         context.name(raw, name);
         Ok(ShaderModule { context: context.clone(), raw })
     }
@@ -183,13 +183,10 @@ impl Pipeline {
         let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
             .vertex_binding_descriptions(desc.vertex_bindings)
             .vertex_attribute_descriptions(desc.vertex_attributes);
-        let input_assembly =
-            vk::PipelineInputAssemblyStateCreateInfo::default().topology(desc.topology);
+        let input_assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(desc.topology);
         let tessellation = vk::PipelineTessellationStateCreateInfo::default()
             .patch_control_points(desc.patch_control_points.unwrap_or(0));
-        let viewport = vk::PipelineViewportStateCreateInfo::default()
-            .viewport_count(1)
-            .scissor_count(1);
+        let viewport = vk::PipelineViewportStateCreateInfo::default().viewport_count(1).scissor_count(1);
         let rasterization = vk::PipelineRasterizationStateCreateInfo::default()
             .rasterizer_discard_enable(desc.rasterizer_discard)
             .polygon_mode(desc.polygon_mode)
@@ -202,8 +199,9 @@ impl Pipeline {
             .depth_test_enable(desc.depth_format.is_some())
             .depth_write_enable(desc.depth_format.is_some())
             .depth_compare_op(vk::CompareOp::LESS);
-        let blend_attachment = [vk::PipelineColorBlendAttachmentState::default()
-            .color_write_mask(vk::ColorComponentFlags::RGBA)];
+        let blend_attachment =
+            [vk::PipelineColorBlendAttachmentState::default()
+                .color_write_mask(vk::ColorComponentFlags::RGBA)];
         let attachment_count = usize::from(desc.color_format.is_some());
         let blend = vk::PipelineColorBlendStateCreateInfo::default()
             .attachments(&blend_attachment[..attachment_count]);
@@ -229,11 +227,10 @@ impl Pipeline {
             info = info.tessellation_state(&tessellation);
         }
         // SAFETY: every pointer in `info` refers to locals alive for the call.
-        let raw = unsafe {
-            context.device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
-        }
-        .map_err(|(_, result)| result)
-        .while_("creating a graphics pipeline")?[0];
+        let raw =
+            unsafe { context.device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) }
+                .map_err(|(_, result)| result)
+                .while_("creating a graphics pipeline")?[0];
         context.name(raw, desc.name);
         Ok(Pipeline { context: context.clone(), raw })
     }
@@ -270,9 +267,7 @@ impl DescriptorPool {
     /// Allocates one set of `layout`.
     pub fn allocate(&self, layout: vk::DescriptorSetLayout) -> Result<vk::DescriptorSet> {
         let layouts = [layout];
-        let info = vk::DescriptorSetAllocateInfo::default()
-            .descriptor_pool(self.raw)
-            .set_layouts(&layouts);
+        let info = vk::DescriptorSetAllocateInfo::default().descriptor_pool(self.raw).set_layouts(&layouts);
         // SAFETY: pool and layout are live.
         Ok(unsafe { self.context.device.allocate_descriptor_sets(&info) }
             .while_("allocating a descriptor set")?[0])

@@ -34,10 +34,9 @@ impl Swapchain {
         let loader = ash::khr::swapchain::Device::new(&context.instance, &context.device);
         let surface_instance = context.surface_instance.as_ref().expect("windowed context");
         // SAFETY: plain queries on a live surface.
-        let formats = unsafe {
-            surface_instance.get_physical_device_surface_formats(context.physical_device, surface)
-        }
-        .while_("listing surface formats")?;
+        let formats =
+            unsafe { surface_instance.get_physical_device_surface_formats(context.physical_device, surface) }
+                .while_("listing surface formats")?;
         let format = formats
             .iter()
             .copied()
@@ -75,15 +74,16 @@ impl Swapchain {
         let surface_instance = context.surface_instance.as_ref().expect("windowed context");
         // SAFETY: plain query on a live surface.
         let capabilities = unsafe {
-            surface_instance
-                .get_physical_device_surface_capabilities(context.physical_device, self.surface)
+            surface_instance.get_physical_device_surface_capabilities(context.physical_device, self.surface)
         }
         .while_("querying surface capabilities")?;
         let extent = if capabilities.current_extent.width != u32::MAX {
             capabilities.current_extent
         } else {
             vk::Extent2D {
-                width: size.width.clamp(capabilities.min_image_extent.width, capabilities.max_image_extent.width),
+                width: size
+                    .width
+                    .clamp(capabilities.min_image_extent.width, capabilities.max_image_extent.width),
                 height: size
                     .height
                     .clamp(capabilities.min_image_extent.height, capabilities.max_image_extent.height),
@@ -134,8 +134,9 @@ impl Swapchain {
                 .while_("creating a swapchain image view")?;
             self.views.push(view);
             // SAFETY: plain semaphore creation.
-            let semaphore = unsafe { context.device.create_semaphore(&vk::SemaphoreCreateInfo::default(), None) }
-                .while_("creating a semaphore")?;
+            let semaphore =
+                unsafe { context.device.create_semaphore(&vk::SemaphoreCreateInfo::default(), None) }
+                    .while_("creating a semaphore")?;
             self.render_finished.push(semaphore);
             context.name(image, &format!("swapchain image {index}"));
         }

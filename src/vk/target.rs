@@ -91,7 +91,8 @@ impl RenderTarget {
             (
                 vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
                 vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
-                vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ,
+                vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE
+                    | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ,
             ),
         );
         let color_attachment = [vk::RenderingAttachmentInfo::default()
@@ -207,8 +208,7 @@ impl RenderTarget {
             unsafe { context.device.cmd_pipeline_barrier2(cmd, &dependency) };
         })?;
         let bytes = readback.mapped().expect("GpuToCpu memory is mapped");
-        let pixels: Vec<[f32; 4]> =
-            bytemuck::pod_collect_to_vec::<u8, [f32; 4]>(&bytes[..pixel_count * 16]);
+        let pixels: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec::<u8, [f32; 4]>(&bytes[..pixel_count * 16]);
         Ok(FloatImage { width: extent.width, height: extent.height, pixels })
     }
 }

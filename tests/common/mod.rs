@@ -79,12 +79,8 @@ pub fn ray_cast(scene: &Scene, origin: Vec3, direction: Vec3) -> Option<Hit> {
             }
             let t = e2.dot(q) * inv;
             if t > 0.0 && best.is_none_or(|h| t < h.distance) {
-                best = Some(Hit {
-                    distance: t,
-                    mesh: mesh_index,
-                    triangle,
-                    barycentric: [1.0 - u - v, u, v],
-                });
+                best =
+                    Some(Hit { distance: t, mesh: mesh_index, triangle, barycentric: [1.0 - u - v, u, v] });
             }
         }
     }

@@ -1,0 +1,197 @@
+//! `multirate analyze`: per visible triangle, the estimator's levels (each term's and the
+//! final one, as the TCS chooses them, shared edges included) and optionally the oracle's
+//! truth on the pattern the driver really emits.
+
+use super::oracle::{oracle_level, true_error, vertices_at_level};
+use super::tessellator::triangle_pattern;
+use crate::render::camera::view_projection;
+use crate::scene::adjacency::{adjacency_patches, PATCH_SIZE};
+use crate::scene::Scene;
+use crate::shading::estimator::{
+    estimate, patch_levels, Estimate, EstimatorSettings, PatchLevels, TriangleInput, TERM_NAMES,
+};
+use glam::Vec4;
+use std::fmt::Write as _;
+
+/// One analysed triangle.
+#[derive(Clone, Debug)]
+pub struct TriangleReport {
+    pub mesh: usize,
+    pub triangle: usize,
+    pub estimate: Estimate,
+    /// The levels the control stage writes for this patch (`patch_levels` of its own and
+    /// its three neighbours' `Estimate::level`), exactly as the GPU computes them.
+    pub levels: PatchLevels,
+    /// The level the patch is shaded at, as the control stage records it: 0 for per-pixel
+    /// fallback, else the (rounded-up) inner level.
+    pub patch_level: u32,
+    /// Outer levels as the control stage sets them, rounded up as the driver does.
+    pub outer: [u32; 3],
+    /// Smallest uniform level whose true error is ≤ ε (None: above n_max).
+    pub oracle_n: Option<u32>,
+    /// True L∞ error (max over channels) on the pattern the driver really emits for
+    /// `levels` (None for fallback patches).
+    pub true_error: Option<f64>,
+}
+
+/// Vertices (shading evaluations) of the pattern with these levels.
+pub fn pattern_vertices(levels: &PatchLevels) -> u64 {
+    triangle_pattern(levels.inner, levels.outer).vertices.len() as u64
+}
+
+/// Totals over the analysed triangles.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Summary {
+    pub triangles: usize,
+    pub fallbacks: usize,
+    /// Tessellated vertices the control stage's levels shade (fallback patches excluded),
+    /// shared-edge levels included.
+    pub estimator_evaluations: u64,
+    /// Tessellated vertices the oracle's levels would shade, over the same triangles.
+    pub oracle_evaluations: u64,
+    /// Tessellated triangles whose true error exceeds ε.
+    pub violations: usize,
+}
+
+/// Whether any part of the triangle may be inside the view frustum (no clip plane has all
+/// three vertices outside).
+fn in_frustum(clip: &[Vec4; 3]) -> bool {
+    let outside = |f: &dyn Fn(&Vec4) -> bool| clip.iter().all(f);
+    !(outside(&|c| c.x < -c.w)
+        || outside(&|c| c.x > c.w)
+        || outside(&|c| c.y < -c.w)
+        || outside(&|c| c.y > c.w)
+        || outside(&|c| c.z < 0.0)
+        || outside(&|c| c.z > c.w))
+}
+
+/// Which triangles to analyse.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Triangles {
+    /// Those in the camera's view frustum.
+    Visible,
+    /// All, in scene order (meshes in order): what the GPU's level records hold.
+    All,
+}
+
+/// Analyses the `which` triangles of `scene`; with `with_oracle` also the brute-force truth.
+pub fn analyze(
+    scene: &Scene,
+    settings: &EstimatorSettings,
+    which: Triangles,
+    with_oracle: bool,
+) -> Vec<TriangleReport> {
+    let view_proj = view_projection(&scene.camera, scene.settings.width, scene.settings.height);
+    let n_max = settings.n_max.clamp(1, 64);
+    let mut reports = Vec::new();
+    for (mesh_index, mesh) in scene.meshes.iter().enumerate() {
+        let material = &scene.materials[mesh.material].kind;
+        let input = |corners: &[u32]| TriangleInput {
+            positions: [0, 1, 2].map(|k| mesh.positions[corners[k] as usize]),
+            normals: [0, 1, 2].map(|k| mesh.normals[corners[k] as usize]),
+            eye: scene.camera.eye,
+        };
+        let patches = adjacency_patches(mesh);
+        for (triangle, patch) in patches.chunks_exact(PATCH_SIZE).enumerate() {
+            let clip = [0, 1, 2].map(|k| view_proj * mesh.positions[patch[k] as usize].extend(1.0));
+            if which == Triangles::Visible && !in_frustum(&clip) {
+                continue;
+            }
+            let own = input(&patch[0..3]);
+            let own_estimate = estimate(&own, material, &scene.lights, settings);
+            let neighbours = [0, 1, 2].map(|edge| {
+                estimate(&input(&patch[3 + 3 * edge..6 + 3 * edge]), material, &scene.lights, settings).level
+            });
+            let levels = patch_levels(own_estimate.level, neighbours, n_max);
+            let (oracle_n, true_err) = if with_oracle {
+                let oracle =
+                    oracle_level(&own, material, &scene.lights, settings.epsilon as f64, n_max, |n| {
+                        triangle_pattern(n as f32, [n as f32; 3])
+                    });
+                let error = (!levels.fallback).then(|| {
+                    let pattern = triangle_pattern(levels.inner, levels.outer);
+                    true_error(&own, material, &scene.lights, &pattern).into_iter().fold(0.0, f64::max)
+                });
+                (oracle, error)
+            } else {
+                (None, None)
+            };
+            reports.push(TriangleReport {
+                mesh: mesh_index,
+                triangle,
+                estimate: own_estimate,
+                levels,
+                patch_level: if levels.fallback { 0 } else { levels.inner.ceil() as u32 },
+                outer: levels.outer.map(|o| o.ceil() as u32),
+                oracle_n,
+                true_error: true_err,
+            });
+        }
+    }
+    reports
+}
+
+/// Totals of `reports` for threshold `epsilon`.
+pub fn summarize(reports: &[TriangleReport], epsilon: f32) -> Summary {
+    let mut summary = Summary { triangles: reports.len(), ..Summary::default() };
+    for report in reports {
+        if report.levels.fallback {
+            summary.fallbacks += 1;
+            continue;
+        }
+        summary.estimator_evaluations += pattern_vertices(&report.levels);
+        if let Some(n) = report.oracle_n {
+            summary.oracle_evaluations += vertices_at_level(n);
+        }
+        if report.true_error.is_some_and(|e| e > epsilon as f64) {
+            summary.violations += 1;
+        }
+    }
+    summary
+}
+
+/// The CSV of `reports`: one row per triangle, one column per estimator term.
+pub fn to_csv(reports: &[TriangleReport], with_oracle: bool) -> String {
+    let mut csv = String::from("mesh,triangle");
+    for name in TERM_NAMES {
+        let _ = write!(csv, ",n_{name}");
+    }
+    csv.push_str(",level,n,inner,outer0,outer1,outer2,fallback,reason,predicted_error");
+    if with_oracle {
+        csv.push_str(",oracle_n,true_error");
+    }
+    csv.push('\n');
+    for r in reports {
+        let _ = write!(csv, "{},{}", r.mesh, r.triangle);
+        for value in r.estimate.terms {
+            let _ = write!(csv, ",{value}");
+        }
+        // `reason` is the estimator's; `Mixed` marks a patch that falls back only because no
+        // inner level makes its transition strips fine enough.
+        let reason = if r.levels.fallback && !r.estimate.fallback {
+            "Mixed".to_string()
+        } else {
+            format!("{:?}", r.estimate.reason)
+        };
+        let _ = write!(
+            csv,
+            ",{},{},{},{},{},{},{},{},{}",
+            r.estimate.level,
+            r.estimate.n,
+            r.patch_level,
+            r.outer[0],
+            r.outer[1],
+            r.outer[2],
+            r.levels.fallback,
+            reason,
+            r.estimate.predicted_error
+        );
+        if with_oracle {
+            let oracle = r.oracle_n.map_or("above_n_max".to_string(), |n| n.to_string());
+            let error = r.true_error.map_or(String::new(), |e| e.to_string());
+            let _ = write!(csv, ",{oracle},{error}");
+        }
+        csv.push('\n');
+    }
+    csv
+}
