@@ -5,7 +5,7 @@
 mod common;
 
 use ash::vk;
-use common::{assert_validation_clean, repo_path, validated_context};
+use common::{assert_validation_clean, cracks, repo_path, validated_context};
 use multirate::render::{Mode, Renderer, View};
 use multirate::scene::Scene;
 use multirate::vk::target::{FloatImage, RenderTarget};
@@ -37,24 +37,6 @@ fn render_modes(relative: &str, modes: &[Mode]) -> Vec<FloatImage> {
 /// Pixels covered in one image and not the other.
 fn coverage_mismatches(a: &FloatImage, b: &FloatImage) -> usize {
     a.pixels.iter().zip(&b.pixels).filter(|(p, q)| p[3] != q[3]).count()
-}
-
-/// Cracks: pixels inside the reference's silhouette (the pixel and its 8 neighbours covered)
-/// that `image` leaves uncovered. Silhouette pixels are left out: there a sub-triangle's edge
-/// vertex, rounded, can move a pixel centre lying within rounding distance of the edge to the
-/// other side, which is not a hole.
-fn cracks(reference: &FloatImage, image: &FloatImage) -> usize {
-    let covered = |x: u32, y: u32| reference.pixel(x, y)[3] == 1.0;
-    let mut count = 0;
-    for y in 1..reference.height - 1 {
-        for x in 1..reference.width - 1 {
-            let interior = (0..3).all(|dy| (0..3).all(|dx| covered(x + dx - 1, y + dy - 1)));
-            if interior && image.pixel(x, y)[3] != 1.0 {
-                count += 1;
-            }
-        }
-    }
-    count
 }
 
 /// Largest and mean per-channel difference over pixels both cover.

@@ -8,7 +8,7 @@ use crate::error::{Error, Result};
 use crate::shaders;
 use crate::vk::memory::Buffer;
 use crate::vk::pipeline::{
-    DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderModule, Stage,
+    bind_storage_buffers, DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderModule, Stage,
 };
 use crate::vk::Context;
 use ash::vk;
@@ -85,23 +85,7 @@ impl TessellationCapture {
             &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 2 }],
         )?;
         let set = pool.allocate(layout.set_layouts[0])?;
-        let infos = [
-            [vk::DescriptorBufferInfo { buffer: coords.raw, offset: 0, range: vk::WHOLE_SIZE }],
-            [vk::DescriptorBufferInfo { buffer: triangles.raw, offset: 0, range: vk::WHOLE_SIZE }],
-        ];
-        let writes: Vec<_> = infos
-            .iter()
-            .enumerate()
-            .map(|(binding, info)| {
-                vk::WriteDescriptorSet::default()
-                    .dst_set(set)
-                    .dst_binding(binding as u32)
-                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                    .buffer_info(info)
-            })
-            .collect();
-        // SAFETY: the set and buffers are live and unused.
-        unsafe { context.device.update_descriptor_sets(&writes, &[]) };
+        bind_storage_buffers(context, set, &[coords.raw, triangles.raw]);
 
         let vert = ShaderModule::new(context, "capture.vert", shaders::CAPTURE_VERT)?;
         let tesc = ShaderModule::new(context, "capture.tesc", shaders::CAPTURE_TESC)?;

@@ -15,7 +15,8 @@ use crate::shaders;
 use crate::shading::estimator::{Discontinuity, Split};
 use crate::vk::memory::Buffer;
 use crate::vk::pipeline::{
-    DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderModule, Specialization, Stage,
+    bind_storage_buffers, DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderModule,
+    Specialization, Stage,
 };
 use crate::vk::target::{AfterPass, FloatImage, RenderTarget, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::vk::timing::{GpuTimer, PipelineStatistics};
@@ -324,24 +325,11 @@ impl Renderer {
             &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 3 }],
         )?;
         let descriptor_set = pool.allocate(layout.set_layouts[0])?;
-        let buffer_infos = [
-            [vk::DescriptorBufferInfo { buffer: light_buffer.raw, offset: 0, range: vk::WHOLE_SIZE }],
-            [vk::DescriptorBufferInfo { buffer: material_buffer.raw, offset: 0, range: vk::WHOLE_SIZE }],
-            [vk::DescriptorBufferInfo { buffer: level_buffer.raw, offset: 0, range: vk::WHOLE_SIZE }],
-        ];
-        let writes: Vec<vk::WriteDescriptorSet<'_>> = buffer_infos
-            .iter()
-            .enumerate()
-            .map(|(binding, info)| {
-                vk::WriteDescriptorSet::default()
-                    .dst_set(descriptor_set)
-                    .dst_binding(binding as u32)
-                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                    .buffer_info(info)
-            })
-            .collect();
-        // SAFETY: the set and buffers are live and not in use.
-        unsafe { context.device.update_descriptor_sets(&writes, &[]) };
+        bind_storage_buffers(
+            context,
+            descriptor_set,
+            &[light_buffer.raw, material_buffer.raw, level_buffer.raw],
+        );
 
         let modules = Modules {
             forward_vert: ShaderModule::new(context, "forward.vert", shaders::FORWARD_VERT)?,

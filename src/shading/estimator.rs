@@ -1300,8 +1300,15 @@ fn decide(sum: &Sums, eps: f32, n_max: u32, split: Split, reason: Reason) -> Est
         }
     };
     let level = if one_ok { 1.0 } else { need.max(1.0) };
-    { let mut mask = 0u32; for t in 0..TERM_COUNT { if sum.hn[t].max_element() > 0.0 || sum.h1[t].max_element() > 0.0 { mask |= 1 << t; } }
-      DEBUG.with(|d| d.set([mask as f32, relaxed_on as u32 as f32, range_on as u32 as f32, 0.0])); }
+    {
+        let mut mask = 0u32;
+        for t in 0..TERM_COUNT {
+            if sum.hn[t].max_element() > 0.0 || sum.h1[t].max_element() > 0.0 {
+                mask |= 1 << t;
+            }
+        }
+        DEBUG.with(|d| d.set([mask as f32, relaxed_on as u32 as f32, range_on as u32 as f32, 0.0]));
+    }
 
     let mut reason = reason;
     // false for NaN and ∞

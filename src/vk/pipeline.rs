@@ -274,6 +274,28 @@ impl DescriptorPool {
     }
 }
 
+/// Points bindings 0, 1, … of `set` at whole storage buffers, in order. The set must not be
+/// in use by pending work.
+pub fn bind_storage_buffers(context: &Context, set: vk::DescriptorSet, buffers: &[vk::Buffer]) {
+    let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
+        .iter()
+        .map(|&buffer| [vk::DescriptorBufferInfo { buffer, offset: 0, range: vk::WHOLE_SIZE }])
+        .collect();
+    let writes: Vec<vk::WriteDescriptorSet<'_>> = infos
+        .iter()
+        .enumerate()
+        .map(|(binding, info)| {
+            vk::WriteDescriptorSet::default()
+                .dst_set(set)
+                .dst_binding(binding as u32)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .buffer_info(info)
+        })
+        .collect();
+    // SAFETY: the caller guarantees the set and buffers are live and the set is idle.
+    unsafe { context.device.update_descriptor_sets(&writes, &[]) };
+}
+
 impl Drop for DescriptorPool {
     fn drop(&mut self) {
         // SAFETY: the owner guarantees no command buffer in flight uses the sets.

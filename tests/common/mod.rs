@@ -4,6 +4,7 @@
 
 use glam::{DVec3, Vec3};
 use multirate::scene::Scene;
+use multirate::vk::target::FloatImage;
 use multirate::vk::{Context, ContextOptions};
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -85,4 +86,22 @@ pub fn ray_cast(scene: &Scene, origin: Vec3, direction: Vec3) -> Option<Hit> {
         }
     }
     best
+}
+
+/// Cracks: pixels inside the reference's silhouette (the pixel and its 8 neighbours covered)
+/// that `image` leaves uncovered. Silhouette pixels are left out: there a sub-triangle's edge
+/// vertex, rounded, can move a pixel centre lying within rounding distance of the edge to the
+/// other side, which is not a hole.
+pub fn cracks(reference: &FloatImage, image: &FloatImage) -> usize {
+    let covered = |x: u32, y: u32| reference.pixel(x, y)[3] == 1.0;
+    let mut count = 0;
+    for y in 1..reference.height - 1 {
+        for x in 1..reference.width - 1 {
+            let interior = (0..3).all(|dy| (0..3).all(|dx| covered(x + dx - 1, y + dy - 1)));
+            if interior && image.pixel(x, y)[3] != 1.0 {
+                count += 1;
+            }
+        }
+    }
+    count
 }

@@ -13,7 +13,7 @@
 mod common;
 
 use ash::vk;
-use common::{assert_validation_clean, repo_path, validated_context};
+use common::{assert_validation_clean, cracks, repo_path, validated_context};
 use multirate::analysis::report;
 use multirate::render::{Mode, Renderer, View};
 use multirate::scene::Scene;
@@ -128,22 +128,6 @@ fn tessellated_pixels_are_within_epsilon_of_pixel_mode() {
         }
     }
     assert_validation_clean(&context);
-}
-
-/// Cracks: pixels inside the reference silhouette (pixel and 8 neighbours covered) that
-/// `image` leaves uncovered.
-fn cracks(reference: &FloatImage, image: &FloatImage) -> usize {
-    let covered = |x: u32, y: u32| reference.pixel(x, y)[3] == 1.0;
-    let mut count = 0;
-    for y in 1..reference.height - 1 {
-        for x in 1..reference.width - 1 {
-            let interior = (0..3).all(|dy| (0..3).all(|dx| covered(x + dx - 1, y + dy - 1)));
-            if interior && image.pixel(x, y)[3] != 1.0 {
-                count += 1;
-            }
-        }
-    }
-    count
 }
 
 #[test]
