@@ -31,14 +31,12 @@ void main() {
     if (gl_InvocationID == 0) {
         // The triangle itself (t = 0) and its neighbours across edges 0, 1, 2.
         float levels[4];
-        vec4 dbg = vec4(0.0);
         for (int t = 0; t < 4; ++t) {
             int first = 3 * t;
             levels[t] = required_level(
                 in_position[first], in_position[first + 1], in_position[first + 2],
                 in_normal[first], in_normal[first + 1], in_normal[first + 2],
                 draw.eye.xyz, draw.material_index, draw.viewport.z, draw.viewport.w);
-            if (t == 0) { dbg = vec4(levels[0], est_debug.xyz); }
         }
         PatchLevels levels_of_patch =
             patch_levels(levels[0], vec3(levels[1], levels[2], levels[3]), draw.viewport.w);
@@ -48,7 +46,11 @@ void main() {
         gl_TessLevelInner[0] = levels_of_patch.inner;
         patch_level = levels_of_patch.fallback ? 0.0 : ceil(levels_of_patch.inner);
         if (RECORD_LEVELS) {
-            level_records[draw.patch_base + uint(gl_PrimitiveID)] = dbg; // DEBUG
+            // Note: lavapipe (Mesa 22.3) restarts gl_PrimitiveID every 85 twelve-point patches
+            // within a draw, so the recording draws must not be longer than that there.
+            level_records[draw.patch_base + uint(gl_PrimitiveID)] = vec4(patch_level,
+                ceil(levels_of_patch.outer.x), ceil(levels_of_patch.outer.y),
+                ceil(levels_of_patch.outer.z));
         }
     }
 }

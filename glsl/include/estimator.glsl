@@ -10,7 +10,8 @@
 // - the same operation order as Rust, with glam's formulas for dot, cross, length and
 //   max_element written out (dot3, cross3, ...);
 // - Rust's NaN behaviour where NaN can arise: `f32::max`/`min` ignore a NaN operand (rmax,
-//   rmin), comparisons are false; `pow(x, 0)` is 1 and `atan2(0, 0)` is 0 (rpow, ratan2);
+//   rmin), comparisons are false;
+// - its own sin, cos, atan2, acos, asin and pow (bit-identical to the Rust ones, see below);
 // - `acos` only ever sees arguments in [0, 1] (clamped as in Rust).
 // Only the scene's material kind and light counts are compiled in (specialization constants of
 // brdf.glsl), plus SPLIT and DISCONTINUITY below.
@@ -46,6 +47,7 @@ const int T_RANGE = 12;
 // The f32 values of the Rust constants (shortest decimals that round to them).
 const float K23 = 1.1547005;
 const float BIG = 1.0e18;
+const float UNIFORM_TINY = 9.536743e-7;   // 1.0 / 1048576.0
 const float SAFETY = 1.01;
 const float ANGLE_PAD = 2.0e-6;
 const float HALF_PI = 1.5707964;          // std::f32::consts::FRAC_PI_2
@@ -84,6 +86,10 @@ float rmin(float a, float b) {
     return (b < a || is_nan(a)) ? b : a;
 }
 
+float infinity() {
+    return uintBitsToFloat(0x7f800000u);
+}
+
 // glam's Vec3::dot, cross, length_squared, length, max_element.
 P float dot3(vec3 a, vec3 b) {
     P float d = a.x * b.x + a.y * b.y + a.z * b.z;
@@ -108,15 +114,150 @@ bool is_zero(vec3 v) {
     return v.x == 0.0 && v.y == 0.0 && v.z == 0.0;
 }
 
-// f32::atan2 (0 for (0, 0)) and f32::powf for x >= 0 (x^0 = 1, x^1 = x, 0^y = 0 or inf).
-P float ratan2(float y, float x) {
-    if (x == 0.0 && y == 0.0) {
-        return 0.0;
+// ---------------------------------------------------------------------------------------------
+// Elementary functions: the estimator's own (see "Elementary functions" in Rust), from IEEE
+// f32 +, -, *, /, sqrt, floor and bit manipulation only, so that they are bit-identical to
+// the Rust twin's (the drivers' sin, atan, pow, ... are not).
+// ---------------------------------------------------------------------------------------------
+
+const float PIO2_P1 = 1.5703125;
+const float PIO2_P2 = 0.0004837513;
+const float PIO2_P3 = 7.54979e-8;
+const float TWO_OVER_PI = 0.63661975;
+const float TAN_PI_8 = 0.41421357;
+const float FRAC_PI_4_F = 0.7853982;
+const float SQRT_2 = 1.4142135;
+const float LOG2_E = 1.442695;
+const float LN_2 = 0.6931472;
+
+// x reduced to r in [-pi/4, pi/4]; returns r, the quadrant (mod 4) goes to n.
+P float reduce_quadrant(float x, out int n) {
+    P float k = floor(x * TWO_OVER_PI + 0.5);
+    P float r = x - k * PIO2_P1 - k * PIO2_P2 - k * PIO2_P3;
+    n = int(k) & 3;
+    return r;
+}
+
+P float sin_poly(float r) {
+    P float z = r * r;
+    P float s = r + r * z * (-0.16666667 + z * (0.008333334 + z * (-0.0001984127 + z * 2.7557319e-6)));
+    return s;
+}
+
+P float cos_poly(float r) {
+    P float z = r * r;
+    P float c = 1.0 - 0.5 * z + z * z * (0.041666668 + z * (-0.0013888889 + z * (2.4801588e-5 + z * -2.755732e-7)));
+    return c;
+}
+
+P float est_sin(float x) {
+    int n;
+    P float r = reduce_quadrant(x, n);
+    if (n == 0) {
+        return sin_poly(r);
     }
-    P float a = atan(y, x);
+    if (n == 1) {
+        return cos_poly(r);
+    }
+    if (n == 2) {
+        return -sin_poly(r);
+    }
+    return -cos_poly(r);
+}
+
+P float est_cos(float x) {
+    int n;
+    P float r = reduce_quadrant(x, n);
+    if (n == 0) {
+        return cos_poly(r);
+    }
+    if (n == 1) {
+        return -sin_poly(r);
+    }
+    if (n == 2) {
+        return -cos_poly(r);
+    }
+    return sin_poly(r);
+}
+
+P float atan_poly(float t) {
+    P float z = t * t;
+    P float p = 0.06666667 + z * (-0.05882353 + z * 0.05263158);
+    p = -0.07692308 + z * p;
+    p = 0.09090909 + z * p;
+    p = -0.11111111 + z * p;
+    p = 0.14285715 + z * p;
+    p = -0.2 + z * p;
+    p = 0.33333334 + z * p;
+    P float a = t - t * z * p;
     return a;
 }
-P float rpow(float x, float y) {
+
+P float atan_unit(float t) {
+    if (t > TAN_PI_8) {
+        P float a = FRAC_PI_4_F + atan_poly((t - 1.0) / (t + 1.0));
+        return a;
+    }
+    return atan_poly(t);
+}
+
+// atan2 (0 for (0, 0)).
+P float est_atan2(float y, float x) {
+    P float ax = abs(x);
+    P float ay = abs(y);
+    if (ax == 0.0 && ay == 0.0) {
+        return 0.0;
+    }
+    P float a = ay <= ax ? atan_unit(ay / ax) : HALF_PI - atan_unit(ax / ay);
+    a = x < 0.0 ? PI - a : a;
+    return y < 0.0 ? -a : a;
+}
+
+P float est_acos(float x) {
+    return est_atan2(sqrt(rmax((1.0 - x) * (1.0 + x), 0.0)), x);
+}
+
+P float est_asin(float x) {
+    return est_atan2(x, sqrt(rmax((1.0 - x) * (1.0 + x), 0.0)));
+}
+
+// log2 of a positive normal x.
+P float est_log2(float x) {
+    uint bits = floatBitsToUint(x);
+    int e = int((bits >> 23) & 0xffu) - 127;
+    P float m = uintBitsToFloat((bits & 0x007fffffu) | 0x3f800000u);
+    if (m > SQRT_2) {
+        m = m * 0.5;
+        e += 1;
+    }
+    P float t = (m - 1.0) / (m + 1.0);
+    P float z = t * t;
+    P float ln_m = 2.0 * t * (1.0 + z * (0.33333334 + z * (0.2 + z * (0.14285715 + z * 0.11111111))));
+    P float l = float(e) + ln_m * LOG2_E;
+    return l;
+}
+
+// 2^z; 0 below 2^-126, infinity from 2^128 on.
+P float est_exp2(float z) {
+    if (is_nan(z)) {
+        return z;
+    }
+    if (z >= 128.0) {
+        return infinity();
+    }
+    if (!(z >= -126.0)) {
+        return 0.0;
+    }
+    P float n = floor(z);
+    P float u = (z - n) * LN_2;
+    P float p = 1.0 + u * (1.0 + u * (0.5 + u * (0.16666667 + u * (0.041666668 + u * (0.008333334
+        + u * (0.0013888889 + u * (0.0001984127 + u * (2.4801588e-5 + u * 2.7557319e-6))))))));
+    P float r = p * uintBitsToFloat(uint(int(n) + 127) << 23);
+    return r;
+}
+
+// x^y for x >= 0: x^0 = 1, x^1 = x, 0^y = 0 or infinity; NaN for negative x.
+P float est_pow(float x, float y) {
     if (y == 0.0) {
         return 1.0;
     }
@@ -124,10 +265,18 @@ P float rpow(float x, float y) {
         return x;
     }
     if (x == 0.0) {
-        return y > 0.0 ? 0.0 : INF;
+        return y > 0.0 ? 0.0 : infinity();
     }
-    P float r = pow(x, y);
-    return r;
+    if (!(x > 0.0)) {
+        return uintBitsToFloat(0x7fc00000u);
+    }
+    if (x == infinity()) {
+        return y > 0.0 ? infinity() : 0.0;
+    }
+    if (x < 1.17549435e-38) {
+        return y > 0.0 ? 0.0 : infinity();
+    }
+    return est_exp2(y * est_log2(x));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -136,8 +285,6 @@ P float rpow(float x, float y) {
 
 // Set when a bound overflowed (or was NaN): the estimate then falls back (Singular).
 bool est_bad;
-vec4 est_debug; // DEBUG
-bool dbg_first; // DEBUG
 
 P float gc(float x) {
     if (x <= BIG) {
@@ -225,14 +372,14 @@ P float max_sin(float p0, float p1) {
     if (p0 <= HALF_PI && p1 >= HALF_PI) {
         return 1.0;
     }
-    P float s = rmax(rmax(sin(p0), sin(p1)), 0.0);
+    P float s = rmax(rmax(est_sin(p0), est_sin(p1)), 0.0);
     return s;
 }
 
 // max phi(psi) over [p0, p1], phi = c/2 + sqrt(1 - 3c^2/4), c = |cos psi|.
 P float max_phi(float p0, float p1) {
-    P float c0 = abs(cos(p0));
-    P float c1 = abs(cos(p1));
+    P float c0 = abs(est_cos(p0));
+    P float c1 = abs(est_cos(p1));
     P float lo;
     P float hi;
     if (p0 <= HALF_PI && p1 >= HALF_PI) {
@@ -249,12 +396,12 @@ P float max_phi(float p0, float p1) {
 
 // max cos^p(psi) sin^q(psi) over [a, b] in [0, pi/2].
 P float max_cos_sin(float p, float q, float a, float b) {
-    P float peak = p > 0.0 ? atan(sqrt(q / p)) : HALF_PI;
+    P float peak = p > 0.0 ? est_atan2(sqrt(q / p), 1.0) : HALF_PI;
     P float x = clamp(peak, a, b);
-    P float c = rmax(cos(x), 0.0);
-    P float s = rmax(sin(x), 0.0);
-    P float cp = p == 0.0 ? 1.0 : rpow(c, p);
-    P float sq = q == 0.0 ? 1.0 : rpow(s, q);
+    P float c = rmax(est_cos(x), 0.0);
+    P float s = rmax(est_sin(x), 0.0);
+    P float cp = p == 0.0 ? 1.0 : est_pow(c, p);
+    P float sq = q == 0.0 ? 1.0 : est_pow(s, q);
     P float r = cp * sq;
     return r;
 }
@@ -264,7 +411,7 @@ P float max_cos_sin(float p, float q, float a, float b) {
 Jet cosine(Field a, Field b, vec2 psi) {
     P float s_max = max_sin(psi.x, psi.y);
     P float phi = max_phi(psi.x, psi.y);
-    Jet j = jet_constant(rmax(abs(cos(psi.x)), abs(cos(psi.y))));
+    Jet j = jet_constant(rmax(abs(est_cos(psi.x)), abs(est_cos(psi.y))));
     P float ha = gc(phi * a.w * a.w + s_max * a.x);
     P float hb = gc(phi * b.w * b.w + s_max * b.x);
     P float hd = gc(2.0 * a.w * b.w);
@@ -295,7 +442,7 @@ Cone no_cone() {
 
 // Angle between two vectors; 0 if one is zero.
 P float angle(vec3 a, vec3 b) {
-    return ratan2(len(cross3(a, b)), dot3(a, b));
+    return est_atan2(len(cross3(a, b)), dot3(a, b));
 }
 
 P vec3 unit(vec3 v) {
@@ -414,7 +561,7 @@ P float hull_distance(vec3 a, vec3 u[3]) {
         if (!is_zero(m)) {
             P vec3 foot = a - m * dot3(a, m);
             if (dot3(cross3(p, foot), m) >= 0.0 && dot3(cross3(foot, q), m) >= 0.0 && !is_zero(foot)) {
-                d = rmin(d, ratan2(abs(dot3(a, m)), len(foot)));
+                d = rmin(d, est_atan2(abs(dot3(a, m)), len(foot)));
             }
         }
         best = rmin(best, d);
@@ -592,11 +739,11 @@ P vec2 cosine_range(Frame frame, Cone w_cone, vec3 w[3], out int sign_out) {
     int sign_of = q_lo > tol ? SIGN_POSITIVE : (q_hi < -tol ? SIGN_NON_POSITIVE : SIGN_BOTH);
     sign_out = sign_of;
     if (q_lo > tol && scale > 0.0) {
-        p1 = rmin(p1, acos(rmin(q_lo / scale, 1.0)) + ANGLE_PAD);
+        p1 = rmin(p1, est_acos(rmin(q_lo / scale, 1.0)) + ANGLE_PAD);
     }
     P float denom = frame.r_n * w_min;
     if (q_hi > 0.0 && denom > 0.0) {
-        p0 = rmax(p0, acos(rmin(q_hi / denom, 1.0)) - ANGLE_PAD);
+        p0 = rmax(p0, est_acos(rmin(q_hi / denom, 1.0)) - ANGLE_PAD);
     }
     if (sign_of == SIGN_NON_POSITIVE) {
         p0 = rmax(p0, HALF_PI);
@@ -630,8 +777,8 @@ Jet ggx_d_jet(Jet c, float p0, float p1, float w, float alpha) {
     P float a2 = alpha * alpha;
     P float beta = 1.0 - a2;
     P float coef = 4.0 * a2 * beta / PI;
-    P float sp0 = sin(p0);
-    P float sp1 = sin(p1);
+    P float sp0 = est_sin(p0);
+    P float sp1 = est_sin(p1);
     P float s0 = sp0 * sp0;
     P float s1 = sp1 * sp1;
     P float b1 = 5.0 * beta + 2.0 * a2;
@@ -649,7 +796,7 @@ Jet ggx_d_jet(Jet c, float p0, float p1, float w, float alpha) {
     P float u0 = a2 + beta * s0;
     Jet o = jet_constant(a2 / (PI * u0 * u0));
     o.g = gmul(gc(coef * d1), w);
-    P float slope = gc(coef * cos(p0) / (u0 * u0 * u0));
+    P float slope = gc(coef * est_cos(p0) / (u0 * u0 * u0));
     o.h = gmul(c.h, slope);
     P float w2 = gmul(w, w);
     P float dd = gc(coef * d2);
@@ -704,10 +851,10 @@ void light_jets(Frame frame, GpuMaterial material, LightSetup st, Scale s,
         }
         P float s_ = material.params.x;
         Jet c_nh = cosine(n, h, vec2(h0, h1));
-        P float chi = cos(h0);
-        Jet t = jet_constant(rpow(chi, s_));
+        P float chi = est_cos(h0);
+        Jet t = jet_constant(est_pow(chi, s_));
         t.g = gc(s_ * max_cos_sin(s_ - 1.0, 1.0, h0, h1) * w_nh);
-        t.h = gmul(c_nh.h, s_ * rpow(chi, s_ - 1.0));
+        t.h = gmul(c_nh.h, s_ * est_pow(chi, s_ - 1.0));
         if (s_ > 1.0) {
             P float k = s_ * (s_ - 1.0) * max_cos_sin(s_ - 2.0, 2.0, h0, h1);
             P float w2 = gmul(w_nh, w_nh);
@@ -731,8 +878,8 @@ void light_jets(Frame frame, GpuMaterial material, LightSetup st, Scale s,
     // G = c/(c(1-k)+k) with c = n.l >= 0.
     P vec2 nl = vec2(st.psi_nl.x, rmin(st.psi_nl.y, HALF_PI));
     Jet c_g = cosine(n, l, nl);
-    P float c0 = rmax(cos(nl.y), 0.0);
-    P float c1 = cos(nl.x);
+    P float c0 = rmax(est_cos(nl.y), 0.0);
+    P float c1 = est_cos(nl.x);
     P float q0 = c0 * (1.0 - k) + k;
     P float q1 = c1 * (1.0 - k) + k;
     P float g1 = k / (q0 * q0);
@@ -755,7 +902,7 @@ void light_jets(Frame frame, GpuMaterial material, LightSetup st, Scale s,
     } else {
         P vec2 nv = vec2(st.psi_nv.x, rmin(st.psi_nv.y, HALF_PI));
         Jet c_v = cosine(n, v, nv);
-        P float q = rmax(cos(nv.y), 0.0) * (1.0 - k) + k;
+        P float q = rmax(est_cos(nv.y), 0.0) * (1.0 - k) + k;
         P float v1 = (1.0 - k) / (q * q);
         P float v2 = 2.0 * (1.0 - k) * (1.0 - k) / (q * q * q);
         vjet = jet_constant(0.0);
@@ -780,7 +927,7 @@ void light_jets(Frame frame, GpuMaterial material, LightSetup st, Scale s,
     }
 
     // v.h = |l + v|/2.
-    P float t0 = clamp(cos(0.5 * st.psi_lv.y), 0.0, 1.0);
+    P float t0 = clamp(est_cos(0.5 * st.psi_lv.y), 0.0, 1.0);
     P float gt = gc(0.5 * (l.w + v.w));
     P float ht_light = gc(0.5 * K23 * l.w * l.w);
     P float ht_view = gc(0.5 * K23 * v.w * v.w);
@@ -908,7 +1055,7 @@ int add_light(Frame frame, GpuMaterial material, bool point, vec3 position, vec3
             return REASON_SINGULAR;
         }
         P vec2 psi_lv = psi_range(l_cone, frame.v_cone);
-        P float m_min = 2.0 * cos(0.5 * psi_lv.y);
+        P float m_min = 2.0 * est_cos(0.5 * psi_lv.y);
         if (!(psi_lv.y < PI_MINUS_MILLI) || !(m_min > 0.0)) {
             return REASON_SINGULAR;
         }
@@ -917,8 +1064,8 @@ int add_light(Frame frame, GpuMaterial material, bool point, vec3 position, vec3
         P float half_a = speed * frame.rho_x + ANGLE_PAD;
         P vec3 axis_a = unit(l_center + frame.v_center);
         P vec3 m0 = l_cone.axis + frame.v_cone.axis;
-        P float delta = 2.0 * sin(0.5 * l_cone.spread) + 2.0 * sin(0.5 * frame.v_cone.spread);
-        P float half_b = delta < len(m0) ? asin(delta / len(m0)) + ANGLE_PAD : PI;
+        P float delta = 2.0 * est_sin(0.5 * l_cone.spread) + 2.0 * est_sin(0.5 * frame.v_cone.spread);
+        P float half_b = delta < len(m0) ? est_asin(delta / len(m0)) + ANGLE_PAD : PI;
         P vec3 h_axis;
         P float h_half;
         if (half_b < half_a) {
@@ -1342,10 +1489,6 @@ PatchLevels patch_levels(float own, vec3 neighbours, float n_max_value) {
 // The estimate
 // ---------------------------------------------------------------------------------------------
 
-float infinity() {
-    return uintBitsToFloat(0x7f800000u);
-}
-
 // Smallest real n > 0 with a/n^2 + b/n + c <= eps (infinity if none).
 P float level_for(float a, float b, float c, float eps) {
     if (a <= 0.0 && b <= 0.0) {
@@ -1373,7 +1516,6 @@ float required_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 
     GpuMaterial material = materials[material_index];
     Frame frame = make_frame(p0, p1, p2, n0, n1, n2, eye);
     est_bad = false;
-    dbg_first = true; // DEBUG
     for (int t = 0; t < TERM_COUNT; ++t) {
         sum_h1[t] = vec3(0.0);
         sum_hn[t] = vec3(0.0);
@@ -1405,7 +1547,6 @@ float required_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 
     }
     P vec3 zero = sum_jumps + sum_range;
     bool relaxed_on = max_el(sum_linn) > 0.0 || max_el(sum_jumps) > 0.0;
-    bool range_on = max_el(sum_range) > 0.0;
     bool one_ok;
     P float need = 0.0;
     if (SPLIT == 1) {
@@ -1414,19 +1555,21 @@ float required_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 
         }
         one_ok = max_el(sum_one) <= eps;
     } else {
+        // M counts the terms above eps * UNIFORM_TINY; the others share a reserve.
+        P float tiny = eps * UNIFORM_TINY;
         uint count = 0u;
         for (int t = 0; t < TERM_COUNT; ++t) {
-            if (max_el(sum_hn[t]) > 0.0 || max_el(sum_h1[t]) > 0.0) {
+            if (max_el(sum_hn[t]) > tiny || max_el(sum_h1[t]) > tiny) {
                 count += 1u;
             }
         }
-        if (relaxed_on) {
+        if (max_el(sum_linn) > tiny || max_el(sum_jumps) > tiny) {
             count += 1u;
         }
-        if (range_on) {
+        if (max_el(sum_range) > tiny) {
             count += 1u;
         }
-        P float share = eps / float(max(count, 1u));
+        P float share = eps * (1.0 - 16.0 * UNIFORM_TINY) / float(max(count, 1u));
         one_ok = max_el(sum_lin1 + sum_jumps) <= share && max_el(sum_range) <= share;
         for (int t = 0; t < TERM_COUNT; ++t) {
             one_ok = one_ok && max_el(sum_h1[t]) <= share;
@@ -1444,8 +1587,6 @@ float required_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 
         }
     }
     P float level = one_ok ? 1.0 : rmax(need, 1.0);
-    { uint mask = 0u; for (int t = 0; t < TERM_COUNT; ++t) { if (max_el(sum_hn[t]) > 0.0 || max_el(sum_h1[t]) > 0.0) mask |= 1u << t; }
-      est_debug = vec4(float(mask), float(relaxed_on), float(range_on), 0.0); } // DEBUG
     // false for NaN and infinity
     if (!(level <= top)) {
         return FALLBACK_LEVEL;

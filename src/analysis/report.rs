@@ -1,6 +1,8 @@
-//! `multirate analyze`: per visible triangle, the estimator's levels (each term's and the
-//! final one, as the TCS chooses them, shared edges included) and optionally the oracle's
-//! truth on the pattern the driver really emits.
+//! `multirate analyze`: per visible triangle, the estimator's levels (each term's, the
+//! real-valued `Estimate::level` and the uniform `n`) and the levels the control stage
+//! writes for its patch (`patch_levels` of its own and its three neighbours' levels: the
+//! twin the GPU agreement test compares with), and optionally the oracle's truth on the
+//! pattern the driver really emits for those levels (`triangle_pattern(inner, outer)`).
 
 use super::oracle::{oracle_level, true_error, vertices_at_level};
 use super::tessellator::triangle_pattern;
@@ -43,6 +45,7 @@ pub fn pattern_vertices(levels: &PatchLevels) -> u64 {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Summary {
     pub triangles: usize,
+    /// Patches shaded per pixel (the estimator's fallbacks and the patches no inner level fits).
     pub fallbacks: usize,
     /// Tessellated vertices the control stage's levels shade (fallback patches excluded),
     /// shared-edge levels included.
@@ -150,13 +153,15 @@ pub fn summarize(reports: &[TriangleReport], epsilon: f32) -> Summary {
     summary
 }
 
-/// The CSV of `reports`: one row per triangle, one column per estimator term.
+/// The CSV of `reports`: one row per triangle, one column per estimator term, then the real
+/// level, the uniform `n`, the patch's level and outer levels as the control stage writes them
+/// (`patch_level` 0: per-pixel fallback, `reason` `Mixed` when only the mixed pattern is why).
 pub fn to_csv(reports: &[TriangleReport], with_oracle: bool) -> String {
     let mut csv = String::from("mesh,triangle");
     for name in TERM_NAMES {
         let _ = write!(csv, ",n_{name}");
     }
-    csv.push_str(",level,n,inner,outer0,outer1,outer2,fallback,reason,predicted_error");
+    csv.push_str(",level,n,patch_level,outer0,outer1,outer2,fallback,reason,predicted_error");
     if with_oracle {
         csv.push_str(",oracle_n,true_error");
     }

@@ -487,7 +487,7 @@ impl Renderer {
                     Mode::Multirate => (
                         draw.first_patch_index,
                         draw.index_count / 3 * PATCH_SIZE as u32,
-                        self.patches_per_draw(view.n_max),
+                        self.multirate_patches_per_draw(view.n_max),
                         PATCH_SIZE as u32,
                     ),
                 };
@@ -582,6 +582,18 @@ impl Renderer {
             }
         }
         Ok(Measurement { gpu_ms, statistics })
+    }
+
+    /// Patches per multirate draw: besides the vertex budget, lavapipe (Mesa 22.3) restarts
+    /// `gl_PrimitiveID` in the control stage every 1020 control points (85 patches of 12),
+    /// which would scramble the level records; other drivers get no limit.
+    fn multirate_patches_per_draw(&self, n_max: u32) -> u32 {
+        let patches = self.patches_per_draw(n_max);
+        if self.tessellated_vertex_budget.is_some() {
+            patches.min((1020 / PATCH_SIZE) as u32)
+        } else {
+            patches
+        }
     }
 
     /// How many patches one draw may hold when every patch is tessellated at `level`.

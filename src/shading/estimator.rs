@@ -1,12 +1,16 @@
 //! The per-triangle error estimator: the Rust twin of the tessellation control shader.
 //!
-//! For one triangle, its lights and its material, [`estimate`] returns the smallest
-//! tessellation level `n` (inner = outer = `n`, `equal_spacing`) at which linear
-//! interpolation of the sub-vertex shading keeps the L∞ error of *every colour channel*
-//! below `ε`, or asks for per-pixel fallback. The derivation, every deviation from the
-//! paper (Hu et al. 2022 and its supplement) and the measured figures are in
-//! `docs/estimator.md`; the brute-force truth it is tested against is
-//! [`crate::analysis::oracle`].
+//! For one triangle, its lights and its material, [`estimate`] returns the real-valued
+//! level [`Estimate::level`] the triangle needs: every hardware tessellation pattern whose
+//! effective level ([`pattern_level`]) is at least that keeps the L∞ error of linearly
+//! interpolated sub-vertex shading below `ε` in *every colour channel*; also the smallest
+//! uniform level `n` (inner = outer = `n`, `equal_spacing`) that does, or a request for
+//! per-pixel fallback. [`patch_levels`] is the rule that turns a triangle's and its three
+//! neighbours' levels into the crack-free levels the control stage writes. The derivation,
+//! every deviation from the paper (Hu et al. 2022 and its supplement) and the measured figures
+//! are in `docs/estimator.md`; the brute-force truth it is tested against is
+//! [`crate::analysis::oracle`]. `glsl/include/estimator.glsl` is the GPU port, operation for
+//! operation (bit-identical results, tested on lavapipe).
 //!
 //! # The bound in one paragraph
 //!
@@ -37,7 +41,7 @@ use crate::scene::{Light, MaterialKind};
 use crate::shading::brdf::{ggx_alpha, MIN_LIGHT_DISTANCE_SQUARED};
 use glam::Vec3;
 use std::cell::Cell;
-use std::f32::consts::{FRAC_PI_2, PI};
+use std::f32::consts::{FRAC_2_PI, FRAC_PI_2, FRAC_PI_4, LN_2, LOG2_E, PI, SQRT_2};
 
 /// One patch as the TCS sees it: world-space corner positions and (not necessarily unit)
 /// vertex normals, and the eye.
@@ -206,6 +210,11 @@ impl Estimate {
 
 /// 2/√3: the largest curvature of a normalised affine vector field, `|D²ŵ| ≤ (2/√3)|Dw|²/|w|²`.
 const K23: f32 = 1.154_700_5;
+/// `Uniform` split: terms whose bounds stay below `ε·UNIFORM_TINY` are not counted in `M`;
+/// they share a reserve of `16·ε·UNIFORM_TINY` (13 terms, the two Relaxed parts, the range),
+/// so that bounds of ~10⁻³⁹, which GPUs flush to zero, cannot change `M` (and the level by
+/// a factor `√((M+1)/M)`).
+const UNIFORM_TINY: f32 = 1.0 / 1_048_576.0;
 /// Intermediate bounds above this mean fallback (keeps products of two bounds finite).
 const BIG: f32 = 1.0e18;
 /// Multiplies every bound: f32 rounding in this estimator and in the shading. (The driver's
@@ -215,9 +224,6 @@ const SAFETY: f32 = 1.01;
 const ANGLE_PAD: f32 = 2.0e-6;
 /// A cone wider than this is no bound at all (a cap wider than a hemisphere is not convex).
 const MAX_HALF: f32 = FRAC_PI_2 - 1.0e-4;
-
-thread_local! { pub static DBG_FIRST: Cell<bool> = const { Cell::new(false) }; }
-thread_local! { pub static DEBUG: Cell<[f32; 4]> = const { Cell::new([0.0; 4]) }; }
 
 /// Estimates the tessellation level of one triangle. See the module docs and
 /// `docs/estimator.md`.
@@ -231,7 +237,6 @@ pub fn estimate(
     // NaN and non-positive ε become 0: only an exactly flat shading passes then.
     let eps = if settings.epsilon > 0.0 { settings.epsilon } else { 0.0 };
     let frame = Frame::new(tri);
-    DBG_FIRST.with(|d| d.set(true));
     let guard = Guard::default();
     let mut sum = Sums::default();
     let mut reason = Reason::None;
@@ -262,6 +267,173 @@ fn worse(a: Reason, b: Reason) -> Reason {
     } else {
         a
     }
+}
+
+// ------------------------------------------------------------------------------------------
+// Elementary functions
+// ------------------------------------------------------------------------------------------
+//
+// The estimator's own sine, cosine, arc tangent, arc cosine, arc sine and power, built from
+// IEEE-754 f32 additions, multiplications, divisions, square roots, `floor` and exact bit
+// manipulation only, so that `glsl/include/estimator.glsl` (which has the same functions,
+// operation for operation, all `precise`) computes bit-identical values on any Vulkan device
+// whose basic f32 arithmetic is IEEE (the drivers' `sin`, `atan`, `pow`, ... differ from libm
+// and from each other in the last bits, which flipped levels). Accuracy (tested in
+// `elementary_functions_are_accurate`): ~1 ulp-level, far inside `ANGLE_PAD` and `SAFETY`.
+
+/// π/2 split for Cody–Waite reduction: `P1 + P2` is exact in few bits (k·P1, k·P2 exact for
+/// the small quadrant counts used here), `P3` the rest.
+const PIO2_P1: f32 = 1.5703125;
+const PIO2_P2: f32 = 0.0004837513;
+const PIO2_P3: f32 = 7.54979e-8;
+const TAN_PI_8: f32 = 0.41421357;
+
+/// `x` reduced to `r ∈ [−π/4, π/4]` and the quadrant `x = r + n·π/2` (`n` mod 4).
+fn reduce_quadrant(x: f32) -> (f32, i32) {
+    let k = (x * FRAC_2_PI + 0.5).floor();
+    let r = x - k * PIO2_P1 - k * PIO2_P2 - k * PIO2_P3;
+    (r, (k as i32) & 3)
+}
+
+/// sin and cos on [−π/4, π/4]: Taylor polynomials (remainders below 2·10⁻⁹).
+fn sin_poly(r: f32) -> f32 {
+    let z = r * r;
+    r + r * z * (-0.16666667 + z * (0.008333334 + z * (-0.0001984127 + z * 2.7557319e-6)))
+}
+
+fn cos_poly(r: f32) -> f32 {
+    let z = r * r;
+    1.0 - 0.5 * z + z * z * (0.041666668 + z * (-0.0013888889 + z * (2.4801588e-5 + z * -2.755732e-7)))
+}
+
+pub(crate) fn est_sin(x: f32) -> f32 {
+    let (r, n) = reduce_quadrant(x);
+    match n {
+        0 => sin_poly(r),
+        1 => cos_poly(r),
+        2 => -sin_poly(r),
+        _ => -cos_poly(r),
+    }
+}
+
+pub(crate) fn est_cos(x: f32) -> f32 {
+    let (r, n) = reduce_quadrant(x);
+    match n {
+        0 => cos_poly(r),
+        1 => -sin_poly(r),
+        2 => -cos_poly(r),
+        _ => sin_poly(r),
+    }
+}
+
+/// atan on [−tan(π/8), tan(π/8)]: Taylor series to t¹⁹ (remainder below 5·10⁻¹⁰).
+fn atan_poly(t: f32) -> f32 {
+    let z = t * t;
+    let p = 0.06666667 + z * (-0.05882353 + z * 0.05263158);
+    let p = -0.07692308 + z * p;
+    let p = 0.09090909 + z * p;
+    let p = -0.11111111 + z * p;
+    let p = 0.14285715 + z * p;
+    let p = -0.2 + z * p;
+    let p = 0.33333334 + z * p;
+    t - t * z * p
+}
+
+/// atan on [0, 1].
+fn atan_unit(t: f32) -> f32 {
+    if t > TAN_PI_8 {
+        FRAC_PI_4 + atan_poly((t - 1.0) / (t + 1.0))
+    } else {
+        atan_poly(t)
+    }
+}
+
+/// atan2 (0 for (0, 0)).
+pub(crate) fn est_atan2(y: f32, x: f32) -> f32 {
+    let (ax, ay) = (x.abs(), y.abs());
+    if ax == 0.0 && ay == 0.0 {
+        return 0.0;
+    }
+    let a = if ay <= ax { atan_unit(ay / ax) } else { FRAC_PI_2 - atan_unit(ax / ay) };
+    let a = if x < 0.0 { PI - a } else { a };
+    if y < 0.0 {
+        -a
+    } else {
+        a
+    }
+}
+
+/// acos on [−1, 1] (clamped), through atan2 of the sine `√((1 − x)(1 + x))`.
+pub(crate) fn est_acos(x: f32) -> f32 {
+    est_atan2(((1.0 - x) * (1.0 + x)).max(0.0).sqrt(), x)
+}
+
+/// asin on [−1, 1] (clamped).
+pub(crate) fn est_asin(x: f32) -> f32 {
+    est_atan2(x, ((1.0 - x) * (1.0 + x)).max(0.0).sqrt())
+}
+
+/// log₂ of a positive normal `x`: exponent and `ln m = 2 atanh((m−1)/(m+1))`, `m ∈ [√½, √2)`.
+fn est_log2(x: f32) -> f32 {
+    let bits = x.to_bits();
+    let mut e = ((bits >> 23) & 0xff) as i32 - 127;
+    let mut m = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000);
+    if m > SQRT_2 {
+        m *= 0.5;
+        e += 1;
+    }
+    let t = (m - 1.0) / (m + 1.0);
+    let z = t * t;
+    let ln_m = 2.0 * t * (1.0 + z * (0.33333334 + z * (0.2 + z * (0.14285715 + z * 0.11111111))));
+    e as f32 + ln_m * LOG2_E
+}
+
+/// 2^z; 0 below 2⁻¹²⁶ (no subnormals: GPUs may flush them), ∞ from 2¹²⁸ on.
+fn est_exp2(z: f32) -> f32 {
+    if z.is_nan() {
+        return z;
+    }
+    if z >= 128.0 {
+        return f32::INFINITY;
+    }
+    if !(z >= -126.0) {
+        return 0.0;
+    }
+    let n = z.floor();
+    let u = (z - n) * LN_2;
+    let p = 1.0
+        + u * (1.0
+            + u * (0.5
+                + u * (0.16666667
+                    + u * (0.041666668
+                        + u * (0.008333334
+                            + u * (0.0013888889
+                                + u * (0.0001984127 + u * (2.4801588e-5 + u * 2.7557319e-6))))))));
+    p * f32::from_bits(((n as i32 + 127) as u32) << 23)
+}
+
+/// `x^y` for `x ≥ 0` (NaN for negative `x`): `x⁰ = 1`, `x¹ = x`, `0^y = 0` or ∞.
+pub(crate) fn est_pow(x: f32, y: f32) -> f32 {
+    if y == 0.0 {
+        return 1.0;
+    }
+    if y == 1.0 {
+        return x;
+    }
+    if x == 0.0 {
+        return if y > 0.0 { 0.0 } else { f32::INFINITY };
+    }
+    if !(x > 0.0) {
+        return f32::NAN;
+    }
+    if x == f32::INFINITY {
+        return if y > 0.0 { f32::INFINITY } else { 0.0 };
+    }
+    if x < f32::MIN_POSITIVE {
+        // Subnormal: as 0 (GPUs may flush them).
+        return if y > 0.0 { 0.0 } else { f32::INFINITY };
+    }
+    est_exp2(y * est_log2(x))
 }
 
 // ------------------------------------------------------------------------------------------
@@ -388,7 +560,7 @@ fn cosine(a: &Field, b: &Field, psi: (f32, f32), gd: &Guard) -> Jet {
     h[b.term as usize] += hb;
     h[Term::Dot as usize] += gd.c(2.0 * a.w * b.w);
     let g = gd.c(s_max * (a.w + b.w));
-    Jet { m: p0.cos().abs().max(p1.cos().abs()), g, h }
+    Jet { m: est_cos(p0).abs().max(est_cos(p1).abs()), g, h }
 }
 
 /// `max sin ψ` over `[p0, p1] ⊂ [0, π]`.
@@ -396,14 +568,14 @@ fn max_sin(p0: f32, p1: f32) -> f32 {
     if p0 <= FRAC_PI_2 && p1 >= FRAC_PI_2 {
         1.0
     } else {
-        p0.sin().max(p1.sin()).max(0.0)
+        est_sin(p0).max(est_sin(p1)).max(0.0)
     }
 }
 
 /// `max φ(ψ)` over `[p0, p1]`, `φ = c/2 + √(1 − ¾c²)` with `c = |cos ψ|`; φ rises from 1 at
 /// `c = 0` to 2/√3 at `c = 1/√3` and falls back to 1 at `c = 1`.
 fn max_phi(p0: f32, p1: f32) -> f32 {
-    let (c0, c1) = (p0.cos().abs(), p1.cos().abs());
+    let (c0, c1) = (est_cos(p0).abs(), est_cos(p1).abs());
     let (lo, hi) =
         if p0 <= FRAC_PI_2 && p1 >= FRAC_PI_2 { (0.0, c0.max(c1)) } else { (c0.min(c1), c0.max(c1)) };
     let c = (1.0 / 3.0f32.sqrt()).clamp(lo, hi);
@@ -413,12 +585,12 @@ fn max_phi(p0: f32, p1: f32) -> f32 {
 /// `max cos^p ψ · sin^q ψ` over `[a, b] ⊂ [0, π/2]` (`q ≥ 0`): unimodal with its peak at
 /// `tan²ψ = q/p` (`p > 0`); increasing when `p ≤ 0`.
 fn max_cos_sin(p: f32, q: f32, a: f32, b: f32) -> f32 {
-    let peak = if p > 0.0 { (q / p).sqrt().atan() } else { FRAC_PI_2 };
+    let peak = if p > 0.0 { est_atan2((q / p).sqrt(), 1.0) } else { FRAC_PI_2 };
     let x = peak.clamp(a, b);
-    let c = x.cos().max(0.0);
-    let s = x.sin().max(0.0);
-    let cp = if p == 0.0 { 1.0 } else { c.powf(p) };
-    let sq = if q == 0.0 { 1.0 } else { s.powf(q) };
+    let c = est_cos(x).max(0.0);
+    let s = est_sin(x).max(0.0);
+    let cp = if p == 0.0 { 1.0 } else { est_pow(c, p) };
+    let sq = if q == 0.0 { 1.0 } else { est_pow(s, q) };
     cp * sq
 }
 
@@ -438,7 +610,7 @@ const NO_CONE: Cone = Cone { axis: Vec3::Z, half: PI };
 
 /// Angle between two vectors, accurate for small and large angles; 0 if one is zero.
 fn angle(a: Vec3, b: Vec3) -> f32 {
-    a.cross(b).length().atan2(a.dot(b))
+    est_atan2(a.cross(b).length(), a.dot(b))
 }
 
 fn unit(v: Vec3) -> Vec3 {
@@ -567,7 +739,7 @@ fn hull_distance(a: Vec3, u: [Vec3; 3]) -> f32 {
         if m != Vec3::ZERO {
             let foot = a - m * a.dot(m);
             if p.cross(foot).dot(m) >= 0.0 && foot.cross(q).dot(m) >= 0.0 && foot != Vec3::ZERO {
-                d = d.min(a.dot(m).abs().atan2(foot.length()));
+                d = d.min(est_atan2(a.dot(m).abs(), foot.length()));
             }
         }
         best = best.min(d);
@@ -812,11 +984,11 @@ fn cosine_range(frame: &Frame, w_cone: &Cone, w: [Vec3; 3]) -> ((f32, f32), Sign
     };
 
     if q_lo > tol && scale > 0.0 {
-        p1 = p1.min((q_lo / scale).min(1.0).acos() + ANGLE_PAD);
+        p1 = p1.min(est_acos((q_lo / scale).min(1.0)) + ANGLE_PAD);
     }
     let denom = frame.r_n * w_min;
     if q_hi > 0.0 && denom > 0.0 {
-        p0 = p0.max((q_hi / denom).min(1.0).acos() - ANGLE_PAD);
+        p0 = p0.max(est_acos((q_hi / denom).min(1.0)) - ANGLE_PAD);
     }
     if sign == Sign::NonPositive {
         p0 = p0.max(FRAC_PI_2);
@@ -917,7 +1089,7 @@ fn add_light(
             return Err(Reason::Singular);
         }
         let psi_lv = psi_range(&l_cone, &frame.v_cone);
-        let m_min = 2.0 * (0.5 * psi_lv.1).cos();
+        let m_min = 2.0 * est_cos(0.5 * psi_lv.1);
         if !(psi_lv.1 < PI - 1.0e-3) || !(m_min > 0.0) {
             return Err(Reason::Singular);
         }
@@ -928,8 +1100,8 @@ fn add_light(
         let half_a = speed * frame.rho_x + ANGLE_PAD;
         let axis_a = unit(l_center + frame.v_center);
         let m0 = l_cone.axis + frame.v_cone.axis;
-        let delta = 2.0 * (0.5 * l_cone.half).sin() + 2.0 * (0.5 * frame.v_cone.half).sin();
-        let half_b = if delta < m0.length() { (delta / m0.length()).asin() + ANGLE_PAD } else { PI };
+        let delta = 2.0 * est_sin(0.5 * l_cone.half) + 2.0 * est_sin(0.5 * frame.v_cone.half);
+        let half_b = if delta < m0.length() { est_asin(delta / m0.length()) + ANGLE_PAD } else { PI };
         let (h_axis, h_half) = if half_b < half_a { (unit(m0), half_b) } else { (axis_a, half_a) };
         setup.h_cone = if h_axis == Vec3::ZERO || !(h_half < MAX_HALF) {
             NO_CONE
@@ -1072,15 +1244,15 @@ fn light_jets(
             let c_nh = cosine(&n, &h, (h0, h1), gd);
             // T = t^s, t = cos ψ: |DT| ≤ s cos^(s−1)ψ sin ψ·w, jointly maximised over ψ;
             // |D²T| ≤ s(s−1) cos^(s−2)ψ sin²ψ·w² + s t^(s−1)|D²t|.
-            let chi = h0.cos();
+            let chi = est_cos(h0);
             let g = gd.c(s_ * max_cos_sin(s_ - 1.0, 1.0, h0, h1) * w_nh);
-            let mut hh = scaled(&c_nh.h, s_ * chi.powf(s_ - 1.0), gd);
+            let mut hh = scaled(&c_nh.h, s_ * est_pow(chi, s_ - 1.0), gd);
             if s_ > 1.0 {
                 let k = s_ * (s_ - 1.0) * max_cos_sin(s_ - 2.0, 2.0, h0, h1);
                 let w2 = gd.mul(w_nh, w_nh);
                 hh[Term::Power as usize] = gd.c(hh[Term::Power as usize] + gd.mul(k, w2));
             }
-            let t = gd.jet(Jet { m: chi.powf(s_), g, h: hh });
+            let t = gd.jet(Jet { m: est_pow(chi, s_), g, h: hh });
             let spec = product([att, t], gd);
             (diffuse, [spec; 3])
         }
@@ -1091,7 +1263,7 @@ fn light_jets(
             // G = c/(c(1−k)+k) with c = n·l ≥ 0 (the gate keeps c ≥ 0 where G is used).
             let nl = (st.psi_nl.0, st.psi_nl.1.min(FRAC_PI_2));
             let c_g = cosine(&n, &l, nl, gd);
-            let (c0, c1) = (nl.1.cos().max(0.0), nl.0.cos());
+            let (c0, c1) = (est_cos(nl.1).max(0.0), est_cos(nl.0));
             let q0 = c0 * (1.0 - k) + k;
             let q1 = c1 * (1.0 - k) + k;
             let g1 = k / (q0 * q0);
@@ -1107,7 +1279,7 @@ fn light_jets(
             } else {
                 let nv = (st.psi_nv.0, st.psi_nv.1.min(FRAC_PI_2));
                 let c_v = cosine(&n, &v, nv, gd);
-                let q = nv.1.cos().max(0.0) * (1.0 - k) + k;
+                let q = est_cos(nv.1).max(0.0) * (1.0 - k) + k;
                 let v1 = (1.0 - k) / (q * q);
                 let v2 = 2.0 * (1.0 - k) * (1.0 - k) / (q * q * q);
                 let mut vh = scaled(&c_v.h, v1, gd);
@@ -1127,7 +1299,7 @@ fn light_jets(
 
             // v·h = |l̂ + v̂|/2 = cos(∠(l,v)/2): |D| ≤ (wₗ + wᵥ)/2,
             // |D²| ≤ ((wₗ + wᵥ)²/|l̂+v̂| + (2/√3)(wₗ² + wᵥ²))/2.
-            let t0 = (0.5 * st.psi_lv.1).cos().clamp(0.0, 1.0);
+            let t0 = est_cos(0.5 * st.psi_lv.1).clamp(0.0, 1.0);
             let gt = gd.c(0.5 * (l.w + v.w));
             let mut ht = NO_H;
             ht[Term::Light as usize] = gd.c(0.5 * K23 * l.w * l.w);
@@ -1158,7 +1330,7 @@ fn ggx_d_jet(c: &Jet, p0: f32, p1: f32, w: f32, alpha: f32, gd: &Guard) -> Jet {
     let a2 = alpha * alpha;
     let beta = 1.0 - a2;
     let coef = 4.0 * a2 * beta / PI;
-    let (s0, s1) = (p0.sin().powi(2), p1.sin().powi(2));
+    let (s0, s1) = (est_sin(p0).powi(2), est_sin(p1).powi(2));
     let u = |s2: f32| a2 + beta * s2;
     // √(s2(1−s2))/u³ peaks at the smaller root of 4βs² − (5β + 2α²)s + α² = 0.
     let b1 = 5.0 * beta + 2.0 * a2;
@@ -1177,7 +1349,7 @@ fn ggx_d_jet(c: &Jet, p0: f32, p1: f32, w: f32, alpha: f32, gd: &Guard) -> Jet {
     let u0 = u(s0);
     let m = a2 / (PI * u0 * u0);
     let g = gd.mul(gd.c(coef * d1), w);
-    let slope = gd.c(coef * p0.cos() / (u0 * u0 * u0));
+    let slope = gd.c(coef * est_cos(p0) / (u0 * u0 * u0));
     let mut h = scaled(&c.h, slope, gd);
     let w2 = gd.mul(w, w);
     let dd = gd.c(coef * d2);
@@ -1266,19 +1438,21 @@ fn decide(sum: &Sums, eps: f32, n_max: u32, split: Split, reason: Reason) -> Est
             (sum.one.max_element() <= eps, n)
         }
         Split::Uniform => {
+            // M counts the terms above ε·UNIFORM_TINY; the others share a reserve.
+            let tiny = eps * UNIFORM_TINY;
             let mut count = 0u32;
             for t in 0..TERM_COUNT {
-                if sum.hn[t].max_element() > 0.0 || sum.h1[t].max_element() > 0.0 {
+                if sum.hn[t].max_element() > tiny || sum.h1[t].max_element() > tiny {
                     count += 1;
                 }
             }
-            if relaxed_on {
+            if sum.linn.max_element() > tiny || jumps.max_element() > tiny {
                 count += 1;
             }
-            if range_on {
+            if sum.range.max_element() > tiny {
                 count += 1;
             }
-            let share = eps / count.max(1) as f32;
+            let share = eps * (1.0 - 16.0 * UNIFORM_TINY) / count.max(1) as f32;
             let one_ok = (0..TERM_COUNT).all(|t| sum.h1[t].max_element() <= share)
                 && (sum.lin1 + jumps).max_element() <= share
                 && sum.range.max_element() <= share;
@@ -1300,15 +1474,6 @@ fn decide(sum: &Sums, eps: f32, n_max: u32, split: Split, reason: Reason) -> Est
         }
     };
     let level = if one_ok { 1.0 } else { need.max(1.0) };
-    {
-        let mut mask = 0u32;
-        for t in 0..TERM_COUNT {
-            if sum.hn[t].max_element() > 0.0 || sum.h1[t].max_element() > 0.0 {
-                mask |= 1 << t;
-            }
-        }
-        DEBUG.with(|d| d.set([mask as f32, relaxed_on as u32 as f32, range_on as u32 as f32, 0.0]));
-    }
 
     let mut reason = reason;
     // false for NaN and ∞
@@ -1940,6 +2105,298 @@ mod tests {
         }
     }
 
+    /// `glsl/include/estimator.glsl` holds the same `PATTERN_LEVELS` words as the Rust table.
+    #[test]
+    fn glsl_pattern_table_equals_the_rust_one() {
+        let glsl = include_str!("../../glsl/include/estimator.glsl");
+        let start = glsl.find("PATTERN_LEVELS[2048] = uint[2048](").expect("the GLSL table");
+        let end = start + glsl[start..].find(");").expect("end of the GLSL table");
+        let words: Vec<u32> = glsl[start..end]
+            .split(|c: char| c == ',' || c == '(' || c.is_whitespace())
+            .filter_map(|w| {
+                w.strip_prefix("0x").and_then(|h| u32::from_str_radix(h.trim_end_matches('u'), 16).ok())
+            })
+            .collect();
+        assert_eq!(words.len(), 2048);
+        assert!(words.iter().zip(PATTERN_LEVELS.iter()).all(|(a, b)| a == b), "GLSL and Rust tables differ");
+    }
+
+    /// The whole table against the driver's patterns. Every entry is checked when
+    /// `MULTIRATE_PATTERN_LEVELS=print` is set, which also prints the packed words for
+    /// `PATTERN_LEVELS` (Rust and GLSL); otherwise every 7th entry (the full table takes a
+    /// few seconds in a debug build).
+    #[test]
+    fn pattern_level_table_is_current() {
+        let facets = hull_facets(&frame_points());
+        let print = std::env::var("MULTIRATE_PATTERN_LEVELS").is_ok_and(|v| v == "print");
+        let mut words = vec![0u32; 2048];
+        for index in 0..4096u32 {
+            if !print && index % 7 != 0 {
+                continue;
+            }
+            let (inner, outer) = (index / 64 + 1, index % 64 + 1);
+            let expected = quantised(pattern_level_exact(&facets, inner, [outer; 3]));
+            words[(index / 2) as usize] |= expected << (16 * (index % 2));
+            let table = (pattern_level(inner, outer) * 256.0).round() as u32;
+            assert_eq!(
+                table, expected,
+                "inner {inner}, outer {outer}: regenerate with MULTIRATE_PATTERN_LEVELS=print"
+            );
+        }
+        if print {
+            for line in words.chunks(8) {
+                let items: Vec<String> = line.iter().map(|w| format!("{w:#010x}")).collect();
+                println!("    {},", items.join(", "));
+            }
+        }
+    }
+
+    /// The effective levels against sampled attribute maps: on the driver's patterns, no
+    /// sub-triangle of any of the test shapes exceeds `K/L²` (the gauge argument is a bound),
+    /// and the worst shape comes within a few per cent of it (the bound is tight).
+    #[test]
+    fn pattern_levels_bound_and_are_reached_by_sampled_shapes() {
+        let mut shapes = random_shapes();
+        for xi in -12..=16 {
+            for y in [1e-3, 0.03, 0.1, 0.3, 0.6, 1.0, 2.0] {
+                shapes.push([DVec3::ZERO, DVec3::X, DVec3::new(f64::from(xi) * 0.25, y, 0.0)]);
+            }
+        }
+        let constants: Vec<f64> = shapes.iter().map(|c| f64::from(constants_of(*c).sqrt_k).powi(2)).collect();
+        let mut loosest = 0.0f64;
+        for (inner, outer) in [
+            (4, 5),
+            (6, 9),
+            (7, 9),
+            (8, 9),
+            (10, 17),
+            (12, 16),
+            (12, 17),
+            (13, 17),
+            (16, 17),
+            (9, 6),
+            (12, 9),
+            (17, 24),
+            (24, 33),
+            (48, 64),
+            (64, 46),
+        ] {
+            let level = f64::from(pattern_level(inner, outer));
+            let p = triangle_pattern(inner as f32, [outer as f32; 3]);
+            let mut worst = 0.0f64; // max over shapes of max r² · L² / K
+            for (c, &k) in shapes.iter().zip(&constants) {
+                if k > 0.0 {
+                    worst = worst.max(pattern_r2(&p, *c) * level * level / k);
+                }
+            }
+            assert!(worst <= 1.0 + 1e-4, "inner {inner}, outer {outer}: r²·L²/K = {worst}");
+            loosest = loosest.max(1.0 - worst);
+            assert!(worst > 0.9, "inner {inner}, outer {outer}: the bound is loose ({worst})");
+        }
+        println!("effective levels: the sampled worst shapes reach r²·L²/K ≥ {:.4}", 1.0 - loosest);
+    }
+
+    /// A patch's effective level is the smallest of its edges' table entries: checked on
+    /// patterns with three different outer levels.
+    #[test]
+    fn mixed_patterns_take_the_smallest_edge_level() {
+        let facets = hull_facets(&frame_points());
+        let mut rng = Rng(0x005e_ed1e_7e15);
+        for _ in 0..150 {
+            let pick = |rng: &mut Rng| 1 + (rng.f() * 24.0) as u32;
+            let inner = pick(&mut rng);
+            let outer = [pick(&mut rng), pick(&mut rng), pick(&mut rng)];
+            let exact = pattern_level_exact(&facets, inner, outer);
+            let table = outer.iter().map(|&o| pattern_level(inner, o)).fold(f32::MAX, f32::min);
+            assert!(
+                f64::from(table) <= exact + 1e-9,
+                "inner {inner}, outer {outer:?}: table {table} > exact {exact}"
+            );
+            assert!(
+                f64::from(table) >= exact.max(1.0) - 1.0 / 256.0 - 1e-9,
+                "inner {inner}, outer {outer:?}"
+            );
+        }
+    }
+
+    /// The combination rule: shared edges agree, fallback triangles ask for nothing, the
+    /// chosen pattern is fine enough and the smallest inner level that is.
+    #[test]
+    fn patch_levels_rule() {
+        let mut rng = Rng(0x0ab5_0c1a_7e00);
+        let level = |rng: &mut Rng| match (rng.f() * 6.0) as u32 {
+            0 => FALLBACK_LEVEL,
+            1 => 1.0,
+            2 => f32::NAN,
+            _ => 1.0 + (rng.f() * 20.0) as f32,
+        };
+        for _ in 0..20_000 {
+            let n_max = [1u32, 4, 16, 64][(rng.f() * 4.0) as usize];
+            let own = level(&mut rng);
+            let nb = [level(&mut rng), level(&mut rng), level(&mut rng)];
+            let p = patch_levels(own, nb, n_max);
+            let own_n = uniform_level(own, n_max);
+            for k in 0..3 {
+                // Symmetric: the neighbour computes the same level for the shared edge.
+                let theirs = patch_levels(nb[k], [own, own, own], n_max);
+                assert_eq!(p.outer[k], theirs.outer[0], "own {own}, neighbour {}", nb[k]);
+                assert!(p.outer[k] >= 1.0 && p.outer[k] <= n_max as f32 && p.outer[k].fract() == 0.0);
+                assert!(p.outer[k] as u32 >= own_n);
+            }
+            assert!(p.inner >= 1.0 && p.inner <= n_max as f32 && p.inner.fract() == 0.0);
+            if own_n == 0 {
+                assert!(p.fallback && p.inner == 1.0, "{own} {p:?}");
+            }
+            let l = |i: u32| p.outer.iter().map(|&o| pattern_level(i, o as u32)).fold(f32::MAX, f32::min);
+            if !p.fallback {
+                let i = p.inner as u32;
+                assert!(l(i) >= own, "{own} {p:?}");
+                assert!((1..i).all(|j| l(j) < own), "not the smallest inner level: {own} {p:?}");
+            } else if own_n > 0 {
+                assert!((1..=n_max).all(|j| l(j) < own), "{own} {p:?}");
+            }
+            // All equal: the uniform pattern.
+            if nb.iter().all(|&x| x == own) && own_n > 0 {
+                assert_eq!(p.outer, [own_n as f32; 3]);
+                assert!(!p.fallback && p.inner as u32 <= own_n);
+            }
+        }
+    }
+
+    /// Property test of the mixed patterns the rule draws: random triangles and lights (as in
+    /// `tests/estimator_property.rs`, smaller), random neighbour levels (fallback, equal,
+    /// higher, much higher), the pattern `triangle_pattern(inner, outer)` of `patch_levels`:
+    /// its true error (oracle, close calls re-measured 16 times denser) must stay under ε.
+    #[test]
+    fn mixed_patterns_keep_the_error_under_epsilon() {
+        use crate::analysis::oracle::{true_error_sampled, SAMPLES_PER_EDGE};
+        let mut rng = Rng(0x0000_ddba_11c0_ffee);
+        let (mut checked, mut mixed, mut worst) = (0usize, 0usize, 0.0f64);
+        for case in 0..3000 {
+            let brdf = case % 3;
+            let f = |rng: &mut Rng| rng.f() as f32;
+            let unit =
+                |rng: &mut Rng| Vec3::new(f(rng) - 0.5, f(rng) - 0.5, f(rng) - 0.5).normalize_or(Vec3::Z);
+            let dist = 0.5 + 10.0 * f(&mut rng);
+            let dir = unit(&mut rng);
+            let centre = dir * dist;
+            let base = (-dir + unit(&mut rng) * 0.8).normalize_or(-dir);
+            let (t1, t2) = base.any_orthonormal_pair();
+            let size = dist * (0.005 + 0.2 * f(&mut rng));
+            let corners: [Vec3; 3] = std::array::from_fn(|_| {
+                centre + (t1 * (f(&mut rng) - 0.5) + t2 * (f(&mut rng) - 0.5)) * size
+            });
+            let spread = 0.6 * f(&mut rng) * f(&mut rng);
+            let normals: [Vec3; 3] =
+                std::array::from_fn(|_| (base + unit(&mut rng) * spread).normalize_or(base));
+            let tri = TriangleInput { positions: corners, normals, eye: Vec3::ZERO };
+            let mut lights = Vec::new();
+            for _ in 0..1 + (f(&mut rng) * 2.0) as usize {
+                let l = (base + unit(&mut rng) * 1.2).normalize_or(base);
+                if f(&mut rng) < 0.6 {
+                    let d = size * (0.5 + 30.0 * f(&mut rng));
+                    lights.push(Light::Point {
+                        position: centre + l * d,
+                        color: Vec3::new(1.0, 0.8, 0.6),
+                        intensity: d * d * (0.5 + 2.0 * f(&mut rng)),
+                    });
+                } else {
+                    lights.push(Light::Directional {
+                        direction: -l,
+                        color: Vec3::ONE,
+                        intensity: 0.5 + f(&mut rng),
+                    });
+                }
+            }
+            let material = match brdf {
+                0 => MaterialKind::Lambert { kd: Vec3::new(0.9, 0.5, 0.2) },
+                1 => MaterialKind::BlinnPhong {
+                    kd: Vec3::splat(0.4),
+                    ks: Vec3::splat(0.6),
+                    shininess: 2.0 + 200.0 * f(&mut rng),
+                },
+                _ => MaterialKind::Ggx {
+                    albedo: Vec3::splat(0.4),
+                    f0: Vec3::new(0.04, 0.5, 0.9),
+                    roughness: 0.2 + 0.8 * f(&mut rng),
+                },
+            };
+            let epsilon = [0.01f32, 0.03, 0.1][(f(&mut rng) * 3.0) as usize];
+            let settings = EstimatorSettings { epsilon, n_max: 16, ..EstimatorSettings::default() };
+            let own = estimate(&tri, &material, &lights, &settings);
+            if own.fallback {
+                continue;
+            }
+            let neighbours: [f32; 3] = std::array::from_fn(|_| match (f(&mut rng) * 4.0) as u32 {
+                0 => FALLBACK_LEVEL,
+                1 => own.level,
+                2 => own.level * (1.0 + 2.0 * f(&mut rng)),
+                _ => 1.0 + 16.0 * f(&mut rng),
+            });
+            let p = patch_levels(own.level, neighbours, 16);
+            if p.fallback {
+                continue;
+            }
+            checked += 1;
+            if p.outer.iter().any(|&o| o != p.inner) {
+                mixed += 1;
+            }
+            let pattern = triangle_pattern(p.inner, p.outer);
+            let eps = f64::from(epsilon);
+            let mut error =
+                true_error_sampled(&tri, &material, &lights, &pattern, SAMPLES_PER_EDGE, f64::INFINITY);
+            if error.iter().any(|&e| e > 0.5 * eps) {
+                let fine = true_error_sampled(&tri, &material, &lights, &pattern, 24, f64::INFINITY);
+                error = std::array::from_fn(|c| error[c].max(fine[c]));
+            }
+            let e = error.iter().copied().fold(0.0, f64::max);
+            worst = worst.max(e / eps);
+            assert!(e <= eps, "case {case}: true error {e} > ε {eps} on {p:?} (level {}), {material:?}, {lights:?}, {tri:?}", own.level);
+        }
+        println!("mixed patterns: {checked} patches checked, {mixed} with raised or lowered edges; largest true error / ε: {worst:.3}");
+        assert!(mixed > 1000, "too few mixed patterns: {mixed}");
+    }
+
+    /// The estimator's own elementary functions against f64 libm.
+    #[test]
+    fn elementary_functions_are_accurate() {
+        let mut worst = [0.0f64; 6];
+        for i in 0..=200_000 {
+            let x = -1.0 + 8.5 * f64::from(i) / 200_000.0; // [−1, 7.5] rad
+            let xf = x as f32;
+            let xd = f64::from(xf);
+            worst[0] = worst[0].max((f64::from(est_sin(xf)) - xd.sin()).abs());
+            worst[1] = worst[1].max((f64::from(est_cos(xf)) - xd.cos()).abs());
+            let t = (-3.0 + 6.0 * f64::from(i) / 200_000.0) as f32; // [−3, 3]
+            let (y, z) = (t.abs(), 1.0 - 0.5 * t);
+            let exact = f64::from(y).atan2(f64::from(z));
+            worst[2] = worst[2].max((f64::from(est_atan2(y, z)) - exact).abs());
+            let c = (f64::from(i) / 200_000.0) as f32; // [0, 1]
+            worst[3] = worst[3].max((f64::from(est_acos(c)) - f64::from(c).acos()).abs());
+            worst[4] = worst[4]
+                .max((f64::from(est_asin(c.min(0.999_999))) - f64::from(c.min(0.999_999)).asin()).abs());
+            if c > 0.0 {
+                for e in [0.5f32, 2.0, 63.0, 1.0e4] {
+                    let exact = f64::from(c).powf(f64::from(e));
+                    if exact > 1.0e-30 {
+                        // Relative error, in units of the exponent (the error of log2 is amplified by e).
+                        let rel = (f64::from(est_pow(c, e)) / exact - 1.0).abs() / f64::from(e).max(1.0);
+                        worst[5] = worst[5].max(rel);
+                    }
+                }
+            }
+        }
+        println!("max errors: sin {:.2e}, cos {:.2e}, atan2 {:.2e}, acos {:.2e}, asin {:.2e} (rad); pow relative / exponent {:.2e}", worst[0], worst[1], worst[2], worst[3], worst[4], worst[5]);
+        assert!(worst[..5].iter().all(|&w| w < 5.0e-7), "{worst:?}");
+        assert!(worst[5] < 1.0e-6, "{worst:?}");
+        assert_eq!(est_pow(0.3, 0.0), 1.0);
+        assert_eq!(est_pow(0.3, 1.0), 0.3);
+        assert_eq!(est_pow(0.0, 2.0), 0.0);
+        assert_eq!(est_atan2(0.0, 0.0), 0.0);
+        assert_eq!(est_atan2(0.0, -1.0), PI);
+        assert_eq!(est_acos(1.0), 0.0);
+    }
+
     // ----- robustness -----
 
     fn sane(e: &Estimate, n_max: u32, what: &str) {
@@ -1953,6 +2410,11 @@ mod tests {
         assert_eq!(e.fallback, e.reason != Reason::None, "{what}");
         if e.fallback {
             assert_eq!(e.n, 1, "{what}");
+            assert_eq!(e.level, FALLBACK_LEVEL, "{what}");
+        } else {
+            // The real level: at least 1, within the uniform level's reach, never NaN.
+            assert!(e.level >= 1.0 && e.level <= pattern_level(n_max, n_max), "{what}: level {}", e.level);
+            assert_eq!(uniform_level(e.level, n_max), e.n, "{what}");
         }
     }
 
