@@ -21,9 +21,13 @@ void main() {
     vec3 b = gl_TessCoord;
     precise vec3 position = b.x * in_position[0] + b.y * in_position[1] + b.z * in_position[2];
     vec3 normal = b.x * in_normal[0] + b.y * in_normal[1] + b.z * in_normal[2];
-    out_color = patch_level > 0.0
-        ? shade_point(position, normal, draw.eye.xyz, draw.material_index)
-        : vec3(0.0);
+    out_color = vec3(0.0);
+    if (patch_level > 0.0) {
+        out_color = shade_point(position, normal, draw.eye.xyz, draw.material_index);
+        if (COUNT_EVALUATIONS) {
+            atomicAdd(counters.subvertex_evaluations, 1u);
+        }
+    }
     out_position = position;
     out_normal = normal;
     out_level = patch_level;

@@ -9,8 +9,16 @@ layout(location = 1) in vec3 in_normal;
 
 layout(location = 0) out vec4 out_color;
 
+// Depth is tested before shading, so only visible fragments shade (and count).
+layout(early_fragment_tests) in;
+
 void main() {
-    vec3 color = heat_map_on() ? heat_color(0.0)
-                               : shade_point(in_position, in_normal, draw.eye.xyz, draw.material_index);
+    vec3 color = heat_color(0.0);
+    if (!heat_map_on()) {
+        color = shade_point(in_position, in_normal, draw.eye.xyz, draw.material_index);
+        if (COUNT_EVALUATIONS) {
+            atomicAdd(counters.pixel_evaluations, 1u);
+        }
+    }
     out_color = vec4(color, 1.0);
 }

@@ -20,5 +20,8 @@ void main() {
     precise vec3 position = b.x * in_position[0] + b.y * in_position[1] + b.z * in_position[2];
     vec3 normal = b.x * in_normal[0] + b.y * in_normal[1] + b.z * in_normal[2];
     out_color = shade_point(position, normal, draw.eye.xyz, draw.material_index);
+    if (COUNT_EVALUATIONS) {
+        atomicAdd(counters.subvertex_evaluations, 1u);
+    }
     gl_Position = draw.view_proj * vec4(position, 1.0);
 }

@@ -26,6 +26,8 @@ pub enum Error {
     Output { path: PathBuf, message: String },
     #[error("window system: {0}")]
     Window(String),
+    #[error("the device {device} cannot {what}: it lacks {missing}")]
+    Unsupported { device: String, what: &'static str, missing: &'static str },
 }
 
 /// Shorthand for results of this crate.

@@ -5,9 +5,11 @@
 //! - [`scene`]: the TOML scene format and OBJ meshes; knows no Vulkan.
 //! - [`shading`]: the Rust twins of the GLSL shading functions.
 //! - [`render`]: passes and pipeline variants that join the three above, and image output.
+//! - [`bench`]: benchmarks of the speed/accuracy trade: rows, plots, timing captures.
 //! - [`window`]: the interactive viewer.
 
 pub mod analysis;
+pub mod bench;
 pub mod error;
 pub mod gpu_types;
 pub mod render;

@@ -3,6 +3,7 @@
 use anyhow::{Context as _, Result};
 use clap::{Args, Parser, Subcommand};
 use multirate::analysis::report;
+use multirate::bench::{self, BenchConfig, BenchScene};
 use multirate::render::{output, render_headless, Mode, View, MAX_LEVEL};
 use multirate::scene::Scene;
 use multirate::shading::estimator::{Discontinuity, EstimatorSettings, Split};
@@ -31,6 +32,58 @@ enum Command {
     /// Per visible triangle: the estimator's levels, fallback and predicted error (CSV), and
     /// with --oracle the brute-force truth; prints a summary.
     Analyze(AnalyzeArgs),
+    /// Measure modes against the pixel reference: GPU time (median, p10, p90), shading
+    /// evaluations, L∞, mean L2, PSNR and FLIP; writes CSV, JSON and SVG plots into --out.
+    Bench(BenchArgs),
+}
+
+#[derive(Args)]
+struct BenchArgs {
+    /// Scene file (TOML); repeat for several scenes.
+    #[arg(long, required = true)]
+    scene: Vec<PathBuf>,
+    /// Modes to measure besides the pixel reference (which always runs).
+    #[arg(long, value_delimiter = ',', default_value = "pixel,vertex,fixed:1,fixed:2,fixed:4,multirate")]
+    modes: Vec<Mode>,
+    /// multirate: ε values (default: the scene's).
+    #[arg(long, value_delimiter = ',')]
+    epsilon: Vec<f32>,
+    /// multirate: n_max values (default: the scene's).
+    #[arg(long, value_delimiter = ',')]
+    nmax: Vec<u32>,
+    /// Resolutions as WxH (default: the scene's).
+    #[arg(long, value_delimiter = ',', value_parser = parse_resolution)]
+    resolution: Vec<(u32, u32)>,
+    /// Measured frames per configuration.
+    #[arg(long, default_value_t = 30)]
+    frames: u32,
+    /// Frames rendered before measuring.
+    #[arg(long, default_value_t = 5)]
+    warmup: u32,
+    /// Output folder (bench.csv, bench.json, time_vs_linf.svg, time_vs_flip.svg).
+    #[arg(long)]
+    out: PathBuf,
+    /// Also write the measured frames' GPU intervals as a Chrome trace (Perfetto).
+    #[arg(long)]
+    capture: Option<PathBuf>,
+    /// Also write each configuration's image, error ×30, level map and fallback mask into
+    /// OUT/images.
+    #[arg(long)]
+    images: bool,
+    /// multirate: how ε is shared between error terms.
+    #[arg(long, value_parser = parse_split, default_value = "heuristic")]
+    split: Split,
+    /// multirate: conservative or relaxed handling of the terminator.
+    #[arg(long, value_parser = parse_discontinuity, default_value = "conservative")]
+    discontinuity: Discontinuity,
+}
+
+fn parse_resolution(text: &str) -> Result<(u32, u32), String> {
+    let parsed = text.split_once(['x', 'X']).and_then(|(w, h)| Some((w.parse().ok()?, h.parse().ok()?)));
+    match parsed {
+        Some((w, h)) if (1..=16384).contains(&w) && (1..=16384).contains(&h) => Ok((w, h)),
+        _ => Err(format!("\"{text}\": expected WIDTHxHEIGHT, each in 1..=16384, such as 1920x1080")),
+    }
 }
 
 #[derive(Args)]
@@ -236,6 +289,88 @@ fn analyze(args: &AnalyzeArgs) -> Result<()> {
     Ok(())
 }
 
+fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
+    for &epsilon in &args.epsilon {
+        anyhow::ensure!(
+            epsilon.is_finite() && epsilon > 0.0,
+            "--epsilon values must be positive (got {epsilon})"
+        );
+    }
+    for &n_max in &args.nmax {
+        anyhow::ensure!(
+            (1..=MAX_LEVEL).contains(&n_max),
+            "--nmax values must be in 1..={MAX_LEVEL} (got {n_max})"
+        );
+    }
+    anyhow::ensure!(args.frames >= 1, "--frames must be at least 1");
+    let scenes = args.scene.iter().map(|path| BenchScene::load(path)).collect::<Result<Vec<_>, _>>()?;
+    let context = Context::headless(&options(gpu))?;
+    let config = BenchConfig {
+        modes: args.modes.clone(),
+        epsilons: args.epsilon.clone(),
+        n_maxes: args.nmax.clone(),
+        resolutions: args.resolution.clone(),
+        warmup: args.warmup,
+        frames: args.frames,
+        split: args.split,
+        discontinuity: args.discontinuity,
+        images: args.images.then(|| args.out.join("images")),
+    };
+    std::fs::create_dir_all(&args.out).with_context(|| format!("{}: cannot create", args.out.display()))?;
+    let bar = indicatif::ProgressBar::new(0).with_style(
+        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} [{elapsed} / ~{eta}] {msg}")
+            .expect("valid template"),
+    );
+    let result = bench::run(&context, &scenes, &config, &mut |progress| {
+        bar.set_length(progress.total as u64);
+        bar.set_position(progress.done as u64);
+        bar.set_message(progress.label.to_string());
+    })?;
+    bar.finish_and_clear();
+    let write = |name: &str, text: String| {
+        let path = args.out.join(name);
+        std::fs::write(&path, text).with_context(|| format!("{}: cannot write", path.display()))
+    };
+    write("bench.csv", bench::to_csv(&result.rows))?;
+    write("bench.json", bench::to_json(&result.rows))?;
+    bench::plot::time_against_error(
+        &result.rows,
+        "L∞ error",
+        |r| r.l_inf,
+        &args.out.join("time_vs_linf.svg"),
+    )?;
+    bench::plot::time_against_error(
+        &result.rows,
+        "mean FLIP",
+        |r| r.flip,
+        &args.out.join("time_vs_flip.svg"),
+    )?;
+    if let Some(path) = &args.capture {
+        std::fs::write(path, bench::trace::chrome_trace(&result.rows, &result.measurements))
+            .with_context(|| format!("{}: cannot write the capture", path.display()))?;
+    }
+    println!("{} on {} ({})", args.out.display(), context.info.name, context.info.driver);
+    println!(
+        "{:<44} {:>10} {:>8} {:>10} {:>9} {:>10} {:>8}",
+        "configuration", "GPU ms", "speedup", "evals", "L∞", "mean L2", "FLIP"
+    );
+    for row in &result.rows {
+        let name = format!("{} {}x{} {}", row.scene, row.width, row.height, bench::plot::row_label(row));
+        println!(
+            "{name:<44} {:>10.3} {:>7.0}% {:>9.1}% {:>9.5} {:>10.2e} {:>8.5}",
+            row.gpu_ms.median,
+            row.speedup * 100.0,
+            row.evaluation_ratio * 100.0,
+            row.l_inf,
+            row.mean_l2,
+            row.flip
+        );
+    }
+    let messages = context.validation().count();
+    anyhow::ensure!(messages == 0, "the validation layer reported {messages} message(s)");
+    Ok(())
+}
+
 fn has_display() -> bool {
     ["DISPLAY", "WAYLAND_DISPLAY"].iter().any(|v| std::env::var_os(v).is_some_and(|s| !s.is_empty()))
 }
@@ -245,6 +380,7 @@ fn main() -> Result<()> {
     match &cli.command {
         Some(Command::Render(args)) => render(args, &cli.gpu),
         Some(Command::Analyze(args)) => analyze(args),
+        Some(Command::Bench(args)) => run_bench(args, &cli.gpu),
         Some(Command::View(args)) => view(&args.scene, &args.shading, &cli.gpu)
             .with_context(|| format!("viewing {}", args.scene.display())),
         None if has_display() => view(&default_scene(), &ShadingArgs::default(), &cli.gpu)

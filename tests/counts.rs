@@ -1,18 +1,20 @@
-//! Deterministic counts from pipeline statistics (lavapipe, validation layer on): one triangle
-//! at `fixed:n` runs the evaluation shader once per distinct sub-vertex, ceil(3(n+1)²/4); the
-//! timestamps around the pass are positive and finite.
+//! Deterministic counts (lavapipe, validation layer on):
+//! - pipeline statistics: one triangle at `fixed:n` runs the evaluation shader once per
+//!   distinct sub-vertex, ceil(3(n+1)²/4), and the timestamps around the pass are positive;
+//! - the counting variant: the same sub-vertex counts, one fragment evaluation per covered
+//!   pixel in `pixel` mode, three vertex evaluations in `vertex` mode, and a scene that falls
+//!   back everywhere counts exactly the fragments of `pixel` mode.
 
 mod common;
 
 use ash::vk;
 use common::{assert_validation_clean, repo_path, validated_context};
 use multirate::analysis::tessellator::uniform_vertex_count;
-use multirate::render::{Mode, Renderer, View};
+use multirate::render::{EvaluationCounts, Mode, Renderer, View};
 use multirate::scene::Scene;
 use multirate::vk::target::RenderTarget;
 
-#[test]
-fn one_triangle_at_fixed_n_shades_the_pattern_vertices() {
+fn one_triangle_scene() -> Scene {
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("counts");
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join("tri.obj"), "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n").unwrap();
@@ -32,22 +34,79 @@ fn one_triangle_at_fixed_n_shades_the_pattern_vertices() {
     std::fs::write(&scene_path, patched).unwrap();
     let scene = Scene::load(&scene_path).expect("one-triangle scene");
     assert_eq!(scene.triangle_count(), 1);
+    scene
+}
 
+#[test]
+fn one_triangle_at_fixed_n_shades_the_pattern_vertices() {
+    let scene = one_triangle_scene();
     let context = validated_context();
     assert!(context.features.pipeline_statistics, "lavapipe has pipelineStatisticsQuery");
     let renderer = Renderer::new(&context, &scene).expect("renderer");
     let target = RenderTarget::new(&context, vk::Extent2D { width: 64, height: 64 }).expect("target");
     for n in [1u32, 2, 3, 4, 8, 16] {
         let view = View { mode: Mode::Fixed(n), ..View::of_scene(&scene) };
-        let measured = renderer.measure(&target, &view, 1, 2).expect("measure");
+        let measured = renderer.measure(&target, &view, 1, 3).expect("measure");
         let stats = measured.statistics.expect("statistics");
+        let expected = uniform_vertex_count(n) as u64;
         assert_eq!(stats.tessellation_control_patches, 1, "n = {n}");
         assert_eq!(
-            stats.tessellation_evaluation_invocations,
-            uniform_vertex_count(n) as u64,
+            stats.tessellation_evaluation_invocations, expected,
             "n = {n}: evaluation shader runs per distinct sub-vertex"
         );
-        assert!(measured.gpu_ms.iter().all(|ms| ms.is_finite() && *ms > 0.0), "{:?}", measured.gpu_ms);
+        let gpu_ms = measured.gpu_ms();
+        assert_eq!(gpu_ms.len(), 3, "n = {n}: one interval per measured frame");
+        assert!(gpu_ms.iter().all(|ms| ms.is_finite() && *ms > 0.0), "{gpu_ms:?}");
+        assert!(
+            measured.frames.windows(2).all(|w| w[1].start_ns >= w[0].end_ns),
+            "frames run in submission order: {:?}",
+            measured.frames
+        );
+
+        let counted = renderer.count_evaluations(&target, &view).expect("count");
+        assert_eq!(counted, EvaluationCounts { sub_vertices: expected, ..Default::default() }, "n = {n}");
     }
+    assert_validation_clean(&context);
+}
+
+#[test]
+fn pixel_and_vertex_modes_count_fragments_and_vertices() {
+    let scene = one_triangle_scene();
+    let context = validated_context();
+    let renderer = Renderer::new(&context, &scene).expect("renderer");
+    let target = RenderTarget::new(&context, vk::Extent2D { width: 80, height: 60 }).expect("target");
+    let pixel = View { mode: Mode::Pixel, ..View::of_scene(&scene) };
+    let image = renderer.render(&target, &pixel).expect("render");
+    let covered = image.pixels.iter().filter(|p| p[3] == 1.0).count() as u64;
+    assert!(covered > 100, "the triangle covers part of the image ({covered} pixels)");
+    let counted = renderer.count_evaluations(&target, &pixel).expect("count");
+    assert_eq!(counted, EvaluationCounts { fragments: covered, ..Default::default() });
+
+    let vertex = View { mode: Mode::Vertex, ..View::of_scene(&scene) };
+    let counted = renderer.count_evaluations(&target, &vertex).expect("count");
+    assert_eq!(counted, EvaluationCounts { vertices: 3, ..Default::default() });
+    assert_validation_clean(&context);
+}
+
+#[test]
+fn a_scene_that_falls_back_everywhere_counts_the_fragments_of_pixel_mode() {
+    // Three sharp lights close above the plane: at ε = 10⁻⁶ no triangle of it can be
+    // tessellated within n_max = 2, so every one falls back to per-pixel shading.
+    let scene = Scene::load(&repo_path("scenes/plane_lights.toml")).expect("scene");
+    let context = validated_context();
+    let renderer = Renderer::new(&context, &scene).expect("renderer");
+    let target = RenderTarget::new(&context, vk::Extent2D { width: 96, height: 72 }).expect("target");
+    let multirate = View { mode: Mode::Multirate, epsilon: 1e-6, n_max: 2, ..View::of_scene(&scene) };
+    let levels = renderer.record_levels(&target, &multirate).expect("levels");
+    assert!(levels.iter().all(|l| l[0] == 0.0), "every triangle falls back");
+
+    let pixel = renderer.count_evaluations(&target, &View { mode: Mode::Pixel, ..multirate.clone() });
+    let pixel = pixel.expect("count pixel");
+    let fallback = renderer.count_evaluations(&target, &multirate).expect("count multirate");
+    assert!(pixel.fragments > 1000, "{pixel:?}");
+    assert_eq!(fallback, pixel, "same fragments, no sub-vertices");
+
+    // Pipeline statistics are no substitute here: lavapipe's fragment-invocation count
+    // includes the helper lanes of every 2×2 quad (about 14× the count above on this plane).
     assert_validation_clean(&context);
 }

@@ -10,4 +10,14 @@ layout(set = 0, binding = 1, std430) readonly buffer Materials { GpuMaterial mat
 layout(set = 0, binding = 2, std430) writeonly buffer LevelRecords { vec4 level_records[]; };
 layout(push_constant, std430) uniform Push { DrawConstants draw; };
 
+// The counting variant (COUNT_EVALUATIONS) adds one to these for every run of the full shading
+// function, by where it ran. The timed variants compile the counting out.
+layout(constant_id = 6) const bool COUNT_EVALUATIONS = false;
+layout(set = 0, binding = 3, std430) buffer EvaluationCounters {
+    uint vertex_evaluations;    // vertex mode: triangle vertices (vertex shader)
+    uint subvertex_evaluations; // tessellated modes: sub-vertices (evaluation shader)
+    uint pixel_evaluations;     // pixel mode, and multirate's per-pixel fallback
+    uint counters_pad;
+} counters;
+
 #endif

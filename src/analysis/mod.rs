@@ -1,5 +1,7 @@
-//! CPU analysis tools: the model of the hardware tessellator and the brute-force oracle.
+//! CPU analysis tools: the model of the hardware tessellator, the brute-force oracle, the
+//! per-triangle report and the image metrics.
 
+pub mod metrics;
 pub mod oracle;
 pub mod report;
 pub mod tessellator;

@@ -82,12 +82,7 @@ impl Orbit {
     pub fn apply(&self, camera: &Camera) -> Camera {
         let direction =
             Vec3::new(self.pitch.cos() * self.yaw.sin(), self.pitch.sin(), self.pitch.cos() * self.yaw.cos());
-        Camera {
-            eye: self.target + direction * self.distance,
-            target: self.target,
-            up: Vec3::Y,
-            ..camera.clone()
-        }
+        Camera { eye: self.target + direction * self.distance, target: self.target, up: Vec3::Y, ..*camera }
     }
 }
 

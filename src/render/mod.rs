@@ -13,13 +13,14 @@ use crate::scene::adjacency::{adjacency_patches, PATCH_SIZE};
 use crate::scene::{Camera, Light, MaterialKind, Scene};
 use crate::shaders;
 use crate::shading::estimator::{Discontinuity, Split};
+use crate::vk::frames::FrameRing;
 use crate::vk::memory::Buffer;
 use crate::vk::pipeline::{
     bind_storage_buffers, DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderModule,
     Specialization, Stage,
 };
 use crate::vk::target::{AfterPass, FloatImage, RenderTarget, COLOR_FORMAT, DEPTH_FORMAT};
-use crate::vk::timing::{GpuTimer, PipelineStatistics};
+use crate::vk::timing::{GpuInterval, GpuTimer, PipelineStatistics};
 use crate::vk::Context;
 use ash::vk;
 use glam::{Vec3, Vec4};
@@ -115,13 +116,40 @@ pub fn gpu_lights(lights: &[Light]) -> (Vec<GpuLight>, i32, i32) {
 }
 
 /// GPU times and counts of measured frames.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct Measurement {
-    /// Forward-pass milliseconds of every measured frame.
-    pub gpu_ms: Vec<f64>,
+    /// When the forward pass ran in every measured frame, in submission order.
+    pub frames: Vec<GpuInterval>,
     /// Pipeline statistics of the last frame, where the device has them.
     pub statistics: Option<PipelineStatistics>,
 }
+
+impl Measurement {
+    /// Forward-pass milliseconds of every measured frame.
+    pub fn gpu_ms(&self) -> Vec<f64> {
+        self.frames.iter().map(GpuInterval::milliseconds).collect()
+    }
+}
+
+/// Runs of the full shading function in one frame, by where they ran (the counting variant).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct EvaluationCounts {
+    /// `vertex` mode: triangle vertices shaded by the vertex shader.
+    pub vertices: u64,
+    /// Tessellated modes: sub-vertices shaded by the evaluation shader.
+    pub sub_vertices: u64,
+    /// `pixel` mode and `multirate`'s fallback: fragments shaded per pixel.
+    pub fragments: u64,
+}
+
+impl EvaluationCounts {
+    pub fn total(&self) -> u64 {
+        self.vertices + self.sub_vertices + self.fragments
+    }
+}
+
+/// Frames a measurement keeps in flight, so reading one frame's queries never stalls the next.
+const FRAMES_IN_FLIGHT: usize = 2;
 
 /// What a frame is rendered with.
 #[derive(Clone, Debug)]
@@ -144,7 +172,7 @@ impl View {
     /// The scene's own camera and settings.
     pub fn of_scene(scene: &Scene) -> View {
         View {
-            camera: scene.camera.clone(),
+            camera: scene.camera,
             mode: Mode::Pixel,
             epsilon: scene.settings.epsilon,
             n_max: scene.settings.n_max,
@@ -165,8 +193,28 @@ struct Variant {
     /// first use by `Renderer::prepare`, since the estimator makes them slow to compile.
     multirate: [[OnceCell<Pipeline>; 2]; 2],
     kind: i32,
-    record_levels: bool,
+    instrumentation: Instrumentation,
     polygon_mode: vk::PolygonMode,
+}
+
+/// What a pipeline variant records besides the image. Only `None` is ever timed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Instrumentation {
+    None,
+    /// multirate.tesc writes each triangle's levels (RECORD_LEVELS).
+    RecordLevels,
+    /// Every shading run adds to the evaluation counters (COUNT_EVALUATIONS).
+    CountEvaluations,
+}
+
+impl Instrumentation {
+    /// The specialization constants RECORD_LEVELS (5) and COUNT_EVALUATIONS (6).
+    fn specialize(self, specialization: &Specialization) -> Specialization {
+        specialization
+            .clone()
+            .boolean(5, self == Instrumentation::RecordLevels)
+            .boolean(6, self == Instrumentation::CountEvaluations)
+    }
 }
 
 impl Variant {
@@ -231,6 +279,10 @@ pub struct Renderer {
     modules: Modules,
     specializations: Vec<(i32, Specialization)>,
     levels: Buffer,
+    /// The counting variants' four counters (`EvaluationCounters` in bindings.glsl).
+    counters: Buffer,
+    /// The counting variants, built on first use by `count_evaluations`.
+    counting_variants: OnceCell<Vec<Variant>>,
     draws: Vec<DrawCall>,
     clear_color: [f32; 4],
     /// Most tessellated vertices one draw may emit, where the driver needs a limit.
@@ -291,6 +343,13 @@ impl Renderer {
             vk::BufferUsageFlags::STORAGE_BUFFER,
             gpu_allocator::MemoryLocation::GpuToCpu,
         )?;
+        let counter_buffer = Buffer::new(
+            context,
+            "evaluation counters",
+            16,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            gpu_allocator::MemoryLocation::GpuToCpu,
+        )?;
         let light_buffer =
             Buffer::with_data(context, "scene lights", vk::BufferUsageFlags::STORAGE_BUFFER, &lights)?;
         let material_buffer =
@@ -313,6 +372,11 @@ impl Renderer {
                 .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
                 .descriptor_count(1)
                 .stage_flags(stages),
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(3)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(stages),
         ];
         let push = [vk::PushConstantRange::default()
             .stage_flags(stages)
@@ -322,13 +386,13 @@ impl Renderer {
             context,
             "forward descriptors",
             1,
-            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 3 }],
+            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 4 }],
         )?;
         let descriptor_set = pool.allocate(layout.set_layouts[0])?;
         bind_storage_buffers(
             context,
             descriptor_set,
-            &[light_buffer.raw, material_buffer.raw, level_buffer.raw],
+            &[light_buffer.raw, material_buffer.raw, level_buffer.raw, counter_buffer.raw],
         );
 
         let modules = Modules {
@@ -353,7 +417,7 @@ impl Renderer {
                 &layout,
                 kind,
                 &specialization,
-                false,
+                Instrumentation::None,
                 vk::PolygonMode::FILL,
             )?);
             specializations.push((kind, specialization));
@@ -375,6 +439,8 @@ impl Renderer {
             modules,
             specializations,
             levels: level_buffer,
+            counters: counter_buffer,
+            counting_variants: OnceCell::new(),
             draws,
             clear_color: [clear.x, clear.y, clear.z, 0.0],
             tessellated_vertex_budget: tessellated_vertex_budget(&context.info),
@@ -427,7 +493,7 @@ impl Renderer {
                     &self.layout,
                     *kind,
                     specialization,
-                    false,
+                    Instrumentation::None,
                     vk::PolygonMode::LINE,
                 )?);
             }
@@ -528,7 +594,7 @@ impl Renderer {
                 &self.layout,
                 *kind,
                 specialization,
-                true,
+                Instrumentation::RecordLevels,
                 vk::PolygonMode::FILL,
             )?);
         }
@@ -552,10 +618,10 @@ impl Renderer {
         Ok(bytemuck::pod_collect_to_vec::<u8, [f32; 4]>(&bytes[..self.levels.size as usize]))
     }
 
-    /// Renders `warmup` frames, then `frames` measured ones: GPU milliseconds of the forward
-    /// pass per measured frame (timestamps outside the pass) and the pipeline statistics of
-    /// the last frame. Each frame is submitted and waited for on its own, so frames do not
-    /// overlap.
+    /// Renders `warmup` frames, then `frames` measured ones, with up to two frames in flight:
+    /// when the forward pass of each measured frame ran on the GPU (timestamps outside the
+    /// pass) and the pipeline statistics of the last one. A frame's queries are read only
+    /// once its slot comes round again, so reading never stalls the frame being recorded.
     pub fn measure(
         &self,
         target: &RenderTarget,
@@ -564,24 +630,106 @@ impl Renderer {
         frames: u32,
     ) -> Result<Measurement> {
         self.prepare(view)?;
-        let timer = GpuTimer::new(&self.context, 1, 1)?;
-        let mut gpu_ms = Vec::with_capacity(frames as usize);
-        let mut statistics = None;
-        for frame in 0..warmup + frames {
-            self.context.run_once(|cmd| {
-                timer.reset(cmd, 0);
-                timer.timestamp(cmd, 0, 0, false);
-                timer.statistics(cmd, 0, true);
-                self.record(cmd, target, view, AfterPass::Sampled);
-                timer.statistics(cmd, 0, false);
-                timer.timestamp(cmd, 0, 0, true);
-            })?;
-            if frame >= warmup {
-                gpu_ms.push(timer.pass_milliseconds(0)?[0]);
-                statistics = timer.read_statistics(0)?;
+        let timer = GpuTimer::new(&self.context, 1, FRAMES_IN_FLIGHT as u32)?;
+        let mut ring = FrameRing::new(&self.context, FRAMES_IN_FLIGHT)?;
+        let mut measurement = Measurement::default();
+        let mut frame_in_slot = [0u32; FRAMES_IN_FLIGHT];
+        let total = warmup + frames;
+        let collect = |ring: &mut FrameRing, slot: usize, frame: u32, measurement: &mut Measurement| {
+            if ring.wait(slot)? && frame >= warmup {
+                measurement.frames.push(timer.pass_intervals(slot as u32)?[0]);
+                measurement.statistics = timer.read_statistics(slot as u32)?;
             }
+            Ok::<_, crate::Error>(())
+        };
+        for frame in 0..total {
+            let slot = frame as usize % FRAMES_IN_FLIGHT;
+            collect(&mut ring, slot, frame_in_slot[slot], &mut measurement)?;
+            ring.submit(slot, |cmd| {
+                let slot = slot as u32;
+                timer.reset(cmd, slot);
+                timer.timestamp(cmd, slot, 0, false);
+                timer.statistics(cmd, slot, true);
+                self.record(cmd, target, view, AfterPass::Sampled);
+                timer.statistics(cmd, slot, false);
+                timer.timestamp(cmd, slot, 0, true);
+            })?;
+            frame_in_slot[slot] = frame;
         }
-        Ok(Measurement { gpu_ms, statistics })
+        for frame in total..total + FRAMES_IN_FLIGHT as u32 {
+            let slot = frame as usize % FRAMES_IN_FLIGHT;
+            collect(&mut ring, slot, frame_in_slot[slot], &mut measurement)?;
+        }
+        Ok(measurement)
+    }
+
+    /// Renders one frame of `view` with the counting variant (never the timed one) and
+    /// returns how many times the full shading function ran, by stage. Needs storage writes
+    /// in the vertex pipeline and fragment stages (`vertexPipelineStoresAndAtomics`,
+    /// `fragmentStoresAndAtomics`).
+    pub fn count_evaluations(&self, target: &RenderTarget, view: &View) -> Result<EvaluationCounts> {
+        let features = &self.context.features;
+        if !(features.vertex_pipeline_stores && features.fragment_stores) {
+            return Err(crate::Error::Unsupported {
+                device: self.context.info.name.clone(),
+                what: "count shading evaluations",
+                missing: "vertexPipelineStoresAndAtomics and fragmentStoresAndAtomics",
+            });
+        }
+        let counting = match self.counting_variants.get() {
+            Some(variants) => variants,
+            None => {
+                let mut variants = Vec::new();
+                for (kind, specialization) in &self.specializations {
+                    variants.push(self.modules.variant(
+                        &self.context,
+                        &self.layout,
+                        *kind,
+                        specialization,
+                        Instrumentation::CountEvaluations,
+                        vk::PolygonMode::FILL,
+                    )?);
+                }
+                self.counting_variants.get_or_init(|| variants)
+            }
+        };
+        if view.mode == Mode::Multirate {
+            self.prepare_variants(counting, view)?;
+        }
+        let device = &self.context.device;
+        self.context.run_once(|cmd| {
+            let to_shaders = [vk::MemoryBarrier2::default()
+                .src_stage_mask(vk::PipelineStageFlags2::CLEAR)
+                .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+                .dst_stage_mask(vk::PipelineStageFlags2::ALL_GRAPHICS)
+                .dst_access_mask(
+                    vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+                )];
+            let to_host = [vk::MemoryBarrier2::default()
+                .src_stage_mask(vk::PipelineStageFlags2::ALL_GRAPHICS)
+                .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
+                .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+                .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+            // SAFETY: recording outside a render pass; the counter buffer has TRANSFER_DST usage
+            // and is 16 bytes long.
+            unsafe {
+                device.cmd_fill_buffer(cmd, self.counters.raw, 0, 16, 0);
+                device
+                    .cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&to_shaders));
+            }
+            self.record_with(counting, cmd, target, view, AfterPass::Sampled);
+            // SAFETY: recording outside a render pass.
+            unsafe {
+                device.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&to_host))
+            };
+        })?;
+        let bytes = self.counters.mapped().expect("GpuToCpu memory is mapped");
+        let values: [u32; 4] = bytemuck::pod_read_unaligned(&bytes[..16]);
+        Ok(EvaluationCounts {
+            vertices: u64::from(values[0]),
+            sub_vertices: u64::from(values[1]),
+            fragments: u64::from(values[2]),
+        })
     }
 
     /// Patches per multirate draw: besides the vertex budget, lavapipe (Mesa 22.3) restarts
@@ -675,9 +823,10 @@ impl Modules {
         layout: &PipelineLayout,
         kind: i32,
         specialization: &Specialization,
-        record_levels: bool,
+        instrumentation: Instrumentation,
         polygon_mode: vk::PolygonMode,
     ) -> Result<Variant> {
+        let specialization = &instrumentation.specialize(specialization);
         let stage = |stage, module, specialised: bool| Stage {
             stage,
             module,
@@ -731,7 +880,7 @@ impl Modules {
             )?,
             multirate: Default::default(),
             kind,
-            record_levels,
+            instrumentation,
             polygon_mode,
         })
     }
@@ -749,7 +898,7 @@ impl Modules {
     ) -> Result<Pipeline> {
         let (split, discontinuity) = (split_id(view.split), discontinuity_id(view.discontinuity));
         let specialization =
-            specialization.clone().int(3, split).int(4, discontinuity).boolean(5, variant.record_levels);
+            variant.instrumentation.specialize(&specialization.clone().int(3, split).int(4, discontinuity));
         let stage = |stage, module| Stage { stage, module, specialization: Some(&specialization) };
         use vk::ShaderStageFlags as S;
         Pipeline::graphics(

@@ -1,30 +1,11 @@
 //! Writing rendered images: PNG (exposure, ACES filmic tone map, sRGB, 8 bits) and OpenEXR
-//! (linear float RGB, alpha = geometric coverage). The tone map is the twin of
-//! `glsl/include/tonemap.glsl`, which the viewer uses.
+//! (linear float RGB, alpha = geometric coverage). The tone map lives in
+//! [`crate::shading::tonemap`].
 
 use crate::error::{Error, Result};
+pub use crate::shading::tonemap::{aces_filmic, display_value, srgb_encode};
 use crate::vk::target::FloatImage;
 use std::path::Path;
-
-/// The ACES filmic curve (Narkowicz 2015 fit), clamped to [0, 1].
-pub fn aces_filmic(x: f32) -> f32 {
-    ((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0)
-}
-
-/// The sRGB opto-electronic transfer function.
-pub fn srgb_encode(linear: f32) -> f32 {
-    if linear <= 0.003_130_8 {
-        linear * 12.92
-    } else {
-        1.055 * linear.powf(1.0 / 2.4) - 0.055
-    }
-}
-
-/// Linear radiance to an 8-bit sRGB display value.
-pub fn display_value(linear: f32, exposure: f32) -> u8 {
-    let mapped = aces_filmic(linear.max(0.0) * exposure);
-    (srgb_encode(mapped) * 255.0 + 0.5).clamp(0.0, 255.0) as u8
-}
 
 /// The tone-mapped 8-bit RGBA image (alpha = coverage).
 pub fn tone_mapped(image: &FloatImage, exposure: f32) -> image::RgbaImage {
@@ -62,6 +43,18 @@ pub fn write_image(image: &FloatImage, path: &Path, exposure: f32) -> Result<()>
         }
         _ => Err(fail("unknown image format: use a .png or .exr file name".into())),
     }
+}
+
+/// Writes a data image (error, level map, mask) as an 8-bit sRGB PNG without the tone curve:
+/// values are clamped to [0, 1], so the colours are exactly those computed.
+pub fn write_data_png(image: &FloatImage, path: &Path) -> Result<()> {
+    let mut rgb = image::RgbImage::new(image.width, image.height);
+    let encode = |v: f32| (srgb_encode(v.clamp(0.0, 1.0)) * 255.0 + 0.5) as u8;
+    for (pixel, value) in rgb.pixels_mut().zip(&image.pixels) {
+        *pixel = image::Rgb([encode(value[0]), encode(value[1]), encode(value[2])]);
+    }
+    rgb.save_with_format(path, image::ImageFormat::Png)
+        .map_err(|e| Error::Output { path: path.to_path_buf(), message: format!("cannot write PNG: {e}") })
 }
 
 #[cfg(test)]

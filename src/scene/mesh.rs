@@ -222,7 +222,7 @@ pub(crate) fn smooth_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> {
             let g = group[i as usize];
             sum[g] += cross;
             weight[g] += area2;
-            if largest[g].map_or(true, |(best, _)| area2 > best) {
+            if largest[g].is_none_or(|(best, _)| area2 > best) {
                 largest[g] = Some((area2, unit));
             }
         }

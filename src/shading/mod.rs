@@ -3,6 +3,7 @@
 
 pub mod brdf;
 pub mod estimator;
+pub mod tonemap;
 
 use crate::scene::{Light, MaterialKind};
 use brdf::{ggx_alpha, ggx_d, safe_normalize, schlick_f, smith_v, MIN_LIGHT_DISTANCE_SQUARED};

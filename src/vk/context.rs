@@ -30,6 +30,8 @@ pub struct OptionalFeatures {
     pub geometry_shader: bool,
     /// Storage-buffer writes and atomics in vertex, tessellation and geometry stages.
     pub vertex_pipeline_stores: bool,
+    /// Storage-buffer writes and atomics in fragment shaders.
+    pub fragment_stores: bool,
 }
 
 /// Facts about the chosen device, for reports.
@@ -245,6 +247,7 @@ impl Context {
             fill_mode_non_solid: supported.fill_mode_non_solid == vk::TRUE,
             geometry_shader: supported.geometry_shader == vk::TRUE,
             vertex_pipeline_stores: supported.vertex_pipeline_stores_and_atomics == vk::TRUE,
+            fragment_stores: supported.fragment_stores_and_atomics == vk::TRUE,
         };
         let enabled = vk::PhysicalDeviceFeatures::default()
             .tessellation_shader(true)
@@ -252,7 +255,7 @@ impl Context {
             .fill_mode_non_solid(features.fill_mode_non_solid)
             .geometry_shader(features.geometry_shader)
             .vertex_pipeline_stores_and_atomics(features.vertex_pipeline_stores)
-            .fragment_stores_and_atomics(supported.fragment_stores_and_atomics == vk::TRUE);
+            .fragment_stores_and_atomics(features.fragment_stores);
         let mut vulkan13 =
             vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(true).synchronization2(true);
         let priorities = [1.0f32];

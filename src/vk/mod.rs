@@ -1,6 +1,7 @@
 //! Vulkan plumbing, one module per concern. Knows nothing of scenes or shading.
 
 pub mod context;
+pub mod frames;
 pub mod memory;
 pub mod pipeline;
 pub mod swapchain;

@@ -87,7 +87,12 @@ impl RenderTarget {
             cmd,
             self.depth.raw,
             vk::ImageAspectFlags::DEPTH,
-            (vk::ImageLayout::UNDEFINED, vk::PipelineStageFlags2::ALL_COMMANDS, vk::AccessFlags2::NONE),
+            // The previous frame's depth writes must finish before these clear it again.
+            (
+                vk::ImageLayout::UNDEFINED,
+                vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
+                vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+            ),
             (
                 vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
                 vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,

@@ -33,6 +33,19 @@ const STATISTICS: [vk::QueryPipelineStatisticFlags; 8] = [
     vk::QueryPipelineStatisticFlags::TESSELLATION_EVALUATION_SHADER_INVOCATIONS,
 ];
 
+/// When a pass ran on the GPU: nanoseconds on the device's timestamp clock.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GpuInterval {
+    pub start_ns: f64,
+    pub end_ns: f64,
+}
+
+impl GpuInterval {
+    pub fn milliseconds(&self) -> f64 {
+        (self.end_ns - self.start_ns) * 1e-6
+    }
+}
+
 /// Timestamps around passes and pipeline statistics, for `slots` frames in flight.
 pub struct GpuTimer {
     context: Arc<Context>,
@@ -109,8 +122,8 @@ impl GpuTimer {
         }
     }
 
-    /// Milliseconds of every pass of frame `slot`, waiting for the results.
-    pub fn pass_milliseconds(&self, slot: u32) -> Result<Vec<f64>> {
+    /// When every pass of frame `slot` ran, waiting for the results.
+    pub fn pass_intervals(&self, slot: u32) -> Result<Vec<GpuInterval>> {
         let mut ticks = vec![0u64; 2 * self.passes as usize];
         // SAFETY: the range lies in the pool; WAIT blocks until the frame's queries finished.
         unsafe {
@@ -127,7 +140,12 @@ impl GpuTimer {
         let period = self.context.info.timestamp_period_ns as f64;
         Ok(ticks
             .chunks_exact(2)
-            .map(|pair| ((pair[1] & mask).wrapping_sub(pair[0] & mask) & mask) as f64 * period * 1e-6)
+            .map(|pair| {
+                let start = pair[0] & mask;
+                let elapsed = pair[1].wrapping_sub(start) & mask;
+                let start_ns = start as f64 * period;
+                GpuInterval { start_ns, end_ns: start_ns + elapsed as f64 * period }
+            })
             .collect())
     }
 

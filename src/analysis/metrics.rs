@@ -1,0 +1,221 @@
+//! Image error against the per-pixel reference, at the same camera and resolution:
+//! - L∞ and mean L2 on linear radiance (the paper's two; ε bounds the first per channel),
+//! - PSNR and FLIP on the tone-mapped 8-bit sRGB images a viewer sees (FLIP via `nv-flip`).
+//!
+//! Also the images that show where errors are: the difference scaled (×30 in the paper) and
+//! the per-pixel fallback mask read off a heat-map render.
+
+use crate::shading::tonemap::display_value;
+use crate::vk::target::FloatImage;
+
+/// Error of one image against the reference.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ImageError {
+    /// Largest absolute difference of any RGB channel of any pixel (linear radiance); infinite
+    /// when a value is not finite.
+    pub l_inf: f64,
+    /// Mean over all pixels of the Euclidean distance of the RGB triples (linear radiance).
+    pub mean_l2: f64,
+    /// 10·log10(1 / MSE) of the display values in [0, 1]; infinite for identical images.
+    pub psnr_db: f64,
+    /// Mean FLIP error (LDR-FLIP at 67 pixels per degree) of the display images, in [0, 1].
+    pub flip: f64,
+}
+
+/// All four metrics of `test` against `reference` (equal sizes), tone-mapped with `exposure`.
+pub fn image_error(reference: &FloatImage, test: &FloatImage, exposure: f32) -> ImageError {
+    let reference_display = display_rgb(reference, exposure);
+    let test_display = display_rgb(test, exposure);
+    ImageError {
+        l_inf: l_inf(reference, test),
+        mean_l2: mean_l2(reference, test),
+        psnr_db: psnr(&reference_display, &test_display),
+        flip: flip(reference.width, reference.height, &reference_display, &test_display),
+    }
+}
+
+fn assert_same_size(reference: &FloatImage, test: &FloatImage) {
+    assert_eq!(
+        (reference.width, reference.height),
+        (test.width, test.height),
+        "metrics compare images of one size"
+    );
+}
+
+/// Per-channel absolute difference, infinite where either value is not finite.
+fn channel_difference(a: f32, b: f32) -> f64 {
+    let difference = (f64::from(a) - f64::from(b)).abs();
+    if difference.is_finite() {
+        difference
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// Largest per-channel RGB difference.
+pub fn l_inf(reference: &FloatImage, test: &FloatImage) -> f64 {
+    assert_same_size(reference, test);
+    reference
+        .pixels
+        .iter()
+        .zip(&test.pixels)
+        .flat_map(|(r, t)| (0..3).map(move |c| channel_difference(r[c], t[c])))
+        .fold(0.0, f64::max)
+}
+
+/// Mean RGB Euclidean distance per pixel.
+pub fn mean_l2(reference: &FloatImage, test: &FloatImage) -> f64 {
+    assert_same_size(reference, test);
+    let total: f64 = reference
+        .pixels
+        .iter()
+        .zip(&test.pixels)
+        .map(|(r, t)| (0..3).map(|c| channel_difference(r[c], t[c]).powi(2)).sum::<f64>().sqrt())
+        .sum();
+    total / reference.pixels.len().max(1) as f64
+}
+
+/// The tone-mapped 8-bit sRGB triples of `image`, row by row.
+pub fn display_rgb(image: &FloatImage, exposure: f32) -> Vec<u8> {
+    image.pixels.iter().flat_map(|p| (0..3).map(move |c| display_value(p[c], exposure))).collect()
+}
+
+/// PSNR of two 8-bit images with the peak 255: 10·log10(255² / MSE).
+pub fn psnr(reference: &[u8], test: &[u8]) -> f64 {
+    assert_eq!(reference.len(), test.len(), "PSNR compares images of one size");
+    let squared: f64 = reference.iter().zip(test).map(|(&r, &t)| (f64::from(r) - f64::from(t)).powi(2)).sum();
+    let mse = squared / reference.len().max(1) as f64;
+    if mse == 0.0 {
+        f64::INFINITY
+    } else {
+        10.0 * (255.0f64.powi(2) / mse).log10()
+    }
+}
+
+/// Mean FLIP error of two 8-bit sRGB images of `width`×`height`.
+pub fn flip(width: u32, height: u32, reference: &[u8], test: &[u8]) -> f64 {
+    let reference = nv_flip::FlipImageRgb8::with_data(width, height, reference);
+    let test = nv_flip::FlipImageRgb8::with_data(width, height, test);
+    let map = nv_flip::flip(reference, test, nv_flip::DEFAULT_PIXELS_PER_DEGREE);
+    f64::from(nv_flip::FlipPool::from_image(&map).mean())
+}
+
+/// |reference − test| × `scale` per RGB channel, alpha 1 (the paper shows errors ×30).
+pub fn scaled_difference(reference: &FloatImage, test: &FloatImage, scale: f32) -> FloatImage {
+    assert_same_size(reference, test);
+    let pixels = reference
+        .pixels
+        .iter()
+        .zip(&test.pixels)
+        .map(|(r, t)| {
+            let d = |c: usize| (r[c] - t[c]).abs() * scale;
+            [d(0), d(1), d(2), 1.0]
+        })
+        .collect();
+    FloatImage { width: reference.width, height: reference.height, pixels }
+}
+
+/// The colour the heat map gives per-pixel shading (`glsl/include/heat.glsl`); no level's
+/// colour equals it.
+pub const FALLBACK_HEAT_COLOR: [f32; 3] = [1.0, 0.0, 1.0];
+
+/// White where a heat-map render shows per-pixel shading, black elsewhere (alpha 1).
+pub fn fallback_mask(heat_map: &FloatImage) -> FloatImage {
+    let pixels = heat_map
+        .pixels
+        .iter()
+        .map(|p| {
+            let fallback = p[3] > 0.0 && p[..3] == FALLBACK_HEAT_COLOR;
+            let v = if fallback { 1.0 } else { 0.0 };
+            [v, v, v, 1.0]
+        })
+        .collect();
+    FloatImage { width: heat_map.width, height: heat_map.height, pixels }
+}
+
+/// Pixels of a fallback mask that are set.
+pub fn fallback_pixels(mask: &FloatImage) -> usize {
+    mask.pixels.iter().filter(|p| p[0] > 0.5).count()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn constant(width: u32, height: u32, value: [f32; 4]) -> FloatImage {
+        FloatImage { width, height, pixels: vec![value; (width * height) as usize] }
+    }
+
+    #[test]
+    fn identical_images_have_no_error() {
+        let mut image = constant(32, 24, [0.2, 0.5, 0.8, 1.0]);
+        image.pixels[100] = [3.0, 0.0, 0.01, 1.0];
+        let error = image_error(&image, &image.clone(), 1.0);
+        assert_eq!(error.l_inf, 0.0);
+        assert_eq!(error.mean_l2, 0.0);
+        assert_eq!(error.psnr_db, f64::INFINITY);
+        assert_eq!(error.flip, 0.0);
+    }
+
+    #[test]
+    fn one_differing_pixel() {
+        let (width, height) = (40u32, 30u32);
+        let reference = constant(width, height, [0.25, 0.25, 0.25, 1.0]);
+        let mut test = reference.clone();
+        test.pixels[7 * width as usize + 11] = [0.25, 0.75, 0.25, 1.0];
+        let error = image_error(&reference, &test, 1.0);
+        let count = f64::from(width * height);
+        assert!((error.l_inf - 0.5).abs() < 1e-7, "{error:?}");
+        assert!((error.mean_l2 - 0.5 / count).abs() < 1e-9, "{error:?}");
+        let step = f64::from(display_value(0.75, 1.0)) - f64::from(display_value(0.25, 1.0));
+        let expected_psnr = 10.0 * (255.0f64.powi(2) * 3.0 * count / step.powi(2)).log10();
+        assert!((error.psnr_db - expected_psnr).abs() < 1e-9, "{error:?} vs {expected_psnr}");
+        // FLIP spreads one pixel's error over its neighbourhood, but most pixels stay clean.
+        assert!(error.flip > 0.0 && error.flip < 0.01, "{error:?}");
+    }
+
+    #[test]
+    fn constant_offset() {
+        let reference = constant(16, 16, [0.1, 0.2, 0.3, 1.0]);
+        let offset = 0.05;
+        let test = constant(16, 16, [0.1 + offset, 0.2 + offset, 0.3 + offset, 1.0]);
+        let error = image_error(&reference, &test, 1.0);
+        assert!((error.l_inf - f64::from(offset)).abs() < 1e-6, "{error:?}");
+        assert!((error.mean_l2 - f64::from(offset) * 3f64.sqrt()).abs() < 1e-6, "{error:?}");
+        let mse: f64 = [0.1f32, 0.2, 0.3]
+            .iter()
+            .map(|&v| (f64::from(display_value(v + offset, 1.0)) - f64::from(display_value(v, 1.0))).powi(2))
+            .sum::<f64>()
+            / 3.0;
+        assert!((error.psnr_db - 10.0 * (255.0f64.powi(2) / mse).log10()).abs() < 1e-9, "{error:?}");
+        assert!(error.flip > 0.0, "{error:?}");
+    }
+
+    #[test]
+    fn non_finite_values_are_infinite_error() {
+        let reference = constant(4, 4, [0.5, 0.5, 0.5, 1.0]);
+        let mut test = reference.clone();
+        test.pixels[3][1] = f32::NAN;
+        assert_eq!(l_inf(&reference, &test), f64::INFINITY);
+        assert_eq!(mean_l2(&reference, &test), f64::INFINITY);
+    }
+
+    #[test]
+    fn scaled_difference_and_fallback_mask() {
+        let reference = constant(2, 1, [0.5, 0.5, 0.5, 1.0]);
+        let mut test = reference.clone();
+        test.pixels[1] = [0.5, 0.4, 0.5, 1.0];
+        let difference = scaled_difference(&reference, &test, 30.0);
+        assert_eq!(difference.pixels[0], [0.0, 0.0, 0.0, 1.0]);
+        assert!((difference.pixels[1][1] - 3.0).abs() < 1e-5);
+
+        let heat = FloatImage {
+            width: 3,
+            height: 1,
+            pixels: vec![[1.0, 0.0, 1.0, 1.0], [0.0, 0.2, 1.0, 1.0], [1.0, 0.0, 1.0, 0.0]],
+        };
+        let mask = fallback_mask(&heat);
+        assert_eq!(fallback_pixels(&mask), 1, "only the covered magenta pixel");
+        assert_eq!(mask.pixels[0][0], 1.0);
+    }
+}

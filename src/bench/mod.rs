@@ -1,0 +1,491 @@
+//! Benchmarks: the speed/accuracy trade, measured. For every scene and resolution the `pixel`
+//! reference is rendered first; then every mode (multirate for every ε × n_max) is
+//! - timed: warm-up frames, then N measured frames with frames in flight; median, p10, p90 of
+//!   the forward pass's GPU time,
+//! - counted: runs of the full shading function with the counting variant (never timed),
+//! - compared with the reference image: L∞, mean L2, PSNR, FLIP (`analysis::metrics`).
+//!
+//! The results are rows (CSV and JSON), SVG plots of time against error with the Pareto front
+//! ([`plot`]), and a Chrome trace of every measured frame ([`trace`]).
+
+pub mod plot;
+pub mod trace;
+
+use crate::analysis::metrics::{self, fallback_mask, fallback_pixels, scaled_difference, ImageError};
+use crate::error::Result;
+use crate::render::{output, EvaluationCounts, Measurement, Mode, Renderer, View};
+use crate::scene::Scene;
+use crate::shading::estimator::{Discontinuity, Split};
+use crate::vk::target::{FloatImage, RenderTarget};
+use crate::vk::timing::PipelineStatistics;
+use crate::vk::Context;
+use ash::vk;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// A scene to benchmark, with the name its rows carry.
+pub struct BenchScene {
+    pub name: String,
+    pub scene: Scene,
+}
+
+impl BenchScene {
+    /// Loads a scene file; its name is the file stem.
+    pub fn load(path: &Path) -> Result<BenchScene> {
+        let scene = Scene::load(path)?;
+        let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+        Ok(BenchScene { name, scene })
+    }
+}
+
+/// What to measure.
+#[derive(Clone, Debug)]
+pub struct BenchConfig {
+    /// Modes besides the `pixel` reference, which is always measured.
+    pub modes: Vec<Mode>,
+    /// multirate's ε values (empty: the scene's own).
+    pub epsilons: Vec<f32>,
+    /// multirate's n_max values (empty: the scene's own).
+    pub n_maxes: Vec<u32>,
+    /// Width × height; empty: the scene's own.
+    pub resolutions: Vec<(u32, u32)>,
+    pub warmup: u32,
+    pub frames: u32,
+    pub split: Split,
+    pub discontinuity: Discontinuity,
+    /// Where to write each row's images (error ×30, heat map, fallback mask), if anywhere.
+    pub images: Option<PathBuf>,
+}
+
+/// Median and spread of per-frame GPU milliseconds.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Timing {
+    pub median: f64,
+    pub p10: f64,
+    pub p90: f64,
+}
+
+impl Timing {
+    /// Percentiles by linear interpolation between order statistics.
+    pub fn of(samples: &[f64]) -> Timing {
+        let mut sorted: Vec<f64> = samples.to_vec();
+        sorted.sort_by(f64::total_cmp);
+        Timing {
+            median: percentile(&sorted, 0.5),
+            p10: percentile(&sorted, 0.1),
+            p90: percentile(&sorted, 0.9),
+        }
+    }
+}
+
+/// The `q` quantile of sorted samples (NaN when there are none).
+pub fn percentile(sorted: &[f64], q: f64) -> f64 {
+    match sorted.len() {
+        0 => f64::NAN,
+        n => {
+            let position = q.clamp(0.0, 1.0) * (n - 1) as f64;
+            let below = position.floor() as usize;
+            let above = position.ceil() as usize;
+            sorted[below] + (sorted[above] - sorted[below]) * (position - below as f64)
+        }
+    }
+}
+
+/// One measured configuration.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Row {
+    pub scene: String,
+    pub triangles: usize,
+    pub mode: String,
+    /// multirate only.
+    pub epsilon: Option<f32>,
+    /// multirate only.
+    pub n_max: Option<u32>,
+    pub width: u32,
+    pub height: u32,
+    pub frames: u32,
+    pub gpu_ms: Timing,
+    /// `pixel` median time over this row's: the paper's speedup ratio (×100 %).
+    pub speedup: f64,
+    pub evaluations: EvaluationCounts,
+    pub evaluations_total: u64,
+    /// Evaluations as a fraction of `pixel` mode's.
+    pub evaluation_ratio: f64,
+    pub l_inf: f64,
+    pub mean_l2: f64,
+    pub psnr_db: f64,
+    pub flip: f64,
+    /// multirate only: the fraction of covered pixels shaded by the per-pixel fallback.
+    pub fallback_fraction: Option<f64>,
+    /// Pipeline statistics of the last measured frame, where the device has them.
+    pub statistics: Option<Statistics>,
+    pub device: String,
+    pub driver: String,
+}
+
+/// The pipeline statistics a row reports.
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct Statistics {
+    pub vertex_invocations: u64,
+    pub control_patches: u64,
+    pub evaluation_invocations: u64,
+    pub clipping_primitives: u64,
+    pub fragment_invocations: u64,
+}
+
+impl From<PipelineStatistics> for Statistics {
+    fn from(s: PipelineStatistics) -> Statistics {
+        Statistics {
+            vertex_invocations: s.vertex_shader_invocations,
+            control_patches: s.tessellation_control_patches,
+            evaluation_invocations: s.tessellation_evaluation_invocations,
+            clipping_primitives: s.clipping_primitives,
+            fragment_invocations: s.fragment_shader_invocations,
+        }
+    }
+}
+
+/// Everything a run produced: rows and, per row, the measured frames.
+pub struct BenchResult {
+    pub rows: Vec<Row>,
+    /// Parallel to `rows`.
+    pub measurements: Vec<Measurement>,
+}
+
+/// One configuration to run, before it is measured.
+struct Job {
+    scene: usize,
+    resolution: (u32, u32),
+    mode: Mode,
+    epsilon: f32,
+    n_max: u32,
+}
+
+impl Job {
+    fn label(&self, scenes: &[BenchScene]) -> String {
+        let (width, height) = self.resolution;
+        let name = &scenes[self.scene].name;
+        match self.mode {
+            Mode::Multirate => {
+                format!("{name} {width}x{height} multirate ε={} n_max={}", self.epsilon, self.n_max)
+            }
+            mode => format!("{name} {width}x{height} {mode}"),
+        }
+    }
+}
+
+fn jobs(scenes: &[BenchScene], config: &BenchConfig) -> Vec<Job> {
+    let mut jobs = Vec::new();
+    for (index, bench_scene) in scenes.iter().enumerate() {
+        let settings = &bench_scene.scene.settings;
+        let resolutions = if config.resolutions.is_empty() {
+            vec![(settings.width, settings.height)]
+        } else {
+            config.resolutions.clone()
+        };
+        let epsilons =
+            if config.epsilons.is_empty() { vec![settings.epsilon] } else { config.epsilons.clone() };
+        let n_maxes = if config.n_maxes.is_empty() { vec![settings.n_max] } else { config.n_maxes.clone() };
+        for &resolution in &resolutions {
+            let job = |mode, epsilon, n_max| Job { scene: index, resolution, mode, epsilon, n_max };
+            jobs.push(job(Mode::Pixel, settings.epsilon, settings.n_max));
+            for &mode in config.modes.iter().filter(|&&m| m != Mode::Pixel) {
+                if mode == Mode::Multirate {
+                    for &epsilon in &epsilons {
+                        for &n_max in &n_maxes {
+                            jobs.push(job(mode, epsilon, n_max));
+                        }
+                    }
+                } else {
+                    jobs.push(job(mode, settings.epsilon, settings.n_max));
+                }
+            }
+        }
+    }
+    jobs
+}
+
+/// How far a run has got: rows done, rows in all, and the row being measured.
+pub struct Progress<'a> {
+    pub done: usize,
+    pub total: usize,
+    pub label: &'a str,
+}
+
+/// The `pixel` reference of one scene at one resolution.
+struct Reference {
+    image: FloatImage,
+    gpu_ms: f64,
+    evaluations: u64,
+}
+
+/// Runs every configuration of `config` on `scenes`, calling `progress` before each row.
+pub fn run(
+    context: &Arc<Context>,
+    scenes: &[BenchScene],
+    config: &BenchConfig,
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<BenchResult> {
+    let jobs = jobs(scenes, config);
+    let mut result = BenchResult { rows: Vec::new(), measurements: Vec::new() };
+    let mut renderer: Option<(usize, Renderer)> = None;
+    let mut target: Option<RenderTarget> = None;
+    let mut reference: Option<Reference> = None;
+    for (done, job) in jobs.iter().enumerate() {
+        let label = job.label(scenes);
+        progress(Progress { done, total: jobs.len(), label: &label });
+        let bench_scene = &scenes[job.scene];
+        let scene = &bench_scene.scene;
+        if renderer.as_ref().is_none_or(|(index, _)| *index != job.scene) {
+            drop(renderer.take()); // free the previous scene's GPU memory first
+            renderer = Some((job.scene, Renderer::new(context, scene)?));
+        }
+        let (_, renderer) = renderer.as_ref().expect("created above");
+        let extent = vk::Extent2D { width: job.resolution.0, height: job.resolution.1 };
+        if target.as_ref().is_none_or(|t| t.extent() != extent) {
+            drop(target.take());
+            target = Some(RenderTarget::new(context, extent)?);
+        }
+        let target = target.as_ref().expect("created above");
+        let view = View {
+            mode: job.mode,
+            epsilon: job.epsilon,
+            n_max: job.n_max,
+            split: config.split,
+            discontinuity: config.discontinuity,
+            ..View::of_scene(scene)
+        };
+        let image = renderer.render(target, &view)?;
+        let measurement = renderer.measure(target, &view, config.warmup, config.frames)?;
+        let timing = Timing::of(&measurement.gpu_ms());
+        let evaluations = renderer.count_evaluations(target, &view)?;
+        if job.mode == Mode::Pixel {
+            reference = Some(Reference {
+                image: image.clone(),
+                gpu_ms: timing.median,
+                evaluations: evaluations.total(),
+            });
+        }
+        let reference = reference.as_ref().expect("each scene and resolution starts with pixel mode");
+        let error = metrics::image_error(&reference.image, &image, scene.settings.exposure);
+        let fallback_fraction = match job.mode {
+            Mode::Multirate => {
+                let heat = renderer.render(target, &View { heat_map: true, ..view.clone() })?;
+                let mask = fallback_mask(&heat);
+                let covered = heat.pixels.iter().filter(|p| p[3] > 0.0).count().max(1);
+                if let Some(dir) = &config.images {
+                    write_row_images(
+                        dir,
+                        &file_stem(bench_scene, job),
+                        &reference.image,
+                        &image,
+                        Some((&heat, &mask)),
+                        scene,
+                    )?;
+                }
+                Some(fallback_pixels(&mask) as f64 / covered as f64)
+            }
+            _ => {
+                if let Some(dir) = &config.images {
+                    write_row_images(
+                        dir,
+                        &file_stem(bench_scene, job),
+                        &reference.image,
+                        &image,
+                        None,
+                        scene,
+                    )?;
+                }
+                None
+            }
+        };
+        result.rows.push(row(
+            context,
+            bench_scene,
+            job,
+            config,
+            timing,
+            reference,
+            evaluations,
+            error,
+            fallback_fraction,
+            &measurement,
+        ));
+        result.measurements.push(measurement);
+    }
+    progress(Progress { done: jobs.len(), total: jobs.len(), label: "done" });
+    Ok(result)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn row(
+    context: &Context,
+    bench_scene: &BenchScene,
+    job: &Job,
+    config: &BenchConfig,
+    gpu_ms: Timing,
+    reference: &Reference,
+    evaluations: EvaluationCounts,
+    error: ImageError,
+    fallback_fraction: Option<f64>,
+    measurement: &Measurement,
+) -> Row {
+    let multirate = job.mode == Mode::Multirate;
+    Row {
+        scene: bench_scene.name.clone(),
+        triangles: bench_scene.scene.triangle_count(),
+        mode: job.mode.to_string(),
+        epsilon: multirate.then_some(job.epsilon),
+        n_max: multirate.then_some(job.n_max),
+        width: job.resolution.0,
+        height: job.resolution.1,
+        frames: config.frames,
+        gpu_ms,
+        speedup: reference.gpu_ms / gpu_ms.median,
+        evaluations,
+        evaluations_total: evaluations.total(),
+        evaluation_ratio: evaluations.total() as f64 / reference.evaluations.max(1) as f64,
+        l_inf: error.l_inf,
+        mean_l2: error.mean_l2,
+        psnr_db: error.psnr_db,
+        flip: error.flip,
+        fallback_fraction,
+        statistics: measurement.statistics.map(Statistics::from),
+        device: context.info.name.clone(),
+        driver: context.info.driver.clone(),
+    }
+}
+
+fn file_stem(bench_scene: &BenchScene, job: &Job) -> String {
+    let (width, height) = job.resolution;
+    let mode = job.mode.to_string().replace(':', "");
+    match job.mode {
+        Mode::Multirate => {
+            format!("{}_{width}x{height}_{mode}_eps{}_nmax{}", bench_scene.name, job.epsilon, job.n_max)
+        }
+        _ => format!("{}_{width}x{height}_{mode}", bench_scene.name),
+    }
+}
+
+fn write_row_images(
+    dir: &Path,
+    stem: &str,
+    reference: &FloatImage,
+    image: &FloatImage,
+    heat_and_mask: Option<(&FloatImage, &FloatImage)>,
+    scene: &Scene,
+) -> Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| crate::Error::Output {
+        path: dir.to_path_buf(),
+        message: format!("cannot create: {e}"),
+    })?;
+    let exposure = scene.settings.exposure;
+    output::write_image(image, &dir.join(format!("{stem}.png")), exposure)?;
+    // The data images skip the tone curve: an error of 1/30 in linear radiance is white.
+    let error = scaled_difference(reference, image, 30.0);
+    output::write_data_png(&error, &dir.join(format!("{stem}_error_x30.png")))?;
+    if let Some((heat, mask)) = heat_and_mask {
+        output::write_data_png(heat, &dir.join(format!("{stem}_levels.png")))?;
+        output::write_data_png(mask, &dir.join(format!("{stem}_fallback.png")))?;
+    }
+    Ok(())
+}
+
+/// The CSV header; `csv_line` writes the fields in this order.
+pub const CSV_HEADER: &str = "scene,triangles,mode,epsilon,n_max,width,height,frames,\
+gpu_ms_median,gpu_ms_p10,gpu_ms_p90,speedup,evaluations,vertex_evaluations,subvertex_evaluations,\
+fragment_evaluations,evaluation_ratio,l_inf,mean_l2,psnr_db,flip,fallback_fraction,\
+vs_invocations,tcs_patches,tes_invocations,clipping_primitives,fs_invocations,device,driver";
+
+/// "NA" marks a value that does not apply to the row (ε of `pixel` mode, statistics on a
+/// device without them), so that every field is filled.
+const NOT_APPLICABLE: &str = "NA";
+
+fn optional<T: ToString>(value: Option<T>) -> String {
+    value.map_or_else(|| NOT_APPLICABLE.to_string(), |v| v.to_string())
+}
+
+fn quoted(text: &str) -> String {
+    if text.contains([',', '"', '\n']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_string()
+    }
+}
+
+/// One CSV line (no newline) for `row`.
+pub fn csv_line(row: &Row) -> String {
+    let statistics = row.statistics.as_ref();
+    [
+        quoted(&row.scene),
+        row.triangles.to_string(),
+        row.mode.clone(),
+        optional(row.epsilon),
+        optional(row.n_max),
+        row.width.to_string(),
+        row.height.to_string(),
+        row.frames.to_string(),
+        format!("{:.4}", row.gpu_ms.median),
+        format!("{:.4}", row.gpu_ms.p10),
+        format!("{:.4}", row.gpu_ms.p90),
+        format!("{:.4}", row.speedup),
+        row.evaluations_total.to_string(),
+        row.evaluations.vertices.to_string(),
+        row.evaluations.sub_vertices.to_string(),
+        row.evaluations.fragments.to_string(),
+        format!("{:.5}", row.evaluation_ratio),
+        format!("{:.6}", row.l_inf),
+        format!("{:.3e}", row.mean_l2),
+        format!("{:.3}", row.psnr_db),
+        format!("{:.5}", row.flip),
+        optional(row.fallback_fraction.map(|f| format!("{f:.5}"))),
+        optional(statistics.map(|s| s.vertex_invocations)),
+        optional(statistics.map(|s| s.control_patches)),
+        optional(statistics.map(|s| s.evaluation_invocations)),
+        optional(statistics.map(|s| s.clipping_primitives)),
+        optional(statistics.map(|s| s.fragment_invocations)),
+        quoted(&row.device),
+        quoted(&row.driver),
+    ]
+    .join(",")
+}
+
+/// The CSV file: header and one line per row.
+pub fn to_csv(rows: &[Row]) -> String {
+    let mut text = String::from(CSV_HEADER);
+    text.push('\n');
+    for row in rows {
+        text.push_str(&csv_line(row));
+        text.push('\n');
+    }
+    text
+}
+
+/// The JSON file: an array of rows (non-finite numbers, such as the PSNR of identical
+/// images, become null).
+pub fn to_json(rows: &[Row]) -> String {
+    serde_json::to_string_pretty(rows).expect("rows serialise")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn percentiles_interpolate_between_order_statistics() {
+        let timing = Timing::of(&[5.0, 1.0, 4.0, 2.0, 3.0]);
+        assert_eq!(timing.median, 3.0);
+        assert!((timing.p10 - 1.4).abs() < 1e-12);
+        assert!((timing.p90 - 4.6).abs() < 1e-12);
+        assert_eq!(Timing::of(&[7.0]).p90, 7.0);
+        assert!(Timing::of(&[]).median.is_nan());
+    }
+
+    #[test]
+    fn csv_quotes_fields_with_commas() {
+        assert_eq!(quoted("a,b"), "\"a,b\"");
+        assert_eq!(quoted("say \"x\", y"), "\"say \"\"x\"\", y\"");
+        assert_eq!(quoted("plain"), "plain");
+        assert_eq!(CSV_HEADER.split(',').count(), 29);
+    }
+}

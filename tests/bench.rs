@@ -1,0 +1,112 @@
+//! `multirate bench` end to end on a small scene (lavapipe, validation layer on): every CSV
+//! field filled and consistent, the JSON rows, the plots, the images and a Chrome trace with
+//! one event per measured frame.
+
+mod common;
+
+use common::repo_path;
+use std::collections::HashMap;
+use std::path::Path;
+use std::process::Command;
+
+const FRAMES: usize = 3;
+
+#[test]
+fn bench_writes_complete_rows_plots_images_and_a_capture() {
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("bench");
+    let _ = std::fs::remove_dir_all(&out);
+    let capture = out.join("capture.json");
+    let scene = repo_path("scenes/test/lambert_directional.toml");
+    let frames = FRAMES.to_string();
+    let output = Command::new(env!("CARGO_BIN_EXE_multirate"))
+        .args(["--validate", "bench", "--scene", scene.to_str().unwrap()])
+        .args(["--modes", "pixel,vertex,fixed:2,multirate", "--epsilon", "0.05,0.2", "--nmax", "8"])
+        .args(["--resolution", "64x48", "--frames", &frames, "--warmup", "1", "--images"])
+        .args(["--out", out.to_str().unwrap(), "--capture", capture.to_str().unwrap()])
+        .env_remove("DISPLAY")
+        .output()
+        .expect("run multirate bench");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "bench failed:\n{stderr}");
+    assert!(!stderr.contains("vulkan:"), "validation messages:\n{stderr}");
+
+    // CSV: pixel, vertex, fixed:2 and multirate at two ε: five rows, every field filled.
+    let csv = std::fs::read_to_string(out.join("bench.csv")).expect("bench.csv");
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    let rows: Vec<HashMap<&str, &str>> = lines
+        .map(|line| {
+            // Device strings may be quoted and hold commas; they come last, as one field here.
+            let fields: Vec<&str> = line.splitn(header.len() - 1, ',').collect();
+            header.iter().copied().zip(fields).collect()
+        })
+        .collect();
+    assert_eq!(rows.len(), 5, "{csv}");
+    for row in &rows {
+        assert_eq!(row.len(), header.len() - 1, "{row:?}");
+        for (key, value) in row {
+            assert!(!value.is_empty(), "{key} is empty in {row:?}");
+        }
+    }
+    let number = |row: &HashMap<&str, &str>, key: &str| -> f64 {
+        row[key].parse().unwrap_or_else(|_| panic!("{key} = {:?} is not a number", row[key]))
+    };
+    let modes: Vec<&str> = rows.iter().map(|r| r["mode"]).collect();
+    assert_eq!(modes, ["pixel", "vertex", "fixed:2", "multirate", "multirate"]);
+    let pixel = &rows[0];
+    assert_eq!(pixel["epsilon"], "NA");
+    assert_eq!(number(pixel, "l_inf"), 0.0);
+    assert_eq!(number(pixel, "evaluation_ratio"), 1.0);
+    assert_eq!(number(pixel, "evaluations"), number(pixel, "fragment_evaluations"));
+    for row in &rows {
+        for key in ["gpu_ms_median", "gpu_ms_p10", "gpu_ms_p90", "speedup"] {
+            assert!(number(row, key) > 0.0 && number(row, key).is_finite(), "{key} in {row:?}");
+        }
+        assert!(number(row, "gpu_ms_p10") <= number(row, "gpu_ms_median"));
+        assert!(number(row, "gpu_ms_median") <= number(row, "gpu_ms_p90"));
+        let parts = ["vertex_evaluations", "subvertex_evaluations", "fragment_evaluations"];
+        let sum: f64 = parts.iter().map(|k| number(row, k)).sum();
+        assert_eq!(sum, number(row, "evaluations"), "{row:?}");
+        assert!(number(row, "fs_invocations") > 0.0, "{row:?}");
+    }
+    assert!(number(&rows[1], "vertex_evaluations") > 0.0);
+    assert!(number(&rows[2], "subvertex_evaluations") > 0.0);
+    for row in &rows[3..] {
+        assert!(number(row, "epsilon") == 0.05 || number(row, "epsilon") == 0.2, "{row:?}");
+        assert_eq!(number(row, "n_max"), 8.0);
+        let fraction = number(row, "fallback_fraction");
+        assert!((0.0..=1.0).contains(&fraction), "{row:?}");
+        assert!(number(row, "l_inf").is_finite() && number(row, "flip") >= 0.0, "{row:?}");
+    }
+
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("bench.json")).expect("bench.json"))
+            .expect("JSON");
+    assert_eq!(json.as_array().map(Vec::len), Some(5));
+
+    for plot in ["time_vs_linf.svg", "time_vs_flip.svg"] {
+        let svg = std::fs::read_to_string(out.join(plot)).expect("plot");
+        assert!(svg.starts_with("<svg") && svg.contains("Pareto front"), "{plot}");
+    }
+    let images = out.join("images");
+    for name in ["lambert_directional_64x48_pixel.png", "lambert_directional_64x48_fixed2_error_x30.png"] {
+        assert!(images.join(name).is_file(), "{name}");
+    }
+    for suffix in ["", "_error_x30", "_levels", "_fallback"] {
+        let name = format!("lambert_directional_64x48_multirate_eps0.05_nmax8{suffix}.png");
+        assert!(images.join(&name).is_file(), "{name}");
+    }
+
+    // The capture: a track per row, named, and one complete event per measured frame.
+    let trace: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&capture).expect("capture")).expect("capture is JSON");
+    let events = trace["traceEvents"].as_array().expect("traceEvents");
+    let frames: Vec<&serde_json::Value> = events.iter().filter(|e| e["ph"] == "X").collect();
+    assert_eq!(frames.len(), 5 * FRAMES);
+    for event in &frames {
+        assert!(event["name"].as_str().unwrap().starts_with("forward pass ("), "{event}");
+        assert!(event["dur"].as_f64().unwrap() > 0.0 && event["ts"].as_f64().unwrap() >= 0.0, "{event}");
+    }
+    let tracks = events.iter().filter(|e| e["ph"] == "M" && e["name"] == "thread_name").count();
+    assert_eq!(tracks, 5);
+}
