@@ -8,6 +8,11 @@ layout(location = 1) in vec3 in_normal;
 layout(location = 0) out vec3 out_position;
 layout(location = 1) out vec3 out_normal;
 
+// The same transform, without fused multiply-adds, as the tessellated stages: a multirate
+// triangle that falls back to per-pixel shading then rasterises with bit-identical depth, so
+// where two surfaces intersect both modes pick the same one.
+precise gl_Position;
+
 void main() {
     out_position = in_position;
     out_normal = in_normal;

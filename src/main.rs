@@ -35,6 +35,25 @@ enum Command {
     /// Measure modes against the pixel reference: GPU time (median, p10, p90), shading
     /// evaluations, L∞, mean L2, PSNR and FLIP; writes CSV, JSON and SVG plots into --out.
     Bench(BenchArgs),
+    /// The paper's experiments (Table 1, Figs. 2, 6, 9, 10, 11, the ε sweep): writes
+    /// DOCS/results.md and its tables, CSVs and plots into DOCS/results.
+    Experiments(ExperimentArgs),
+}
+
+#[derive(Args)]
+struct ExperimentArgs {
+    /// The documentation folder: results.md goes here, everything else into its results/.
+    #[arg(long, default_value = "docs")]
+    docs: PathBuf,
+    /// Smaller resolutions and fewer settings: minutes instead of most of an hour on lavapipe.
+    #[arg(long)]
+    quick: bool,
+    /// Measured frames per configuration.
+    #[arg(long, default_value_t = 10)]
+    frames: u32,
+    /// Frames rendered before measuring.
+    #[arg(long, default_value_t = 2)]
+    warmup: u32,
 }
 
 #[derive(Args)]
@@ -361,11 +380,55 @@ fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
             row.gpu_ms.median,
             row.speedup * 100.0,
             row.evaluation_ratio * 100.0,
-            row.l_inf,
+            row.l_inf_interior,
             row.mean_l2,
             row.flip
         );
     }
+    let messages = context.validation().count();
+    anyhow::ensure!(messages == 0, "the validation layer reported {messages} message(s)");
+    Ok(())
+}
+
+fn run_experiments(args: &ExperimentArgs, gpu: &GpuArgs) -> Result<()> {
+    anyhow::ensure!(args.frames >= 1, "--frames must be at least 1");
+    let context = Context::headless(&options(gpu))?;
+    let mut command = format!("cargo run --release -- experiments --docs {}", args.docs.display());
+    if args.quick {
+        command.push_str(" --quick");
+    }
+    command.push_str(&format!(" --frames {} --warmup {}", args.frames, args.warmup));
+    if let Some(device) = &gpu.device {
+        command.push_str(&format!(" --device \"{device}\""));
+    }
+    let options = bench::experiments::ExperimentOptions {
+        out: args.docs.join("results"),
+        scenes: default_scene().parent().map(Path::to_path_buf).unwrap_or_default(),
+        quick: args.quick,
+        frames: args.frames,
+        warmup: args.warmup,
+        command,
+    };
+    let bar = indicatif::ProgressBar::new(0).with_style(
+        indicatif::ProgressStyle::with_template("{prefix:>24} {bar:30} {pos}/{len} [{elapsed}] {msg}")
+            .expect("valid template"),
+    );
+    let started = std::time::Instant::now();
+    let markdown = bench::experiments::run_all(&context, &options, &mut |experiment, progress| {
+        bar.set_prefix(experiment.to_string());
+        bar.set_length(progress.total as u64);
+        bar.set_position(progress.done as u64);
+        bar.set_message(progress.label.to_string());
+    })?;
+    bar.finish_and_clear();
+    let path = args.docs.join("results.md");
+    std::fs::write(&path, markdown).with_context(|| format!("{}: cannot write", path.display()))?;
+    println!(
+        "{} and {}/ written in {:.0} s",
+        path.display(),
+        options.out.display(),
+        started.elapsed().as_secs_f64()
+    );
     let messages = context.validation().count();
     anyhow::ensure!(messages == 0, "the validation layer reported {messages} message(s)");
     Ok(())
@@ -381,6 +444,7 @@ fn main() -> Result<()> {
         Some(Command::Render(args)) => render(args, &cli.gpu),
         Some(Command::Analyze(args)) => analyze(args),
         Some(Command::Bench(args)) => run_bench(args, &cli.gpu),
+        Some(Command::Experiments(args)) => run_experiments(args, &cli.gpu),
         Some(Command::View(args)) => view(&args.scene, &args.shading, &cli.gpu)
             .with_context(|| format!("viewing {}", args.scene.display())),
         None if has_display() => view(&default_scene(), &ShadingArgs::default(), &cli.gpu)

@@ -14,6 +14,10 @@ pub struct ImageError {
     /// Largest absolute difference of any RGB channel of any pixel (linear radiance); infinite
     /// when a value is not finite.
     pub l_inf: f64,
+    /// L∞ over interior pixels only: those whose 3×3 neighbourhood both images cover. It
+    /// leaves out silhouette pixels, where a sub-triangle's rounded edge vertex can move a pixel
+    /// centre to the other side of the edge: a coverage difference, not a shading error.
+    pub l_inf_interior: f64,
     /// Mean over all pixels of the Euclidean distance of the RGB triples (linear radiance).
     pub mean_l2: f64,
     /// 10·log10(1 / MSE) of the display values in [0, 1]; infinite for identical images.
@@ -28,6 +32,7 @@ pub fn image_error(reference: &FloatImage, test: &FloatImage, exposure: f32) -> 
     let test_display = display_rgb(test, exposure);
     ImageError {
         l_inf: l_inf(reference, test),
+        l_inf_interior: l_inf_interior(reference, test),
         mean_l2: mean_l2(reference, test),
         psnr_db: psnr(&reference_display, &test_display),
         flip: flip(reference.width, reference.height, &reference_display, &test_display),
@@ -61,6 +66,38 @@ pub fn l_inf(reference: &FloatImage, test: &FloatImage) -> f64 {
         .zip(&test.pixels)
         .flat_map(|(r, t)| (0..3).map(move |c| channel_difference(r[c], t[c])))
         .fold(0.0, f64::max)
+}
+
+/// Largest per-channel RGB difference over pixels whose 3×3 neighbourhood both images cover
+/// (alpha 1); 0 when there are none.
+pub fn l_inf_interior(reference: &FloatImage, test: &FloatImage) -> f64 {
+    assert_same_size(reference, test);
+    let (width, height) = (reference.width as usize, reference.height as usize);
+    let covered = |x: usize, y: usize| {
+        let index = y * width + x;
+        reference.pixels[index][3] == 1.0 && test.pixels[index][3] == 1.0
+    };
+    let mut largest = 0.0f64;
+    for y in 1..height.saturating_sub(1) {
+        for x in 1..width.saturating_sub(1) {
+            if (y - 1..=y + 1).all(|yy| (x - 1..=x + 1).all(|xx| covered(xx, yy))) {
+                let (r, t) = (reference.pixels[y * width + x], test.pixels[y * width + x]);
+                largest = (0..3).map(|c| channel_difference(r[c], t[c])).fold(largest, f64::max);
+            }
+        }
+    }
+    largest
+}
+
+/// Pixels where some RGB channel differs by more than `bound`.
+pub fn pixels_over(reference: &FloatImage, test: &FloatImage, bound: f64) -> usize {
+    assert_same_size(reference, test);
+    reference
+        .pixels
+        .iter()
+        .zip(&test.pixels)
+        .filter(|(r, t)| (0..3).any(|c| channel_difference(r[c], t[c]) > bound))
+        .count()
 }
 
 /// Mean RGB Euclidean distance per pixel.
@@ -152,6 +189,7 @@ mod tests {
         image.pixels[100] = [3.0, 0.0, 0.01, 1.0];
         let error = image_error(&image, &image.clone(), 1.0);
         assert_eq!(error.l_inf, 0.0);
+        assert_eq!(error.l_inf_interior, 0.0);
         assert_eq!(error.mean_l2, 0.0);
         assert_eq!(error.psnr_db, f64::INFINITY);
         assert_eq!(error.flip, 0.0);
@@ -166,6 +204,9 @@ mod tests {
         let error = image_error(&reference, &test, 1.0);
         let count = f64::from(width * height);
         assert!((error.l_inf - 0.5).abs() < 1e-7, "{error:?}");
+        assert_eq!(error.l_inf_interior, error.l_inf, "the pixel is interior");
+        assert_eq!(pixels_over(&reference, &test, 0.49), 1);
+        assert_eq!(pixels_over(&reference, &test, 0.5), 0);
         assert!((error.mean_l2 - 0.5 / count).abs() < 1e-9, "{error:?}");
         let step = f64::from(display_value(0.75, 1.0)) - f64::from(display_value(0.25, 1.0));
         let expected_psnr = 10.0 * (255.0f64.powi(2) * 3.0 * count / step.powi(2)).log10();
@@ -189,6 +230,24 @@ mod tests {
             / 3.0;
         assert!((error.psnr_db - 10.0 * (255.0f64.powi(2) / mse).log10()).abs() < 1e-9, "{error:?}");
         assert!(error.flip > 0.0, "{error:?}");
+    }
+
+    #[test]
+    fn interior_l_inf_leaves_out_silhouette_pixels() {
+        // A covered 6×6 square on an uncovered background; the test image differs by 0.9 on
+        // the square's border (a silhouette pixel) and by 0.1 inside.
+        let mut reference = constant(10, 10, [0.0, 0.0, 0.0, 0.0]);
+        for y in 2..8 {
+            for x in 2..8 {
+                reference.pixels[y * 10 + x] = [0.5, 0.5, 0.5, 1.0];
+            }
+        }
+        let mut test = reference.clone();
+        test.pixels[2 * 10 + 4][0] = 1.4;
+        test.pixels[4 * 10 + 4][0] = 0.6;
+        let error = image_error(&reference, &test, 1.0);
+        assert!((error.l_inf - 0.9).abs() < 1e-6, "{error:?}");
+        assert!((error.l_inf_interior - 0.1).abs() < 1e-6, "{error:?}");
     }
 
     #[test]

@@ -8,6 +8,7 @@
 //! The results are rows (CSV and JSON), SVG plots of time against error with the Pareto front
 //! ([`plot`]), and a Chrome trace of every measured frame ([`trace`]).
 
+pub mod experiments;
 pub mod plot;
 pub mod trace;
 
@@ -112,6 +113,10 @@ pub struct Row {
     /// Evaluations as a fraction of `pixel` mode's.
     pub evaluation_ratio: f64,
     pub l_inf: f64,
+    /// L∞ over pixels whose 3×3 neighbourhood both images cover (no silhouettes).
+    pub l_inf_interior: f64,
+    /// multirate only: pixels where some channel differs from `pixel` by more than ε.
+    pub pixels_over_epsilon: Option<usize>,
     pub mean_l2: f64,
     pub psnr_db: f64,
     pub flip: f64,
@@ -268,6 +273,8 @@ pub fn run(
         }
         let reference = reference.as_ref().expect("each scene and resolution starts with pixel mode");
         let error = metrics::image_error(&reference.image, &image, scene.settings.exposure);
+        let pixels_over_epsilon = (job.mode == Mode::Multirate)
+            .then(|| metrics::pixels_over(&reference.image, &image, f64::from(job.epsilon)));
         let fallback_fraction = match job.mode {
             Mode::Multirate => {
                 let heat = renderer.render(target, &View { heat_map: true, ..view.clone() })?;
@@ -309,6 +316,7 @@ pub fn run(
             evaluations,
             error,
             fallback_fraction,
+            pixels_over_epsilon,
             &measurement,
         ));
         result.measurements.push(measurement);
@@ -328,6 +336,7 @@ fn row(
     evaluations: EvaluationCounts,
     error: ImageError,
     fallback_fraction: Option<f64>,
+    pixels_over_epsilon: Option<usize>,
     measurement: &Measurement,
 ) -> Row {
     let multirate = job.mode == Mode::Multirate;
@@ -346,6 +355,8 @@ fn row(
         evaluations_total: evaluations.total(),
         evaluation_ratio: evaluations.total() as f64 / reference.evaluations.max(1) as f64,
         l_inf: error.l_inf,
+        l_inf_interior: error.l_inf_interior,
+        pixels_over_epsilon,
         mean_l2: error.mean_l2,
         psnr_db: error.psnr_db,
         flip: error.flip,
@@ -394,7 +405,7 @@ fn write_row_images(
 /// The CSV header; `csv_line` writes the fields in this order.
 pub const CSV_HEADER: &str = "scene,triangles,mode,epsilon,n_max,width,height,frames,\
 gpu_ms_median,gpu_ms_p10,gpu_ms_p90,speedup,evaluations,vertex_evaluations,subvertex_evaluations,\
-fragment_evaluations,evaluation_ratio,l_inf,mean_l2,psnr_db,flip,fallback_fraction,\
+fragment_evaluations,evaluation_ratio,l_inf,l_inf_interior,pixels_over_epsilon,mean_l2,psnr_db,flip,fallback_fraction,\
 vs_invocations,tcs_patches,tes_invocations,clipping_primitives,fs_invocations,device,driver";
 
 /// "NA" marks a value that does not apply to the row (ε of `pixel` mode, statistics on a
@@ -435,6 +446,8 @@ pub fn csv_line(row: &Row) -> String {
         row.evaluations.fragments.to_string(),
         format!("{:.5}", row.evaluation_ratio),
         format!("{:.6}", row.l_inf),
+        format!("{:.6}", row.l_inf_interior),
+        optional(row.pixels_over_epsilon),
         format!("{:.3e}", row.mean_l2),
         format!("{:.3}", row.psnr_db),
         format!("{:.5}", row.flip),
@@ -486,6 +499,6 @@ mod tests {
         assert_eq!(quoted("a,b"), "\"a,b\"");
         assert_eq!(quoted("say \"x\", y"), "\"say \"\"x\"\", y\"");
         assert_eq!(quoted("plain"), "plain");
-        assert_eq!(CSV_HEADER.split(',').count(), 29);
+        assert_eq!(CSV_HEADER.split(',').count(), 31);
     }
 }

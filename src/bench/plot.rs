@@ -159,6 +159,81 @@ fn draw_svg(chart: &Chart<'_>, path: &Path) -> std::result::Result<(), String> {
     Ok(())
 }
 
+/// Grouped bars: for each category (x), one bar per series, `values[series][category]`.
+pub fn bars(
+    title: &str,
+    y_label: &str,
+    categories: &[String],
+    series: &[(String, Vec<f64>)],
+    path: &Path,
+) -> Result<()> {
+    bars_svg(title, y_label, categories, series, path)
+        .map_err(|message| Error::Output { path: path.to_path_buf(), message })
+}
+
+fn bars_svg(
+    title: &str,
+    y_label: &str,
+    categories: &[String],
+    series: &[(String, Vec<f64>)],
+    path: &Path,
+) -> std::result::Result<(), String> {
+    let top =
+        series.iter().flat_map(|(_, v)| v.iter().copied()).filter(|v| v.is_finite()).fold(0.0, f64::max);
+    let root = SVGBackend::new(path, (900, 560)).into_drawing_area();
+    let e = |e: DrawingAreaErrorKind<_>| e.to_string();
+    root.fill(&WHITE).map_err(e)?;
+    let mut context = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 20))
+        .margin(16)
+        .x_label_area_size(40)
+        .y_label_area_size(72)
+        .build_cartesian_2d(0.0..categories.len() as f64, 0.0..top.max(1e-9) * 1.15)
+        .map_err(e)?;
+    let names = categories.to_vec();
+    context
+        .configure_mesh()
+        .disable_x_mesh()
+        .light_line_style(RGBColor(240, 240, 240))
+        .bold_line_style(RGBColor(215, 215, 215))
+        .y_desc(y_label)
+        .x_labels(categories.len() * 2 + 1)
+        .x_label_formatter(&move |v| {
+            let index = (v - 0.5).round();
+            if (v - 0.5 - index).abs() < 1e-6 && index >= 0.0 {
+                names.get(index as usize).cloned().unwrap_or_default()
+            } else {
+                String::new()
+            }
+        })
+        .y_label_formatter(&|v| format!("{v:.2}"))
+        .draw()
+        .map_err(e)?;
+    let width = 0.8 / series.len().max(1) as f64;
+    for (index, (name, values)) in series.iter().enumerate() {
+        let color = COLORS[index % COLORS.len()];
+        context
+            .draw_series(values.iter().enumerate().filter(|(_, v)| v.is_finite()).map(
+                |(category, &value)| {
+                    let x = category as f64 + 0.1 + width * index as f64;
+                    Rectangle::new([(x, 0.0), (x + width * 0.9, value)], color.filled())
+                },
+            ))
+            .map_err(e)?
+            .label(name.as_str())
+            .legend(move |(x, y)| Rectangle::new([(x - 5, y - 5), (x + 5, y + 5)], color.filled()));
+    }
+    context
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()
+        .map_err(e)?;
+    root.present().map_err(e)?;
+    Ok(())
+}
+
 /// The label of a row on a chart: the mode, with ε and n_max for multirate.
 pub fn row_label(row: &Row) -> String {
     match (row.epsilon, row.n_max) {
