@@ -308,6 +308,14 @@ fn analyze(args: &AnalyzeArgs) -> Result<()> {
     Ok(())
 }
 
+/// The progress bar of `bench` and `experiments` (hidden when stderr is not a terminal).
+fn progress_bar() -> indicatif::ProgressBar {
+    let style =
+        indicatif::ProgressStyle::with_template("{prefix} {bar:30} {pos}/{len} [{elapsed} / ~{eta}] {msg}")
+            .expect("valid template");
+    indicatif::ProgressBar::new(0).with_style(style)
+}
+
 fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
     for &epsilon in &args.epsilon {
         anyhow::ensure!(
@@ -336,10 +344,7 @@ fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
         images: args.images.then(|| args.out.join("images")),
     };
     std::fs::create_dir_all(&args.out).with_context(|| format!("{}: cannot create", args.out.display()))?;
-    let bar = indicatif::ProgressBar::new(0).with_style(
-        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} [{elapsed} / ~{eta}] {msg}")
-            .expect("valid template"),
-    );
+    let bar = progress_bar();
     let result = bench::run(&context, &scenes, &config, &mut |progress| {
         bar.set_length(progress.total as u64);
         bar.set_position(progress.done as u64);
@@ -409,10 +414,7 @@ fn run_experiments(args: &ExperimentArgs, gpu: &GpuArgs) -> Result<()> {
         warmup: args.warmup,
         command,
     };
-    let bar = indicatif::ProgressBar::new(0).with_style(
-        indicatif::ProgressStyle::with_template("{prefix:>24} {bar:30} {pos}/{len} [{elapsed}] {msg}")
-            .expect("valid template"),
-    );
+    let bar = progress_bar();
     let started = std::time::Instant::now();
     let markdown = bench::experiments::run_all(&context, &options, &mut |experiment, progress| {
         bar.set_prefix(experiment.to_string());

@@ -306,7 +306,7 @@ fn fig6(
                 .iter()
                 .map(|s| {
                     find(rows, &s.name, mode, resolution)
-                        .map_or(f64::NAN, |r| r.evaluations_total as f64 * 1e-6)
+                        .map_or(f64::NAN, |r| r.evaluations.total() as f64 * 1e-6)
                 })
                 .collect();
             (mode.to_string(), values)
@@ -329,7 +329,7 @@ fn fig6(
             .iter()
             .map(|&mode| {
                 find(rows, &scene.name, mode, resolution).map_or("–".into(), |r| {
-                    format!("{} ({})", millions(r.evaluations_total), percent(r.evaluation_ratio))
+                    format!("{} ({})", millions(r.evaluations.total()), percent(r.evaluation_ratio))
                 })
             })
             .collect();
@@ -418,7 +418,7 @@ fn fig10(md: &mut String, rows: &[Row], resolutions: &[(u32, u32)], out: &Path) 
     for &(w, h) in resolutions {
         for (index, mode) in ["pixel", "multirate"].iter().enumerate() {
             let Some(r) = find(rows, "bunny", mode, (w, h)) else { continue };
-            let stat = |f: fn(&super::Statistics) -> u64| {
+            let stat = |f: fn(&crate::vk::timing::PipelineStatistics) -> u64| {
                 r.statistics.as_ref().map_or("NA".into(), |s| f(s).to_string())
             };
             let _ = writeln!(
@@ -426,11 +426,11 @@ fn fig10(md: &mut String, rows: &[Row], resolutions: &[(u32, u32)], out: &Path) 
                 "| {w}×{h} | {mode} | {:.2} | {} | {} | {} | {} | {} | {} |",
                 r.gpu_ms.median,
                 percent(r.speedup),
-                stat(|s| s.vertex_invocations),
-                stat(|s| s.control_patches),
-                stat(|s| s.evaluation_invocations),
-                stat(|s| s.fragment_invocations),
-                r.evaluations_total
+                stat(|s| s.vertex_shader_invocations),
+                stat(|s| s.tessellation_control_patches),
+                stat(|s| s.tessellation_evaluation_invocations),
+                stat(|s| s.fragment_shader_invocations),
+                r.evaluations.total()
             );
             series[index].points.push(plot::Point {
                 x: f64::from(w * h) * 1e-6,
@@ -509,18 +509,13 @@ fn epsilon_sweep(md: &mut String, rows: &[Row], resolution: (u32, u32), out: &Pa
         &out.join("sweep_time_vs_linf.svg"),
     )?;
     plot::time_against_error(rows, "mean FLIP", |r| r.flip, &out.join("sweep_time_vs_flip.svg"))?;
-    let mut series: Vec<plot::Series> = Vec::new();
-    for r in rows.iter().filter(|r| r.mode == "multirate") {
-        let point = plot::Point {
-            x: r.l_inf_interior,
-            y: r.evaluation_ratio * 100.0,
-            label: r.epsilon.map(|e| format!("ε={e}")),
-        };
-        match series.iter_mut().find(|s| s.name == r.scene) {
-            Some(s) => s.points.push(point),
-            None => series.push(plot::Series { name: r.scene.clone(), points: vec![point], line: true }),
-        }
-    }
+    let series = plot::group(
+        rows.iter().filter(|r| r.mode == "multirate").map(|r| {
+            let label = r.epsilon.map(|e| format!("ε={e}"));
+            (r.scene.clone(), plot::Point { x: r.l_inf_interior, y: r.evaluation_ratio * 100.0, label })
+        }),
+        true,
+    );
     plot::draw(
         &plot::Chart {
             title: "multirate: shading evaluations against error",

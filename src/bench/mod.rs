@@ -109,7 +109,6 @@ pub struct Row {
     /// `pixel` median time over this row's: the paper's speedup ratio (×100 %).
     pub speedup: f64,
     pub evaluations: EvaluationCounts,
-    pub evaluations_total: u64,
     /// Evaluations as a fraction of `pixel` mode's.
     pub evaluation_ratio: f64,
     pub l_inf: f64,
@@ -123,31 +122,9 @@ pub struct Row {
     /// multirate only: the fraction of covered pixels shaded by the per-pixel fallback.
     pub fallback_fraction: Option<f64>,
     /// Pipeline statistics of the last measured frame, where the device has them.
-    pub statistics: Option<Statistics>,
+    pub statistics: Option<PipelineStatistics>,
     pub device: String,
     pub driver: String,
-}
-
-/// The pipeline statistics a row reports.
-#[derive(Clone, Copy, Debug, serde::Serialize)]
-pub struct Statistics {
-    pub vertex_invocations: u64,
-    pub control_patches: u64,
-    pub evaluation_invocations: u64,
-    pub clipping_primitives: u64,
-    pub fragment_invocations: u64,
-}
-
-impl From<PipelineStatistics> for Statistics {
-    fn from(s: PipelineStatistics) -> Statistics {
-        Statistics {
-            vertex_invocations: s.vertex_shader_invocations,
-            control_patches: s.tessellation_control_patches,
-            evaluation_invocations: s.tessellation_evaluation_invocations,
-            clipping_primitives: s.clipping_primitives,
-            fragment_invocations: s.fragment_shader_invocations,
-        }
-    }
 }
 
 /// Everything a run produced: rows and, per row, the measured frames.
@@ -275,37 +252,21 @@ pub fn run(
         let error = metrics::image_error(&reference.image, &image, scene.settings.exposure);
         let pixels_over_epsilon = (job.mode == Mode::Multirate)
             .then(|| metrics::pixels_over(&reference.image, &image, f64::from(job.epsilon)));
-        let fallback_fraction = match job.mode {
-            Mode::Multirate => {
-                let heat = renderer.render(target, &View { heat_map: true, ..view.clone() })?;
-                let mask = fallback_mask(&heat);
-                let covered = heat.pixels.iter().filter(|p| p[3] > 0.0).count().max(1);
-                if let Some(dir) = &config.images {
-                    write_row_images(
-                        dir,
-                        &file_stem(bench_scene, job),
-                        &reference.image,
-                        &image,
-                        Some((&heat, &mask)),
-                        scene,
-                    )?;
-                }
-                Some(fallback_pixels(&mask) as f64 / covered as f64)
-            }
-            _ => {
-                if let Some(dir) = &config.images {
-                    write_row_images(
-                        dir,
-                        &file_stem(bench_scene, job),
-                        &reference.image,
-                        &image,
-                        None,
-                        scene,
-                    )?;
-                }
-                None
-            }
+        let heat_and_mask = if job.mode == Mode::Multirate {
+            let heat = renderer.render(target, &View { heat_map: true, ..view.clone() })?;
+            let mask = fallback_mask(&heat);
+            Some((heat, mask))
+        } else {
+            None
         };
+        let fallback_fraction = heat_and_mask.as_ref().map(|(heat, mask)| {
+            let covered = heat.pixels.iter().filter(|p| p[3] > 0.0).count().max(1);
+            fallback_pixels(mask) as f64 / covered as f64
+        });
+        if let Some(dir) = &config.images {
+            let stem = file_stem(bench_scene, job);
+            write_row_images(dir, &stem, &reference.image, &image, heat_and_mask.as_ref(), scene)?;
+        }
         result.rows.push(row(
             context,
             bench_scene,
@@ -352,7 +313,6 @@ fn row(
         gpu_ms,
         speedup: reference.gpu_ms / gpu_ms.median,
         evaluations,
-        evaluations_total: evaluations.total(),
         evaluation_ratio: evaluations.total() as f64 / reference.evaluations.max(1) as f64,
         l_inf: error.l_inf,
         l_inf_interior: error.l_inf_interior,
@@ -361,7 +321,7 @@ fn row(
         psnr_db: error.psnr_db,
         flip: error.flip,
         fallback_fraction,
-        statistics: measurement.statistics.map(Statistics::from),
+        statistics: measurement.statistics,
         device: context.info.name.clone(),
         driver: context.info.driver.clone(),
     }
@@ -383,7 +343,7 @@ fn write_row_images(
     stem: &str,
     reference: &FloatImage,
     image: &FloatImage,
-    heat_and_mask: Option<(&FloatImage, &FloatImage)>,
+    heat_and_mask: Option<&(FloatImage, FloatImage)>,
     scene: &Scene,
 ) -> Result<()> {
     std::fs::create_dir_all(dir).map_err(|e| crate::Error::Output {
@@ -440,7 +400,7 @@ pub fn csv_line(row: &Row) -> String {
         format!("{:.4}", row.gpu_ms.p10),
         format!("{:.4}", row.gpu_ms.p90),
         format!("{:.4}", row.speedup),
-        row.evaluations_total.to_string(),
+        row.evaluations.total().to_string(),
         row.evaluations.vertices.to_string(),
         row.evaluations.sub_vertices.to_string(),
         row.evaluations.fragments.to_string(),
@@ -452,11 +412,11 @@ pub fn csv_line(row: &Row) -> String {
         format!("{:.3}", row.psnr_db),
         format!("{:.5}", row.flip),
         optional(row.fallback_fraction.map(|f| format!("{f:.5}"))),
-        optional(statistics.map(|s| s.vertex_invocations)),
-        optional(statistics.map(|s| s.control_patches)),
-        optional(statistics.map(|s| s.evaluation_invocations)),
+        optional(statistics.map(|s| s.vertex_shader_invocations)),
+        optional(statistics.map(|s| s.tessellation_control_patches)),
+        optional(statistics.map(|s| s.tessellation_evaluation_invocations)),
         optional(statistics.map(|s| s.clipping_primitives)),
-        optional(statistics.map(|s| s.fragment_invocations)),
+        optional(statistics.map(|s| s.fragment_shader_invocations)),
         quoted(&row.device),
         quoted(&row.driver),
     ]

@@ -4,6 +4,8 @@
 
 use super::Row;
 use crate::error::{Error, Result};
+use plotters::coord::types::RangedCoordf64;
+use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -148,15 +150,7 @@ fn draw_svg(chart: &Chart<'_>, path: &Path) -> std::result::Result<(), String> {
             .legend(move |(x, y)| PathElement::new(vec![(x - 8, y), (x + 8, y)], red.stroke_width(2)));
         context.draw_series(front.iter().map(|&p| Circle::new(p, 9, red.stroke_width(2)))).map_err(e)?;
     }
-    context
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .draw()
-        .map_err(e)?;
-    root.present().map_err(e)?;
-    Ok(())
+    finish(&mut context, &root)
 }
 
 /// Grouped bars: for each category (x), one bar per series, `values[series][category]`.
@@ -223,6 +217,18 @@ fn bars_svg(
             .label(name.as_str())
             .legend(move |(x, y)| Rectangle::new([(x - 5, y - 5), (x + 5, y + 5)], color.filled()));
     }
+    finish(&mut context, &root)
+}
+
+type Svg<'a> = SVGBackend<'a>;
+type Context2d<'a> = ChartContext<'a, Svg<'a>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// Draws the legend and writes the file.
+fn finish<'a>(
+    context: &mut Context2d<'a>,
+    root: &DrawingArea<Svg<'a>, Shift>,
+) -> std::result::Result<(), String> {
+    let e = |e: DrawingAreaErrorKind<_>| e.to_string();
     context
         .configure_series_labels()
         .position(SeriesLabelPosition::UpperRight)
@@ -230,8 +236,19 @@ fn bars_svg(
         .border_style(BLACK)
         .draw()
         .map_err(e)?;
-    root.present().map_err(e)?;
-    Ok(())
+    root.present().map_err(e)
+}
+
+/// Collects named points into series, in the order the names first appear.
+pub fn group(points: impl IntoIterator<Item = (String, Point)>, line: bool) -> Vec<Series> {
+    let mut series: Vec<Series> = Vec::new();
+    for (name, point) in points {
+        match series.iter_mut().find(|s| s.name == name) {
+            Some(existing) => existing.points.push(point),
+            None => series.push(Series { name, points: vec![point], line }),
+        }
+    }
+    series
 }
 
 /// The label of a row on a chart: the mode, with ε and n_max for multirate.
@@ -250,15 +267,13 @@ pub fn time_against_error(
     error: impl Fn(&Row) -> f64,
     path: &Path,
 ) -> Result<()> {
-    let mut series: Vec<Series> = Vec::new();
-    for row in rows {
-        let name = format!("{} {}x{}", row.scene, row.width, row.height);
-        let point = Point { x: error(row), y: row.gpu_ms.median, label: Some(row_label(row)) };
-        match series.iter_mut().find(|s| s.name == name) {
-            Some(existing) => existing.points.push(point),
-            None => series.push(Series { name, points: vec![point], line: false }),
-        }
-    }
+    let series = group(
+        rows.iter().map(|row| {
+            let name = format!("{} {}x{}", row.scene, row.width, row.height);
+            (name, Point { x: error(row), y: row.gpu_ms.median, label: Some(row_label(row)) })
+        }),
+        false,
+    );
     let title = format!("GPU time against {metric} ({})", rows.first().map_or("", |r| r.device.as_str()));
     draw(
         &Chart {

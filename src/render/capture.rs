@@ -10,6 +10,7 @@ use crate::vk::memory::Buffer;
 use crate::vk::pipeline::{
     bind_storage_buffers, DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderModule, Stage,
 };
+use crate::vk::target::begin_rendering;
 use crate::vk::Context;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
@@ -137,22 +138,15 @@ impl TessellationCapture {
         }
         let device = &self.context.device;
         self.context.run_once(|cmd| {
-            let area =
-                vk::Rect2D { offset: vk::Offset2D::default(), extent: vk::Extent2D { width: 1, height: 1 } };
-            let rendering = vk::RenderingInfo::default().render_area(area).layer_count(1);
-            let viewport =
-                [vk::Viewport { x: 0.0, y: 0.0, width: 1.0, height: 1.0, min_depth: 0.0, max_depth: 1.0 }];
             let barrier = [vk::MemoryBarrier2::default()
                 .src_stage_mask(vk::PipelineStageFlags2::PRE_RASTERIZATION_SHADERS)
                 .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
                 .dst_stage_mask(vk::PipelineStageFlags2::HOST)
                 .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+            begin_rendering(device, cmd, vk::Extent2D { width: 1, height: 1 }, vk::RenderingInfo::default());
             // SAFETY: `cmd` is recording; all objects are owned by `self`; the host writes
             // above are made visible by the queue submission.
             unsafe {
-                device.cmd_begin_rendering(cmd, &rendering);
-                device.cmd_set_viewport(cmd, 0, &viewport);
-                device.cmd_set_scissor(cmd, 0, &[area]);
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw);
                 device.cmd_bind_descriptor_sets(
                     cmd,

@@ -7,7 +7,7 @@ use crate::vk::memory::transition;
 use crate::vk::pipeline::{
     DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderModule, Specialization, Stage,
 };
-use crate::vk::target::RenderTarget;
+use crate::vk::target::{begin_rendering, RenderTarget};
 use crate::vk::Context;
 use ash::vk;
 use std::sync::Arc;
@@ -125,23 +125,10 @@ impl PresentPass {
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::DONT_CARE)
             .store_op(vk::AttachmentStoreOp::STORE)];
-        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent };
-        let rendering =
-            vk::RenderingInfo::default().render_area(area).layer_count(1).color_attachments(&attachment);
-        let viewport = [vk::Viewport {
-            x: 0.0,
-            y: 0.0,
-            width: extent.width as f32,
-            height: extent.height as f32,
-            min_depth: 0.0,
-            max_depth: 1.0,
-        }];
+        begin_rendering(device, cmd, extent, vk::RenderingInfo::default().color_attachments(&attachment));
         // SAFETY: `cmd` is recording; image and view belong to the live swapchain, and the
         // render target was left in SHADER_READ_ONLY_OPTIMAL by the forward pass.
         unsafe {
-            device.cmd_begin_rendering(cmd, &rendering);
-            device.cmd_set_viewport(cmd, 0, &viewport);
-            device.cmd_set_scissor(cmd, 0, &[area]);
             device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw);
             device.cmd_bind_descriptor_sets(
                 cmd,

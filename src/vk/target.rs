@@ -25,6 +25,33 @@ impl FloatImage {
     }
 }
 
+/// Begins dynamic rendering with `rendering`'s attachments over the whole of `extent` (one
+/// layer) and sets the matching viewport and scissor. The attachments must be in the layouts
+/// they name.
+pub fn begin_rendering(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    extent: vk::Extent2D,
+    rendering: vk::RenderingInfo<'_>,
+) {
+    let area = vk::Rect2D { offset: vk::Offset2D::default(), extent };
+    let viewport = [vk::Viewport {
+        x: 0.0,
+        y: 0.0,
+        width: extent.width as f32,
+        height: extent.height as f32,
+        min_depth: 0.0,
+        max_depth: 1.0,
+    }];
+    // SAFETY: `cmd` is recording outside a render pass; the caller keeps the attachments in
+    // the layouts `rendering` names.
+    unsafe {
+        device.cmd_begin_rendering(cmd, &rendering.render_area(area).layer_count(1));
+        device.cmd_set_viewport(cmd, 0, &viewport);
+        device.cmd_set_scissor(cmd, 0, &[area]);
+    }
+}
+
 /// What the colour image is used for after a pass.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum AfterPass {
@@ -114,27 +141,10 @@ impl RenderTarget {
             .clear_value(vk::ClearValue {
                 depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 },
             });
-        let extent = self.extent();
         let rendering = vk::RenderingInfo::default()
-            .render_area(vk::Rect2D { offset: vk::Offset2D::default(), extent })
-            .layer_count(1)
             .color_attachments(&color_attachment)
             .depth_attachment(&depth_attachment);
-        let viewport = [vk::Viewport {
-            x: 0.0,
-            y: 0.0,
-            width: extent.width as f32,
-            height: extent.height as f32,
-            min_depth: 0.0,
-            max_depth: 1.0,
-        }];
-        let scissor = [vk::Rect2D { offset: vk::Offset2D::default(), extent }];
-        // SAFETY: `cmd` is recording; the attachments are in the layouts named above.
-        unsafe {
-            device.cmd_begin_rendering(cmd, &rendering);
-            device.cmd_set_viewport(cmd, 0, &viewport);
-            device.cmd_set_scissor(cmd, 0, &scissor);
-        }
+        begin_rendering(device, cmd, self.extent(), rendering);
     }
 
     /// Ends dynamic rendering and makes the colour image ready for `after`.

@@ -10,7 +10,7 @@ use ash::vk;
 use std::sync::Arc;
 
 /// Pipeline statistics of one frame (counts of the whole frame's work).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct PipelineStatistics {
     pub input_assembly_vertices: u64,
     pub input_assembly_primitives: u64,
