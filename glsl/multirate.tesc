@@ -36,7 +36,8 @@ void main() {
             levels[t] = required_level(
                 in_position[first], in_position[first + 1], in_position[first + 2],
                 in_normal[first], in_normal[first + 1], in_normal[first + 2],
-                draw.eye.xyz, draw.material_index, draw.viewport.z, draw.viewport.w);
+                draw.eye.xyz, draw.material_index, vec2(materials[draw.material_index].params.x),
+                draw.viewport.z, draw.viewport.w);
         }
         PatchLevels levels_of_patch =
             patch_levels(levels[0], vec3(levels[1], levels[2], levels[3]), draw.viewport.w);

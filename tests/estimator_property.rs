@@ -12,11 +12,14 @@
 //! evaluations). `docs/estimator.md` quotes them.
 
 use glam::Vec3;
-use multirate::analysis::oracle::{oracle_level, true_error, true_error_sampled, vertices_at_level};
+use multirate::analysis::oracle::{
+    oracle_level, true_error, true_error_sampled, true_error_textured, vertices_at_level,
+};
 use multirate::analysis::tessellator::{triangle_pattern, Pattern};
 use multirate::scene::{Light, MaterialKind};
 use multirate::shading::estimator::{
-    estimate, Discontinuity, EstimatorSettings, Reason, Split, Term, TriangleInput,
+    estimate, estimate_textured, Discontinuity, EstimatorSettings, ParameterRange, Reason, Split, Term,
+    TriangleInput,
 };
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -412,4 +415,108 @@ fn blinn_phong_never_exceeds_epsilon() {
 #[test]
 fn ggx_never_exceeds_epsilon() {
     check(Brdf::Ggx, 0x3c5d_7e9f_1a2b_3456);
+}
+
+/// Random triangles per textured BRDF.
+const TEXTURED_TRIANGLES: usize = 10_000;
+
+/// A textured parameter over the patch: values in `[lo, hi]` as a function of the barycentric
+/// point, from smooth to far finer than any sub-triangle, and hard steps (a checker).
+fn parameter_field(rng: &mut Rng, lo: f32, hi: f32) -> impl Fn([f64; 3]) -> f32 {
+    let kind = rng.next_u64() % 4;
+    let frequency = f64::from(rng.log(0.5, 200.0));
+    let direction = [rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)].map(f64::from);
+    let phase = f64::from(rng.range(0.0, 6.3));
+    move |b: [f64; 3]| {
+        let x = frequency * (direction[0] * b[0] + direction[1] * b[1] + direction[2] * b[2]) + phase;
+        let t = match kind {
+            0 => 0.5 + 0.5 * x.sin(),
+            1 => {
+                if (x.floor() as i64 + (frequency * b[1]).floor() as i64) % 2 == 0 {
+                    0.0
+                } else {
+                    1.0
+                }
+            }
+            2 => 0.5 + 0.5 * (x.sin() * (3.1 * x).cos()),
+            _ => (x.fract() + 1.0).fract(),
+        };
+        lo + (hi - lo) * t as f32
+    }
+}
+
+/// The property test for textured shininess (Blinn-Phong) and roughness (GGX): the parameter
+/// varies over the triangle within `[lo, hi]`, the estimator is given that range, and the
+/// oracle shades every sub-vertex and every point in between with the parameter there.
+fn check_textured(brdf: Brdf, seed: u64) {
+    let patterns: Vec<Pattern> =
+        (0..=N_MAX).map(|n| if n == 0 { Pattern::default() } else { hardware(n) }).collect();
+    let mut rng = Rng(seed);
+    let (mut violations, mut tessellated, mut worst) = (0, 0, 0.0f64);
+    let mut worst_case = String::new();
+    let start = Instant::now();
+    for index in 0..TEXTURED_TRIANGLES {
+        let case = random_case(&mut rng, brdf);
+        let (lo, hi) = match case.material {
+            MaterialKind::BlinnPhong { shininess, .. } => {
+                let hi = (shininess * rng.log(1.0, 8.0)).min(1.0e4);
+                (shininess, if rng.chance(0.2) { shininess * 1.01 } else { hi })
+            }
+            MaterialKind::Ggx { roughness, .. } => {
+                let hi = (roughness + rng.log(0.001, 0.5)).min(1.0);
+                (roughness, hi)
+            }
+            MaterialKind::Lambert { .. } => unreachable!("textured parameters are specular"),
+        };
+        let field = parameter_field(&mut rng, lo, hi);
+        let material = case.material;
+        let material_at = |b: [f64; 3]| match material {
+            MaterialKind::BlinnPhong { kd, ks, .. } => {
+                MaterialKind::BlinnPhong { kd, ks, shininess: field(b) }
+            }
+            MaterialKind::Ggx { albedo, f0, .. } => MaterialKind::Ggx { albedo, f0, roughness: field(b) },
+            other => other,
+        };
+        let settings = conservative(case.epsilon);
+        let range = ParameterRange { lo, hi };
+        let est = estimate_textured(&case.tri, &case.material, range, &case.lights, &settings);
+        assert!(est.level.is_finite() && est.level >= 1.0);
+        if est.fallback {
+            continue;
+        }
+        tessellated += 1;
+        let eps = f64::from(case.epsilon);
+        let pattern = &patterns[est.n as usize];
+        let mut error = true_error_textured(&case.tri, &material_at, &case.lights, pattern, 6, f64::INFINITY);
+        if error.iter().any(|&e| e > 0.5 * eps) {
+            let fine = true_error_textured(&case.tri, &material_at, &case.lights, pattern, 24, f64::INFINITY);
+            error = std::array::from_fn(|c| error[c].max(fine[c]));
+        }
+        let e = error.iter().copied().fold(0.0, f64::max) / eps;
+        if e > worst {
+            worst = e;
+            worst_case =
+                format!("#{index}: n {}, true/eps {e:.4}, range [{lo}, {hi}], {:?}", est.n, case.material);
+        }
+        if e > 1.0 {
+            violations += 1;
+        }
+    }
+    let text = format!(
+        "== {brdf:?}, textured: {TEXTURED_TRIANGLES} triangles, {:.1} s; tessellated {tessellated}, violations {violations}, largest true error / eps {worst:.3} ({worst_case})",
+        start.elapsed().as_secs_f64()
+    );
+    println!("{text}");
+    assert!(tessellated > TEXTURED_TRIANGLES / 10, "the textured bound should not always fall back: {text}");
+    assert_eq!(violations, 0, "{text}");
+}
+
+#[test]
+fn textured_shininess_never_exceeds_epsilon() {
+    check_textured(Brdf::BlinnPhong, 0x4d6e_8f0a_2b3c_4567);
+}
+
+#[test]
+fn textured_roughness_never_exceeds_epsilon() {
+    check_textured(Brdf::Ggx, 0x5e7f_9a1b_3c4d_5678);
 }

@@ -807,8 +807,70 @@ Jet ggx_d_jet(Jet c, float p0, float p1, float w, float alpha) {
     return guard_jet(o);
 }
 
+// The roughness-dependent GGX factors G, V and D at one alpha (see `ggx_factor_jets`).
+void ggx_factor_jets(Field n, Field l, Field v, Field h, LightSetup st, vec2 nh, float w_nh,
+                     float alpha, out Jet gjet, out Jet vjet, out Jet djet) {
+    P float h0 = nh.x;
+    P float h1 = nh.y;
+    P float k = 0.5 * alpha;
+
+    // G = c/(c(1-k)+k) with c = n.l >= 0.
+    P vec2 nl = vec2(st.psi_nl.x, rmin(st.psi_nl.y, HALF_PI));
+    Jet c_g = cosine(n, l, nl);
+    P float c0 = rmax(est_cos(nl.y), 0.0);
+    P float c1 = est_cos(nl.x);
+    P float q0 = c0 * (1.0 - k) + k;
+    P float q1 = c1 * (1.0 - k) + k;
+    P float g1 = k / (q0 * q0);
+    P float g2 = 2.0 * k * (1.0 - k) / (q0 * q0 * q0);
+    gjet = jet_constant(0.0);
+    gjet.h = gmul(c_g.h, g1);
+    P float cg2 = gmul(c_g.g, c_g.g);
+    P float hg = gmul(g2, cg2);
+    if (est_term == T_V) {
+        gjet.h = gc(gjet.h + hg);
+    }
+    gjet.m = c1 / q1;
+    gjet.g = gmul(g1, c_g.g);
+    gjet = guard_jet(gjet);
+
+    // V_v = 1/(max(n.v, 0)(1-k)+k): constant 1/k where n.v <= 0 throughout.
+    if (st.nv_sign == SIGN_NON_POSITIVE) {
+        vjet = jet_constant(1.0 / k);
+    } else {
+        P vec2 nv = vec2(st.psi_nv.x, rmin(st.psi_nv.y, HALF_PI));
+        Jet c_v = cosine(n, v, nv);
+        P float q = rmax(est_cos(nv.y), 0.0) * (1.0 - k) + k;
+        P float v1 = (1.0 - k) / (q * q);
+        P float v2 = 2.0 * (1.0 - k) * (1.0 - k) / (q * q * q);
+        vjet = jet_constant(0.0);
+        vjet.h = gmul(c_v.h, v1);
+        P float cv2 = gmul(c_v.g, c_v.g);
+        P float hv = gmul(v2, cv2);
+        if (est_term == T_V) {
+            vjet.h = gc(vjet.h + hv);
+        }
+        vjet.m = 1.0 / q;
+        vjet.g = gmul(v1, c_v.g);
+        vjet = guard_jet(vjet);
+    }
+
+    // D(t), t = n.h.
+    if (st.psi_nh.x >= HALF_PI) {
+        djet = jet_constant(alpha * alpha / PI);
+    } else {
+        Jet c_nh = cosine(n, h, vec2(h0, h1));
+        djet = ggx_d_jet(c_nh, h0, h1, w_nh, alpha);
+    }
+}
+
+// Elementwise larger bounds of two jets (see `jet_max`).
+Jet jet_max(Jet a, Jet b) {
+    return Jet(rmax(a.m, b.m), rmax(a.g, b.g), rmax(a.h, b.h));
+}
+
 // The jets of one light's diffuse part and (per channel) specular part at pattern scale s.
-void light_jets(Frame frame, GpuMaterial material, LightSetup st, Scale s,
+void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Scale s,
                 out Jet diffuse, out Jet spec[3]) {
     Field n = Field(gc(s.b / frame.r_n), 0.0, T_NORMAL);
     Field l = Field(gmul(s.a, st.inv_d), 0.0, T_LIGHT);
@@ -849,14 +911,16 @@ void light_jets(Frame frame, GpuMaterial material, LightSetup st, Scale s,
         if (st.psi_nh.x >= HALF_PI) {
             return;
         }
-        P float s_ = material.params.x;
+        // A shininess anywhere in [s0, s1] (see Rust).
+        P float s0 = param.x;
+        P float s1 = param.y;
         Jet c_nh = cosine(n, h, vec2(h0, h1));
         P float chi = est_cos(h0);
-        Jet t = jet_constant(est_pow(chi, s_));
-        t.g = gc(s_ * max_cos_sin(s_ - 1.0, 1.0, h0, h1) * w_nh);
-        t.h = gmul(c_nh.h, s_ * est_pow(chi, s_ - 1.0));
-        if (s_ > 1.0) {
-            P float k = s_ * (s_ - 1.0) * max_cos_sin(s_ - 2.0, 2.0, h0, h1);
+        Jet t = jet_constant(est_pow(chi, s0));
+        t.g = gc(s1 * max_cos_sin(s0 - 1.0, 1.0, h0, h1) * w_nh);
+        t.h = gmul(c_nh.h, s1 * est_pow(chi, s0 - 1.0));
+        if (s1 > 1.0) {
+            P float k = s1 * (s1 - 1.0) * max_cos_sin(s0 - 2.0, 2.0, h0, h1);
             P float w2 = gmul(w_nh, w_nh);
             P float hp = gmul(k, w2);
             if (est_term == T_POWER) {
@@ -871,59 +935,33 @@ void light_jets(Frame frame, GpuMaterial material, LightSetup st, Scale s,
         return;
     }
 
-    // GGX
-    P float alpha = max(material.params.x * material.params.x, GGX_MIN_ALPHA);
-    P float k = 0.5 * alpha;
-
-    // G = c/(c(1-k)+k) with c = n.l >= 0.
-    P vec2 nl = vec2(st.psi_nl.x, rmin(st.psi_nl.y, HALF_PI));
-    Jet c_g = cosine(n, l, nl);
-    P float c0 = rmax(est_cos(nl.y), 0.0);
-    P float c1 = est_cos(nl.x);
-    P float q0 = c0 * (1.0 - k) + k;
-    P float q1 = c1 * (1.0 - k) + k;
-    P float g1 = k / (q0 * q0);
-    P float g2 = 2.0 * k * (1.0 - k) / (q0 * q0 * q0);
-    Jet gjet = jet_constant(0.0);
-    gjet.h = gmul(c_g.h, g1);
-    P float cg2 = gmul(c_g.g, c_g.g);
-    P float hg = gmul(g2, cg2);
-    if (est_term == T_V) {
-        gjet.h = gc(gjet.h + hg);
-    }
-    gjet.m = c1 / q1;
-    gjet.g = gmul(g1, c_g.g);
-    gjet = guard_jet(gjet);
-
-    // V_v = 1/(max(n.v, 0)(1-k)+k): constant 1/k where n.v <= 0 throughout.
-    Jet vjet;
-    if (st.nv_sign == SIGN_NON_POSITIVE) {
-        vjet = jet_constant(1.0 / k);
-    } else {
-        P vec2 nv = vec2(st.psi_nv.x, rmin(st.psi_nv.y, HALF_PI));
-        Jet c_v = cosine(n, v, nv);
-        P float q = rmax(est_cos(nv.y), 0.0) * (1.0 - k) + k;
-        P float v1 = (1.0 - k) / (q * q);
-        P float v2 = 2.0 * (1.0 - k) * (1.0 - k) / (q * q * q);
-        vjet = jet_constant(0.0);
-        vjet.h = gmul(c_v.h, v1);
-        P float cv2 = gmul(c_v.g, c_v.g);
-        P float hv = gmul(v2, cv2);
-        if (est_term == T_V) {
-            vjet.h = gc(vjet.h + hv);
+    // GGX: D, G and V at the ends of the roughness range and where D peaks (see Rust).
+    P float alpha_lo = max(param.x * param.x, GGX_MIN_ALPHA);
+    P float alpha_hi = max(param.y * param.y, GGX_MIN_ALPHA);
+    P float alphas[3] = float[3](alpha_lo, alpha_lo, alpha_lo);
+    int alpha_count = 1;
+    if (alpha_hi > alpha_lo) {
+        alphas[1] = alpha_hi;
+        alpha_count = 2;
+        if (st.psi_nh.x < HALF_PI) {
+            P float sh0 = est_sin(h0);
+            P float s2 = sh0 * sh0;
+            alphas[2] = rmin(rmax(sqrt(s2 / (1.0 - s2)), alpha_lo), alpha_hi);
+            alpha_count = 3;
         }
-        vjet.m = 1.0 / q;
-        vjet.g = gmul(v1, c_v.g);
-        vjet = guard_jet(vjet);
     }
-
-    // D(t), t = n.h.
+    Jet gjet;
+    Jet vjet;
     Jet djet;
-    if (st.psi_nh.x >= HALF_PI) {
-        djet = jet_constant(alpha * alpha / PI);
-    } else {
-        Jet c_nh = cosine(n, h, vec2(h0, h1));
-        djet = ggx_d_jet(c_nh, h0, h1, w_nh, alpha);
+    ggx_factor_jets(n, l, v, h, st, vec2(h0, h1), w_nh, alphas[0], gjet, vjet, djet);
+    for (int i = 1; i < alpha_count; ++i) {
+        Jet g2;
+        Jet v2;
+        Jet d2;
+        ggx_factor_jets(n, l, v, h, st, vec2(h0, h1), w_nh, alphas[i], g2, v2, d2);
+        gjet = jet_max(gjet, g2);
+        vjet = jet_max(vjet, v2);
+        djet = jet_max(djet, d2);
     }
 
     // v.h = |l + v|/2.
@@ -983,11 +1021,40 @@ int active_term(int pass) {
 // One light
 // ---------------------------------------------------------------------------------------------
 
+// The variation sup|f(a) - f(a')| of one light's specular part for a parameter anywhere in
+// `param` (see `parameter_variation`).
+P vec3 parameter_variation(vec2 param, LightSetup st, vec3 spec_sup) {
+    if (MATERIAL_KIND == MATERIAL_LAMBERT) {
+        return vec3(0.0);
+    }
+    if (MATERIAL_KIND == MATERIAL_BLINN_PHONG) {
+        P float s0 = param.x;
+        P float s1 = param.y;
+        if (!(s1 > s0) || st.psi_nh.x >= HALF_PI) {
+            return vec3(0.0);
+        }
+        P float t_lo = rmax(est_cos(rmin(st.psi_nh.y, HALF_PI)), 0.0);
+        P float t_hi = est_cos(st.psi_nh.x);
+        P float t = rmin(rmax(est_pow(s0 / s1, 1.0 / (s1 - s0)), t_lo), t_hi);
+        P float upper = est_pow(t, s0);
+        P float att = st.inv_d > 0.0 ? st.inv_d * st.inv_d : 1.0;
+        P float variation = ((upper - est_pow(t, s1)) * SAFETY + 1.0e-6 * upper) * att;
+        return vec3(rmax(variation, 0.0));
+    }
+    P float alpha_lo = max(param.x * param.x, GGX_MIN_ALPHA);
+    P float alpha_hi = max(param.y * param.y, GGX_MIN_ALPHA);
+    if (!(alpha_hi > alpha_lo)) {
+        return vec3(0.0);
+    }
+    P float share = rmin(4.0 * LN_2 * est_log2(alpha_hi / alpha_lo), 1.0);
+    return spec_sup * (share * SAFETY);
+}
+
 // Adds one light's bounds to the sums; returns a fallback reason (REASON_NONE if none), as
 // `add_light` in Rust. `point`: a point light at `position`, else a directional light whose
 // travel direction is `position`.
-int add_light(Frame frame, GpuMaterial material, bool point, vec3 position, vec3 radiance,
-              float top) {
+int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 position,
+              vec3 radiance, float top) {
     if (is_zero(radiance)) {
         return REASON_NONE;
     }
@@ -1093,7 +1160,7 @@ int add_light(Frame frame, GpuMaterial material, bool point, vec3 position, vec3
         setup.nv_sign = nv_sign;
         if (MATERIAL_KIND == MATERIAL_BLINN_PHONG) {
             // max(n.h, 0)^s is C^{1,1} across n.h = 0 only for s >= 2.
-            if (setup.psi_nh.x < HALF_PI && setup.psi_nh.y >= HALF_PI && material.params.x < 2.0) {
+            if (setup.psi_nh.x < HALF_PI && setup.psi_nh.y >= HALF_PI && param.x < 2.0) {
                 return REASON_DISCONTINUITY;
             }
         } else {
@@ -1115,19 +1182,21 @@ int add_light(Frame frame, GpuMaterial material, bool point, vec3 position, vec3
     P vec3 linn = vec3(0.0);
     P vec3 zero = vec3(0.0);
     P vec3 range = vec3(0.0);
+    P vec3 spec_sup = vec3(0.0);
     for (int level = 0; level < 2; ++level) {
         Scale s = level == 0 ? frame.s1 : frame.sn;
         Jet diff;
         Jet spec[3];
         for (int pass = 0; pass < active_term_count(); ++pass) {
             est_term = active_term(pass);
-            light_jets(frame, material, setup, s, diff, spec);
+            light_jets(frame, material, param, setup, s, diff, spec);
             P vec3 spec_h = vec3(spec[0].h, spec[1].h, spec[2].h);
             P vec3 ht = (diff_w * diff.h + spec_w * spec_h) * (0.5 * SAFETY);
             h[level][est_term] = ht;
         }
         // (The sups m do not depend on the pass.)
         P vec3 spec_m = vec3(spec[0].m, spec[1].m, spec[2].m);
+        spec_sup = spec_m;
         // The contribution lies in [0, sup] and so does its interpolant.
         range = (diff_w * diff.m + spec_w * spec_m) * SAFETY;
         if (setup.straddle && level == 1) {
@@ -1140,6 +1209,8 @@ int add_light(Frame frame, GpuMaterial material, bool point, vec3 position, vec3
             zero = spec_w * spec_m * SAFETY;
         }
     }
+    // A textured parameter: its variation over the range, an n-independent term.
+    zero = zero + spec_w * parameter_variation(param, setup, spec_sup);
     // Sums over the terms in term order (the skipped ones are exact zeros).
     P vec3 tot1 = vec3(0.0);
     P vec3 totn = vec3(0.0);
@@ -1509,7 +1580,7 @@ int worse(int a, int b) {
 // Estimate::level of the triangle (p0, p1, p2) with vertex normals n0, n1, n2 seen from
 // `eye`: >= 1, or FALLBACK_LEVEL when it must be shaded per pixel. Never NaN.
 float required_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye,
-                     uint material_index, float epsilon, float n_max_value) {
+                     uint material_index, vec2 param, float epsilon, float n_max_value) {
     uint n_max = uint(clamp(n_max_value, 1.0, 64.0));
     P float eps = epsilon > 0.0 ? epsilon : 0.0;
     P float top = pattern_level(n_max, n_max);
@@ -1529,7 +1600,7 @@ float required_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 
     // Point lights first, then directional ones (the buffer's order, and the twin's).
     for (int i = 0; i < POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT; ++i) {
         GpuLight light = lights[i];
-        reason = worse(reason, add_light(frame, material, i < POINT_LIGHT_COUNT,
+        reason = worse(reason, add_light(frame, material, param, i < POINT_LIGHT_COUNT,
                                          light.position.xyz, light.radiance.rgb, top));
     }
     if (est_bad) {

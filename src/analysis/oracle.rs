@@ -42,10 +42,14 @@ pub const SAMPLES_PER_EDGE: u32 = 6;
 
 /// The shading `f(λ)` at barycentric point `b` of the patch, per channel.
 pub fn shade_at(tri: &TriangleInput, material: &MaterialKind, lights: &[Light], b: [f64; 3]) -> [f64; 3] {
+    shade_with(tri, *material, lights, b)
+}
+
+fn shade_with(tri: &TriangleInput, material: MaterialKind, lights: &[Light], b: [f64; 3]) -> [f64; 3] {
     let mix = |v: [Vec3; 3]| -> Vec3 {
         (v[0].as_dvec3() * b[0] + v[1].as_dvec3() * b[1] + v[2].as_dvec3() * b[2]).as_vec3()
     };
-    let f = shade_point(mix(tri.positions), mix(tri.normals), tri.eye, material, lights);
+    let f = shade_point(mix(tri.positions), mix(tri.normals), tri.eye, &material, lights);
     [f64::from(f.x), f64::from(f.y), f64::from(f.z)]
 }
 
@@ -71,9 +75,24 @@ pub fn true_error_sampled(
     k: u32,
     stop_above: f64,
 ) -> [f64; 3] {
+    true_error_textured(tri, &|_| *material, lights, pattern, k, stop_above)
+}
+
+/// [`true_error_sampled`] for a material that varies over the patch (a textured shininess or
+/// roughness): `material_at(λ)` is the material at barycentric point `λ`, used both for the
+/// sub-vertices (what the evaluation shader samples there) and for the points in between
+/// (what a pixel samples).
+pub fn true_error_textured(
+    tri: &TriangleInput,
+    material_at: &dyn Fn([f64; 3]) -> MaterialKind,
+    lights: &[Light],
+    pattern: &Pattern,
+    k: u32,
+    stop_above: f64,
+) -> [f64; 3] {
     let k = k.max(1);
-    let corner_values: Vec<[f64; 3]> =
-        pattern.vertices.iter().map(|&b| shade_at(tri, material, lights, b)).collect();
+    let shade = |b: [f64; 3]| shade_with(tri, material_at(b), lights, b);
+    let corner_values: Vec<[f64; 3]> = pattern.vertices.iter().map(|&b| shade(b)).collect();
     let mut worst = [0.0f64; 3];
     let kf = f64::from(k);
     for t in &pattern.triangles {
@@ -89,7 +108,7 @@ pub fn true_error_sampled(
                 let b: [f64; 3] = std::array::from_fn(|c| {
                     mu[0] * corners[0][c] + mu[1] * corners[1][c] + mu[2] * corners[2][c]
                 });
-                let f = shade_at(tri, material, lights, b);
+                let f = shade(b);
                 for c in 0..3 {
                     let lin = mu[0] * values[0][c] + mu[1] * values[1][c] + mu[2] * values[2][c];
                     let e = (f[c] - lin).abs();

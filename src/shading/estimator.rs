@@ -225,11 +225,47 @@ const ANGLE_PAD: f32 = 2.0e-6;
 /// A cone wider than this is no bound at all (a cap wider than a hemisphere is not convex).
 const MAX_HALF: f32 = FRAC_PI_2 - 1.0e-4;
 
+/// The range `[lo, hi]` a textured parameter (Blinn-Phong shininess, GGX roughness) takes
+/// over a triangle's texels (seed 003 Sec. 3.5, Eq. 34–38). `lo == hi` is an untextured
+/// material; Lambert ignores it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ParameterRange {
+    pub lo: f32,
+    pub hi: f32,
+}
+
+impl ParameterRange {
+    /// The material's own (untextured) parameter: shininess, roughness, or 0 for Lambert.
+    pub fn of(material: &MaterialKind) -> ParameterRange {
+        let value = match *material {
+            MaterialKind::Lambert { .. } => 0.0,
+            MaterialKind::BlinnPhong { shininess, .. } => shininess,
+            MaterialKind::Ggx { roughness, .. } => roughness,
+        };
+        ParameterRange { lo: value, hi: value }
+    }
+}
+
 /// Estimates the tessellation level of one triangle. See the module docs and
 /// `docs/estimator.md`.
 pub fn estimate(
     tri: &TriangleInput,
     material: &MaterialKind,
+    lights: &[Light],
+    settings: &EstimatorSettings,
+) -> Estimate {
+    estimate_textured(tri, material, ParameterRange::of(material), lights, settings)
+}
+
+/// [`estimate`] for a material whose shininess or roughness varies over the triangle within
+/// `parameter` (the material's own value is then not used). The bound holds for every
+/// sub-vertex and pixel value of the parameter in the range: the interpolation error is
+/// bounded over the range (`sup_α* ‖f_α* − L f_α*‖`, paper Eq. 36) and the variation
+/// `sup |f(α) − f(α')|` is added as an `n`-independent term (Eq. 37). See `docs/estimator.md`.
+pub fn estimate_textured(
+    tri: &TriangleInput,
+    material: &MaterialKind,
+    parameter: ParameterRange,
     lights: &[Light],
     settings: &EstimatorSettings,
 ) -> Estimate {
@@ -245,7 +281,9 @@ pub fn estimate(
     let points = lights.iter().filter(|l| matches!(l, Light::Point { .. }));
     let directionals = lights.iter().filter(|l| matches!(l, Light::Directional { .. }));
     for light in points.chain(directionals) {
-        if let Err(r) = add_light(&frame, material, light, settings.discontinuity, n_max, &mut sum, &guard) {
+        let added =
+            add_light(&frame, material, parameter, light, settings.discontinuity, n_max, &mut sum, &guard);
+        if let Err(r) = added {
             reason = worse(reason, r);
         }
     }
@@ -1009,9 +1047,11 @@ fn weights(material: &MaterialKind, radiance: Vec3) -> (Vec3, Vec3) {
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 fn add_light(
     frame: &Frame,
     material: &MaterialKind,
+    parameter: ParameterRange,
     light: &Light,
     mode: Discontinuity,
     n_max: u32,
@@ -1124,10 +1164,10 @@ fn add_light(
         setup.psi_nv = psi_nv;
         setup.nv_sign = nv_sign;
         match *material {
-            MaterialKind::BlinnPhong { shininess, .. } => {
+            MaterialKind::BlinnPhong { .. } => {
                 // max(n·h, 0)^s is C^{1,1} across n·h = 0 only for s ≥ 2.
                 let nh = setup.psi_nh;
-                if nh.0 < FRAC_PI_2 && nh.1 >= FRAC_PI_2 && shininess < 2.0 {
+                if nh.0 < FRAC_PI_2 && nh.1 >= FRAC_PI_2 && parameter.lo < 2.0 {
                     return Err(Reason::Discontinuity);
                 }
             }
@@ -1146,14 +1186,16 @@ fn add_light(
     let mut h = [[Vec3::ZERO; TERM_COUNT]; 2];
     let (mut lin1, mut linn, mut zero) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
     let mut range = Vec3::ZERO;
+    let mut spec_sup = Vec3::ZERO;
     for (level, hl) in h.iter_mut().enumerate() {
         let s = if level == 0 { frame.s1 } else { frame.sn };
-        let (diff, spec) = light_jets(frame, material, &setup, s, gd);
+        let (diff, spec) = light_jets(frame, material, parameter, &setup, s, gd);
         for (t, ht) in hl.iter_mut().enumerate() {
             let spec_h = Vec3::new(spec[0].h[t], spec[1].h[t], spec[2].h[t]);
             *ht = (diff_w * diff.h[t] + spec_w * spec_h) * (0.5 * SAFETY);
         }
         let spec_m = Vec3::new(spec[0].m, spec[1].m, spec[2].m);
+        spec_sup = spec_m;
         // The contribution lies in [0, sup] and so does its interpolant.
         range = (diff_w * diff.m + spec_w * spec_m) * SAFETY;
         if setup.straddle && level == 1 {
@@ -1168,6 +1210,9 @@ fn add_light(
             zero = spec_w * spec_m * SAFETY;
         }
     }
+    // A textured parameter: the variation sup|f(α) − f(α')| over the range (Eq. 37), an
+    // n-independent term like the Relaxed jumps.
+    zero += spec_w * parameter_variation(material, parameter, &setup, spec_sup);
     let (tot1, totn) = (sum_terms(&h[0]), sum_terms(&h[1]));
     let top = pattern_level(n_max, n_max);
     for c in 0..3 {
@@ -1196,6 +1241,7 @@ fn add_light(
 fn light_jets(
     frame: &Frame,
     material: &MaterialKind,
+    parameter: ParameterRange,
     st: &LightSetup,
     s: Scale,
     gd: &Guard,
@@ -1236,66 +1282,50 @@ fn light_jets(
 
     match *material {
         MaterialKind::Lambert { .. } => unreachable!(),
-        MaterialKind::BlinnPhong { shininess, .. } => {
+        MaterialKind::BlinnPhong { .. } => {
             if st.psi_nh.0 >= FRAC_PI_2 {
                 return (diffuse, [zero; 3]);
             }
-            let s_ = shininess;
+            // A shininess anywhere in [s₀, s₁] (s₀ ≥ 1): every factor s, s − 1 grows with s
+            // and every power of t = cos ψ ≤ 1 shrinks, so s₁ and s₀ bound them separately.
+            let (s0, s1) = (parameter.lo, parameter.hi);
             let c_nh = cosine(&n, &h, (h0, h1), gd);
             // T = t^s, t = cos ψ: |DT| ≤ s cos^(s−1)ψ sin ψ·w, jointly maximised over ψ;
             // |D²T| ≤ s(s−1) cos^(s−2)ψ sin²ψ·w² + s t^(s−1)|D²t|.
             let chi = est_cos(h0);
-            let g = gd.c(s_ * max_cos_sin(s_ - 1.0, 1.0, h0, h1) * w_nh);
-            let mut hh = scaled(&c_nh.h, s_ * est_pow(chi, s_ - 1.0), gd);
-            if s_ > 1.0 {
-                let k = s_ * (s_ - 1.0) * max_cos_sin(s_ - 2.0, 2.0, h0, h1);
+            let g = gd.c(s1 * max_cos_sin(s0 - 1.0, 1.0, h0, h1) * w_nh);
+            let mut hh = scaled(&c_nh.h, s1 * est_pow(chi, s0 - 1.0), gd);
+            if s1 > 1.0 {
+                let k = s1 * (s1 - 1.0) * max_cos_sin(s0 - 2.0, 2.0, h0, h1);
                 let w2 = gd.mul(w_nh, w_nh);
                 hh[Term::Power as usize] = gd.c(hh[Term::Power as usize] + gd.mul(k, w2));
             }
-            let t = gd.jet(Jet { m: est_pow(chi, s_), g, h: hh });
+            let t = gd.jet(Jet { m: est_pow(chi, s0), g, h: hh });
             let spec = product([att, t], gd);
             (diffuse, [spec; 3])
         }
-        MaterialKind::Ggx { f0, roughness, .. } => {
-            let alpha = ggx_alpha(roughness);
-            let k = 0.5 * alpha;
-
-            // G = c/(c(1−k)+k) with c = n·l ≥ 0 (the gate keeps c ≥ 0 where G is used).
-            let nl = (st.psi_nl.0, st.psi_nl.1.min(FRAC_PI_2));
-            let c_g = cosine(&n, &l, nl, gd);
-            let (c0, c1) = (est_cos(nl.1).max(0.0), est_cos(nl.0));
-            let q0 = c0 * (1.0 - k) + k;
-            let q1 = c1 * (1.0 - k) + k;
-            let g1 = k / (q0 * q0);
-            let g2 = 2.0 * k * (1.0 - k) / (q0 * q0 * q0);
-            let mut gh = scaled(&c_g.h, g1, gd);
-            let cg2 = gd.mul(c_g.g, c_g.g);
-            gh[Term::V as usize] = gd.c(gh[Term::V as usize] + gd.mul(g2, cg2));
-            let gjet = gd.jet(Jet { m: c1 / q1, g: gd.mul(g1, c_g.g), h: gh });
-
-            // V_v = 1/(max(n·v, 0)(1−k)+k): constant 1/k where n·v ≤ 0 throughout.
-            let vjet = if st.nv_sign == Sign::NonPositive {
-                Jet::constant(1.0 / k)
-            } else {
-                let nv = (st.psi_nv.0, st.psi_nv.1.min(FRAC_PI_2));
-                let c_v = cosine(&n, &v, nv, gd);
-                let q = est_cos(nv.1).max(0.0) * (1.0 - k) + k;
-                let v1 = (1.0 - k) / (q * q);
-                let v2 = 2.0 * (1.0 - k) * (1.0 - k) / (q * q * q);
-                let mut vh = scaled(&c_v.h, v1, gd);
-                let cv2 = gd.mul(c_v.g, c_v.g);
-                vh[Term::V as usize] = gd.c(vh[Term::V as usize] + gd.mul(v2, cv2));
-                gd.jet(Jet { m: 1.0 / q, g: gd.mul(v1, c_v.g), h: vh })
-            };
-
-            // D(t), t = n·h = cos ψ, with s2 = sin²ψ and u = α² + (1−α²)s2:
-            // D = α²/(πu²), D' = 4α²β t/(πu³), D'' = 4α²β(u + 6βt²)/(πu⁴), β = 1 − α².
-            let djet = if st.psi_nh.0 >= FRAC_PI_2 {
-                Jet::constant(alpha * alpha / PI)
-            } else {
-                let c_nh = cosine(&n, &h, (h0, h1), gd);
-                ggx_d_jet(&c_nh, h0, h1, w_nh, alpha, gd)
-            };
+        MaterialKind::Ggx { f0, .. } => {
+            // The roughness-dependent factors D, G and V at the ends of the roughness range
+            // and where D(n·h at its smallest angle) peaks over α (α² = sin²/cos²), combined
+            // by their largest bounds (paper Eq. 36).
+            let (alpha_lo, alpha_hi) = (ggx_alpha(parameter.lo), ggx_alpha(parameter.hi));
+            let mut alphas = [alpha_lo; 3];
+            let mut count = 1;
+            if alpha_hi > alpha_lo {
+                alphas[1] = alpha_hi;
+                count = 2;
+                if st.psi_nh.0 < FRAC_PI_2 {
+                    let s2 = est_sin(h0) * est_sin(h0);
+                    alphas[2] = (s2 / (1.0 - s2)).sqrt().max(alpha_lo).min(alpha_hi);
+                    count = 3;
+                }
+            }
+            let mut factors = ggx_factor_jets(&n, &l, &v, &h, st, (h0, h1), w_nh, alphas[0], gd);
+            for &alpha in &alphas[1..count] {
+                let more = ggx_factor_jets(&n, &l, &v, &h, st, (h0, h1), w_nh, alpha, gd);
+                factors = [0, 1, 2].map(|f| jet_max(&factors[f], &more[f]));
+            }
+            let [gjet, vjet, djet] = factors;
 
             // v·h = |l̂ + v̂|/2 = cos(∠(l,v)/2): |D| ≤ (wₗ + wᵥ)/2,
             // |D²| ≤ ((wₗ + wᵥ)²/|l̂+v̂| + (2/√3)(wₗ² + wᵥ²))/2.
@@ -1320,6 +1350,110 @@ fn light_jets(
                 *out = Jet { m: 0.25 * p.m, g: 0.25 * p.g, h: scaled(&p.h, 0.25, gd) };
             }
             (diffuse, spec)
+        }
+    }
+}
+
+/// The roughness-dependent GGX factors `[G, V, D]` (the Smith halves with the cosines folded
+/// in, and the distribution) at one `alpha`.
+#[allow(clippy::too_many_arguments)]
+fn ggx_factor_jets(
+    n: &Field,
+    l: &Field,
+    v: &Field,
+    h: &Field,
+    st: &LightSetup,
+    nh: (f32, f32),
+    w_nh: f32,
+    alpha: f32,
+    gd: &Guard,
+) -> [Jet; 3] {
+    let (n, l, v, h) = (*n, *l, *v, *h);
+    let (h0, h1) = nh;
+    let k = 0.5 * alpha;
+
+    // G = c/(c(1−k)+k) with c = n·l ≥ 0 (the gate keeps c ≥ 0 where G is used).
+    let nl = (st.psi_nl.0, st.psi_nl.1.min(FRAC_PI_2));
+    let c_g = cosine(&n, &l, nl, gd);
+    let (c0, c1) = (est_cos(nl.1).max(0.0), est_cos(nl.0));
+    let q0 = c0 * (1.0 - k) + k;
+    let q1 = c1 * (1.0 - k) + k;
+    let g1 = k / (q0 * q0);
+    let g2 = 2.0 * k * (1.0 - k) / (q0 * q0 * q0);
+    let mut gh = scaled(&c_g.h, g1, gd);
+    let cg2 = gd.mul(c_g.g, c_g.g);
+    gh[Term::V as usize] = gd.c(gh[Term::V as usize] + gd.mul(g2, cg2));
+    let gjet = gd.jet(Jet { m: c1 / q1, g: gd.mul(g1, c_g.g), h: gh });
+
+    // V_v = 1/(max(n·v, 0)(1−k)+k): constant 1/k where n·v ≤ 0 throughout.
+    let vjet = if st.nv_sign == Sign::NonPositive {
+        Jet::constant(1.0 / k)
+    } else {
+        let nv = (st.psi_nv.0, st.psi_nv.1.min(FRAC_PI_2));
+        let c_v = cosine(&n, &v, nv, gd);
+        let q = est_cos(nv.1).max(0.0) * (1.0 - k) + k;
+        let v1 = (1.0 - k) / (q * q);
+        let v2 = 2.0 * (1.0 - k) * (1.0 - k) / (q * q * q);
+        let mut vh = scaled(&c_v.h, v1, gd);
+        let cv2 = gd.mul(c_v.g, c_v.g);
+        vh[Term::V as usize] = gd.c(vh[Term::V as usize] + gd.mul(v2, cv2));
+        gd.jet(Jet { m: 1.0 / q, g: gd.mul(v1, c_v.g), h: vh })
+    };
+
+    // D(t), t = n·h = cos ψ, with s2 = sin²ψ and u = α² + (1−α²)s2:
+    // D = α²/(πu²), D' = 4α²β t/(πu³), D'' = 4α²β(u + 6βt²)/(πu⁴), β = 1 − α².
+    let djet = if st.psi_nh.0 >= FRAC_PI_2 {
+        Jet::constant(alpha * alpha / PI)
+    } else {
+        let c_nh = cosine(&n, &h, (h0, h1), gd);
+        ggx_d_jet(&c_nh, h0, h1, w_nh, alpha, gd)
+    };
+    [gjet, vjet, djet]
+}
+
+/// Elementwise larger bounds of two jets.
+fn jet_max(a: &Jet, b: &Jet) -> Jet {
+    let mut h = NO_H;
+    for t in 0..TERM_COUNT {
+        h[t] = a.h[t].max(b.h[t]);
+    }
+    Jet { m: a.m.max(b.m), g: a.g.max(b.g), h }
+}
+
+/// The variation `sup |f(α) − f(α')|` of one light's specular part (per unit weight, per
+/// channel) for a parameter anywhere in `parameter` (Eq. 37). `spec_sup` is the part's sup.
+/// Blinn-Phong: `att·max_t (t^s₀ − t^s₁)` over the range of `t = n·h`, whose maximum over
+/// `t ∈ [0, 1]` is at `t* = (s₀/s₁)^(1/(s₁−s₀))`. GGX: `|∂D/∂α| ≤ 2D/α`, `|∂G/∂α| ≤ G/α` and
+/// `|∂V/∂α| ≤ V/α` give `|∂f/∂α| ≤ 4f/α`, so the variation is at most
+/// `sup f · min(1, 4 ln(α₁/α₀))`.
+fn parameter_variation(
+    material: &MaterialKind,
+    parameter: ParameterRange,
+    st: &LightSetup,
+    spec_sup: Vec3,
+) -> Vec3 {
+    match *material {
+        MaterialKind::Lambert { .. } => Vec3::ZERO,
+        MaterialKind::BlinnPhong { .. } => {
+            let (s0, s1) = (parameter.lo, parameter.hi);
+            if !(s1 > s0) || st.psi_nh.0 >= FRAC_PI_2 {
+                return Vec3::ZERO;
+            }
+            let t_lo = est_cos(st.psi_nh.1.min(FRAC_PI_2)).max(0.0);
+            let t_hi = est_cos(st.psi_nh.0);
+            let t = est_pow(s0 / s1, 1.0 / (s1 - s0)).max(t_lo).min(t_hi);
+            let upper = est_pow(t, s0);
+            let att = if st.inv_d > 0.0 { st.inv_d * st.inv_d } else { 1.0 };
+            let variation = ((upper - est_pow(t, s1)) * SAFETY + 1.0e-6 * upper) * att;
+            Vec3::splat(variation.max(0.0))
+        }
+        MaterialKind::Ggx { .. } => {
+            let (alpha_lo, alpha_hi) = (ggx_alpha(parameter.lo), ggx_alpha(parameter.hi));
+            if !(alpha_hi > alpha_lo) {
+                return Vec3::ZERO;
+            }
+            let share = (4.0 * LN_2 * est_log2(alpha_hi / alpha_lo)).min(1.0);
+            spec_sup * (share * SAFETY)
         }
     }
 }
