@@ -55,6 +55,7 @@
 
 pub mod adjacency;
 mod mesh;
+pub mod texture;
 
 use std::fmt;
 use std::path::{Path, PathBuf};

@@ -2,6 +2,7 @@
 //! one in the README ("What is rendered"); `glsl/include/brdf.glsl` is its GPU half.
 
 pub mod brdf;
+pub mod derivatives;
 pub mod estimator;
 pub mod tonemap;
 
