@@ -24,7 +24,7 @@ use glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
 
 /// The smallest texel footprint [`texture_lod`] takes the logarithm of, 2⁻¹⁰⁰: zero
 /// derivatives give LOD −100 (finite) instead of −∞.
-pub const MIN_FOOTPRINT: f32 = 7.888_609_052e-31;
+pub const MIN_FOOTPRINT: f32 = 7.888_609e-31;
 
 /// Perspective-correct barycentrics of a pixel and their derivatives per pixel step.
 #[derive(Debug, Clone, Copy, PartialEq)]
