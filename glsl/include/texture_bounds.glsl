@@ -3,13 +3,14 @@
 // (min, max) of the texture's level-0 texels in the aligned 2^k x 2^k block, with the same
 // mip chain sizes as the texture. Width and height are powers of two.
 // Rust twin: `MinMaxPyramid::query` in `src/scene/texture.rs`. Keep the two in step, operation
-// for operation (the same f32 operations in the same order), so both give the same range; every
-// product below is by a power of two, so it is exact and fused multiply-adds change nothing.
+// for operation (the same f32 operations in the same order), so both give the same range. Every
+// product but the last two is by a power of two, so it is exact and a fused multiply-add changes
+// nothing; the last two are `precise`.
 #ifndef TEXTURE_BOUNDS_GLSL
 #define TEXTURE_BOUNDS_GLSL
 #include "bindings.glsl"
 
-// One 8-bit UNORM step, 1/255 (multiplied by: a product is correctly rounded, a quotient need not be).
+// One 8-bit UNORM step, 1/255, multiplied by (a product is correctly rounded, a quotient need not be).
 const float PYRAMID_UNORM_STEP = 0.003921569;
 // Half an 8-bit UNORM step (1/510), added on each side for the sampler's fixed-point weights.
 const float PYRAMID_SLACK = 0.0019607844;
@@ -84,8 +85,9 @@ vec2 parameter_bounds(int pyramid_slot, vec2 uv_min, vec2 uv_max, float lod_boun
             range_hi = max(range_hi, texel.y);
         }
     }
-    return vec2(max(float(range_lo) * PYRAMID_UNORM_STEP - PYRAMID_SLACK, 0.0),
-                min(float(range_hi) * PYRAMID_UNORM_STEP + PYRAMID_SLACK, 1.0));
+    precise float bound_lo = float(range_lo) * PYRAMID_UNORM_STEP - PYRAMID_SLACK;
+    precise float bound_hi = float(range_hi) * PYRAMID_UNORM_STEP + PYRAMID_SLACK;
+    return vec2(max(bound_lo, 0.0), min(bound_hi, 1.0));
 }
 
 #endif

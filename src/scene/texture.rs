@@ -24,8 +24,8 @@ use glam::{IVec2, Vec2, Vec3};
 pub const MAX_TEXTURE_SIZE: u32 = 16384;
 
 /// One 8-bit UNORM step, 1/255 as an f32. [`MinMaxPyramid::query`] and its GPU twin multiply by
-/// it (a product is correctly rounded on the GPU, a quotient need not be); the result may be
-/// below `c / 255.0` by an ulp, far inside [`PYRAMID_SLACK`].
+/// it (a product is correctly rounded on the GPU, a quotient need not be); `c · step` may differ
+/// from `c / 255.0` in the last bit, far inside [`PYRAMID_SLACK`].
 pub const PYRAMID_UNORM_STEP: f32 = 0.003_921_569;
 
 /// The slack [`MinMaxPyramid::query`] adds on each side of its range, half of one 8-bit UNORM
