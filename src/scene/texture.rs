@@ -23,6 +23,11 @@ use glam::{IVec2, Vec2, Vec3};
 /// The largest width or height a texture may have, in texels.
 pub const MAX_TEXTURE_SIZE: u32 = 16384;
 
+/// One 8-bit UNORM step, 1/255 as an f32. [`MinMaxPyramid::query`] and its GPU twin multiply by
+/// it (a product is correctly rounded on the GPU, a quotient need not be); `c · step` may differ
+/// from `c / 255.0` in the last bit, far inside [`PYRAMID_SLACK`].
+pub const PYRAMID_UNORM_STEP: f32 = 0.003_921_569;
+
 /// The slack [`MinMaxPyramid::query`] adds on each side of its range, half of one 8-bit UNORM
 /// step (1/510): room for the GPU's fixed-point filter weights, whose sum may differ from one.
 pub const PYRAMID_SLACK: f32 = 0.001_960_784_4;
@@ -32,9 +37,14 @@ pub const PYRAMID_SLACK: f32 = 0.001_960_784_4;
 /// 1/16 texel for the GPU's fixed-point texel coordinates.
 const PYRAMID_REACH: f32 = 0.5625;
 
+/// Texel coordinates `|uv|·size` from this far (2²⁰ texels) give the whole range: samplers
+/// address texels in fixed point of limited range (lavapipe in Mesa 22.3 reads texels from
+/// elsewhere beyond 2²³), and f32 uv no longer resolves a fraction of a texel.
+const PYRAMID_FAR_TEXELS: f32 = 1_048_576.0;
+
 /// Extra reach per unit of |uv| per texel of width, 2⁻²⁰: covers the rounding of `uv·size − 0.5`
 /// in f32 (at most 2⁻²⁴ relative), here and in the sampler, with room to spare.
-const PYRAMID_MAGNITUDE_MARGIN: f32 = 9.536_743_164_062_5e-7;
+const PYRAMID_MAGNITUDE_MARGIN: f32 = 1.0 / 1_048_576.0;
 
 /// How a texture's texels are interpreted.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -372,30 +382,35 @@ impl MinMaxPyramid {
     ///
     /// The query reads 3×3 texels of the finest pyramid level whose texels are at least half
     /// the widened box's larger extent, or the top 1×1 level (the whole texture's range) when
-    /// there is none, or when an input is NaN or infinite (`lod_bound = +∞` is allowed and
-    /// means any lod). The box may be given with its corners in either order.
+    /// there is none, when a corner lies 2²⁰ texels or more from the origin, or when an input is
+    /// NaN or infinite (`lod_bound = +∞` is allowed and means any lod). The box may be given
+    /// with its corners in either order.
     ///
     /// `glsl/include/texture_bounds.glsl` is the same computation in the same f32 operations.
     /// The GPU's own LOD computation is not modelled: `lod_bound` must already cover it.
     pub fn query(&self, uv_min: Vec2, uv_max: Vec2, lod_bound: f32) -> (f32, f32) {
-        let top = self.levels.len() as i32 - 1;
+        let base = (self.levels[0].width, self.levels[0].height);
+        // The chain is full: its top level is log2 of the larger side (the GPU twin's findMSB).
+        let top = 31 - base.0.max(base.1).leading_zeros() as i32;
         let lo = uv_min.min(uv_max);
         let hi = uv_min.max(uv_max);
-        let size = Vec2::new(self.levels[0].width as f32, self.levels[0].height as f32);
+        let size = Vec2::new(base.0 as f32, base.1 as f32);
         let mut level = top;
         let mut first = IVec2::ZERO;
         let mut last = IVec2::ZERO;
-        if uv_min.is_finite() && uv_max.is_finite() && !lod_bound.is_nan() {
+        let magnitude = lo.abs().max(hi.abs()) * size;
+        let near = magnitude.max_element() < PYRAMID_FAR_TEXELS;
+        if uv_min.is_finite() && uv_max.is_finite() && !lod_bound.is_nan() && near {
             let lod = lod_bound.max(0.0).min(top as f32);
             let reach = PYRAMID_REACH * (1 << (lod.ceil() as i32)) as f32;
-            let pad = lo.abs().max(hi.abs()) * size * PYRAMID_MAGNITUDE_MARGIN + reach;
+            let pad = magnitude * PYRAMID_MAGNITUDE_MARGIN + reach;
             let shift = lo.floor();
             let x0 = (lo - shift) * size - pad;
             let x1 = (hi - shift) * size + pad;
             let extent = (x1 - x0).max_element();
             let mut span = 2.0;
             level = 0;
-            while level < top && !(extent <= span) {
+            while level < top && extent > span {
                 span *= 2.0;
                 level += 1;
             }
@@ -406,17 +421,20 @@ impl MinMaxPyramid {
             }
         }
         let texels = &self.levels[level as usize];
-        let mask = IVec2::new(texels.width as i32 - 1, texels.height as i32 - 1);
-        let mut range = (1.0f32, 0.0f32);
+        let mask = (IVec2::new(base.0 as i32, base.1 as i32) >> level).max(IVec2::ONE) - 1;
+        let mut range = (u8::MAX, u8::MIN);
         for dy in 0..3 {
             for dx in 0..3 {
                 let t = (first + IVec2::new(dx, dy)).min(last) & mask;
                 let index = 2 * (t.y as usize * texels.width as usize + t.x as usize);
-                range.0 = range.0.min(texels.texels[index] as f32 / 255.0);
-                range.1 = range.1.max(texels.texels[index + 1] as f32 / 255.0);
+                range.0 = range.0.min(texels.texels[index]);
+                range.1 = range.1.max(texels.texels[index + 1]);
             }
         }
-        ((range.0 - PYRAMID_SLACK).max(0.0), (range.1 + PYRAMID_SLACK).min(1.0))
+        (
+            (range.0 as f32 * PYRAMID_UNORM_STEP - PYRAMID_SLACK).max(0.0),
+            (range.1 as f32 * PYRAMID_UNORM_STEP + PYRAMID_SLACK).min(1.0),
+        )
     }
 }
 
