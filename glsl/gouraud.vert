@@ -1,14 +1,21 @@
 #version 460
 // `vertex` mode: shade the triangle's own vertices (Gouraud); the rasteriser interpolates.
-#include "brdf.glsl"
+#include "texturing.glsl"
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
+layout(location = 2) in vec2 in_uv;
 
-layout(location = 0) out vec3 out_color;
+layout(location = 0) out vec3 out_diffuse;
+layout(location = 1) out vec3 out_specular;
+layout(location = 2) out vec2 out_uv;
 
 void main() {
-    out_color = shade_point(in_position, in_normal, draw.eye.xyz, draw.material_index);
+    float parameter = parameter_at_lod(materials[draw.material_index], in_uv, 0.0);
+    Shading s = shade(in_position, in_normal, draw.eye.xyz, draw.material_index, parameter);
+    out_diffuse = s.diffuse;
+    out_specular = s.specular;
+    out_uv = in_uv;
     if (COUNT_EVALUATIONS) {
         atomicAdd(counters.vertex_evaluations, 1u);
     }

@@ -1,18 +1,22 @@
 #version 460
 // `multirate` mode: shade the sub-vertices of tessellated triangles; for fallback triangles
-// (patch_level 0) pass position and normal on for per-pixel shading instead.
-#include "brdf.glsl"
+// (patch_level 0) pass position, normal and texture coordinates on for per-pixel shading.
+#include "texturing.glsl"
 
 layout(triangles, equal_spacing, ccw) in;
 
 layout(location = 0) in vec3 in_position[];
 layout(location = 1) in vec3 in_normal[];
-layout(location = 2) patch in float patch_level;
+layout(location = 2) in vec2 in_uv[];
+layout(location = 3) patch in float patch_level;
+layout(location = 4) patch in float parameter_lod_bound;
 
-layout(location = 0) out vec3 out_color;
-layout(location = 1) out vec3 out_position;
-layout(location = 2) out vec3 out_normal;
-layout(location = 3) flat out float out_level;
+layout(location = 0) out vec3 out_diffuse;
+layout(location = 1) out vec3 out_specular;
+layout(location = 2) out vec3 out_position;
+layout(location = 3) out vec3 out_normal;
+layout(location = 4) out vec2 out_uv;
+layout(location = 5) flat out float out_level;
 
 // See shade.tese: no fused multiply-adds, so shared edge vertices match bit for bit.
 precise gl_Position;
@@ -21,15 +25,28 @@ void main() {
     vec3 b = gl_TessCoord;
     precise vec3 position = b.x * in_position[0] + b.y * in_position[1] + b.z * in_position[2];
     vec3 normal = b.x * in_normal[0] + b.y * in_normal[1] + b.z * in_normal[2];
-    out_color = vec3(0.0);
+    vec2 uv = b.x * in_uv[0] + b.y * in_uv[1] + b.z * in_uv[2];
+    out_diffuse = vec3(0.0);
+    out_specular = vec3(0.0);
     if (patch_level > 0.0) {
-        out_color = shade_point(position, normal, draw.eye.xyz, draw.material_index);
+        GpuMaterial m = materials[draw.material_index];
+        float parameter = m.params.x;
+        if (has_parameter_map(m)) {
+            vec3 p[3] = vec3[3](in_position[0], in_position[1], in_position[2]);
+            vec2 t[3] = vec2[3](in_uv[0], in_uv[1], in_uv[2]);
+            float lod = subvertex_lod(m, p, t, position, gl_TessLevelInner[0], parameter_lod_bound);
+            parameter = parameter_at_lod(m, uv, lod);
+        }
+        Shading s = shade(position, normal, draw.eye.xyz, draw.material_index, parameter);
+        out_diffuse = s.diffuse;
+        out_specular = s.specular;
         if (COUNT_EVALUATIONS) {
             atomicAdd(counters.subvertex_evaluations, 1u);
         }
     }
     out_position = position;
     out_normal = normal;
+    out_uv = uv;
     out_level = patch_level;
     gl_Position = draw.view_proj * vec4(position, 1.0);
 }

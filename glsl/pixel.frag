@@ -1,11 +1,12 @@
 #version 460
 // Per-pixel reference shading: the full shading function at every fragment.
 // Alpha is geometric coverage (the clear value is 0).
-#include "brdf.glsl"
+#include "texturing.glsl"
 #include "heat.glsl"
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
+layout(location = 2) in vec2 in_uv;
 
 layout(location = 0) out vec4 out_color;
 
@@ -13,9 +14,14 @@ layout(location = 0) out vec4 out_color;
 layout(early_fragment_tests) in;
 
 void main() {
+    vec2 duv_dx = dFdx(in_uv);
+    vec2 duv_dy = dFdy(in_uv);
     vec3 color = heat_color(0.0);
     if (!heat_map_on()) {
-        color = shade_point(in_position, in_normal, draw.eye.xyz, draw.material_index);
+        GpuMaterial m = materials[draw.material_index];
+        float parameter = parameter_at_grad(m, in_uv, duv_dx, duv_dy);
+        Shading s = shade(in_position, in_normal, draw.eye.xyz, draw.material_index, parameter);
+        color = albedo_at_grad(m, in_uv, duv_dx, duv_dy) * s.diffuse + s.specular;
         if (COUNT_EVALUATIONS) {
             atomicAdd(counters.pixel_evaluations, 1u);
         }

@@ -2,7 +2,7 @@
 //! offsets out of the compiled SPIR-V and checks they match these.
 
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat4, Vec4};
+use glam::{IVec4, Mat4, Vec4};
 
 /// A light as the shaders read it (std430).
 #[repr(C)]
@@ -22,8 +22,13 @@ pub struct GpuMaterial {
     pub diffuse: Vec4,
     /// Blinn-Phong ks, GGX f0.
     pub specular: Vec4,
-    /// x: Blinn-Phong shininess or GGX roughness.
+    /// x: Blinn-Phong shininess or GGX roughness (the map's `lo` with a parameter map).
     pub params: Vec4,
+    /// ≥ 0 where the material has the texture, −1 where not: x albedo map, y parameter map
+    /// (and its min/max pyramid); w: the parameter map's mapping (0 linear, 1 exponential).
+    pub maps: IVec4,
+    /// x, y: the parameter map's `lo` and `hi`.
+    pub parameter_range: Vec4,
 }
 
 /// Per-draw push constants.
@@ -40,7 +45,8 @@ pub struct DrawConstants {
     pub fixed_level: u32,
     /// Index of the draw's first triangle in the scene (level records).
     pub patch_base: u32,
-    /// Bit 0 ([`FLAG_HEAT_MAP`]): show the level heat map instead of shading.
+    /// Bit 0 ([`FLAG_HEAT_MAP`]): show the level heat map instead of shading; bit 1
+    /// ([`FLAG_DERIVATIVE_CHECK`]): see [`crate::render::View::derivative_check`].
     pub flags: u32,
     pub pad0: u32,
     pub pad1: u32,
@@ -50,10 +56,16 @@ pub struct DrawConstants {
 /// `DrawConstants::flags` bit: colour by tessellation level instead of shading.
 pub const FLAG_HEAT_MAP: u32 = 1;
 
-/// Vertex buffer layout: world-space position and normal.
+/// `DrawConstants::flags` bit: `pixel-deferred` writes the analytic against hardware uv
+/// derivative difference instead of shading.
+pub const FLAG_DERIVATIVE_CHECK: u32 = 2;
+
+/// Vertex buffer layout: world-space position, normal and texture coordinates.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Vertex {
     pub position: [f32; 3],
     pub normal: [f32; 3],
+    /// Texture coordinates (zero for meshes without them).
+    pub uv: [f32; 2],
 }

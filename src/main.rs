@@ -116,6 +116,19 @@ struct AnalyzeArgs {
     /// Also compute the oracle's level and the true error at the chosen level (slow).
     #[arg(long)]
     oracle: bool,
+    /// Also render multirate and the per-pixel reference on the GPU and measure each
+    /// triangle's largest error over its interior pixels (visibility buffer): the
+    /// `measured_error` column beside `predicted_error` (the paper's Fig. 12).
+    #[arg(long)]
+    measured: bool,
+    /// With --measured: an SVG scatter of measured against predicted error.
+    #[arg(long, requires = "measured")]
+    plot: Option<PathBuf>,
+    /// How a shininess or roughness map's range over a triangle is found: `pyramid` (the
+    /// min/max pyramid, conservative; what the GPU does) or `sat:P` (the paper's summed-area
+    /// tables with power-weighted filtering at power P; compare with --oracle).
+    #[arg(long, default_value = "pyramid")]
+    texture_bounds: report::TextureBounds,
     #[command(flatten)]
     shading: ShadingArgs,
 }
@@ -279,7 +292,7 @@ impl Default for ShadingArgs {
     }
 }
 
-fn analyze(args: &AnalyzeArgs) -> Result<()> {
+fn analyze(args: &AnalyzeArgs, gpu: &GpuArgs) -> Result<()> {
     let scene = Scene::load(&args.scene)?;
     let view = args.shading.view(&scene)?;
     let settings = EstimatorSettings {
@@ -288,8 +301,10 @@ fn analyze(args: &AnalyzeArgs) -> Result<()> {
         split: view.split,
         discontinuity: view.discontinuity,
     };
-    let reports = report::analyze(&scene, &settings, report::Triangles::Visible, args.oracle);
-    std::fs::write(&args.out, report::to_csv(&reports, args.oracle))
+    let reports =
+        report::analyze(&scene, &settings, report::Triangles::Visible, args.oracle, args.texture_bounds);
+    let measured = if args.measured { Some(measure_triangles(&scene, &view, gpu)?) } else { None };
+    std::fs::write(&args.out, report::to_csv(&reports, args.oracle, measured.as_ref()))
         .with_context(|| format!("{}: cannot write the CSV", args.out.display()))?;
     let summary = report::summarize(&reports, settings.epsilon);
     println!(
@@ -305,7 +320,54 @@ fn analyze(args: &AnalyzeArgs) -> Result<()> {
         println!("  shading evaluations (tessellated vertices), oracle:    {}", summary.oracle_evaluations);
         println!("  tessellated triangles whose true error exceeds ε: {}", summary.violations);
     }
+    if let Some(measured) = &measured {
+        let points: Vec<(f64, f64)> = reports
+            .iter()
+            .filter(|r| !r.levels.fallback)
+            .filter_map(|r| measured.get(&(r.mesh, r.triangle)).map(|m| (r, m)))
+            .map(|(r, m)| (f64::from(r.estimate.predicted_error), f64::from(m.error)))
+            .collect();
+        let above = points.iter().filter(|(p, m)| m > p).count();
+        let over_epsilon = points.iter().filter(|(_, m)| *m > f64::from(settings.epsilon)).count();
+        let worst = points.iter().map(|(p, m)| m / p.max(1e-30)).fold(0.0, f64::max);
+        println!(
+            "  measured (interior pixels, GPU): {} tessellated triangles; measured > predicted: {above}; measured > ε: {over_epsilon}; largest measured / predicted: {worst:.3}",
+            points.len()
+        );
+        if let Some(plot) = &args.plot {
+            let title = format!(
+                "{}: measured against predicted error, ε = {}",
+                scene_name(&args.scene),
+                settings.epsilon
+            );
+            multirate::analysis::measured::scatter_svg(&points, f64::from(settings.epsilon), &title, plot)?;
+            println!("  scatter plot: {}", plot.display());
+        }
+    }
     Ok(())
+}
+
+fn scene_name(path: &std::path::Path) -> String {
+    path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
+}
+
+/// Renders `view` (multirate) and the per-pixel reference at the scene's size, and measures
+/// each triangle's error through the visibility buffer.
+fn measure_triangles(
+    scene: &Scene,
+    view: &View,
+    gpu: &GpuArgs,
+) -> Result<std::collections::HashMap<(usize, usize), multirate::analysis::measured::Measured>> {
+    let context = Context::headless(&options(gpu))?;
+    let renderer = multirate::render::Renderer::new(&context, scene)?;
+    let extent = ash::vk::Extent2D { width: scene.settings.width, height: scene.settings.height };
+    let target = multirate::vk::target::RenderTarget::new(&context, extent)?;
+    let reference = renderer.render(&target, &View { mode: Mode::Pixel, ..view.clone() })?;
+    let image = renderer.render(&target, &View { mode: Mode::Multirate, ..view.clone() })?;
+    let ids = renderer.triangle_ids(&target, &View { mode: Mode::Pixel, ..view.clone() })?;
+    let messages = context.validation().count();
+    anyhow::ensure!(messages == 0, "the validation layer reported {messages} message(s)");
+    Ok(multirate::analysis::measured::measured_errors(&image, &reference, &ids))
 }
 
 /// The progress bar of `bench` and `experiments` (hidden when stderr is not a terminal).
@@ -444,7 +506,7 @@ fn main() -> Result<()> {
     let cli = Cli::parse();
     match &cli.command {
         Some(Command::Render(args)) => render(args, &cli.gpu),
-        Some(Command::Analyze(args)) => analyze(args),
+        Some(Command::Analyze(args)) => analyze(args, &cli.gpu),
         Some(Command::Bench(args)) => run_bench(args, &cli.gpu),
         Some(Command::Experiments(args)) => run_experiments(args, &cli.gpu),
         Some(Command::View(args)) => view(&args.scene, &args.shading, &cli.gpu)

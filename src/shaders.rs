@@ -18,6 +18,9 @@ pub const SHADE_TESE: &[u8] = spirv!("shade.tese");
 pub const MULTIRATE_TESC: &[u8] = spirv!("multirate.tesc");
 pub const MULTIRATE_TESE: &[u8] = spirv!("multirate.tese");
 pub const MULTIRATE_FRAG: &[u8] = spirv!("multirate.frag");
+pub const VISIBILITY_VERT: &[u8] = spirv!("visibility.vert");
+pub const VISIBILITY_FRAG: &[u8] = spirv!("visibility.frag");
+pub const DEFERRED_FRAG: &[u8] = spirv!("deferred.frag");
 pub const CAPTURE_VERT: &[u8] = spirv!("capture.vert");
 pub const CAPTURE_TESC: &[u8] = spirv!("capture.tesc");
 pub const CAPTURE_TESE: &[u8] = spirv!("capture.tese");
@@ -37,6 +40,9 @@ pub const ALL: &[(&str, &[u8])] = &[
     ("multirate.tesc", MULTIRATE_TESC),
     ("multirate.tese", MULTIRATE_TESE),
     ("multirate.frag", MULTIRATE_FRAG),
+    ("visibility.vert", VISIBILITY_VERT),
+    ("visibility.frag", VISIBILITY_FRAG),
+    ("deferred.frag", DEFERRED_FRAG),
     ("capture.vert", CAPTURE_VERT),
     ("capture.tesc", CAPTURE_TESC),
     ("capture.tese", CAPTURE_TESE),

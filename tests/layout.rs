@@ -127,6 +127,8 @@ fn gpu_material_matches_glsl() {
             ("diffuse", offset_of!(GpuMaterial, diffuse)),
             ("specular", offset_of!(GpuMaterial, specular)),
             ("params", offset_of!(GpuMaterial, params)),
+            ("maps", offset_of!(GpuMaterial, maps)),
+            ("parameter_range", offset_of!(GpuMaterial, parameter_range)),
         ],
         size_of::<GpuMaterial>(),
     );

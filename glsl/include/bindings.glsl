@@ -20,4 +20,14 @@ layout(set = 0, binding = 3, std430) buffer EvaluationCounters {
     uint counters_pad;
 } counters;
 
+// The textures of the draw's material (set 1, bound per draw); a white 1x1 texture where the
+// material has none. GpuMaterial.maps says which are real.
+layout(set = 1, binding = 0) uniform sampler2D albedo_map;
+layout(set = 1, binding = 1) uniform sampler2D parameter_map;
+// The parameter map's min/max pyramid: per mip level, each texel's (min, max) over its block
+// of level-0 texels.
+layout(set = 1, binding = 2) uniform sampler2D parameter_pyramid;
+// Whether any material of the scene has a texture: without, no texture code is compiled in.
+layout(constant_id = 7) const bool TEXTURED = false;
+
 #endif

@@ -1,4 +1,5 @@
 // The three BRDFs of the paper (seed 003 Eq. 16, 24, 30) and their sum over the scene's lights.
+// Textures are read in texturing.glsl.
 // Rust twin: `src/shading/brdf.rs` and `src/shading/mod.rs`. Keep the two in step, operation
 // for operation: a GPU test compares rendered pixels with the twin.
 //
@@ -47,48 +48,64 @@ float smith_v(float n_dot_l, float n_dot_v, float k) {
     return 1.0 / ((n_dot_l * (1.0 - k) + k) * (n_dot_v * (1.0 - k) + k));
 }
 
-// Reflected radiance per unit irradiance for one light: BRDF term times the cosine where the
-// paper's model includes it. n, l, v are unit vectors.
-vec3 reflect_one_light(vec3 n, vec3 l, vec3 v, GpuMaterial m) {
+// Reflected radiance per unit irradiance for one light, split into the diffuse part (which an
+// albedo map multiplies per pixel) and the specular part: BRDF term times the cosine where the
+// paper's model includes it. n, l, v are unit vectors; `parameter` is the shininess
+// (Blinn-Phong) or roughness (GGX) to shade with (the material's own or its map's).
+struct Shading {
+    vec3 diffuse;
+    vec3 specular;
+};
+
+Shading reflect_one_light(vec3 n, vec3 l, vec3 v, GpuMaterial m, float parameter) {
+    Shading s = Shading(vec3(0.0), vec3(0.0));
     float n_dot_l = dot(n, l);
     if (n_dot_l <= 0.0) {
-        return vec3(0.0);
+        return s;
     }
+    s.diffuse = m.diffuse.rgb * n_dot_l;
     if (MATERIAL_KIND == MATERIAL_LAMBERT) {
-        return m.diffuse.rgb * n_dot_l;
+        return s;
     }
     vec3 h = safe_normalize(l + v);
     float n_dot_h = max(dot(n, h), 0.0);
     if (MATERIAL_KIND == MATERIAL_BLINN_PHONG) {
-        return m.diffuse.rgb * n_dot_l + m.specular.rgb * pow(n_dot_h, m.params.x);
+        s.specular = m.specular.rgb * pow(n_dot_h, parameter);
+        return s;
     }
-    float alpha = max(m.params.x * m.params.x, GGX_MIN_ALPHA);
+    float alpha = max(parameter * parameter, GGX_MIN_ALPHA);
     float k = 0.5 * alpha;
     float n_dot_v = max(dot(n, v), 0.0);
     float v_dot_h = clamp(dot(v, h), 0.0, 1.0);
     vec3 specular = ggx_d(n_dot_h, alpha) * schlick_f(v_dot_h, m.specular.rgb)
         * smith_v(n_dot_l, n_dot_v, k) * 0.25;
-    return (m.diffuse.rgb + specular) * n_dot_l;
+    s.specular = specular * n_dot_l;
+    return s;
 }
 
-// Outgoing radiance at a surface point: the sum over every light of the scene.
-// `normal` need not be unit length (it is interpolated); `eye` is the camera position.
-vec3 shade_point(vec3 position, vec3 normal, vec3 eye, uint material_index) {
+// Outgoing radiance at a surface point, summed over every light of the scene, diffuse and
+// specular apart. `normal` need not be unit length (it is interpolated); `eye` is the camera.
+Shading shade(vec3 position, vec3 normal, vec3 eye, uint material_index, float parameter) {
     GpuMaterial m = materials[material_index];
     vec3 n = safe_normalize(normal);
     vec3 v = safe_normalize(eye - position);
-    vec3 radiance = vec3(0.0);
+    Shading total = Shading(vec3(0.0), vec3(0.0));
     for (int i = 0; i < POINT_LIGHT_COUNT; ++i) {
         vec3 to_light = lights[i].position.xyz - position;
         float d2 = max(dot(to_light, to_light), MIN_LIGHT_DISTANCE_SQUARED);
         vec3 l = to_light * inversesqrt(d2);
-        radiance += reflect_one_light(n, l, v, m) * (lights[i].radiance.rgb / d2);
+        vec3 irradiance = lights[i].radiance.rgb / d2;
+        Shading one = reflect_one_light(n, l, v, m, parameter);
+        total.diffuse += one.diffuse * irradiance;
+        total.specular += one.specular * irradiance;
     }
     for (int i = 0; i < DIRECTIONAL_LIGHT_COUNT; ++i) {
         GpuLight light = lights[POINT_LIGHT_COUNT + i];
-        radiance += reflect_one_light(n, -light.position.xyz, v, m) * light.radiance.rgb;
+        Shading one = reflect_one_light(n, -light.position.xyz, v, m, parameter);
+        total.diffuse += one.diffuse * light.radiance.rgb;
+        total.specular += one.specular * light.radiance.rgb;
     }
-    return radiance;
+    return total;
 }
 
 #endif

@@ -940,7 +940,7 @@ void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Sc
     P float alpha_hi = max(param.y * param.y, GGX_MIN_ALPHA);
     P float alphas[3] = float[3](alpha_lo, alpha_lo, alpha_lo);
     int alpha_count = 1;
-    if (alpha_hi > alpha_lo) {
+    if (TEXTURED && alpha_hi > alpha_lo) {
         alphas[1] = alpha_hi;
         alpha_count = 2;
         if (st.psi_nh.x < HALF_PI) {

@@ -30,16 +30,16 @@ bool pyramid_finite(vec2 v) {
 }
 
 // (lo, hi) in [0, 1] bounding every value a REPEAT, LINEAR/LINEAR/LINEAR sampler can return from
-// the texture of the pyramid in `pyramid_slot` for uv in the box [uv_min, uv_max] (corners in
+// the texture whose pyramid is bound as `parameter_pyramid` for uv in the box [uv_min, uv_max] (corners in
 // either order, any real uv) and any lod <= lod_bound (+inf: any lod). The box is widened by
 // 0.5625 texels of the coarsest level read, ceil(lod_bound); 3x3 texels are read from the
 // finest pyramid level whose texels are at least half the widened extent, or the top 1x1 level
 // (the whole texture's range) when there is none, when a corner is 2^20 texels or more from the
 // origin, or when an input is NaN or infinite.
-vec2 parameter_bounds(int pyramid_slot, vec2 uv_min, vec2 uv_max, float lod_bound) {
+vec2 parameter_bounds(vec2 uv_min, vec2 uv_max, float lod_bound) {
     // The chain is full, so its top level is log2 of the larger side (textureQueryLevels is not
     // used: lavapipe in Mesa 22.3 answers 1 for a combined image sampler with several levels).
-    ivec2 base = textureSize(textures[pyramid_slot], 0);
+    ivec2 base = textureSize(parameter_pyramid, 0);
     int top = findMSB(max(base.x, base.y));
     vec2 lo = min(uv_min, uv_max);
     vec2 hi = max(uv_min, uv_max);
@@ -80,7 +80,7 @@ vec2 parameter_bounds(int pyramid_slot, vec2 uv_min, vec2 uv_max, float lod_boun
     for (int dy = 0; dy < 3; ++dy) {
         for (int dx = 0; dx < 3; ++dx) {
             ivec2 t = min(first + ivec2(dx, dy), last) & mask;
-            ivec2 texel = ivec2(round(texelFetch(textures[pyramid_slot], t, level).rg * 255.0));
+            ivec2 texel = ivec2(round(texelFetch(parameter_pyramid, t, level).rg * 255.0));
             range_lo = min(range_lo, texel.x);
             range_hi = max(range_hi, texel.y);
         }

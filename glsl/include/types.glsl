@@ -14,7 +14,10 @@ struct GpuLight {
 struct GpuMaterial {
     vec4 diffuse;    // Lambert kd, Blinn-Phong kd, GGX albedo
     vec4 specular;   // Blinn-Phong ks, GGX f0 (unused for Lambert)
-    vec4 params;     // x: Blinn-Phong shininess or GGX roughness
+    vec4 params;     // x: Blinn-Phong shininess or GGX roughness (the map's lo with a map)
+    ivec4 maps;      // >= 0 where the material has it, -1 where not: x albedo map, y parameter
+                     // map (and its pyramid); w: the parameter mapping (0 linear, 1 exponential)
+    vec4 parameter_range; // x, y: the parameter map's lo and hi
 };
 
 // Per-draw constants, pushed for every mesh.

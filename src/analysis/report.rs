@@ -4,15 +4,19 @@
 //! twin the GPU agreement test compares with), and optionally the oracle's truth on the
 //! pattern the driver really emits for those levels (`triangle_pattern(inner, outer)`).
 
-use super::oracle::{oracle_level, true_error, vertices_at_level};
+use super::measured::Measured;
+use super::oracle::{oracle_level, true_error_textured, vertices_at_level, SAMPLES_PER_EDGE};
 use super::tessellator::triangle_pattern;
 use crate::render::camera::view_projection;
 use crate::scene::adjacency::{adjacency_patches, PATCH_SIZE};
-use crate::scene::Scene;
+use crate::scene::texture::PowerSat;
+use crate::scene::{with_parameter, Scene};
 use crate::shading::estimator::{
-    estimate, patch_levels, Estimate, EstimatorSettings, PatchLevels, TriangleInput, TERM_NAMES,
+    estimate_textured, patch_levels, Estimate, EstimatorSettings, ParameterRange, PatchLevels, TriangleInput,
+    TERM_NAMES,
 };
 use glam::Vec4;
+use std::collections::HashMap;
 use std::fmt::Write as _;
 
 /// One analysed triangle.
@@ -77,12 +81,37 @@ pub enum Triangles {
     All,
 }
 
+/// How a parameter map's range over a triangle is found (seed 003 Sec. 3.5).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum TextureBounds {
+    /// The min/max pyramid: exact and conservative; what the control stage does.
+    Pyramid,
+    /// The paper's summed-area tables with normalized power-weighted filtering at this power
+    /// (not conservative: a power mean never reaches the extremes).
+    PowerSat(f64),
+}
+
+impl std::str::FromStr for TextureBounds {
+    type Err = String;
+    fn from_str(text: &str) -> Result<TextureBounds, String> {
+        if text == "pyramid" {
+            return Ok(TextureBounds::Pyramid);
+        }
+        match text.strip_prefix("sat:").map(str::parse::<f64>) {
+            Some(Ok(p)) if p > 0.0 && p.is_finite() => Ok(TextureBounds::PowerSat(p)),
+            _ => Err(format!("\"{text}\": expected `pyramid` or `sat:P` with a power P > 0")),
+        }
+    }
+}
+
 /// Analyses the `which` triangles of `scene`; with `with_oracle` also the brute-force truth.
+/// Textured parameters take their range over each triangle by `bounds`.
 pub fn analyze(
     scene: &Scene,
     settings: &EstimatorSettings,
     which: Triangles,
     with_oracle: bool,
+    bounds: TextureBounds,
 ) -> Vec<TriangleReport> {
     let view_proj = view_projection(&scene.camera, scene.settings.width, scene.settings.height);
     let n_max = settings.n_max.clamp(1, 64);
@@ -94,6 +123,28 @@ pub fn analyze(
             normals: [0, 1, 2].map(|k| mesh.normals[corners[k] as usize]),
             eye: scene.camera.eye,
         };
+        let map = scene.materials[mesh.material].maps.parameter.as_ref();
+        let sat = match (map, bounds) {
+            (Some(map), TextureBounds::PowerSat(p)) => Some(PowerSat::new(&map.texture, p)),
+            _ => None,
+        };
+        // The parameter's range over a triangle's texels, as the control stage reads it (or
+        // as the paper estimates it).
+        let range = |corners: &[u32]| {
+            let uvs = || [0, 1, 2].map(|k| mesh.uvs[corners[k] as usize]);
+            match (map, &sat) {
+                (Some(map), Some(sat)) => {
+                    let uvs = uvs();
+                    let (lo, hi) = sat.query(uvs[0].min(uvs[1]).min(uvs[2]), uvs[0].max(uvs[1]).max(uvs[2]));
+                    ParameterRange { lo: map.value(lo), hi: map.value(hi.max(lo)) }
+                }
+                (Some(map), None) => map.range_over(uvs()),
+                (None, _) => ParameterRange::of(material),
+            }
+        };
+        let estimate_of = |corners: &[u32]| {
+            estimate_textured(&input(corners), material, range(corners), &scene.lights, settings)
+        };
         let patches = adjacency_patches(mesh);
         for (triangle, patch) in patches.chunks_exact(PATCH_SIZE).enumerate() {
             let clip = [0, 1, 2].map(|k| view_proj * mesh.positions[patch[k] as usize].extend(1.0));
@@ -101,10 +152,8 @@ pub fn analyze(
                 continue;
             }
             let own = input(&patch[0..3]);
-            let own_estimate = estimate(&own, material, &scene.lights, settings);
-            let neighbours = [0, 1, 2].map(|edge| {
-                estimate(&input(&patch[3 + 3 * edge..6 + 3 * edge]), material, &scene.lights, settings).level
-            });
+            let own_estimate = estimate_of(&patch[0..3]);
+            let neighbours = [0, 1, 2].map(|edge| estimate_of(&patch[3 + 3 * edge..6 + 3 * edge]).level);
             let levels = patch_levels(own_estimate.level, neighbours, n_max);
             let (oracle_n, true_err) = if with_oracle {
                 let oracle =
@@ -113,7 +162,28 @@ pub fn analyze(
                     });
                 let error = (!levels.fallback).then(|| {
                     let pattern = triangle_pattern(levels.inner, levels.outer);
-                    true_error(&own, material, &scene.lights, &pattern).into_iter().fold(0.0, f64::max)
+                    // A textured parameter is sampled at the point's uv (finest level).
+                    let uvs = [0, 1, 2].map(|k| mesh.uvs.get(patch[k] as usize).copied().unwrap_or_default());
+                    let material_at = |b: [f64; 3]| match map {
+                        Some(map) => {
+                            let uv = (uvs[0].as_dvec2() * b[0]
+                                + uvs[1].as_dvec2() * b[1]
+                                + uvs[2].as_dvec2() * b[2])
+                                .as_vec2();
+                            with_parameter(material, map.value(map.texture.sample_parameter(uv, 0.0)))
+                        }
+                        None => *material,
+                    };
+                    true_error_textured(
+                        &own,
+                        &material_at,
+                        &scene.lights,
+                        &pattern,
+                        SAMPLES_PER_EDGE,
+                        f64::INFINITY,
+                    )
+                    .into_iter()
+                    .fold(0.0, f64::max)
                 });
                 (oracle, error)
             } else {
@@ -156,7 +226,13 @@ pub fn summarize(reports: &[TriangleReport], epsilon: f32) -> Summary {
 /// The CSV of `reports`: one row per triangle, one column per estimator term, then the real
 /// level, the uniform `n`, the patch's level and outer levels as the control stage writes them
 /// (`patch_level` 0: per-pixel fallback, `reason` `Mixed` when only the mixed pattern is why).
-pub fn to_csv(reports: &[TriangleReport], with_oracle: bool) -> String {
+/// `measured`: per `(mesh, triangle)` the GPU-measured error (`analyze --measured`), written
+/// as `measured_error,measured_pixels` (empty for triangles without interior pixels).
+pub fn to_csv(
+    reports: &[TriangleReport],
+    with_oracle: bool,
+    measured: Option<&HashMap<(usize, usize), Measured>>,
+) -> String {
     let mut csv = String::from("mesh,triangle");
     for name in TERM_NAMES {
         let _ = write!(csv, ",n_{name}");
@@ -164,6 +240,9 @@ pub fn to_csv(reports: &[TriangleReport], with_oracle: bool) -> String {
     csv.push_str(",level,n,patch_level,outer0,outer1,outer2,fallback,reason,predicted_error");
     if with_oracle {
         csv.push_str(",oracle_n,true_error");
+    }
+    if measured.is_some() {
+        csv.push_str(",measured_error,measured_pixels");
     }
     csv.push('\n');
     for r in reports {
@@ -195,6 +274,14 @@ pub fn to_csv(reports: &[TriangleReport], with_oracle: bool) -> String {
             let oracle = r.oracle_n.map_or("above_n_max".to_string(), |n| n.to_string());
             let error = r.true_error.map_or(String::new(), |e| e.to_string());
             let _ = write!(csv, ",{oracle},{error}");
+        }
+        if let Some(measured) = measured {
+            match measured.get(&(r.mesh, r.triangle)) {
+                Some(m) => {
+                    let _ = write!(csv, ",{},{}", m.error, m.pixels);
+                }
+                None => csv.push_str(",,0"),
+            }
         }
         csv.push('\n');
     }

@@ -3,12 +3,17 @@
 
 pub mod camera;
 pub mod capture;
+pub mod deferred;
 pub mod output;
 pub mod present;
+pub mod textures;
+
+use deferred::{deferred_set_bindings, Deferred};
+use textures::{gpu_material, material_set_bindings, SceneTextures};
 
 use crate::analysis::tessellator::uniform_vertex_count;
 use crate::error::Result;
-use crate::gpu_types::{DrawConstants, GpuLight, GpuMaterial, Vertex, FLAG_HEAT_MAP};
+use crate::gpu_types::{DrawConstants, GpuLight, GpuMaterial, Vertex, FLAG_DERIVATIVE_CHECK, FLAG_HEAT_MAP};
 use crate::scene::adjacency::{adjacency_patches, PATCH_SIZE};
 use crate::scene::{Camera, Light, MaterialKind, Scene};
 use crate::shaders;
@@ -23,7 +28,7 @@ use crate::vk::target::{AfterPass, FloatImage, RenderTarget, COLOR_FORMAT, DEPTH
 use crate::vk::timing::{GpuInterval, GpuTimer, PipelineStatistics};
 use crate::vk::Context;
 use ash::vk;
-use glam::{Vec3, Vec4};
+use glam::Vec4;
 use std::cell::OnceCell;
 use std::sync::Arc;
 
@@ -33,6 +38,9 @@ pub enum Mode {
     /// Full shading in the fragment shader at every pixel: the reference.
     #[default]
     Pixel,
+    /// The same reference, deferred: a visibility buffer of triangle ids, then per pixel the
+    /// attributes and their derivatives rebuilt analytically (seed 002) and shaded.
+    PixelDeferred,
     /// Gouraud: shade the triangle's three vertices, interpolate; no subdivision, no fallback.
     Vertex,
     /// Tessellate every triangle at inner = outer = N and shade the sub-vertices in the TES.
@@ -50,6 +58,7 @@ impl std::str::FromStr for Mode {
     fn from_str(text: &str) -> Result<Mode, String> {
         match text {
             "pixel" => Ok(Mode::Pixel),
+            "pixel-deferred" => Ok(Mode::PixelDeferred),
             "vertex" => Ok(Mode::Vertex),
             "multirate" => Ok(Mode::Multirate),
             _ => match text.strip_prefix("fixed:").map(str::parse::<u32>) {
@@ -57,7 +66,9 @@ impl std::str::FromStr for Mode {
                 Some(_) => {
                     Err(format!("\"{text}\": the level of fixed:N must be an integer in 1..={MAX_LEVEL}"))
                 }
-                None => Err(format!("unknown mode \"{text}\" (known: pixel, vertex, fixed:N, multirate)")),
+                None => Err(format!(
+                    "unknown mode \"{text}\" (known: pixel, pixel-deferred, vertex, fixed:N, multirate)"
+                )),
             },
         }
     }
@@ -67,6 +78,7 @@ impl std::fmt::Display for Mode {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Mode::Pixel => write!(f, "pixel"),
+            Mode::PixelDeferred => write!(f, "pixel-deferred"),
             Mode::Vertex => write!(f, "vertex"),
             Mode::Fixed(level) => write!(f, "fixed:{level}"),
             Mode::Multirate => write!(f, "multirate"),
@@ -80,19 +92,6 @@ fn material_kind_id(kind: &MaterialKind) -> i32 {
         MaterialKind::Lambert { .. } => 0,
         MaterialKind::BlinnPhong { .. } => 1,
         MaterialKind::Ggx { .. } => 2,
-    }
-}
-
-fn gpu_material(kind: &MaterialKind) -> GpuMaterial {
-    let (diffuse, specular, param) = match *kind {
-        MaterialKind::Lambert { kd } => (kd, Vec3::ZERO, 0.0),
-        MaterialKind::BlinnPhong { kd, ks, shininess } => (kd, ks, shininess),
-        MaterialKind::Ggx { albedo, f0, roughness } => (albedo, f0, roughness),
-    };
-    GpuMaterial {
-        diffuse: diffuse.extend(0.0),
-        specular: specular.extend(0.0),
-        params: Vec4::new(param, 0.0, 0.0, 0.0),
     }
 }
 
@@ -166,6 +165,11 @@ pub struct View {
     pub heat_map: bool,
     /// Draw triangle edges only (where the device has `fillModeNonSolid`).
     pub wireframe: bool,
+    /// `pixel-deferred` only: instead of shading, write per pixel the analytic uv derivatives'
+    /// difference from the hardware's (`‖∂uv/∂x − dFdx uv‖ + ‖∂uv/∂y − dFdy uv‖` in red, the
+    /// analytic `‖∂uv/∂x‖ + ‖∂uv/∂y‖` in green, and in blue 1 where the pixel's 2×2 quad
+    /// spans several triangles; seed 002's comparison).
+    pub derivative_check: bool,
 }
 
 impl View {
@@ -180,6 +184,7 @@ impl View {
             discontinuity: Discontinuity::Conservative,
             heat_map: false,
             wireframe: false,
+            derivative_check: false,
         }
     }
 }
@@ -221,7 +226,7 @@ impl Variant {
     /// The pipeline of `view` (None: a multirate pipeline not yet prepared).
     fn for_view(&self, view: &View) -> Option<&Pipeline> {
         match view.mode {
-            Mode::Pixel => Some(&self.pixel),
+            Mode::Pixel | Mode::PixelDeferred => Some(&self.pixel),
             Mode::Vertex => Some(&self.vertex),
             Mode::Fixed(_) => Some(&self.tessellated),
             Mode::Multirate => self.multirate_cell(view).get(),
@@ -269,6 +274,7 @@ pub struct Renderer {
     patch_indices: Buffer,
     _lights: Buffer,
     _materials: Buffer,
+    textures: SceneTextures,
     layout: PipelineLayout,
     _pool: DescriptorPool,
     descriptor_set: vk::DescriptorSet,
@@ -287,6 +293,8 @@ pub struct Renderer {
     clear_color: [f32; 4],
     /// Most tessellated vertices one draw may emit, where the driver needs a limit.
     tessellated_vertex_budget: Option<u32>,
+    /// The `pixel-deferred` passes, built on first use.
+    deferred: OnceCell<Deferred>,
 }
 
 impl Renderer {
@@ -298,12 +306,11 @@ impl Renderer {
         let mut kinds: Vec<i32> = Vec::new();
         for (mesh_index, mesh) in scene.meshes.iter().enumerate() {
             let base = vertices.len() as u32;
-            vertices.extend(
-                mesh.positions
-                    .iter()
-                    .zip(&mesh.normals)
-                    .map(|(p, n)| Vertex { position: p.to_array(), normal: n.to_array() }),
-            );
+            vertices.extend(mesh.positions.iter().zip(&mesh.normals).enumerate().map(|(i, (p, n))| Vertex {
+                position: p.to_array(),
+                normal: n.to_array(),
+                uv: mesh.uvs.get(i).map_or([0.0; 2], |uv| uv.to_array()),
+            }));
             let first_index = indices.len() as u32;
             indices.extend(mesh.indices.iter().map(|i| i + base));
             let first_patch_index = patch_indices.len() as u32;
@@ -324,12 +331,21 @@ impl Renderer {
             });
         }
         let (lights, point_count, directional_count) = gpu_lights(&scene.lights);
-        let materials: Vec<GpuMaterial> = scene.materials.iter().map(|m| gpu_material(&m.kind)).collect();
+        let materials: Vec<GpuMaterial> = scene.materials.iter().map(gpu_material).collect();
 
-        let vertex_buffer =
-            Buffer::with_data(context, "scene vertices", vk::BufferUsageFlags::VERTEX_BUFFER, &vertices)?;
-        let index_buffer =
-            Buffer::with_data(context, "scene indices", vk::BufferUsageFlags::INDEX_BUFFER, &indices)?;
+        // Storage too: the deferred pass fetches triangles by id.
+        let vertex_buffer = Buffer::with_data(
+            context,
+            "scene vertices",
+            vk::BufferUsageFlags::VERTEX_BUFFER | vk::BufferUsageFlags::STORAGE_BUFFER,
+            &vertices,
+        )?;
+        let index_buffer = Buffer::with_data(
+            context,
+            "scene indices",
+            vk::BufferUsageFlags::INDEX_BUFFER | vk::BufferUsageFlags::STORAGE_BUFFER,
+            &indices,
+        )?;
         let patch_index_buffer = Buffer::with_data(
             context,
             "scene adjacency patches",
@@ -381,7 +397,15 @@ impl Renderer {
         let push = [vk::PushConstantRange::default()
             .stage_flags(stages)
             .size(std::mem::size_of::<DrawConstants>() as u32)];
-        let layout = PipelineLayout::new(context, "forward layout", &[&bindings], &push)?;
+        let material_bindings = material_set_bindings();
+        let deferred_bindings = deferred_set_bindings();
+        let layout = PipelineLayout::new(
+            context,
+            "forward layout",
+            &[&bindings, &material_bindings, &deferred_bindings],
+            &push,
+        )?;
+        let textures = SceneTextures::upload(context, scene, layout.set_layouts[1])?;
         let pool = DescriptorPool::new(
             context,
             "forward descriptors",
@@ -410,8 +434,11 @@ impl Renderer {
         let mut variants = Vec::new();
         let mut specializations = Vec::new();
         for &kind in &kinds {
-            let specialization =
-                Specialization::default().int(0, kind).int(1, point_count).int(2, directional_count);
+            let specialization = Specialization::default()
+                .int(0, kind)
+                .int(1, point_count)
+                .int(2, directional_count)
+                .boolean(7, SceneTextures::any(scene));
             variants.push(modules.variant(
                 context,
                 &layout,
@@ -431,6 +458,7 @@ impl Renderer {
             patch_indices: patch_index_buffer,
             _lights: light_buffer,
             _materials: material_buffer,
+            textures,
             layout,
             _pool: pool,
             descriptor_set,
@@ -444,6 +472,7 @@ impl Renderer {
             draws,
             clear_color: [clear.x, clear.y, clear.z, 0.0],
             tessellated_vertex_budget: tessellated_vertex_budget(&context.info),
+            deferred: OnceCell::new(),
         })
     }
 
@@ -458,6 +487,9 @@ impl Renderer {
 
     /// Builds the pipelines `view` needs that are built on first use (multirate mode).
     pub fn prepare(&self, view: &View) -> Result<()> {
+        if view.mode == Mode::PixelDeferred {
+            self.prepare_deferred()?;
+        }
         if view.mode == Mode::Multirate {
             let wireframe = self.wireframe_variants.as_ref().filter(|_| view.wireframe);
             for variants in std::iter::once(&self.variants).chain(wireframe) {
@@ -510,20 +542,28 @@ impl Renderer {
         view: &View,
         after: AfterPass,
     ) {
+        if view.mode == Mode::PixelDeferred {
+            self.record_deferred(cmd, target, view, after);
+            return;
+        }
+        let pick = |draw: &DrawCall| variants[draw.pipeline].for_view(view).map(|p| p.raw);
+        self.record_draws(&pick, cmd, target, view, self.clear_color, after);
+    }
+
+    /// The forward draws of every mesh with the pipeline `pick` gives, into `target`.
+    fn record_draws(
+        &self,
+        pick: &dyn Fn(&DrawCall) -> Option<vk::Pipeline>,
+        cmd: vk::CommandBuffer,
+        target: &RenderTarget,
+        view: &View,
+        clear: [f32; 4],
+        after: AfterPass,
+    ) {
         let device = &self.context.device;
         let extent = target.extent();
-        target.begin(device, cmd, self.clear_color);
-        let mut constants = DrawConstants {
-            view_proj: camera::view_projection(&view.camera, extent.width, extent.height),
-            eye: view.camera.eye.extend(1.0),
-            viewport: Vec4::new(extent.width as f32, extent.height as f32, view.epsilon, view.n_max as f32),
-            fixed_level: match view.mode {
-                Mode::Fixed(level) => level,
-                _ => 1,
-            },
-            flags: if view.heat_map { FLAG_HEAT_MAP } else { 0 },
-            ..Default::default()
-        };
+        target.begin(device, cmd, clear);
+        let mut constants = draw_constants(view, extent);
         // SAFETY: `cmd` is recording inside the rendering begun above; every bound object is
         // owned by `self` and outlives the submission (callers wait before dropping).
         unsafe {
@@ -540,13 +580,23 @@ impl Renderer {
             for draw in &self.draws {
                 constants.material_index = draw.material_index;
                 constants.mesh_index = draw.mesh_index;
-                let Some(pipeline) = variants[draw.pipeline].for_view(view) else {
+                let Some(pipeline) = pick(draw) else {
                     debug_assert!(false, "render, measure and the viewer prepare the view first");
                     continue;
                 };
-                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+                device.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    self.layout.raw,
+                    1,
+                    &[self.textures.sets[draw.material_index as usize]],
+                    &[],
+                );
                 let (first_index, index_count, patches, indices_per_primitive) = match view.mode {
-                    Mode::Pixel | Mode::Vertex => (draw.first_index, draw.index_count, u32::MAX, 3),
+                    Mode::Pixel | Mode::Vertex | Mode::PixelDeferred => {
+                        (draw.first_index, draw.index_count, u32::MAX, 3)
+                    }
                     Mode::Fixed(level) => {
                         (draw.first_index, draw.index_count, self.patches_per_draw(level), 3)
                     }
@@ -759,6 +809,23 @@ impl Renderer {
     }
 }
 
+/// The push constants of `view` on a target of `extent` (per draw: material, mesh, first
+/// triangle).
+fn draw_constants(view: &View, extent: vk::Extent2D) -> DrawConstants {
+    DrawConstants {
+        view_proj: camera::view_projection(&view.camera, extent.width, extent.height),
+        eye: view.camera.eye.extend(1.0),
+        viewport: Vec4::new(extent.width as f32, extent.height as f32, view.epsilon, view.n_max as f32),
+        fixed_level: match view.mode {
+            Mode::Fixed(level) => level,
+            _ => 1,
+        },
+        flags: if view.heat_map { FLAG_HEAT_MAP } else { 0 }
+            | if view.derivative_check { FLAG_DERIVATIVE_CHECK } else { 0 },
+        ..Default::default()
+    }
+}
+
 /// Lavapipe's draw module (Mesa 22.3) loses tessellated patches when one draw emits more than
 /// about 2^16 vertices in one of its internal batches (measured: the 8192-patch plane renders
 /// whole at fixed:15 and loses rows of patches from fixed:16 on). Splitting draws so that each
@@ -800,7 +867,7 @@ const VERTEX_BINDINGS: [vk::VertexInputBindingDescription; 1] = [vk::VertexInput
     input_rate: vk::VertexInputRate::VERTEX,
 }];
 
-const VERTEX_ATTRIBUTES: [vk::VertexInputAttributeDescription; 2] = [
+const VERTEX_ATTRIBUTES: [vk::VertexInputAttributeDescription; 3] = [
     vk::VertexInputAttributeDescription {
         location: 0,
         binding: 0,
@@ -812,6 +879,12 @@ const VERTEX_ATTRIBUTES: [vk::VertexInputAttributeDescription; 2] = [
         binding: 0,
         format: vk::Format::R32G32B32_SFLOAT,
         offset: std::mem::offset_of!(Vertex, normal) as u32,
+    },
+    vk::VertexInputAttributeDescription {
+        location: 2,
+        binding: 0,
+        format: vk::Format::R32G32_SFLOAT,
+        offset: std::mem::offset_of!(Vertex, uv) as u32,
     },
 ];
 

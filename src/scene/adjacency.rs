@@ -67,6 +67,7 @@ mod tests {
             normals: vec![Vec3::Z; positions.len()],
             positions,
             indices,
+            uvs: Vec::new(),
         }
     }
 

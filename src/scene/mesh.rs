@@ -10,7 +10,7 @@ use std::collections::HashMap;
 use std::io::{BufRead, Read};
 use std::path::Path;
 
-use glam::{DVec3, Mat3, Vec3};
+use glam::{DVec3, Mat3, Vec2, Vec3};
 
 /// The mesh transform from a `[[meshes]]` entry: scale, then rotation (Euler angles in degrees,
 /// about X, then Y, then Z), then translation.
@@ -48,6 +48,9 @@ pub(crate) struct LoadedMesh {
     pub positions: Vec<Vec3>,
     pub normals: Vec<Vec3>,
     pub indices: Vec<u32>,
+    /// One per position where every object of the file has texture coordinates, else empty.
+    /// `v` is flipped (OBJ's origin is bottom-left, Vulkan's top-left).
+    pub uvs: Vec<Vec2>,
 }
 
 /// Why an OBJ file could not be used; the caller adds the file's path.
@@ -107,14 +110,28 @@ pub(crate) fn load_obj_bytes(bytes: &[u8], transform: &Transform) -> Result<Load
     // Per vertex: the file's normal for it, where the file gives every vertex of its object one.
     let mut given_normals: Vec<Option<Vec3>> = Vec::new();
     let mut indices = Vec::new();
+    let mut uvs = Vec::new();
+    let mut all_have_uvs = true;
     for model in &models {
         let m = &model.mesh;
         let base = positions.len();
         let count = m.positions.len() / 3;
         let has_normals = m.normals.len() == m.positions.len();
+        let has_uvs = m.texcoords.len() == 2 * count;
+        all_have_uvs &= has_uvs;
         for v in 0..count {
             positions.push(Vec3::from_slice(&m.positions[3 * v..3 * v + 3]));
             given_normals.push(has_normals.then(|| Vec3::from_slice(&m.normals[3 * v..3 * v + 3])));
+            if has_uvs {
+                let uv = Vec2::new(m.texcoords[2 * v], 1.0 - m.texcoords[2 * v + 1]);
+                if !uv.is_finite() {
+                    return Err(ObjProblem::new(format!(
+                        "object \"{}\" has a texture coordinate that is not finite",
+                        model.name
+                    )));
+                }
+                uvs.push(uv);
+            }
         }
         for &i in &m.indices {
             if i as usize >= count {
@@ -134,7 +151,10 @@ pub(crate) fn load_obj_bytes(bytes: &[u8], transform: &Transform) -> Result<Load
         return Err(ObjProblem::new("contains no triangles (no `f` lines with 3 or more vertices)"));
     }
 
-    let loaded = LoadedMesh { positions, normals: Vec::new(), indices };
+    if !all_have_uvs {
+        uvs.clear();
+    }
+    let loaded = LoadedMesh { positions, normals: Vec::new(), indices, uvs };
     finish(loaded, &given_normals, transform)
 }
 
@@ -438,6 +458,76 @@ impl BufRead for LineCountingReader<'_> {
 
 fn fmt_vec(v: Vec3) -> String {
     format!("[{}, {}, {}]", v.x, v.y, v.z)
+}
+
+/// Computes texture coordinates from world-space positions (see [`super::UvProjection`]),
+/// scaled by `scale`. A triangle whose corners' `u` spans more than half a turn is cut where
+/// its corners are farthest apart around the axis: the corners before the cut get their own
+/// vertices with `u + 1` (positions and normals are copied, so the adjacency, which welds by
+/// position, still sees one surface), so every triangle takes its shortest way around.
+pub(crate) fn project_uvs(mesh: &mut super::Mesh, projection: super::UvProjection, scale: Vec2) {
+    use super::UvProjection as P;
+    let (lo, hi) = super::bounds_of(mesh.positions.iter().copied());
+    let centre = (lo + hi) * 0.5;
+    let extent = (hi - lo).max(Vec3::splat(f32::MIN_POSITIVE));
+    let turn = |d: Vec3| (d.x.atan2(d.z) / std::f32::consts::TAU + 0.5).clamp(0.0, 1.0);
+    let raw: Vec<Vec2> = mesh
+        .positions
+        .iter()
+        .map(|&p| {
+            let d = p - centre;
+            match projection {
+                P::Cylindrical => Vec2::new(turn(d), (hi.y - p.y) / extent.y),
+                P::Spherical => {
+                    let r = d.length();
+                    let polar = if r > 0.0 { (d.y / r).clamp(-1.0, 1.0).acos() } else { 0.0 };
+                    Vec2::new(turn(d), polar / std::f32::consts::PI)
+                }
+                P::Planar => {
+                    let side = extent.x.max(extent.z);
+                    Vec2::new((p.x - lo.x) / side, (p.z - lo.z) / side)
+                }
+            }
+        })
+        .collect();
+    mesh.uvs = raw.clone();
+    if projection != P::Planar {
+        let mut copies: HashMap<u32, u32> = HashMap::new();
+        for t in 0..mesh.indices.len() / 3 {
+            let corners = [0, 1, 2].map(|k| mesh.indices[3 * t + k]);
+            let us = corners.map(|i| raw[i as usize].x);
+            let (lo, hi) = (us[0].min(us[1]).min(us[2]), us[0].max(us[1]).max(us[2]));
+            if hi - lo <= 0.5 {
+                continue;
+            }
+            // Cut the circle at the largest gap between the corners' u: the corners below the
+            // cut continue past 1, which gives the triangle its shortest span.
+            let mut sorted = us;
+            sorted.sort_by(f32::total_cmp);
+            let gaps = [sorted[1] - sorted[0], sorted[2] - sorted[1], sorted[0] + 1.0 - sorted[2]];
+            let cut = if gaps[2] >= gaps[0].max(gaps[1]) {
+                continue;
+            } else if gaps[1] >= gaps[0] {
+                sorted[2]
+            } else {
+                sorted[1]
+            };
+            for (k, &i) in corners.iter().enumerate() {
+                if raw[i as usize].x < cut {
+                    let copy = *copies.entry(i).or_insert_with(|| {
+                        mesh.positions.push(mesh.positions[i as usize]);
+                        mesh.normals.push(mesh.normals[i as usize]);
+                        mesh.uvs.push(raw[i as usize] + Vec2::X);
+                        (mesh.positions.len() - 1) as u32
+                    });
+                    mesh.indices[3 * t + k] = copy;
+                }
+            }
+        }
+    }
+    for uv in &mut mesh.uvs {
+        *uv *= scale;
+    }
 }
 
 #[cfg(test)]

@@ -57,10 +57,13 @@ pub mod adjacency;
 mod mesh;
 pub mod texture;
 
+use texture::{MinMaxPyramid, Texture, TextureUsage};
+
 use std::fmt;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use serde::Deserialize;
 
@@ -126,7 +129,102 @@ impl Default for RenderSettings {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Material {
     pub name: String,
+    /// The BRDF. With a parameter map, its shininess or roughness is the map's `lo`.
     pub kind: MaterialKind,
+    pub maps: MaterialMaps,
+}
+
+/// The textures of a material (seed 003 Sec. 3.5).
+#[derive(Debug, Clone, Default)]
+pub struct MaterialMaps {
+    /// Multiplies the diffuse colour (Lambert and Blinn-Phong `kd`, GGX `albedo`) per pixel.
+    pub albedo: Option<Arc<Texture>>,
+    /// Blinn-Phong shininess or GGX roughness per texel.
+    pub parameter: Option<ParameterMap>,
+}
+
+impl PartialEq for MaterialMaps {
+    fn eq(&self, other: &Self) -> bool {
+        let same = |a: &Option<Arc<Texture>>, b: &Option<Arc<Texture>>| match (a, b) {
+            (Some(a), Some(b)) => a.path == b.path,
+            (None, None) => true,
+            _ => false,
+        };
+        same(&self.albedo, &other.albedo)
+            && match (&self.parameter, &other.parameter) {
+                (Some(a), Some(b)) => a.texture.path == b.texture.path && a.lo == b.lo && a.hi == b.hi,
+                (None, None) => true,
+                _ => false,
+            }
+    }
+}
+
+/// A shininess or roughness map: texel value `u` in [0, 1] (8-bit UNORM) stands for
+/// [`ParameterMap::value`]`(u)`, between `lo` and `hi`.
+#[derive(Debug, Clone)]
+pub struct ParameterMap {
+    pub texture: Arc<Texture>,
+    /// Per-block minima and maxima of the texels, for the estimator's range over a triangle.
+    pub pyramid: Arc<MinMaxPyramid>,
+    pub lo: f32,
+    pub hi: f32,
+    pub mapping: ParameterMapping,
+}
+
+/// How a parameter map's texel value maps to the parameter.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ParameterMapping {
+    /// `lo · (hi/lo)^u`: shininess, whose useful values span decades.
+    Exponential,
+    /// `lo + (hi − lo) · u`: roughness.
+    Linear,
+}
+
+impl ParameterMap {
+    /// The parameter a texel value `u` stands for (monotone in `u`). The exponential mapping
+    /// uses the estimator's `est_pow`, as the control stage does, so that the two agree bit
+    /// for bit.
+    pub fn value(&self, u: f32) -> f32 {
+        map_parameter(self.mapping, self.lo, self.hi, u)
+    }
+}
+
+impl ParameterMap {
+    /// The coarsest level of detail at which the evaluation stage samples this map on a
+    /// triangle with texture coordinates `uvs`: log2 of its texel extent, at least 0. The
+    /// control stage's `lod_bound_of` in `glsl/multirate.tesc`, bit for bit.
+    pub fn lod_bound(&self, uvs: [Vec2; 3]) -> f32 {
+        let size = Vec2::new(self.texture.width() as f32, self.texture.height() as f32);
+        let (lo, hi) = (uvs[0].min(uvs[1]).min(uvs[2]), uvs[0].max(uvs[1]).max(uvs[2]));
+        let extent = (hi - lo) * size;
+        crate::shading::estimator::est_log2(extent.x.max(extent.y).max(1.0))
+    }
+
+    /// The range of the parameter over the texels a triangle with texture coordinates `uvs`
+    /// can sample (seed 003 Sec. 3.5), from the min/max pyramid: what the control stage's
+    /// `parameter_range_of` computes, bit for bit.
+    pub fn range_over(&self, uvs: [Vec2; 3]) -> crate::shading::estimator::ParameterRange {
+        let (lo, hi) = (uvs[0].min(uvs[1]).min(uvs[2]), uvs[0].max(uvs[1]).max(uvs[2]));
+        let (u_lo, u_hi) = self.pyramid.query(lo, hi, self.lod_bound(uvs));
+        crate::shading::estimator::ParameterRange { lo: self.value(u_lo), hi: self.value(u_hi) }
+    }
+}
+
+/// `material` with its shininess (Blinn-Phong) or roughness (GGX) replaced by `parameter`.
+pub fn with_parameter(material: &MaterialKind, parameter: f32) -> MaterialKind {
+    match *material {
+        MaterialKind::Lambert { kd } => MaterialKind::Lambert { kd },
+        MaterialKind::BlinnPhong { kd, ks, .. } => MaterialKind::BlinnPhong { kd, ks, shininess: parameter },
+        MaterialKind::Ggx { albedo, f0, .. } => MaterialKind::Ggx { albedo, f0, roughness: parameter },
+    }
+}
+
+/// [`ParameterMap::value`] without the texture.
+pub fn map_parameter(mapping: ParameterMapping, lo: f32, hi: f32, u: f32) -> f32 {
+    match mapping {
+        ParameterMapping::Exponential => lo * crate::shading::estimator::est_pow(hi / lo, u),
+        ParameterMapping::Linear => lo + (hi - lo) * u,
+    }
 }
 
 /// The BRDF of a material and its parameters. Colours are linear, each component in [0, 1].
@@ -173,6 +271,9 @@ pub struct Mesh {
     /// Triangle list, at least one triangle, every index < `positions.len()`. Degenerate
     /// (zero-area) triangles from the file are kept.
     pub indices: Vec<u32>,
+    /// Texture coordinates, one per position (from the OBJ file's `vt` or `uv_projection`),
+    /// or empty when the mesh has none.
+    pub uvs: Vec<Vec2>,
 }
 
 /// Why a scene could not be loaded. `Display` starts with the path of the file at fault.
@@ -368,6 +469,12 @@ struct MaterialFile {
     albedo: Option<[f32; 3]>,
     f0: Option<[f32; 3]>,
     roughness: Option<f32>,
+    kd_map: Option<PathBuf>,
+    albedo_map: Option<PathBuf>,
+    shininess_map: Option<PathBuf>,
+    shininess_range: Option<[f32; 2]>,
+    roughness_map: Option<PathBuf>,
+    roughness_range: Option<[f32; 2]>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
@@ -397,6 +504,20 @@ struct MeshFile {
     translate: Option<[f32; 3]>,
     rotate_degrees: Option<[f32; 3]>,
     scale: Option<Scale>,
+    uv_projection: Option<UvProjection>,
+    uv_scale: Option<[f32; 2]>,
+}
+
+/// Texture coordinates computed from world-space positions, about the centre of the mesh's
+/// bounding box: `cylindrical` (u around +Y, v up), `spherical` (u around +Y, v from the top)
+/// or `planar` (the XZ plane). Triangles that cross the u seam get their own vertices, with
+/// u continued past 1.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum UvProjection {
+    Cylindrical,
+    Spherical,
+    Planar,
 }
 
 /// `scale = 2.0` or `scale = [1, 2, 1]`.
@@ -570,9 +691,10 @@ fn build(path: &Path, file: SceneFile) -> Result<Scene, SceneError> {
 
     let settings = check_render(path, &file.render)?;
 
+    let folder = path.parent().unwrap_or(Path::new(""));
     let mut materials: Vec<Material> = Vec::with_capacity(file.materials.len());
     for (i, m) in file.materials.iter().enumerate() {
-        let material = check_material(path, i, m)?;
+        let material = check_material(path, folder, i, m)?;
         if materials.iter().any(|other| other.name == material.name) {
             return Err(Item { path, item: format!("[[materials]] #{} (\"{}\")", i + 1, m.name) }
                 .error(format!("duplicate material name \"{}\"", m.name)));
@@ -598,7 +720,6 @@ fn build(path: &Path, file: SceneFile) -> Result<Scene, SceneError> {
     if file.meshes.is_empty() {
         return Err(top("meshes").error("the scene has no meshes; add at least one [[meshes]] table"));
     }
-    let folder = path.parent().unwrap_or(Path::new(""));
     let mut meshes = Vec::with_capacity(file.meshes.len());
     for (i, m) in file.meshes.iter().enumerate() {
         meshes.push(load_mesh(path, folder, i, m, &materials)?);
@@ -642,7 +763,12 @@ fn check_render(path: &Path, r: &RenderFile) -> Result<RenderSettings, SceneErro
     })
 }
 
-fn check_material(path: &Path, index: usize, m: &MaterialFile) -> Result<Material, SceneError> {
+fn check_material(
+    path: &Path,
+    folder: &Path,
+    index: usize,
+    m: &MaterialFile,
+) -> Result<Material, SceneError> {
     let item = Item { path, item: format!("[[materials]] #{} (\"{}\")", index + 1, m.name) };
     if m.name.trim().is_empty() {
         return Err(item.error("`name` is empty"));
@@ -664,15 +790,22 @@ fn check_material(path: &Path, index: usize, m: &MaterialFile) -> Result<Materia
                 item.forbidden(key, v, &why_not)?;
             }
             item.forbidden("roughness", &m.roughness, &why_not)?;
-            MaterialKind::BlinnPhong {
-                kd: unit("kd", item.required("kd", m.kd, &why)?)?,
-                ks: unit("ks", item.required("ks", m.ks, &why)?)?,
-                shininess: item.range(
+            let shininess = match m.shininess_range {
+                Some(range) => {
+                    item.forbidden("shininess", &m.shininess, "together with `shininess_range`")?;
+                    check_parameter_range(&item, "shininess_range", range, 1.0, 1e4)?[0]
+                }
+                None => item.range(
                     "shininess",
                     item.required("shininess", m.shininess, &why)?,
                     Closed(1.0),
                     Closed(1e4),
                 )?,
+            };
+            MaterialKind::BlinnPhong {
+                kd: unit("kd", item.required("kd", m.kd, &why)?)?,
+                ks: unit("ks", item.required("ks", m.ks, &why)?)?,
+                shininess,
             }
         }
         MaterialType::Ggx => {
@@ -680,19 +813,106 @@ fn check_material(path: &Path, index: usize, m: &MaterialFile) -> Result<Materia
                 item.forbidden(key, v, &why_not)?;
             }
             item.forbidden("shininess", &m.shininess, &why_not)?;
-            MaterialKind::Ggx {
-                albedo: unit("albedo", item.required("albedo", m.albedo, &why)?)?,
-                f0: unit("f0", item.required("f0", m.f0, &why)?)?,
-                roughness: item.range(
+            let roughness = match m.roughness_range {
+                Some(range) => {
+                    item.forbidden("roughness", &m.roughness, "together with `roughness_range`")?;
+                    check_parameter_range(&item, "roughness_range", range, 0.0, 1.0)?[0]
+                }
+                None => item.range(
                     "roughness",
                     item.required("roughness", m.roughness, &why)?,
                     Closed(0.0),
                     Closed(1.0),
                 )?,
+            };
+            MaterialKind::Ggx {
+                albedo: unit("albedo", item.required("albedo", m.albedo, &why)?)?,
+                f0: unit("f0", item.required("f0", m.f0, &why)?)?,
+                roughness,
             }
         }
     };
-    Ok(Material { name: m.name.clone(), kind })
+    let maps = check_maps(&item, folder, m, &why_not)?;
+    Ok(Material { name: m.name.clone(), kind, maps })
+}
+
+/// `[lo, hi]` with `min ≤ lo ≤ hi ≤ max`.
+fn check_parameter_range(
+    item: &Item,
+    key: &str,
+    range: [f32; 2],
+    min: f32,
+    max: f32,
+) -> Result<[f32; 2], SceneError> {
+    let [lo, hi] = range;
+    if !(lo.is_finite() && hi.is_finite() && min <= lo && lo <= hi && hi <= max) {
+        return Err(item.error(format!("`{key}` = [{lo}, {hi}] must satisfy {min} <= lo <= hi <= {max}")));
+    }
+    Ok(range)
+}
+
+/// The material's texture keys: which apply to its type, that a map and its range come
+/// together, and the files themselves (read here, so that a bad file names the material).
+fn check_maps(
+    item: &Item,
+    folder: &Path,
+    m: &MaterialFile,
+    why_not: &str,
+) -> Result<MaterialMaps, SceneError> {
+    let (albedo_key, albedo_path, other_albedo) = match m.kind {
+        MaterialType::Ggx => ("albedo_map", &m.albedo_map, ("kd_map", &m.kd_map)),
+        _ => ("kd_map", &m.kd_map, ("albedo_map", &m.albedo_map)),
+    };
+    item.forbidden(other_albedo.0, other_albedo.1, why_not)?;
+    let (map_key, range_key, map, range, other_map, other_range, mapping) = match m.kind {
+        MaterialType::Lambert => {
+            item.forbidden("shininess_map", &m.shininess_map, why_not)?;
+            item.forbidden("roughness_map", &m.roughness_map, why_not)?;
+            item.forbidden("shininess_range", &m.shininess_range, why_not)?;
+            item.forbidden("roughness_range", &m.roughness_range, why_not)?;
+            ("", "", &None, &None, ("", &None), ("", &None), ParameterMapping::Linear)
+        }
+        MaterialType::BlinnPhong => (
+            "shininess_map",
+            "shininess_range",
+            &m.shininess_map,
+            &m.shininess_range,
+            ("roughness_map", &m.roughness_map),
+            ("roughness_range", &m.roughness_range),
+            ParameterMapping::Exponential,
+        ),
+        MaterialType::Ggx => (
+            "roughness_map",
+            "roughness_range",
+            &m.roughness_map,
+            &m.roughness_range,
+            ("shininess_map", &m.shininess_map),
+            ("shininess_range", &m.shininess_range),
+            ParameterMapping::Linear,
+        ),
+    };
+    item.forbidden(other_map.0, other_map.1, why_not)?;
+    item.forbidden(other_range.0, other_range.1, why_not)?;
+    let load = |key: &str, file: &Path, usage: TextureUsage| {
+        Texture::load(&folder.join(file), usage)
+            .map(Arc::new)
+            .map_err(|e| item.error(format!("`{key}`: {e}")))
+    };
+    let albedo = match albedo_path {
+        Some(file) => Some(load(albedo_key, file, TextureUsage::Albedo)?),
+        None => None,
+    };
+    let parameter = match (map, range) {
+        (Some(file), Some([lo, hi])) => {
+            let texture = load(map_key, file, TextureUsage::Parameter)?;
+            let pyramid = Arc::new(MinMaxPyramid::new(&texture));
+            Some(ParameterMap { texture, pyramid, lo: *lo, hi: *hi, mapping })
+        }
+        (Some(_), None) => return Err(item.error(format!("`{map_key}` needs `{range_key}` = [lo, hi]"))),
+        (None, Some(_)) => return Err(item.error(format!("`{range_key}` is given without `{map_key}`"))),
+        (None, None) => None,
+    };
+    Ok(MaterialMaps { albedo, parameter })
 }
 
 fn check_light(path: &Path, index: usize, l: &LightFile) -> Result<Light, SceneError> {
@@ -823,14 +1043,36 @@ fn load_mesh(
         scene: path.to_path_buf(),
         mesh: index + 1,
     })?;
-    Ok(Mesh {
+    let mut mesh = Mesh {
         name,
         source,
         material,
         positions: loaded.positions,
         normals: loaded.normals,
         indices: loaded.indices,
-    })
+        uvs: loaded.uvs,
+    };
+    if let Some(projection) = m.uv_projection {
+        let uv_scale = m.uv_scale.unwrap_or([1.0, 1.0]);
+        if !uv_scale.iter().all(|s| s.is_finite() && *s != 0.0) {
+            return Err(item.error(format!(
+                "`uv_scale` = [{}, {}] must be finite and non-zero",
+                uv_scale[0], uv_scale[1]
+            )));
+        }
+        mesh::project_uvs(&mut mesh, projection, Vec2::from_array(uv_scale));
+    } else if m.uv_scale.is_some() {
+        return Err(item.error("`uv_scale` applies only with `uv_projection`"));
+    }
+    let maps = &materials[material].maps;
+    if (maps.albedo.is_some() || maps.parameter.is_some()) && mesh.uvs.is_empty() {
+        return Err(item.error(format!(
+            "material \"{}\" is textured but {} has no texture coordinates (add `vt` lines or `uv_projection`)",
+            m.material,
+            mesh.source.display()
+        )));
+    }
+    Ok(mesh)
 }
 
 #[cfg(test)]

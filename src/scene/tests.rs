@@ -100,7 +100,11 @@ fn minimal_scene_loads_with_defaults() {
     assert_eq!(scene.camera.eye, Vec3::new(0.0, 1.0, 3.0));
     assert_eq!(
         scene.materials,
-        vec![Material { name: "clay".into(), kind: MaterialKind::Lambert { kd: Vec3::splat(0.8) } }]
+        vec![Material {
+            name: "clay".into(),
+            kind: MaterialKind::Lambert { kd: Vec3::splat(0.8) },
+            maps: Default::default()
+        }]
     );
     assert_eq!(
         scene.lights,
@@ -436,4 +440,111 @@ fn all_shipped_scenes_load() {
             assert!(mesh.indices.iter().all(|&i| (i as usize) < mesh.positions.len()));
         }
     }
+}
+
+/// The repository's `scenes/textures` folder, for scenes written to temporary folders.
+fn shipped_texture(name: &str) -> String {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/textures").join(name);
+    path.display().to_string().replace('\\', "/")
+}
+
+#[test]
+fn texture_problems_are_errors_naming_the_material_and_the_file() {
+    let textured =
+        |keys: &str| minimal_with("kd = [0.8, 0.8, 0.8]", &format!("kd = [0.8, 0.8, 0.8]\n{keys}"));
+    let with_uv = |scene: String| {
+        scene.replace("material = \"clay\"", "material = \"clay\"\nuv_projection = \"planar\"")
+    };
+    // A missing file names the key and the file.
+    let message = expect_error(
+        &with_uv(textured("kd_map = \"no_such.png\"")),
+        &["[[materials]] #1", "kd_map", "no_such.png"],
+    );
+    assert!(message.contains("cannot read"), "{message}");
+    // A file that is not a PNG.
+    let dir = TempDir::new("garbage");
+    dir.write("quad.obj", QUAD_OBJ);
+    dir.write("garbage.png", "not a png");
+    let path = dir.write("scene.toml", &with_uv(textured("kd_map = \"garbage.png\"")));
+    let message = Scene::load(&path).expect_err("garbage texture").to_string();
+    assert!(message.contains("garbage.png") && message.contains("decode"), "{message}");
+    // Maps and ranges come together and only on their own material type.
+    let shiny = |keys: &str| {
+        with_uv(minimal_with(
+            "type = \"lambert\"\nkd = [0.8, 0.8, 0.8]",
+            &format!("type = \"blinn_phong\"\nkd = [0.8, 0.8, 0.8]\nks = [0.2, 0.2, 0.2]\n{keys}"),
+        ))
+    };
+    let map = shipped_texture("spots_shininess.png");
+    expect_error(&shiny(&format!("shininess_map = \"{map}\"\nshininess = 8.0")), &["shininess_range"]);
+    expect_error(&shiny("shininess_range = [2.0, 50.0]\nshininess = 8.0"), &["shininess_range", "shininess"]);
+    expect_error(&shiny("shininess_range = [2.0, 50.0]"), &["shininess_range", "shininess_map"]);
+    expect_error(
+        &shiny(&format!("shininess_map = \"{map}\"\nshininess_range = [50.0, 2.0]")),
+        &["shininess_range"],
+    );
+    expect_error(&shiny(&format!("roughness_map = \"{map}\"\nshininess = 8.0")), &["roughness_map"]);
+    expect_error(&textured(&format!("shininess_map = \"{map}\"")), &["shininess_map", "lambert"]);
+    // A parameter map must be a power of two (a 3×2 image).
+    let dir = TempDir::new("npot");
+    dir.write("quad.obj", QUAD_OBJ);
+    image::GrayImage::from_pixel(3, 2, image::Luma([9])).save(dir.0.join("odd.png")).unwrap();
+    let path = dir.write("scene.toml", &shiny("shininess_map = \"odd.png\"\nshininess_range = [2.0, 50.0]"));
+    let message = Scene::load(&path).expect_err("3×2 parameter map").to_string();
+    assert!(message.contains("odd.png") && message.contains("power of two"), "{message}");
+    // A textured material on a mesh without texture coordinates.
+    let albedo = shipped_texture("spots_albedo.png");
+    expect_error(&textured(&format!("kd_map = \"{albedo}\"")), &["texture coordinates", "quad.obj"]);
+    // uv_scale needs uv_projection.
+    expect_error(
+        &minimal_with("material = \"clay\"", "material = \"clay\"\nuv_scale = [2, 2]"),
+        &["uv_projection"],
+    );
+}
+
+#[test]
+fn textured_material_loads_with_its_maps() {
+    let dir = TempDir::new("textured");
+    let map = shipped_texture("spots_shininess.png");
+    let scene = minimal_with(
+        "type = \"lambert\"\nkd = [0.8, 0.8, 0.8]",
+        &format!(
+            "type = \"blinn_phong\"\nkd = [0.8, 0.8, 0.8]\nks = [0.2, 0.2, 0.2]\nshininess_map = \"{map}\"\nshininess_range = [4.0, 400.0]"
+        ),
+    )
+    .replace("material = \"clay\"", "material = \"clay\"\nuv_projection = \"planar\"\nuv_scale = [3, 3]");
+    let (_, result) = load_text(&dir, &scene);
+    let scene = result.expect("textured scene loads");
+    let map = scene.materials[0].maps.parameter.as_ref().expect("parameter map");
+    assert_eq!(map.mapping, ParameterMapping::Exponential);
+    assert_eq!(map.value(0.0), 4.0);
+    assert!((map.value(1.0) - 400.0).abs() < 1e-2 && (map.value(0.5) - 40.0).abs() < 1e-2);
+    // Planar uvs of the 2×2 quad, scaled by 3, span [0, 3].
+    let uvs = &scene.meshes[0].uvs;
+    assert_eq!(uvs.len(), scene.meshes[0].positions.len());
+    let max = uvs.iter().fold(Vec2::ZERO, |a, b| a.max(*b));
+    assert_eq!(max, Vec2::splat(3.0));
+}
+
+#[test]
+fn cylindrical_uvs_have_no_triangle_across_the_seam() {
+    let scene =
+        Scene::load(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/bunny_spots.toml"))).unwrap();
+    let mesh = &scene.meshes[0];
+    assert_eq!(mesh.uvs.len(), mesh.positions.len());
+    let mut seam_copies = 0;
+    for t in mesh.indices.chunks_exact(3) {
+        let us = [0, 1, 2].map(|k| mesh.uvs[t[k] as usize].x / 2.0);
+        let span = us.iter().fold(f32::MIN, |a, &b| a.max(b)) - us.iter().fold(f32::MAX, |a, &b| a.min(b));
+        // The shortest way around the axis: one turn less the largest gap between corners.
+        let mut around = us.map(|u| u.rem_euclid(1.0));
+        around.sort_by(f32::total_cmp);
+        let gap = (around[1] - around[0]).max(around[2] - around[1]).max(around[0] + 1.0 - around[2]);
+        assert!((span - (1.0 - gap)).abs() < 1e-4, "a triangle spans {span} turns, {} would do", 1.0 - gap);
+        seam_copies += us.iter().filter(|&&u| u > 1.0).count();
+    }
+    assert!(seam_copies > 0, "the bunny's back crosses the seam, so some corners continue past u = 1");
+    // The copies keep the surface connected for the adjacency (welded by position).
+    let patches = adjacency::adjacency_patches(mesh);
+    assert_eq!(patches.len(), mesh.indices.len() / 3 * adjacency::PATCH_SIZE);
 }

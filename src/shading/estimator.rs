@@ -412,7 +412,7 @@ pub(crate) fn est_asin(x: f32) -> f32 {
 }
 
 /// log₂ of a positive normal `x`: exponent and `ln m = 2 atanh((m−1)/(m+1))`, `m ∈ [√½, √2)`.
-fn est_log2(x: f32) -> f32 {
+pub(crate) fn est_log2(x: f32) -> f32 {
     let bits = x.to_bits();
     let mut e = ((bits >> 23) & 0xff) as i32 - 127;
     let mut m = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000);

@@ -138,12 +138,25 @@ impl Image {
         usage: vk::ImageUsageFlags,
         aspect: vk::ImageAspectFlags,
     ) -> Result<Image> {
+        Image::with_levels(context, name, extent, 1, format, usage, aspect)
+    }
+
+    /// A device-local 2D image with `mip_levels` levels; the view covers all of them.
+    pub fn with_levels(
+        context: &Arc<Context>,
+        name: &str,
+        extent: vk::Extent2D,
+        mip_levels: u32,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        aspect: vk::ImageAspectFlags,
+    ) -> Result<Image> {
         let device = &context.device;
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
             .format(format)
             .extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 })
-            .mip_levels(1)
+            .mip_levels(mip_levels)
             .array_layers(1)
             .samples(vk::SampleCountFlags::TYPE_1)
             .tiling(vk::ImageTiling::OPTIMAL)

@@ -6,6 +6,7 @@ pub mod memory;
 pub mod pipeline;
 pub mod swapchain;
 pub mod target;
+pub mod texture;
 pub mod timing;
 
 pub use context::{Context, ContextOptions};

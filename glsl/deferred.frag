@@ -1,0 +1,73 @@
+#version 460
+// `pixel-deferred` mode: the per-pixel reference rebuilt from the visibility buffer. The
+// triangle's vertices come from the vertex and index buffers; perspective-correct barycentrics
+// and their screen derivatives (seed 002, derivatives.glsl) give the position, normal, texture
+// coordinates and the texture level of detail, with no help from the rasteriser. One full-screen
+// pass per mesh shades that mesh's pixels.
+#include "texturing.glsl"
+
+layout(set = 2, binding = 0) uniform sampler2D visibility;
+layout(set = 2, binding = 1, std430) readonly buffer Vertices { float vertex_data[]; };
+layout(set = 2, binding = 2, std430) readonly buffer Indices { uint index_data[]; };
+
+layout(location = 0) out vec4 out_color;
+
+// One Vertex (src/gpu_types.rs): position, normal, uv.
+const uint VERTEX_FLOATS = 8u;
+
+vec3 vertex_vec3(uint vertex, uint offset) {
+    uint base = vertex * VERTEX_FLOATS + offset;
+    return vec3(vertex_data[base], vertex_data[base + 1u], vertex_data[base + 2u]);
+}
+
+const uint FLAG_DERIVATIVE_CHECK = 2u;
+
+void main() {
+    vec4 id = texelFetch(visibility, ivec2(gl_FragCoord.xy), 0);
+    bool mine = id.w != 0.0 && uint(id.x) == draw.mesh_index + 1u;
+    // Every invocation reconstructs its own pixel's triangle (any valid id), and discards only
+    // after the hardware derivatives below, which need the whole quad.
+    uint triangle = id.w != 0.0 ? uint(id.y) : 0u;
+    vec3 p[3];
+    vec3 n[3];
+    vec2 t[3];
+    vec4 clip[3];
+    for (int k = 0; k < 3; ++k) {
+        uint vertex = index_data[3u * triangle + uint(k)];
+        p[k] = vertex_vec3(vertex, 0u);
+        n[k] = vertex_vec3(vertex, 3u);
+        t[k] = vec2(vertex_data[vertex * VERTEX_FLOATS + 6u], vertex_data[vertex * VERTEX_FLOATS + 7u]);
+        clip[k] = draw.view_proj * vec4(p[k], 1.0);
+    }
+    BarycentricDerivatives b =
+        barycentric_derivatives(clip[0], clip[1], clip[2], gl_FragCoord.xy, draw.viewport.xy);
+    vec3 position = b.lambda.x * p[0] + b.lambda.y * p[1] + b.lambda.z * p[2];
+    vec3 normal = b.lambda.x * n[0] + b.lambda.y * n[1] + b.lambda.z * n[2];
+    vec2 uv = b.lambda.x * t[0] + b.lambda.y * t[1] + b.lambda.z * t[2];
+    vec2 duv_dx = b.ddx.x * t[0] + b.ddx.y * t[1] + b.ddx.z * t[2];
+    vec2 duv_dy = b.ddy.x * t[0] + b.ddy.y * t[1] + b.ddy.z * t[2];
+    if ((draw.flags & FLAG_DERIVATIVE_CHECK) != 0u) {
+        // One-pixel differences within the quad, as the rasteriser's derivatives are taken;
+        // blue marks quads whose pixels lie on different triangles (the rasteriser would have
+        // extrapolated one triangle there with helper invocations).
+        vec2 hardware_dx = dFdxFine(uv);
+        vec2 hardware_dy = dFdyFine(uv);
+        bool one_triangle = dFdxFine(id.y) == 0.0 && dFdyFine(id.y) == 0.0;
+        if (!mine) {
+            discard;
+        }
+        float difference = length(duv_dx - hardware_dx) + length(duv_dy - hardware_dy);
+        out_color = vec4(difference, length(duv_dx) + length(duv_dy), one_triangle ? 0.0 : 1.0, 1.0);
+        return;
+    }
+    if (!mine) {
+        discard;
+    }
+    GpuMaterial m = materials[draw.material_index];
+    float parameter = parameter_at_grad(m, uv, duv_dx, duv_dy);
+    Shading s = shade(position, normal, draw.eye.xyz, draw.material_index, parameter);
+    if (COUNT_EVALUATIONS) {
+        atomicAdd(counters.pixel_evaluations, 1u);
+    }
+    out_color = vec4(albedo_at_grad(m, uv, duv_dx, duv_dy) * s.diffuse + s.specular, 1.0);
+}

@@ -1,0 +1,66 @@
+// Textured materials (seed 003 Sec. 3.5): the albedo map multiplies the diffuse part per pixel,
+// the parameter map gives the shininess or roughness. Fragment shaders sample with derivatives
+// taken in uniform control flow; the evaluation shaders, which have none, with the level of
+// detail of the sub-vertex (`subvertex_lod`, analytic derivatives of seed 002).
+#ifndef TEXTURING_GLSL
+#define TEXTURING_GLSL
+#include "brdf.glsl"
+#include "derivatives.glsl"
+
+bool has_albedo_map(GpuMaterial m) {
+    return TEXTURED && m.maps.x >= 0;
+}
+
+bool has_parameter_map(GpuMaterial m) {
+    return TEXTURED && m.maps.y >= 0;
+}
+
+// The parameter a texel value u in [0, 1] stands for (ParameterMap::value in Rust).
+float map_parameter(GpuMaterial m, float u) {
+    float lo = m.parameter_range.x;
+    float hi = m.parameter_range.y;
+    return m.maps.w == 1 ? lo * pow(hi / lo, u) : lo + (hi - lo) * u;
+}
+
+float parameter_at_lod(GpuMaterial m, vec2 uv, float lod) {
+    if (!has_parameter_map(m)) {
+        return m.params.x;
+    }
+    return map_parameter(m, textureLod(parameter_map, uv, lod).r);
+}
+
+float parameter_at_grad(GpuMaterial m, vec2 uv, vec2 duv_dx, vec2 duv_dy) {
+    if (!has_parameter_map(m)) {
+        return m.params.x;
+    }
+    return map_parameter(m, textureGrad(parameter_map, uv, duv_dx, duv_dy).r);
+}
+
+vec3 albedo_at_grad(GpuMaterial m, vec2 uv, vec2 duv_dx, vec2 duv_dy) {
+    if (!has_albedo_map(m)) {
+        return vec3(1.0);
+    }
+    return textureGrad(albedo_map, uv, duv_dx, duv_dy).rgb;
+}
+
+// The level of detail of the parameter map at a sub-vertex of the patch with world corners p
+// and texture coordinates uv, tessellated at `level`: the larger of the pixel footprint there
+// (analytic derivatives) and the sub-triangle's footprint (the patch's uv edges / level), so
+// that one sample stands for the whole sub-triangle; at most `lod_bound` (the control stage's
+// bound for the patch, which its texel range covers).
+float subvertex_lod(GpuMaterial m, vec3 p[3], vec2 uv[3], vec3 position, float level, float lod_bound) {
+    vec2 size = vec2(textureSize(parameter_map, 0));
+    vec4 clip = draw.view_proj * vec4(position, 1.0);
+    vec2 pixel = (clip.xy / clip.w * 0.5 + 0.5) * draw.viewport.xy;
+    BarycentricDerivatives b = barycentric_derivatives(draw.view_proj * vec4(p[0], 1.0),
+        draw.view_proj * vec4(p[1], 1.0), draw.view_proj * vec4(p[2], 1.0), pixel, draw.viewport.xy);
+    vec2 duv_dx = uv[0] * b.ddx.x + uv[1] * b.ddx.y + uv[2] * b.ddx.z;
+    vec2 duv_dy = uv[0] * b.ddy.x + uv[1] * b.ddy.y + uv[2] * b.ddy.z;
+    float pixel_lod = texture_lod(duv_dx, duv_dy, size);
+    float edge = max(max(length((uv[1] - uv[0]) * size), length((uv[2] - uv[1]) * size)),
+                     length((uv[0] - uv[2]) * size));
+    float sub_lod = log2(max(edge / max(level, 1.0), 1.0e-30));
+    return min(max(pixel_lod, sub_lod), lod_bound);
+}
+
+#endif

@@ -1,0 +1,308 @@
+//! `pixel-deferred` mode: the per-pixel reference through a visibility buffer. A first pass
+//! draws every triangle's id (mesh + 1, scene triangle index) into a float target with the
+//! `pixel` mode's rasterisation; a second, full-screen pass per mesh reads the ids, fetches the
+//! triangle from the vertex and index buffers, rebuilds perspective-correct barycentrics and
+//! their screen derivatives analytically (seed 002, `glsl/include/derivatives.glsl`) and shades.
+//! The same id buffer gives `analyze --measured` each pixel's triangle.
+
+use super::{draw_constants, Renderer, View};
+use crate::error::{Error, Result};
+use crate::shaders;
+use crate::vk::memory::Buffer;
+use crate::vk::pipeline::{
+    DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderModule, Specialization, Stage,
+};
+use crate::vk::target::{AfterPass, FloatImage, RenderTarget, COLOR_FORMAT, DEPTH_FORMAT};
+use crate::vk::texture::Sampler;
+use crate::vk::Context;
+use ash::vk;
+use std::cell::RefCell;
+use std::sync::Arc;
+
+/// Set 2 of the forward layout: the id image, the vertices and the indices.
+pub fn deferred_set_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; 3] {
+    let stages = vk::ShaderStageFlags::ALL_GRAPHICS;
+    [
+        vk::DescriptorSetLayoutBinding::default()
+            .binding(0)
+            .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+            .descriptor_count(1)
+            .stage_flags(stages),
+        vk::DescriptorSetLayoutBinding::default()
+            .binding(1)
+            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+            .descriptor_count(1)
+            .stage_flags(stages),
+        vk::DescriptorSetLayoutBinding::default()
+            .binding(2)
+            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+            .descriptor_count(1)
+            .stage_flags(stages),
+    ]
+}
+
+/// The pipelines, the id target (sized on use) and set 2.
+pub struct Deferred {
+    context: Arc<Context>,
+    visibility: Pipeline,
+    /// One per material kind, in the renderer's variant order.
+    shade: Vec<Pipeline>,
+    _pool: DescriptorPool,
+    pub set: vk::DescriptorSet,
+    sampler: Sampler,
+    ids: RefCell<Option<RenderTarget>>,
+}
+
+impl Deferred {
+    /// Builds the passes for `specializations` (one per material kind); needs primitive ids in
+    /// the fragment stage, that is the `geometryShader` feature.
+    pub fn new(
+        context: &Arc<Context>,
+        layout: &PipelineLayout,
+        specializations: &[Specialization],
+        vertices: &Buffer,
+        indices: &Buffer,
+    ) -> Result<Deferred> {
+        if !context.features.geometry_shader {
+            return Err(Error::Unsupported {
+                device: context.info.name.clone(),
+                what: "render pixel-deferred (primitive ids in the fragment stage)",
+                missing: "the geometryShader feature",
+            });
+        }
+        let visibility_vert = ShaderModule::new(context, "visibility.vert", shaders::VISIBILITY_VERT)?;
+        let visibility_frag = ShaderModule::new(context, "visibility.frag", shaders::VISIBILITY_FRAG)?;
+        let fullscreen = ShaderModule::new(context, "fullscreen.vert", shaders::FULLSCREEN_VERT)?;
+        let deferred_frag = ShaderModule::new(context, "deferred.frag", shaders::DEFERRED_FRAG)?;
+        fn desc<'a>(
+            name: &'a str,
+            stages: Vec<Stage<'a>>,
+            layout: &'a PipelineLayout,
+            vertex_input: bool,
+        ) -> GraphicsPipelineDesc<'a> {
+            GraphicsPipelineDesc {
+                name,
+                stages,
+                layout,
+                // Positions only.
+                vertex_bindings: if vertex_input { &super::VERTEX_BINDINGS } else { &[] },
+                vertex_attributes: if vertex_input { &super::VERTEX_ATTRIBUTES[..1] } else { &[] },
+                topology: vk::PrimitiveTopology::TRIANGLE_LIST,
+                patch_control_points: None,
+                polygon_mode: vk::PolygonMode::FILL,
+                cull_mode: vk::CullModeFlags::NONE,
+                front_face: vk::FrontFace::COUNTER_CLOCKWISE,
+                color_format: Some(COLOR_FORMAT),
+                depth_format: Some(DEPTH_FORMAT),
+                rasterizer_discard: false,
+            }
+        }
+        use vk::ShaderStageFlags as S;
+        let visibility = Pipeline::graphics(
+            context,
+            &desc(
+                "visibility buffer",
+                vec![
+                    Stage { stage: S::VERTEX, module: &visibility_vert, specialization: None },
+                    Stage { stage: S::FRAGMENT, module: &visibility_frag, specialization: None },
+                ],
+                layout,
+                true,
+            ),
+        )?;
+        let mut shade = Vec::with_capacity(specializations.len());
+        for specialization in specializations {
+            shade.push(Pipeline::graphics(
+                context,
+                &desc(
+                    "deferred shading",
+                    vec![
+                        Stage { stage: S::VERTEX, module: &fullscreen, specialization: None },
+                        Stage {
+                            stage: S::FRAGMENT,
+                            module: &deferred_frag,
+                            specialization: Some(specialization),
+                        },
+                    ],
+                    layout,
+                    false,
+                ),
+            )?);
+        }
+        let pool = DescriptorPool::new(
+            context,
+            "deferred descriptors",
+            1,
+            &[
+                vk::DescriptorPoolSize {
+                    ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                    descriptor_count: 1,
+                },
+                vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 2 },
+            ],
+        )?;
+        let set = pool.allocate(layout.set_layouts[2])?;
+        context.name(set, "deferred descriptor set");
+        let buffers = [vertices.raw, indices.raw]
+            .map(|buffer| [vk::DescriptorBufferInfo { buffer, offset: 0, range: vk::WHOLE_SIZE }]);
+        let writes = [1, 2].map(|binding| {
+            vk::WriteDescriptorSet::default()
+                .dst_set(set)
+                .dst_binding(binding)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .buffer_info(&buffers[binding as usize - 1])
+        });
+        // SAFETY: the set was just allocated (idle); the buffers live as long as the renderer.
+        unsafe { context.device.update_descriptor_sets(&writes, &[]) };
+        let sampler = Sampler::trilinear_repeat(context, "id buffer sampler")?;
+        Ok(Deferred {
+            context: context.clone(),
+            visibility,
+            shade,
+            _pool: pool,
+            set,
+            sampler,
+            ids: RefCell::new(None),
+        })
+    }
+
+    /// The id target for `extent`, (re)created and bound to set 2 when the size changes. A
+    /// change waits for the device to be idle (the old target and the set may be in use).
+    fn ids_for(&self, extent: vk::Extent2D) -> Result<std::cell::Ref<'_, RenderTarget>> {
+        let stale = self.ids.borrow().as_ref().is_none_or(|t| t.extent() != extent);
+        if stale {
+            // SAFETY: plain wait; nothing is recorded on this thread meanwhile.
+            unsafe { self.context.device.device_wait_idle() }.map_err(|result| Error::Vulkan {
+                what: "waiting for the device before resizing the visibility buffer",
+                result,
+            })?;
+            let target = RenderTarget::new(&self.context, extent)?;
+            let info = [vk::DescriptorImageInfo {
+                sampler: self.sampler.raw,
+                image_view: target.color.view,
+                image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            }];
+            let write = [vk::WriteDescriptorSet::default()
+                .dst_set(self.set)
+                .dst_binding(0)
+                .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+                .image_info(&info)];
+            // SAFETY: the device is idle, so the set is not in use.
+            unsafe { self.context.device.update_descriptor_sets(&write, &[]) };
+            *self.ids.borrow_mut() = Some(target);
+        }
+        Ok(std::cell::Ref::map(self.ids.borrow(), |t| t.as_ref().expect("just made")))
+    }
+}
+
+impl Renderer {
+    fn deferred(&self) -> Result<&Deferred> {
+        if let Some(deferred) = self.deferred.get() {
+            return Ok(deferred);
+        }
+        let specializations: Vec<Specialization> =
+            self.specializations.iter().map(|(_, s)| s.clone()).collect();
+        let deferred =
+            Deferred::new(&self.context, &self.layout, &specializations, &self.vertices, &self.indices)?;
+        Ok(self.deferred.get_or_init(|| deferred))
+    }
+
+    /// Builds the deferred passes (once).
+    pub(super) fn prepare_deferred(&self) -> Result<()> {
+        self.deferred().map(|_| ())
+    }
+
+    /// Records the id pass into the visibility buffer, leaving it ready to be `after`.
+    fn record_ids(&self, cmd: vk::CommandBuffer, ids: &RenderTarget, view: &View, after: AfterPass) {
+        let deferred = self.deferred.get().expect("prepared");
+        let pick = |_: &super::DrawCall| Some(deferred.visibility.raw);
+        self.record_draws(&pick, cmd, ids, view, [0.0; 4], after);
+    }
+
+    /// `pixel-deferred`: the id pass, then one full-screen shading pass per mesh into `target`.
+    pub(super) fn record_deferred(
+        &self,
+        cmd: vk::CommandBuffer,
+        target: &RenderTarget,
+        view: &View,
+        after: AfterPass,
+    ) {
+        let (Some(deferred), Ok(ids)) = (
+            self.deferred.get(),
+            self.deferred.get().map_or(Err(Error::NoDevice(String::new())), |d| d.ids_for(target.extent())),
+        ) else {
+            debug_assert!(false, "render and the viewer prepare the view first");
+            return;
+        };
+        self.record_ids(cmd, &ids, view, AfterPass::Sampled);
+        let device = &self.context.device;
+        let extent = target.extent();
+        target.begin(device, cmd, self.clear_color);
+        let mut constants = draw_constants(view, extent);
+        // SAFETY: recording inside the rendering begun above; every object is owned by `self`
+        // and outlives the submission.
+        unsafe {
+            device.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                self.layout.raw,
+                0,
+                &[self.descriptor_set],
+                &[],
+            );
+            device.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                self.layout.raw,
+                2,
+                &[deferred.set],
+                &[],
+            );
+            for draw in &self.draws {
+                constants.material_index = draw.material_index;
+                constants.mesh_index = draw.mesh_index;
+                device.cmd_bind_pipeline(
+                    cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    deferred.shade[draw.pipeline].raw,
+                );
+                device.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    self.layout.raw,
+                    1,
+                    &[self.textures.sets[draw.material_index as usize]],
+                    &[],
+                );
+                device.cmd_push_constants(
+                    cmd,
+                    self.layout.raw,
+                    vk::ShaderStageFlags::ALL_GRAPHICS,
+                    0,
+                    bytemuck::bytes_of(&constants),
+                );
+                device.cmd_draw(cmd, 3, 1, 0, 0);
+            }
+        }
+        target.end(device, cmd, after);
+    }
+
+    /// The visibility buffer of `view` at `target`'s size: per pixel (rows from the top),
+    /// `Some((mesh, triangle))` with the triangle's index in its mesh, or `None`.
+    pub fn triangle_ids(&self, target: &RenderTarget, view: &View) -> Result<Vec<Option<(usize, usize)>>> {
+        self.prepare_deferred()?;
+        let image: FloatImage = target
+            .render_and_read(&self.context, |cmd| self.record_ids(cmd, target, view, AfterPass::Readback))?;
+        Ok(image
+            .pixels
+            .iter()
+            .map(|p| {
+                (p[3] > 0.0 && p[0] >= 1.0).then(|| {
+                    let mesh = p[0] as usize - 1;
+                    let first = self.draws[mesh].first_triangle as usize;
+                    (mesh, p[1] as usize - first)
+                })
+            })
+            .collect())
+    }
+}

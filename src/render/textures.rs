@@ -1,0 +1,152 @@
+//! The scene's textures on the GPU: every material's albedo map, parameter map and the
+//! parameter map's min/max pyramid, uploaded with their mip chains, and one descriptor set per
+//! material (set 1 of `glsl/include/bindings.glsl`, bound per draw). A white 1×1 texture
+//! stands in where a material has no texture, so every set is fully written.
+
+use crate::error::Result;
+use crate::gpu_types::GpuMaterial;
+use crate::scene::texture::MipLevel;
+use crate::scene::{Material, MaterialKind, ParameterMapping, Scene};
+use crate::vk::memory::Image;
+use crate::vk::pipeline::DescriptorPool;
+use crate::vk::texture::{upload_image, LevelData, Sampler};
+use crate::vk::Context;
+use ash::vk;
+use glam::{IVec4, Vec3, Vec4};
+use std::sync::Arc;
+
+/// Bindings per material set: albedo map, parameter map, its pyramid.
+const MATERIAL_BINDINGS: u32 = 3;
+
+/// The uploaded images, their sampler and each material's descriptor set.
+pub struct SceneTextures {
+    _images: Vec<Image>,
+    _sampler: Sampler,
+    _pool: DescriptorPool,
+    /// One per material, in scene order.
+    pub sets: Vec<vk::DescriptorSet>,
+}
+
+fn levels_of(levels: &[MipLevel]) -> Vec<LevelData<'_>> {
+    levels.iter().map(|l| LevelData { width: l.width, height: l.height, texels: &l.texels }).collect()
+}
+
+/// The layout of a material set: three combined image samplers, every stage.
+pub fn material_set_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; MATERIAL_BINDINGS as usize] {
+    [0, 1, 2].map(|binding| {
+        vk::DescriptorSetLayoutBinding::default()
+            .binding(binding)
+            .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+            .descriptor_count(1)
+            .stage_flags(vk::ShaderStageFlags::ALL_GRAPHICS)
+    })
+}
+
+impl SceneTextures {
+    /// Uploads every material's textures and writes one set of `layout` per material.
+    pub fn upload(
+        context: &Arc<Context>,
+        scene: &Scene,
+        layout: vk::DescriptorSetLayout,
+    ) -> Result<SceneTextures> {
+        let white = [LevelData { width: 1, height: 1, texels: &[255, 255, 255, 255] }];
+        let mut images = vec![upload_image(context, "white texture", vk::Format::R8G8B8A8_UNORM, &white)?];
+        // Per material: the image index of its albedo map, parameter map and pyramid (0: white).
+        let mut slots = Vec::with_capacity(scene.materials.len());
+        for material in &scene.materials {
+            let mut slot = [0usize; 3];
+            if let Some(albedo) = &material.maps.albedo {
+                let name = format!("albedo map {}", albedo.path.display());
+                images.push(upload_image(
+                    context,
+                    &name,
+                    vk::Format::R8G8B8A8_SRGB,
+                    &levels_of(&albedo.levels),
+                )?);
+                slot[0] = images.len() - 1;
+            }
+            if let Some(map) = &material.maps.parameter {
+                let name = format!("parameter map {}", map.texture.path.display());
+                let levels = levels_of(&map.texture.levels);
+                images.push(upload_image(context, &name, vk::Format::R8_UNORM, &levels)?);
+                slot[1] = images.len() - 1;
+                let name = format!("min/max pyramid of {}", map.texture.path.display());
+                let levels = levels_of(&map.pyramid.levels);
+                images.push(upload_image(context, &name, vk::Format::R8G8_UNORM, &levels)?);
+                slot[2] = images.len() - 1;
+            }
+            slots.push(slot);
+        }
+        let sampler = Sampler::trilinear_repeat(context, "texture sampler")?;
+        let count = scene.materials.len().max(1) as u32;
+        let pool = DescriptorPool::new(
+            context,
+            "material descriptors",
+            count,
+            &[vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                descriptor_count: count * MATERIAL_BINDINGS,
+            }],
+        )?;
+        let mut sets = Vec::with_capacity(slots.len());
+        for (index, slot) in slots.iter().enumerate() {
+            let set = pool.allocate(layout)?;
+            context.name(set, &format!("material {index} textures"));
+            let infos = slot.map(|image| {
+                [vk::DescriptorImageInfo {
+                    sampler: sampler.raw,
+                    image_view: images[image].view,
+                    image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                }]
+            });
+            let writes: Vec<vk::WriteDescriptorSet<'_>> = infos
+                .iter()
+                .enumerate()
+                .map(|(binding, info)| {
+                    vk::WriteDescriptorSet::default()
+                        .dst_set(set)
+                        .dst_binding(binding as u32)
+                        .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+                        .image_info(info)
+                })
+                .collect();
+            // SAFETY: the set was just allocated (idle); views and sampler are kept in `self`.
+            unsafe { context.device.update_descriptor_sets(&writes, &[]) };
+            sets.push(set);
+        }
+        Ok(SceneTextures { _images: images, _sampler: sampler, _pool: pool, sets })
+    }
+
+    /// Whether any material has a texture (the TEXTURED specialization constant).
+    pub fn any(scene: &Scene) -> bool {
+        scene.materials.iter().any(|m| m.maps.albedo.is_some() || m.maps.parameter.is_some())
+    }
+}
+
+/// The shaders' view of a material.
+pub fn gpu_material(material: &Material) -> GpuMaterial {
+    let (diffuse, specular, param) = match material.kind {
+        MaterialKind::Lambert { kd } => (kd, Vec3::ZERO, 0.0),
+        MaterialKind::BlinnPhong { kd, ks, shininess } => (kd, ks, shininess),
+        MaterialKind::Ggx { albedo, f0, roughness } => (albedo, f0, roughness),
+    };
+    let flag = |present: bool| if present { 0 } else { -1 };
+    let (mapping, range) = match &material.maps.parameter {
+        Some(map) => {
+            (i32::from(map.mapping == ParameterMapping::Exponential), Vec4::new(map.lo, map.hi, 0.0, 0.0))
+        }
+        None => (0, Vec4::ZERO),
+    };
+    GpuMaterial {
+        diffuse: diffuse.extend(0.0),
+        specular: specular.extend(0.0),
+        params: Vec4::new(param, 0.0, 0.0, 0.0),
+        maps: IVec4::new(
+            flag(material.maps.albedo.is_some()),
+            flag(material.maps.parameter.is_some()),
+            0,
+            mapping,
+        ),
+        parameter_range: range,
+    }
+}
