@@ -307,8 +307,8 @@ impl App {
         }
     }
 
-    /// Mode keys: P pixel, V vertex, F fixed:N, M multirate, + / - change N (and switch to
-    /// fixed:N).
+    /// Mode keys: P pixel, D pixel-deferred, V vertex, F fixed:N, M multirate, + / - change N
+    /// (and switch to fixed:N).
     fn on_key(&mut self, text: &str) {
         let level = match self.view.mode {
             Mode::Fixed(level) => level,
@@ -316,6 +316,7 @@ impl App {
         };
         self.view.mode = match text.to_ascii_lowercase().as_str() {
             "p" => Mode::Pixel,
+            "d" => Mode::PixelDeferred,
             "v" => Mode::Vertex,
             "f" => Mode::Fixed(level),
             "m" => Mode::Multirate,

@@ -48,7 +48,7 @@ fn window_opens_resizes_and_closes_cleanly() {
     let _display = VirtualDisplay::ensure();
     let scene = common::repo_path("scenes/test/lambert_directional.toml");
     // Heat map, wireframe, vertex mode, then back to fixed:4 (F, then +).
-    let keys = vec![(2, "h"), (4, "w"), (6, "v"), (8, "f"), (9, "+")];
+    let keys = vec![(2, "h"), (4, "w"), (5, "d"), (6, "v"), (8, "f"), (9, "+")];
     let script = ViewScript { keys, resize_at_frame: 3, resize_to: (200, 150), close_at_frame: 12 };
     let scene = Scene::load(&scene).expect("scene loads");
     let start = View { mode: Mode::Fixed(3), ..View::of_scene(&scene) };

@@ -74,6 +74,8 @@ fn draw(points: &[(f64, f64)], epsilon: f64, title: &str, path: &Path) -> std::r
         .map_err(|e| e.to_string())?;
     chart
         .configure_mesh()
+        .light_line_style(RGBColor(240, 240, 240))
+        .bold_line_style(RGBColor(215, 215, 215))
         .x_desc("predicted error (log10, linear radiance)")
         .y_desc("measured error (log10)")
         .draw()
