@@ -3,6 +3,7 @@
 
 pub mod brdf;
 pub mod estimator;
+pub mod polygon;
 pub mod tonemap;
 
 use crate::scene::{Light, MaterialKind};
