@@ -4,6 +4,7 @@
 pub mod brdf;
 pub mod derivatives;
 pub mod estimator;
+pub mod polygon;
 pub mod tonemap;
 
 use crate::scene::{Light, MaterialKind};
