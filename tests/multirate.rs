@@ -8,7 +8,7 @@
 mod common;
 
 use ash::vk;
-use common::{assert_validation_clean, cracks, repo_path, validated_context};
+use common::{assert_validation_clean, cracks, interior_tessellated, repo_path, validated_context};
 use multirate::analysis::report;
 use multirate::render::{Mode, Renderer, View};
 use multirate::scene::Scene;
@@ -92,24 +92,6 @@ fn render(renderer: &Renderer, target: &RenderTarget, view: &View) -> FloatImage
     let image = renderer.render(target, view).expect("render");
     assert!(image.pixels.iter().flatten().all(|v| v.is_finite()), "{:?}: non-finite value", view.mode);
     image
-}
-
-/// Per pixel: whether multirate shades it by interpolation (its heat-map colour is not the
-/// fallback's magenta) — and the same for all 8 neighbours, so that edges between tessellated
-/// and fallback triangles, and silhouettes, are left out.
-fn interior_tessellated(heat: &FloatImage) -> Vec<bool> {
-    let tessellated = |x: u32, y: u32| {
-        let p = heat.pixel(x, y);
-        p[3] == 1.0 && !(p[0] == 1.0 && p[1] == 0.0 && p[2] == 1.0)
-    };
-    let mut mask = vec![false; (heat.width * heat.height) as usize];
-    for y in 1..heat.height - 1 {
-        for x in 1..heat.width - 1 {
-            mask[(y * heat.width + x) as usize] =
-                (0..3).all(|dy| (0..3).all(|dx| tessellated(x + dx - 1, y + dy - 1)));
-        }
-    }
-    mask
 }
 
 #[test]

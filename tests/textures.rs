@@ -8,7 +8,7 @@
 mod common;
 
 use ash::vk;
-use common::{assert_validation_clean, repo_path, validated_context};
+use common::{assert_validation_clean, interior_tessellated, repo_path, validated_context};
 use multirate::render::{Mode, Renderer, View};
 use multirate::scene::Scene;
 use multirate::vk::target::{FloatImage, RenderTarget};
@@ -98,22 +98,6 @@ fn deferred_reference_equals_the_forward_reference() {
         assert!(p999 < 5e-2, "{relative}: 99.9th percentile {p999}");
     }
     assert_validation_clean(&context);
-}
-
-/// Per pixel: multirate interpolates here and at all 8 neighbours (heat map not magenta).
-fn interior_tessellated(heat: &FloatImage) -> Vec<bool> {
-    let tessellated = |x: u32, y: u32| {
-        let p = heat.pixel(x, y);
-        p[3] == 1.0 && !(p[0] == 1.0 && p[1] == 0.0 && p[2] == 1.0)
-    };
-    let mut mask = vec![false; (heat.width * heat.height) as usize];
-    for y in 1..heat.height - 1 {
-        for x in 1..heat.width - 1 {
-            mask[(y * heat.width + x) as usize] =
-                (0..3).all(|dy| (0..3).all(|dx| tessellated(x + dx - 1, y + dy - 1)));
-        }
-    }
-    mask
 }
 
 #[test]

@@ -86,7 +86,7 @@ impl TessellationCapture {
             &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 2 }],
         )?;
         let set = pool.allocate(layout.set_layouts[0])?;
-        bind_storage_buffers(context, set, &[coords.raw, triangles.raw]);
+        bind_storage_buffers(context, set, 0, &[coords.raw, triangles.raw]);
 
         let vert = ShaderModule::new(context, "capture.vert", shaders::CAPTURE_VERT)?;
         let tesc = ShaderModule::new(context, "capture.tesc", shaders::CAPTURE_TESC)?;

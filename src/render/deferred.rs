@@ -10,7 +10,8 @@ use crate::error::{Error, Result};
 use crate::shaders;
 use crate::vk::memory::Buffer;
 use crate::vk::pipeline::{
-    DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderModule, Specialization, Stage,
+    bind_sampled_images, bind_storage_buffers, graphics_binding, DescriptorPool, GraphicsPipelineDesc,
+    Pipeline, PipelineLayout, ShaderModule, Specialization, Stage,
 };
 use crate::vk::target::{AfterPass, FloatImage, RenderTarget, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::vk::texture::Sampler;
@@ -21,23 +22,10 @@ use std::sync::Arc;
 
 /// Set 2 of the forward layout: the id image, the vertices and the indices.
 pub fn deferred_set_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; 3] {
-    let stages = vk::ShaderStageFlags::ALL_GRAPHICS;
     [
-        vk::DescriptorSetLayoutBinding::default()
-            .binding(0)
-            .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
-            .descriptor_count(1)
-            .stage_flags(stages),
-        vk::DescriptorSetLayoutBinding::default()
-            .binding(1)
-            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-            .descriptor_count(1)
-            .stage_flags(stages),
-        vk::DescriptorSetLayoutBinding::default()
-            .binding(2)
-            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-            .descriptor_count(1)
-            .stage_flags(stages),
+        graphics_binding(0, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
+        graphics_binding(1, vk::DescriptorType::STORAGE_BUFFER),
+        graphics_binding(2, vk::DescriptorType::STORAGE_BUFFER),
     ]
 }
 
@@ -143,17 +131,8 @@ impl Deferred {
         )?;
         let set = pool.allocate(layout.set_layouts[2])?;
         context.name(set, "deferred descriptor set");
-        let buffers = [vertices.raw, indices.raw]
-            .map(|buffer| [vk::DescriptorBufferInfo { buffer, offset: 0, range: vk::WHOLE_SIZE }]);
-        let writes = [1, 2].map(|binding| {
-            vk::WriteDescriptorSet::default()
-                .dst_set(set)
-                .dst_binding(binding)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .buffer_info(&buffers[binding as usize - 1])
-        });
-        // SAFETY: the set was just allocated (idle); the buffers live as long as the renderer.
-        unsafe { context.device.update_descriptor_sets(&writes, &[]) };
+        // The set was just allocated (idle); the buffers live as long as the renderer.
+        bind_storage_buffers(context, set, 1, &[vertices.raw, indices.raw]);
         let sampler = Sampler::trilinear_repeat(context, "id buffer sampler")?;
         Ok(Deferred {
             context: context.clone(),
@@ -177,18 +156,8 @@ impl Deferred {
                 result,
             })?;
             let target = RenderTarget::new(&self.context, extent)?;
-            let info = [vk::DescriptorImageInfo {
-                sampler: self.sampler.raw,
-                image_view: target.color.view,
-                image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-            }];
-            let write = [vk::WriteDescriptorSet::default()
-                .dst_set(self.set)
-                .dst_binding(0)
-                .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
-                .image_info(&info)];
-            // SAFETY: the device is idle, so the set is not in use.
-            unsafe { self.context.device.update_descriptor_sets(&write, &[]) };
+            // The device is idle, so the set is not in use.
+            bind_sampled_images(&self.context, self.set, 0, self.sampler.raw, &[target.color.view]);
             *self.ids.borrow_mut() = Some(target);
         }
         Ok(std::cell::Ref::map(self.ids.borrow(), |t| t.as_ref().expect("just made")))
@@ -242,22 +211,8 @@ impl Renderer {
         // SAFETY: recording inside the rendering begun above; every object is owned by `self`
         // and outlives the submission.
         unsafe {
-            device.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.layout.raw,
-                0,
-                &[self.descriptor_set],
-                &[],
-            );
-            device.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.layout.raw,
-                2,
-                &[deferred.set],
-                &[],
-            );
+            self.bind_set(cmd, 0, self.descriptor_set);
+            self.bind_set(cmd, 2, deferred.set);
             for draw in &self.draws {
                 constants.material_index = draw.material_index;
                 constants.mesh_index = draw.mesh_index;
@@ -266,14 +221,7 @@ impl Renderer {
                     vk::PipelineBindPoint::GRAPHICS,
                     deferred.shade[draw.pipeline].raw,
                 );
-                device.cmd_bind_descriptor_sets(
-                    cmd,
-                    vk::PipelineBindPoint::GRAPHICS,
-                    self.layout.raw,
-                    1,
-                    &[self.textures.sets[draw.material_index as usize]],
-                    &[],
-                );
+                self.bind_set(cmd, 1, self.textures.sets[draw.material_index as usize]);
                 device.cmd_push_constants(
                     cmd,
                     self.layout.raw,

@@ -21,8 +21,8 @@ use crate::shading::estimator::{Discontinuity, Split};
 use crate::vk::frames::FrameRing;
 use crate::vk::memory::Buffer;
 use crate::vk::pipeline::{
-    bind_storage_buffers, DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderModule,
-    Specialization, Stage,
+    bind_storage_buffers, graphics_binding, DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout,
+    ShaderModule, Specialization, Stage,
 };
 use crate::vk::target::{AfterPass, FloatImage, RenderTarget, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::vk::timing::{GpuInterval, GpuTimer, PipelineStatistics};
@@ -372,28 +372,7 @@ impl Renderer {
             Buffer::with_data(context, "scene materials", vk::BufferUsageFlags::STORAGE_BUFFER, &materials)?;
 
         let stages = vk::ShaderStageFlags::ALL_GRAPHICS;
-        let bindings = [
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(0)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .descriptor_count(1)
-                .stage_flags(stages),
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(1)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .descriptor_count(1)
-                .stage_flags(stages),
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(2)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .descriptor_count(1)
-                .stage_flags(stages),
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(3)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .descriptor_count(1)
-                .stage_flags(stages),
-        ];
+        let bindings = [0, 1, 2, 3].map(|b| graphics_binding(b, vk::DescriptorType::STORAGE_BUFFER));
         let push = [vk::PushConstantRange::default()
             .stage_flags(stages)
             .size(std::mem::size_of::<DrawConstants>() as u32)];
@@ -416,6 +395,7 @@ impl Renderer {
         bind_storage_buffers(
             context,
             descriptor_set,
+            0,
             &[light_buffer.raw, material_buffer.raw, level_buffer.raw, counter_buffer.raw],
         );
 
@@ -569,14 +549,7 @@ impl Renderer {
         unsafe {
             device.cmd_bind_vertex_buffers(cmd, 0, &[self.vertices.raw], &[0]);
             device.cmd_bind_index_buffer(cmd, self.indices.raw, 0, vk::IndexType::UINT32);
-            device.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.layout.raw,
-                0,
-                &[self.descriptor_set],
-                &[],
-            );
+            self.bind_set(cmd, 0, self.descriptor_set);
             for draw in &self.draws {
                 constants.material_index = draw.material_index;
                 constants.mesh_index = draw.mesh_index;
@@ -585,14 +558,7 @@ impl Renderer {
                     continue;
                 };
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
-                device.cmd_bind_descriptor_sets(
-                    cmd,
-                    vk::PipelineBindPoint::GRAPHICS,
-                    self.layout.raw,
-                    1,
-                    &[self.textures.sets[draw.material_index as usize]],
-                    &[],
-                );
+                self.bind_set(cmd, 1, self.textures.sets[draw.material_index as usize]);
                 let (first_index, index_count, patches, indices_per_primitive) = match view.mode {
                     Mode::Pixel | Mode::Vertex | Mode::PixelDeferred => {
                         (draw.first_index, draw.index_count, u32::MAX, 3)
@@ -806,6 +772,24 @@ impl Renderer {
     pub fn render(&self, target: &RenderTarget, view: &View) -> Result<FloatImage> {
         self.prepare(view)?;
         target.render_and_read(&self.context, |cmd| self.record(cmd, target, view, AfterPass::Readback))
+    }
+}
+
+impl Renderer {
+    /// Binds `set` as set `index` of the forward layout on `cmd` (recording).
+    fn bind_set(&self, cmd: vk::CommandBuffer, index: u32, set: vk::DescriptorSet) {
+        // SAFETY: `cmd` is recording; the set belongs to this renderer's layout and outlives
+        // the submission.
+        unsafe {
+            self.context.device.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                self.layout.raw,
+                index,
+                &[set],
+                &[],
+            )
+        };
     }
 }
 

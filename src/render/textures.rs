@@ -8,7 +8,7 @@ use crate::gpu_types::GpuMaterial;
 use crate::scene::texture::MipLevel;
 use crate::scene::{Material, MaterialKind, ParameterMapping, Scene};
 use crate::vk::memory::Image;
-use crate::vk::pipeline::DescriptorPool;
+use crate::vk::pipeline::{bind_sampled_images, graphics_binding, DescriptorPool};
 use crate::vk::texture::{upload_image, LevelData, Sampler};
 use crate::vk::Context;
 use ash::vk;
@@ -33,13 +33,7 @@ fn levels_of(levels: &[MipLevel]) -> Vec<LevelData<'_>> {
 
 /// The layout of a material set: three combined image samplers, every stage.
 pub fn material_set_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; MATERIAL_BINDINGS as usize] {
-    [0, 1, 2].map(|binding| {
-        vk::DescriptorSetLayoutBinding::default()
-            .binding(binding)
-            .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
-            .descriptor_count(1)
-            .stage_flags(vk::ShaderStageFlags::ALL_GRAPHICS)
-    })
+    [0, 1, 2].map(|binding| graphics_binding(binding, vk::DescriptorType::COMBINED_IMAGE_SAMPLER))
 }
 
 impl SceneTextures {
@@ -92,26 +86,8 @@ impl SceneTextures {
         for (index, slot) in slots.iter().enumerate() {
             let set = pool.allocate(layout)?;
             context.name(set, &format!("material {index} textures"));
-            let infos = slot.map(|image| {
-                [vk::DescriptorImageInfo {
-                    sampler: sampler.raw,
-                    image_view: images[image].view,
-                    image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                }]
-            });
-            let writes: Vec<vk::WriteDescriptorSet<'_>> = infos
-                .iter()
-                .enumerate()
-                .map(|(binding, info)| {
-                    vk::WriteDescriptorSet::default()
-                        .dst_set(set)
-                        .dst_binding(binding as u32)
-                        .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
-                        .image_info(info)
-                })
-                .collect();
-            // SAFETY: the set was just allocated (idle); views and sampler are kept in `self`.
-            unsafe { context.device.update_descriptor_sets(&writes, &[]) };
+            // The set was just allocated (idle); views and sampler are kept in `self`.
+            bind_sampled_images(context, set, 0, sampler.raw, &slot.map(|image| images[image].view));
             sets.push(set);
         }
         Ok(SceneTextures { _images: images, _sampler: sampler, _pool: pool, sets })

@@ -274,25 +274,68 @@ impl DescriptorPool {
     }
 }
 
-/// Points bindings 0, 1, … of `set` at whole storage buffers, in order. The set must not be
-/// in use by pending work.
-pub fn bind_storage_buffers(context: &Context, set: vk::DescriptorSet, buffers: &[vk::Buffer]) {
+/// One descriptor of `ty` at `binding`, visible to every graphics stage.
+pub fn graphics_binding(binding: u32, ty: vk::DescriptorType) -> vk::DescriptorSetLayoutBinding<'static> {
+    vk::DescriptorSetLayoutBinding::default()
+        .binding(binding)
+        .descriptor_type(ty)
+        .descriptor_count(1)
+        .stage_flags(vk::ShaderStageFlags::ALL_GRAPHICS)
+}
+
+/// Points bindings `first`, `first + 1`, … of `set` at whole storage buffers, in order. The
+/// set must not be in use by pending work.
+pub fn bind_storage_buffers(context: &Context, set: vk::DescriptorSet, first: u32, buffers: &[vk::Buffer]) {
     let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
         .iter()
         .map(|&buffer| [vk::DescriptorBufferInfo { buffer, offset: 0, range: vk::WHOLE_SIZE }])
         .collect();
     let writes: Vec<vk::WriteDescriptorSet<'_>> = infos
         .iter()
-        .enumerate()
-        .map(|(binding, info)| {
+        .zip(first..)
+        .map(|(info, binding)| {
             vk::WriteDescriptorSet::default()
                 .dst_set(set)
-                .dst_binding(binding as u32)
+                .dst_binding(binding)
                 .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
                 .buffer_info(info)
         })
         .collect();
     // SAFETY: the caller guarantees the set and buffers are live and the set is idle.
+    unsafe { context.device.update_descriptor_sets(&writes, &[]) };
+}
+
+/// Points bindings `first`, `first + 1`, … of `set` at combined image samplers (views in
+/// `SHADER_READ_ONLY_OPTIMAL`), in order. The set must not be in use by pending work.
+pub fn bind_sampled_images(
+    context: &Context,
+    set: vk::DescriptorSet,
+    first: u32,
+    sampler: vk::Sampler,
+    views: &[vk::ImageView],
+) {
+    let infos: Vec<[vk::DescriptorImageInfo; 1]> = views
+        .iter()
+        .map(|&image_view| {
+            [vk::DescriptorImageInfo {
+                sampler,
+                image_view,
+                image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            }]
+        })
+        .collect();
+    let writes: Vec<vk::WriteDescriptorSet<'_>> = infos
+        .iter()
+        .zip(first..)
+        .map(|(info, binding)| {
+            vk::WriteDescriptorSet::default()
+                .dst_set(set)
+                .dst_binding(binding)
+                .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+                .image_info(info)
+        })
+        .collect();
+    // SAFETY: the caller guarantees the set, sampler and views are live and the set is idle.
     unsafe { context.device.update_descriptor_sets(&writes, &[]) };
 }
 

@@ -105,3 +105,21 @@ pub fn cracks(reference: &FloatImage, image: &FloatImage) -> usize {
     }
     count
 }
+
+/// Per pixel: whether multirate shades it by interpolation (its heat-map colour is not the
+/// fallback's magenta) — and the same for all 8 neighbours, so that edges between tessellated
+/// and fallback triangles, and silhouettes, are left out.
+pub fn interior_tessellated(heat: &FloatImage) -> Vec<bool> {
+    let tessellated = |x: u32, y: u32| {
+        let p = heat.pixel(x, y);
+        p[3] == 1.0 && !(p[0] == 1.0 && p[1] == 0.0 && p[2] == 1.0)
+    };
+    let mut mask = vec![false; (heat.width * heat.height) as usize];
+    for y in 1..heat.height - 1 {
+        for x in 1..heat.width - 1 {
+            mask[(y * heat.width + x) as usize] =
+                (0..3).all(|dy| (0..3).all(|dx| tessellated(x + dx - 1, y + dy - 1)));
+        }
+    }
+    mask
+}
