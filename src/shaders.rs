@@ -25,6 +25,7 @@ pub const CAPTURE_VERT: &[u8] = spirv!("capture.vert");
 pub const CAPTURE_TESC: &[u8] = spirv!("capture.tesc");
 pub const CAPTURE_TESE: &[u8] = spirv!("capture.tese");
 pub const CAPTURE_GEOM: &[u8] = spirv!("capture.geom");
+pub const POLYGON_CHECK_COMP: &[u8] = spirv!("polygon_check.comp");
 
 /// Every embedded module, by stage file name (used by the layout test).
 pub const ALL: &[(&str, &[u8])] = &[
@@ -47,6 +48,7 @@ pub const ALL: &[(&str, &[u8])] = &[
     ("capture.tesc", CAPTURE_TESC),
     ("capture.tese", CAPTURE_TESE),
     ("capture.geom", CAPTURE_GEOM),
+    ("polygon_check.comp", POLYGON_CHECK_COMP),
 ];
 
 /// Decodes SPIR-V bytes into aligned words.

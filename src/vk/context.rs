@@ -256,8 +256,12 @@ impl Context {
             .geometry_shader(features.geometry_shader)
             .vertex_pipeline_stores_and_atomics(features.vertex_pipeline_stores)
             .fragment_stores_and_atomics(features.fragment_stores);
-        let mut vulkan13 =
-            vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(true).synchronization2(true);
+        // maintenance4 (required of every Vulkan 1.3 device) allows the LocalSizeId execution mode
+        // that shaderc emits for compute shaders compiled to SPIR-V 1.6.
+        let mut vulkan13 = vk::PhysicalDeviceVulkan13Features::default()
+            .dynamic_rendering(true)
+            .synchronization2(true)
+            .maintenance4(true);
         let priorities = [1.0f32];
         let queue_info = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(chosen.queue_family)

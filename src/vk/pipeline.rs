@@ -1,5 +1,5 @@
-//! Shader modules, specialization constants, pipeline layouts and graphics pipelines for
-//! dynamic rendering. Every object here destroys itself in `Drop`.
+//! Shader modules, specialization constants, pipeline layouts, graphics pipelines for dynamic
+//! rendering and compute pipelines. Every object here destroys itself in `Drop`.
 
 use super::context::Context;
 use crate::error::{Result, VkContext};
@@ -151,7 +151,7 @@ pub struct GraphicsPipelineDesc<'a> {
     pub rasterizer_discard: bool,
 }
 
-/// A graphics pipeline.
+/// A graphics or compute pipeline.
 pub struct Pipeline {
     context: Arc<Context>,
     pub raw: vk::Pipeline,
@@ -232,6 +232,33 @@ impl Pipeline {
                 .map_err(|(_, result)| result)
                 .while_("creating a graphics pipeline")?[0];
         context.name(raw, desc.name);
+        Ok(Pipeline { context: context.clone(), raw })
+    }
+
+    /// A compute pipeline running `module`'s `main` with `layout`, its constants set by
+    /// `specialization` when given.
+    pub fn compute(
+        context: &Arc<Context>,
+        name: &str,
+        layout: &PipelineLayout,
+        module: &ShaderModule,
+        specialization: Option<&Specialization>,
+    ) -> Result<Pipeline> {
+        let specialization_info = specialization.map(Specialization::info).unwrap_or_default();
+        let mut stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .module(module.raw)
+            .name(ENTRY_POINT);
+        if specialization.is_some() {
+            stage = stage.specialization_info(&specialization_info);
+        }
+        let info = vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout.raw);
+        // SAFETY: every pointer in `info` refers to locals alive for the call.
+        let raw =
+            unsafe { context.device.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) }
+                .map_err(|(_, result)| result)
+                .while_("creating a compute pipeline")?[0];
+        context.name(raw, name);
         Ok(Pipeline { context: context.clone(), raw })
     }
 }
