@@ -322,29 +322,33 @@ fn relative(a: f32, b: f32) -> f32 {
     }
 }
 
-/// The largest ratio of a difference to its tolerance seen so far for one quantity, with that
-/// difference and the case it came from.
+/// The largest difference of one quantity seen so far and the largest ratio of a difference to
+/// its tolerance, each with the case it came from.
 #[derive(Default)]
 struct Worst {
     difference: f32,
+    difference_case: usize,
     ratio: f32,
-    case: usize,
+    ratio_case: usize,
 }
 
 impl Worst {
     /// Records one comparison; returns whether it is within tolerance.
     fn check(&mut self, difference: f32, tolerance: f32, case: usize) -> bool {
+        if difference > self.difference || difference.is_nan() {
+            (self.difference, self.difference_case) = (difference, case);
+        }
         let ratio = if difference == 0.0 { 0.0 } else { difference / tolerance };
-        if !(ratio <= self.ratio) {
-            *self = Worst { difference, ratio, case };
+        if ratio > self.ratio || ratio.is_nan() {
+            (self.ratio, self.ratio_case) = (ratio, case);
         }
         difference <= tolerance
     }
 
     fn report(&self, what: &str) {
         eprintln!(
-            "max {what}: {:.3e} ({:.2} of its tolerance, case {})",
-            self.difference, self.ratio, self.case
+            "{what}: max {:.3e} (case {}); at most {:.2} of its tolerance (case {})",
+            self.difference, self.difference_case, self.ratio, self.ratio_case
         );
     }
 }
