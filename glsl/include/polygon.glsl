@@ -202,7 +202,8 @@ precise float polygon_atan_unit(float t) {
     return offset + poly;
 }
 
-// atan2(y, x) (Rust's `f32::atan2`) to a few ulps, relative also for small results; 0 at (0, 0).
+// atan2(y, x) (Rust's `f32::atan2`) to a few ulps, relative also for small results; at (+-0, +0)
+// it is +-0 and at (+-0, -0) +-pi, like Rust's.
 precise float polygon_atan2(float y, float x) {
     precise float abs_y = abs(y);
     precise float abs_x = abs(x);
@@ -214,7 +215,7 @@ precise float polygon_atan2(float y, float x) {
     } else {
         angle = 1.5707963267948966 - polygon_atan_unit(abs_x / abs_y);
     }
-    if (x < 0.0) {
+    if (polygon_sign_negative(x)) {
         angle = 3.1415926535897932 - angle;
     }
     return polygon_copysign(angle, y);

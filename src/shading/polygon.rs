@@ -1,9 +1,11 @@
 //! Polygonal area lights seen from one shading point: clipping to the horizon, the closed-form
 //! projected solid angle, projected-solid-angle sampling, solid-angle sampling of triangle fans,
-//! clamped optimal MIS weights and a fixed low-discrepancy point set. This is the CPU reference;
-//! a GLSL twin is to be written from it line by line, so everything here is f32, works on
-//! fixed-size arrays with a vertex count, allocates nothing, never recurses and loops only over
-//! fixed bounds.
+//! clamped optimal MIS weights and a fixed low-discrepancy point set. This is the CPU reference of
+//! the GLSL twin `glsl/include/polygon.glsl`, which follows it function for function (so
+//! everything here is f32, works on fixed-size arrays with a vertex count, allocates nothing,
+//! never recurses and loops only over fixed bounds); `tests/polygon_gpu.rs` checks that the two
+//! agree. The twin emulates `mul_add` and `atan2`, which GLSL does not guarantee to the accuracy
+//! used here.
 //!
 //! All directions live in the local shading frame: the shading normal is +z, and a polygon is
 //! given by its vertices relative to the shading point (convex, planar, at most
