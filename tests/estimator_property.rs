@@ -11,6 +11,9 @@
 //! figures (violations, fallback rates, estimator level over oracle level, shading
 //! evaluations). `docs/estimator.md` quotes them.
 
+mod common;
+
+use common::SplitMix64;
 use glam::Vec3;
 use multirate::analysis::oracle::{
     oracle_level, true_error, true_error_sampled, true_error_textured, vertices_at_level,
@@ -29,25 +32,18 @@ const TRIANGLES: usize = 10_000;
 /// Largest level (the scenes' default).
 const N_MAX: u32 = 16;
 
-/// SplitMix64.
-struct Rng(u64);
+type Rng = SplitMix64;
 
-impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-    /// Uniform in [0, 1).
-    fn f(&mut self) -> f32 {
-        (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.f()
-    }
+/// The distributions the random cases draw from.
+trait Draws {
     /// Log-uniform in [lo, hi].
+    fn log(&mut self, lo: f32, hi: f32) -> f32;
+    fn chance(&mut self, p: f32) -> bool;
+    fn unit(&mut self) -> Vec3;
+    fn color(&mut self, lo: f32, hi: f32) -> Vec3;
+}
+
+impl Draws for Rng {
     fn log(&mut self, lo: f32, hi: f32) -> f32 {
         (lo.ln() + (hi.ln() - lo.ln()) * self.f()).exp()
     }
@@ -216,7 +212,7 @@ fn run(brdf: Brdf, seed: u64, count: usize, settings_of: impl Fn(f32) -> Estimat
     let patterns: Vec<Pattern> =
         (0..=N_MAX).map(|n| if n == 0 { Pattern::default() } else { hardware(n) }).collect();
     let pattern_of = |n: u32| patterns[n as usize].clone();
-    let mut rng = Rng(seed);
+    let mut rng = SplitMix64(seed);
     let mut s = Stats::default();
     for index in 0..count {
         let case = random_case(&mut rng, brdf);
@@ -451,7 +447,7 @@ fn parameter_field(rng: &mut Rng, lo: f32, hi: f32) -> impl Fn([f64; 3]) -> f32 
 fn check_textured(brdf: Brdf, seed: u64) {
     let patterns: Vec<Pattern> =
         (0..=N_MAX).map(|n| if n == 0 { Pattern::default() } else { hardware(n) }).collect();
-    let mut rng = Rng(seed);
+    let mut rng = SplitMix64(seed);
     let (mut violations, mut tessellated, mut worst) = (0, 0, 0.0f64);
     let mut worst_case = String::new();
     let start = Instant::now();

@@ -29,7 +29,7 @@
 mod common;
 
 use ash::vk;
-use common::{assert_validation_clean, validated_context};
+use common::{assert_validation_clean, validated_context, SplitMix64};
 use glam::Vec3;
 use gpu_allocator::MemoryLocation;
 use multirate::shaders;
@@ -62,34 +62,12 @@ const HORIZON_ULPS: f32 = 16.0;
 /// Absolute tolerance of MIS weights.
 const WEIGHT_TOLERANCE: f32 = 1.0e-4;
 
-/// SplitMix64: a small, seedable generator.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1).
-    fn unit(&mut self) -> f32 {
-        (self.next_u64() >> 40) as f32 * (1.0 / 16_777_216.0)
-    }
-
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.unit()
-    }
-
-    /// Uniform on the unit sphere.
-    fn direction(&mut self) -> Vec3 {
-        let z = self.range(-1.0, 1.0);
-        let phi = self.range(0.0, std::f32::consts::TAU);
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        Vec3::new(r * phi.cos(), r * phi.sin(), z)
-    }
+/// Uniform on the unit sphere.
+fn direction(rng: &mut SplitMix64) -> Vec3 {
+    let z = rng.range(-1.0, 1.0);
+    let phi = rng.range(0.0, std::f32::consts::TAU);
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
 }
 
 /// One test case: the polygon, the random numbers of both samplers, a probe direction and the
@@ -106,19 +84,19 @@ struct Case {
 /// from 10⁻⁴ to 10× the distance and a random plane orientation.
 fn random_case(rng: &mut SplitMix64) -> Case {
     let count = 3 + (rng.next_u64() % (MAX_POLYGON_VERTICES as u64 - 2)) as usize;
-    let mut centre_direction = rng.direction();
+    let mut centre_direction = direction(rng);
     centre_direction.z = centre_direction.z.abs() * 1.3 - 0.3;
     let centre = centre_direction.normalize() * rng.range(0.5, 4.0);
     let radius = centre.length() * 10f32.powf(rng.range(-4.0, 1.0));
     // Mostly facing the shading point, sometimes any orientation (nearly edge-on included)
-    let normal = if rng.unit() < 0.7 {
-        (-centre.normalize() + 0.6 * rng.direction()).normalize()
+    let normal = if rng.f() < 0.7 {
+        (-centre.normalize() + 0.6 * direction(rng)).normalize()
     } else {
-        rng.direction()
+        direction(rng)
     };
     let tangent = normal.any_orthonormal_vector();
     let bitangent = normal.cross(tangent);
-    let stretch = if rng.unit() < 0.3 { rng.range(0.05, 1.0) } else { 1.0 };
+    let stretch = if rng.f() < 0.3 { rng.range(0.05, 1.0) } else { 1.0 };
     let mut angles: Vec<f32> = (0..count).map(|_| rng.range(0.0, std::f32::consts::TAU)).collect();
     angles.sort_by(f32::total_cmp);
     let vertices: Vec<Vec3> = angles
@@ -126,12 +104,12 @@ fn random_case(rng: &mut SplitMix64) -> Case {
         .map(|&angle| centre + radius * (angle.cos() * tangent + stretch * angle.sin() * bitangent))
         .collect();
     let polygon = Polygon::new(&vertices);
-    let u = [rng.unit(), rng.unit(), rng.unit(), rng.unit()];
+    let u = [rng.f(), rng.f(), rng.f(), rng.f()];
     // Half the probes at the polygon's centre, half random in the upper hemisphere
-    let probe = if rng.unit() < 0.5 {
+    let probe = if rng.f() < 0.5 {
         centre.normalize()
     } else {
-        let d = rng.direction();
+        let d = direction(rng);
         Vec3::new(d.x, d.y, d.z.abs())
     };
     let point_count = 1 + (rng.next_u64() % 4096) as u32;
