@@ -41,11 +41,16 @@ void main() {
     }
     BarycentricDerivatives b =
         barycentric_derivatives(clip[0], clip[1], clip[2], gl_FragCoord.xy, draw.viewport.xy);
-    vec3 position = b.lambda.x * p[0] + b.lambda.y * p[1] + b.lambda.z * p[2];
-    vec3 normal = b.lambda.x * n[0] + b.lambda.y * n[1] + b.lambda.z * n[2];
-    vec2 uv = b.lambda.x * t[0] + b.lambda.y * t[1] + b.lambda.z * t[2];
-    vec2 duv_dx = b.ddx.x * t[0] + b.ddx.y * t[1] + b.ddx.z * t[2];
-    vec2 duv_dy = b.ddy.x * t[0] + b.ddy.y * t[1] + b.ddy.z * t[2];
+    vec3 position;
+    vec3 normal;
+    vec2 uv;
+    vec3 unused_dx;
+    vec3 unused_dy;
+    vec2 duv_dx;
+    vec2 duv_dy;
+    interpolate3(b, p[0], p[1], p[2], position, unused_dx, unused_dy);
+    interpolate3(b, n[0], n[1], n[2], normal, unused_dx, unused_dy);
+    interpolate2(b, t[0], t[1], t[2], uv, duv_dx, duv_dy);
     if ((draw.flags & FLAG_DERIVATIVE_CHECK) != 0u) {
         // One-pixel differences within the quad, as the rasteriser's derivatives are taken;
         // blue marks quads whose pixels lie on different triangles (the rasteriser would have

@@ -39,11 +39,11 @@ float lod_bound_of(vec2 a, vec2 b, vec2 c, vec2 size) {
 
 // The range of the material's shininess or roughness over the triangle's texels (seed 003
 // Sec. 3.5), from the min/max pyramid; the material's own value without a map.
-vec2 parameter_range_of(GpuMaterial m, vec2 p, vec2 q, vec2 r) {
+// `bound`: the triangle's lod_bound_of.
+vec2 parameter_range_of(GpuMaterial m, vec2 p, vec2 q, vec2 r, float bound) {
     if (!TEXTURED || m.maps.y < 0) {
         return vec2(m.params.x);
     }
-    float bound = lod_bound_of(p, q, r, vec2(textureSize(parameter_map, 0)));
     vec2 u = parameter_bounds(min(min(p, q), r), max(max(p, q), r), bound);
     P float lo = m.parameter_range.x;
     P float hi = m.parameter_range.y;
@@ -65,11 +65,22 @@ void main() {
     out_uv[gl_InvocationID] = in_uv[gl_InvocationID];
     if (gl_InvocationID == 0) {
         GpuMaterial material = materials[draw.material_index];
+        bool mapped = TEXTURED && material.maps.y >= 0;
+        vec2 map_size = mapped ? vec2(textureSize(parameter_map, 0)) : vec2(1.0);
         // The triangle itself (t = 0) and its neighbours across edges 0, 1, 2.
         float levels[4];
+        float own_lod_bound = 0.0;
         for (int t = 0; t < 4; ++t) {
             int first = 3 * t;
-            vec2 range = parameter_range_of(material, in_uv[first], in_uv[first + 1], in_uv[first + 2]);
+            float bound = 0.0;
+            if (mapped) {
+                bound = lod_bound_of(in_uv[first], in_uv[first + 1], in_uv[first + 2], map_size);
+            }
+            if (t == 0) {
+                own_lod_bound = bound;
+            }
+            vec2 range =
+                parameter_range_of(material, in_uv[first], in_uv[first + 1], in_uv[first + 2], bound);
             levels[t] = required_level(
                 in_position[first], in_position[first + 1], in_position[first + 2],
                 in_normal[first], in_normal[first + 1], in_normal[first + 2],
@@ -84,11 +95,7 @@ void main() {
         patch_level = levels_of_patch.fallback ? 0.0 : ceil(levels_of_patch.inner);
         // The evaluation stage samples no coarser than this (a little finer than the bound the
         // range above covers, for the sampler's fixed-point level of detail).
-        parameter_lod_bound = 0.0;
-        if (TEXTURED && material.maps.y >= 0) {
-            parameter_lod_bound = lod_bound_of(in_uv[0], in_uv[1], in_uv[2],
-                vec2(textureSize(parameter_map, 0))) - 0.02;
-        }
+        parameter_lod_bound = mapped ? own_lod_bound - 0.02 : 0.0;
         if (RECORD_LEVELS) {
             // Note: lavapipe (Mesa 22.3) restarts gl_PrimitiveID every 85 twelve-point patches
             // within a draw, so the recording draws must not be longer than that there.

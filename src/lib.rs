@@ -16,6 +16,8 @@ pub mod render;
 pub mod scene;
 pub mod shaders;
 pub mod shading;
+#[cfg(test)]
+mod test_rng;
 pub mod vk;
 pub mod window;
 

@@ -241,7 +241,7 @@ impl App {
         }
         let mut view = self.view.clone();
         view.camera = self.orbit.apply(&self.scene.camera);
-        state.renderer.prepare(&view)?;
+        state.renderer.prepare(&view, &state.target)?;
         state.renderer.record(frame.cmd, &state.target, &view, AfterPass::Sampled);
         state.present.record(
             frame.cmd,

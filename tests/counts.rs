@@ -81,6 +81,10 @@ fn pixel_and_vertex_modes_count_fragments_and_vertices() {
     assert!(covered > 100, "the triangle covers part of the image ({covered} pixels)");
     let counted = renderer.count_evaluations(&target, &pixel).expect("count");
     assert_eq!(counted, EvaluationCounts { fragments: covered, ..Default::default() });
+    // The deferred reference shades each covered pixel once too, in its full-screen pass.
+    let deferred = View { mode: Mode::PixelDeferred, ..pixel.clone() };
+    let counted = renderer.count_evaluations(&target, &deferred).expect("count deferred");
+    assert_eq!(counted, EvaluationCounts { fragments: covered, ..Default::default() });
 
     let vertex = View { mode: Mode::Vertex, ..View::of_scene(&scene) };
     let counted = renderer.count_evaluations(&target, &vertex).expect("count");

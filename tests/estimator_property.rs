@@ -19,7 +19,7 @@ use multirate::analysis::oracle::{
     oracle_level, true_error, true_error_sampled, true_error_textured, vertices_at_level,
 };
 use multirate::analysis::tessellator::{triangle_pattern, Pattern};
-use multirate::scene::{Light, MaterialKind};
+use multirate::scene::{with_parameter, Light, MaterialKind};
 use multirate::shading::estimator::{
     estimate, estimate_textured, Discontinuity, EstimatorSettings, ParameterRange, Reason, Split, Term,
     TriangleInput,
@@ -466,13 +466,7 @@ fn check_textured(brdf: Brdf, seed: u64) {
         };
         let field = parameter_field(&mut rng, lo, hi);
         let material = case.material;
-        let material_at = |b: [f64; 3]| match material {
-            MaterialKind::BlinnPhong { kd, ks, .. } => {
-                MaterialKind::BlinnPhong { kd, ks, shininess: field(b) }
-            }
-            MaterialKind::Ggx { albedo, f0, .. } => MaterialKind::Ggx { albedo, f0, roughness: field(b) },
-            other => other,
-        };
+        let material_at = |b: [f64; 3]| with_parameter(&material, field(b));
         let settings = conservative(case.epsilon);
         let range = ParameterRange { lo, hi };
         let est = estimate_textured(&case.tri, &case.material, range, &case.lights, &settings);

@@ -89,11 +89,8 @@ fn random_case(rng: &mut SplitMix64) -> Case {
     let centre = centre_direction.normalize() * rng.range(0.5, 4.0);
     let radius = centre.length() * 10f32.powf(rng.range(-4.0, 1.0));
     // Mostly facing the shading point, sometimes any orientation (nearly edge-on included)
-    let normal = if rng.f() < 0.7 {
-        (-centre.normalize() + 0.6 * direction(rng)).normalize()
-    } else {
-        direction(rng)
-    };
+    let normal =
+        if rng.f() < 0.7 { (-centre.normalize() + 0.6 * direction(rng)).normalize() } else { direction(rng) };
     let tangent = normal.any_orthonormal_vector();
     let bitangent = normal.cross(tangent);
     let stretch = if rng.f() < 0.3 { rng.range(0.05, 1.0) } else { 1.0 };

@@ -54,8 +54,10 @@ float subvertex_lod(GpuMaterial m, vec3 p[3], vec2 uv[3], vec3 position, float l
     vec2 pixel = (clip.xy / clip.w * 0.5 + 0.5) * draw.viewport.xy;
     BarycentricDerivatives b = barycentric_derivatives(draw.view_proj * vec4(p[0], 1.0),
         draw.view_proj * vec4(p[1], 1.0), draw.view_proj * vec4(p[2], 1.0), pixel, draw.viewport.xy);
-    vec2 duv_dx = uv[0] * b.ddx.x + uv[1] * b.ddx.y + uv[2] * b.ddx.z;
-    vec2 duv_dy = uv[0] * b.ddy.x + uv[1] * b.ddy.y + uv[2] * b.ddy.z;
+    vec2 at_subvertex;
+    vec2 duv_dx;
+    vec2 duv_dy;
+    interpolate2(b, uv[0], uv[1], uv[2], at_subvertex, duv_dx, duv_dy);
     float pixel_lod = texture_lod(duv_dx, duv_dy, size);
     float edge = max(max(length((uv[1] - uv[0]) * size), length((uv[2] - uv[1]) * size)),
                      length((uv[0] - uv[2]) * size));

@@ -5,7 +5,7 @@
 //! their screen derivatives analytically (seed 002, `glsl/include/derivatives.glsl`) and shades.
 //! The same id buffer gives `analyze --measured` each pixel's triangle.
 
-use super::{draw_constants, Renderer, View};
+use super::{draw_constants, Instrumentation, Renderer, View};
 use crate::error::{Error, Result};
 use crate::shaders;
 use crate::vk::memory::Buffer;
@@ -33,8 +33,9 @@ pub fn deferred_set_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; 3] {
 pub struct Deferred {
     context: Arc<Context>,
     visibility: Pipeline,
-    /// One per material kind, in the renderer's variant order.
-    shade: Vec<Pipeline>,
+    /// Per material kind, in the renderer's variant order: `[0]` plain, `[1]` counting
+    /// (empty where the device cannot count).
+    shade: [Vec<Pipeline>; 2],
     _pool: DescriptorPool,
     pub set: vk::DescriptorSet,
     sampler: Sampler,
@@ -98,24 +99,35 @@ impl Deferred {
                 true,
             ),
         )?;
-        let mut shade = Vec::with_capacity(specializations.len());
-        for specialization in specializations {
-            shade.push(Pipeline::graphics(
-                context,
-                &desc(
-                    "deferred shading",
-                    vec![
-                        Stage { stage: S::VERTEX, module: &fullscreen, specialization: None },
-                        Stage {
-                            stage: S::FRAGMENT,
-                            module: &deferred_frag,
-                            specialization: Some(specialization),
-                        },
-                    ],
-                    layout,
-                    false,
-                ),
-            )?);
+        // One shading pipeline per material kind, and per kind a counting one where the device
+        // can count (the `count_evaluations` variant, COUNT_EVALUATIONS).
+        let counts = context.features.vertex_pipeline_stores && context.features.fragment_stores;
+        let instrumentations: &[Instrumentation] = if counts {
+            &[Instrumentation::None, Instrumentation::CountEvaluations]
+        } else {
+            &[Instrumentation::None]
+        };
+        let mut shade = [Vec::new(), Vec::new()];
+        for (&instrumentation, pipelines) in instrumentations.iter().zip(&mut shade) {
+            for specialization in specializations {
+                let specialization = instrumentation.specialize(specialization);
+                pipelines.push(Pipeline::graphics(
+                    context,
+                    &desc(
+                        "deferred shading",
+                        vec![
+                            Stage { stage: S::VERTEX, module: &fullscreen, specialization: None },
+                            Stage {
+                                stage: S::FRAGMENT,
+                                module: &deferred_frag,
+                                specialization: Some(&specialization),
+                            },
+                        ],
+                        layout,
+                        false,
+                    ),
+                )?);
+            }
         }
         let pool = DescriptorPool::new(
             context,
@@ -145,22 +157,23 @@ impl Deferred {
         })
     }
 
-    /// The id target for `extent`, (re)created and bound to set 2 when the size changes. A
-    /// change waits for the device to be idle (the old target and the set may be in use).
-    fn ids_for(&self, extent: vk::Extent2D) -> Result<std::cell::Ref<'_, RenderTarget>> {
-        let stale = self.ids.borrow().as_ref().is_none_or(|t| t.extent() != extent);
-        if stale {
-            // SAFETY: plain wait; nothing is recorded on this thread meanwhile.
-            unsafe { self.context.device.device_wait_idle() }.map_err(|result| Error::Vulkan {
-                what: "waiting for the device before resizing the visibility buffer",
-                result,
-            })?;
-            let target = RenderTarget::new(&self.context, extent)?;
-            // The device is idle, so the set is not in use.
-            bind_sampled_images(&self.context, self.set, 0, self.sampler.raw, &[target.color.view]);
-            *self.ids.borrow_mut() = Some(target);
+    /// Makes the id target `extent`-sized, (re)creating it and binding it to set 2 when the
+    /// size changes. A change waits for the device to be idle (the old target and the set may
+    /// be in use).
+    fn size_ids(&self, extent: vk::Extent2D) -> Result<()> {
+        if self.ids.borrow().as_ref().is_some_and(|t| t.extent() == extent) {
+            return Ok(());
         }
-        Ok(std::cell::Ref::map(self.ids.borrow(), |t| t.as_ref().expect("just made")))
+        // SAFETY: plain wait; nothing is recorded on this thread meanwhile.
+        unsafe { self.context.device.device_wait_idle() }.map_err(|result| Error::Vulkan {
+            what: "waiting for the device before resizing the visibility buffer",
+            result,
+        })?;
+        let target = RenderTarget::new(&self.context, extent)?;
+        // The device is idle, so the set is not in use.
+        bind_sampled_images(&self.context, self.set, 0, self.sampler.raw, &[target.color.view]);
+        *self.ids.borrow_mut() = Some(target);
+        Ok(())
     }
 }
 
@@ -176,9 +189,9 @@ impl Renderer {
         Ok(self.deferred.get_or_init(|| deferred))
     }
 
-    /// Builds the deferred passes (once).
-    pub(super) fn prepare_deferred(&self) -> Result<()> {
-        self.deferred().map(|_| ())
+    /// Builds the deferred passes (once) and sizes the id target for `extent`.
+    pub(super) fn prepare_deferred(&self, extent: vk::Extent2D) -> Result<()> {
+        self.deferred()?.size_ids(extent)
     }
 
     /// Records the id pass into the visibility buffer, leaving it ready to be `after`.
@@ -188,22 +201,28 @@ impl Renderer {
         self.record_draws(&pick, cmd, ids, view, [0.0; 4], after);
     }
 
-    /// `pixel-deferred`: the id pass, then one full-screen shading pass per mesh into `target`.
+    /// `pixel-deferred`: the id pass, then one full-screen shading pass per mesh into `target`,
+    /// with the counting pipelines for `Instrumentation::CountEvaluations`. `prepare` must
+    /// have run for `target`'s size.
     pub(super) fn record_deferred(
         &self,
+        instrumentation: Instrumentation,
         cmd: vk::CommandBuffer,
         target: &RenderTarget,
         view: &View,
         after: AfterPass,
     ) {
-        let (Some(deferred), Ok(ids)) = (
-            self.deferred.get(),
-            self.deferred.get().map_or(Err(Error::NoDevice(String::new())), |d| d.ids_for(target.extent())),
-        ) else {
-            debug_assert!(false, "render and the viewer prepare the view first");
+        let Some(deferred) = self.deferred.get() else {
+            debug_assert!(false, "render, measure and the viewer prepare the view first");
             return;
         };
-        self.record_ids(cmd, &ids, view, AfterPass::Sampled);
+        let ids = deferred.ids.borrow();
+        let Some(ids) = ids.as_ref().filter(|ids| ids.extent() == target.extent()) else {
+            debug_assert!(false, "prepare sizes the id target for the target");
+            return;
+        };
+        let shade = &deferred.shade[usize::from(instrumentation == Instrumentation::CountEvaluations)];
+        self.record_ids(cmd, ids, view, AfterPass::Sampled);
         let device = &self.context.device;
         let extent = target.extent();
         target.begin(device, cmd, self.clear_color);
@@ -216,11 +235,7 @@ impl Renderer {
             for draw in &self.draws {
                 constants.material_index = draw.material_index;
                 constants.mesh_index = draw.mesh_index;
-                device.cmd_bind_pipeline(
-                    cmd,
-                    vk::PipelineBindPoint::GRAPHICS,
-                    deferred.shade[draw.pipeline].raw,
-                );
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, shade[draw.pipeline].raw);
                 self.bind_set(cmd, 1, self.textures.sets[draw.material_index as usize]);
                 device.cmd_push_constants(
                     cmd,
@@ -238,7 +253,7 @@ impl Renderer {
     /// The visibility buffer of `view` at `target`'s size: per pixel (rows from the top),
     /// `Some((mesh, triangle))` with the triangle's index in its mesh, or `None`.
     pub fn triangle_ids(&self, target: &RenderTarget, view: &View) -> Result<Vec<Option<(usize, usize)>>> {
-        self.prepare_deferred()?;
+        self.deferred()?;
         let image: FloatImage = target
             .render_and_read(&self.context, |cmd| self.record_ids(cmd, target, view, AfterPass::Readback))?;
         Ok(image

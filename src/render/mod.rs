@@ -226,7 +226,9 @@ impl Variant {
     /// The pipeline of `view` (None: a multirate pipeline not yet prepared).
     fn for_view(&self, view: &View) -> Option<&Pipeline> {
         match view.mode {
-            Mode::Pixel | Mode::PixelDeferred => Some(&self.pixel),
+            Mode::Pixel => Some(&self.pixel),
+            // Drawn by `record_deferred`, with its own pipelines.
+            Mode::PixelDeferred => None,
             Mode::Vertex => Some(&self.vertex),
             Mode::Fixed(_) => Some(&self.tessellated),
             Mode::Multirate => self.multirate_cell(view).get(),
@@ -465,10 +467,11 @@ impl Renderer {
         self.record_with(variants, cmd, target, view, after);
     }
 
-    /// Builds the pipelines `view` needs that are built on first use (multirate mode).
-    pub fn prepare(&self, view: &View) -> Result<()> {
+    /// Builds what `view` needs that is built on first use (the multirate pipelines, the
+    /// deferred passes) and sizes the deferred id target for `target`.
+    pub fn prepare(&self, view: &View, target: &RenderTarget) -> Result<()> {
         if view.mode == Mode::PixelDeferred {
-            self.prepare_deferred()?;
+            self.prepare_deferred(target.extent())?;
         }
         if view.mode == Mode::Multirate {
             let wireframe = self.wireframe_variants.as_ref().filter(|_| view.wireframe);
@@ -523,7 +526,8 @@ impl Renderer {
         after: AfterPass,
     ) {
         if view.mode == Mode::PixelDeferred {
-            self.record_deferred(cmd, target, view, after);
+            let instrumentation = variants.first().map_or(Instrumentation::None, |v| v.instrumentation);
+            self.record_deferred(instrumentation, cmd, target, view, after);
             return;
         }
         let pick = |draw: &DrawCall| variants[draw.pipeline].for_view(view).map(|p| p.raw);
@@ -645,7 +649,7 @@ impl Renderer {
         warmup: u32,
         frames: u32,
     ) -> Result<Measurement> {
-        self.prepare(view)?;
+        self.prepare(view, target)?;
         let timer = GpuTimer::new(&self.context, 1, FRAMES_IN_FLIGHT as u32)?;
         let mut ring = FrameRing::new(&self.context, FRAMES_IN_FLIGHT)?;
         let mut measurement = Measurement::default();
@@ -709,6 +713,7 @@ impl Renderer {
                 self.counting_variants.get_or_init(|| variants)
             }
         };
+        self.prepare(view, target)?;
         if view.mode == Mode::Multirate {
             self.prepare_variants(counting, view)?;
         }
@@ -770,7 +775,7 @@ impl Renderer {
 
     /// Renders one frame into `target` and reads the float image back.
     pub fn render(&self, target: &RenderTarget, view: &View) -> Result<FloatImage> {
-        self.prepare(view)?;
+        self.prepare(view, target)?;
         target.render_and_read(&self.context, |cmd| self.record(cmd, target, view, AfterPass::Readback))
     }
 }

@@ -185,7 +185,11 @@ impl ParameterMap {
     /// uses the estimator's `est_pow`, as the control stage does, so that the two agree bit
     /// for bit.
     pub fn value(&self, u: f32) -> f32 {
-        map_parameter(self.mapping, self.lo, self.hi, u)
+        let (lo, hi) = (self.lo, self.hi);
+        match self.mapping {
+            ParameterMapping::Exponential => lo * crate::shading::estimator::est_pow(hi / lo, u),
+            ParameterMapping::Linear => lo + (hi - lo) * u,
+        }
     }
 }
 
@@ -216,14 +220,6 @@ pub fn with_parameter(material: &MaterialKind, parameter: f32) -> MaterialKind {
         MaterialKind::Lambert { kd } => MaterialKind::Lambert { kd },
         MaterialKind::BlinnPhong { kd, ks, .. } => MaterialKind::BlinnPhong { kd, ks, shininess: parameter },
         MaterialKind::Ggx { albedo, f0, .. } => MaterialKind::Ggx { albedo, f0, roughness: parameter },
-    }
-}
-
-/// [`ParameterMap::value`] without the texture.
-pub fn map_parameter(mapping: ParameterMapping, lo: f32, hi: f32, u: f32) -> f32 {
-    match mapping {
-        ParameterMapping::Exponential => lo * crate::shading::estimator::est_pow(hi / lo, u),
-        ParameterMapping::Linear => lo + (hi - lo) * u,
     }
 }
 

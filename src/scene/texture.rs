@@ -596,28 +596,7 @@ mod tests {
         }
     }
 
-    struct Rng(u64);
-
-    impl Rng {
-        fn f(&mut self) -> f32 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            ((self.0 >> 40) as f32) / (1u64 << 24) as f32
-        }
-
-        fn range(&mut self, lo: f32, hi: f32) -> f32 {
-            lo + (hi - lo) * self.f()
-        }
-
-        fn below(&mut self, n: u32) -> u32 {
-            ((self.f() * n as f32) as u32).min(n - 1)
-        }
-
-        fn byte(&mut self) -> u8 {
-            self.below(256) as u8
-        }
-    }
+    use crate::test_rng::Rng;
 
     fn parameter(width: u32, height: u32, texels: Vec<u8>) -> Texture {
         Texture::from_level0(PathBuf::from("test.png"), TextureUsage::Parameter, width, height, texels)

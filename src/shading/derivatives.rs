@@ -118,24 +118,7 @@ mod tests {
 
     const VIEWPORT: Vec2 = Vec2::new(1280.0, 720.0);
 
-    struct Rng(u64);
-
-    impl Rng {
-        fn f(&mut self) -> f32 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            ((self.0 >> 40) as f32) / (1u64 << 24) as f32
-        }
-
-        fn range(&mut self, lo: f32, hi: f32) -> f32 {
-            lo + (hi - lo) * self.f()
-        }
-
-        fn point(&mut self, lo: Vec3, hi: Vec3) -> Vec3 {
-            Vec3::new(self.range(lo.x, hi.x), self.range(lo.y, hi.y), self.range(lo.z, hi.z))
-        }
-    }
+    use crate::test_rng::Rng;
 
     fn view_projection() -> Mat4 {
         let aspect = VIEWPORT.x / VIEWPORT.y;

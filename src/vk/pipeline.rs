@@ -317,19 +317,9 @@ pub fn bind_storage_buffers(context: &Context, set: vk::DescriptorSet, first: u3
         .iter()
         .map(|&buffer| [vk::DescriptorBufferInfo { buffer, offset: 0, range: vk::WHOLE_SIZE }])
         .collect();
-    let writes: Vec<vk::WriteDescriptorSet<'_>> = infos
-        .iter()
-        .zip(first..)
-        .map(|(info, binding)| {
-            vk::WriteDescriptorSet::default()
-                .dst_set(set)
-                .dst_binding(binding)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .buffer_info(info)
-        })
-        .collect();
-    // SAFETY: the caller guarantees the set and buffers are live and the set is idle.
-    unsafe { context.device.update_descriptor_sets(&writes, &[]) };
+    write_each(context, set, first, vk::DescriptorType::STORAGE_BUFFER, &infos, |w, info| {
+        w.buffer_info(info)
+    });
 }
 
 /// Points bindings `first`, `first + 1`, … of `set` at combined image samplers (views in
@@ -351,18 +341,31 @@ pub fn bind_sampled_images(
             }]
         })
         .collect();
-    let writes: Vec<vk::WriteDescriptorSet<'_>> = infos
+    write_each(context, set, first, vk::DescriptorType::COMBINED_IMAGE_SAMPLER, &infos, |w, info| {
+        w.image_info(info)
+    });
+}
+
+/// One descriptor write of `ty` per entry of `infos`, at bindings `first`, `first + 1`, …
+fn write_each<'a, I>(
+    context: &Context,
+    set: vk::DescriptorSet,
+    first: u32,
+    ty: vk::DescriptorType,
+    infos: &'a [I],
+    attach: impl Fn(vk::WriteDescriptorSet<'a>, &'a I) -> vk::WriteDescriptorSet<'a>,
+) {
+    let writes: Vec<vk::WriteDescriptorSet<'a>> = infos
         .iter()
         .zip(first..)
         .map(|(info, binding)| {
-            vk::WriteDescriptorSet::default()
-                .dst_set(set)
-                .dst_binding(binding)
-                .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
-                .image_info(info)
+            attach(
+                vk::WriteDescriptorSet::default().dst_set(set).dst_binding(binding).descriptor_type(ty),
+                info,
+            )
         })
         .collect();
-    // SAFETY: the caller guarantees the set, sampler and views are live and the set is idle.
+    // SAFETY: the callers guarantee the set and what the infos name are live and the set is idle.
     unsafe { context.device.update_descriptor_sets(&writes, &[]) };
 }
 
