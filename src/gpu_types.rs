@@ -14,6 +14,20 @@ pub struct GpuLight {
     pub radiance: Vec4,
 }
 
+/// A polygonal area light as the shaders read it (std430).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuPolygonLight {
+    /// xyz: world positions; the first `info.x` are the vertices in order.
+    pub vertices: [Vec4; 8],
+    /// xyz: unit normal of the emitting side; w: area.
+    pub normal: Vec4,
+    /// rgb: emitted radiance.
+    pub radiance: Vec4,
+    /// x: vertex count.
+    pub info: IVec4,
+}
+
 /// A material as the shaders read it (std430).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -48,7 +62,8 @@ pub struct DrawConstants {
     /// Bit 0 ([`FLAG_HEAT_MAP`]): show the level heat map instead of shading; bit 1
     /// ([`FLAG_DERIVATIVE_CHECK`]): see [`crate::render::View::derivative_check`].
     pub flags: u32,
-    pub pad0: u32,
+    /// Emitter draws: index of the polygonal light drawn.
+    pub light_index: u32,
     pub pad1: u32,
     pub pad2: u32,
 }

@@ -26,6 +26,7 @@ pub const CAPTURE_TESC: &[u8] = spirv!("capture.tesc");
 pub const CAPTURE_TESE: &[u8] = spirv!("capture.tese");
 pub const CAPTURE_GEOM: &[u8] = spirv!("capture.geom");
 pub const POLYGON_CHECK_COMP: &[u8] = spirv!("polygon_check.comp");
+pub const EMITTER_FRAG: &[u8] = spirv!("emitter.frag");
 
 /// Every embedded module, by stage file name (used by the layout test).
 pub const ALL: &[(&str, &[u8])] = &[
@@ -49,6 +50,7 @@ pub const ALL: &[(&str, &[u8])] = &[
     ("capture.tese", CAPTURE_TESE),
     ("capture.geom", CAPTURE_GEOM),
     ("polygon_check.comp", POLYGON_CHECK_COMP),
+    ("emitter.frag", EMITTER_FRAG),
 ];
 
 /// Decodes SPIR-V bytes into aligned words.

@@ -2,7 +2,7 @@
 //! The member offsets and array strides are read out of the embedded SPIR-V (OpMemberDecorate
 //! Offset, OpDecorate ArrayStride) and compared with `offset_of!` and `size_of`.
 
-use multirate::gpu_types::{DrawConstants, GpuLight, GpuMaterial};
+use multirate::gpu_types::{DrawConstants, GpuLight, GpuMaterial, GpuPolygonLight};
 use multirate::shaders;
 use std::collections::HashMap;
 use std::mem::{offset_of, size_of};
@@ -120,6 +120,21 @@ fn gpu_light_matches_glsl() {
 }
 
 #[test]
+fn gpu_polygon_light_matches_glsl() {
+    let checked = check_struct(
+        "GpuPolygonLight",
+        &[
+            ("vertices", offset_of!(GpuPolygonLight, vertices)),
+            ("normal", offset_of!(GpuPolygonLight, normal)),
+            ("radiance", offset_of!(GpuPolygonLight, radiance)),
+            ("info", offset_of!(GpuPolygonLight, info)),
+        ],
+        size_of::<GpuPolygonLight>(),
+    );
+    assert!(checked > 0, "no shader declares GpuPolygonLight");
+}
+
+#[test]
 fn gpu_material_matches_glsl() {
     let checked = check_struct(
         "GpuMaterial",
@@ -148,7 +163,7 @@ fn draw_constants_match_glsl() {
             ("fixed_level", offset_of!(DrawConstants, fixed_level)),
             ("patch_base", offset_of!(DrawConstants, patch_base)),
             ("flags", offset_of!(DrawConstants, flags)),
-            ("pad0", offset_of!(DrawConstants, pad0)),
+            ("light_index", offset_of!(DrawConstants, light_index)),
             ("pad1", offset_of!(DrawConstants, pad1)),
             ("pad2", offset_of!(DrawConstants, pad2)),
         ],

@@ -9,6 +9,7 @@ layout(set = 0, binding = 1, std430) readonly buffer Materials { GpuMaterial mat
 // triangle, x = the level it shades at (0: per-pixel fallback), yzw = its outer levels.
 layout(set = 0, binding = 2, std430) writeonly buffer LevelRecords { vec4 level_records[]; };
 layout(push_constant, std430) uniform Push { DrawConstants draw; };
+layout(set = 0, binding = 4, std430) readonly buffer PolygonLights { GpuPolygonLight polygon_lights[]; };
 
 // The counting variant (COUNT_EVALUATIONS) adds one to these for every run of the full shading
 // function, by where it ran. The timed variants compile the counting out.

@@ -1,6 +1,7 @@
 // The three BRDFs of the paper (seed 003 Eq. 16, 24, 30) and their sum over the scene's lights.
 // Textures are read in texturing.glsl.
-// Rust twin: `src/shading/brdf.rs` and `src/shading/mod.rs`. Keep the two in step, operation
+// Rust twin: `src/shading/brdf.rs` and `src/shading/mod.rs` (polygonal lights:
+// polygon_light.glsl). Keep the two in step, operation
 // for operation: a GPU test compares rendered pixels with the twin.
 //
 // Specialization constants select the variant, so only what the scene uses is compiled in:
@@ -16,6 +17,12 @@
 layout(constant_id = 0) const int MATERIAL_KIND = MATERIAL_LAMBERT;
 layout(constant_id = 1) const int POINT_LIGHT_COUNT = 0;
 layout(constant_id = 2) const int DIRECTIONAL_LIGHT_COUNT = 0;
+// Polygonal lights: how many, samples per technique, the light technique (0 projected solid
+// angle, 1 solid angle) and MIS's visibility estimate v (polygon_light.glsl).
+layout(constant_id = 8) const int POLYGON_LIGHT_COUNT = 0;
+layout(constant_id = 9) const int POLYGON_SAMPLES = 8;
+layout(constant_id = 10) const int POLYGON_TECHNIQUE = 0;
+layout(constant_id = 11) const float MIS_VISIBILITY = 0.5;
 
 const float PI = 3.14159265358979323846;
 // GGX alpha is clamped from below so that D stays finite at roughness 0.
@@ -83,6 +90,8 @@ Shading reflect_one_light(vec3 n, vec3 l, vec3 v, GpuMaterial m, float parameter
     return s;
 }
 
+#include "polygon_light.glsl"
+
 // Outgoing radiance at a surface point, summed over every light of the scene, diffuse and
 // specular apart. `normal` need not be unit length (it is interpolated); `eye` is the camera.
 Shading shade(vec3 position, vec3 normal, vec3 eye, uint material_index, float parameter) {
@@ -104,6 +113,11 @@ Shading shade(vec3 position, vec3 normal, vec3 eye, uint material_index, float p
         Shading one = reflect_one_light(n, -light.position.xyz, v, m, parameter);
         total.diffuse += one.diffuse * light.radiance.rgb;
         total.specular += one.specular * light.radiance.rgb;
+    }
+    for (int i = 0; i < POLYGON_LIGHT_COUNT; ++i) {
+        Shading one = shade_polygon(position, n, v, m, parameter, i);
+        total.diffuse += one.diffuse;
+        total.specular += one.specular;
     }
     return total;
 }

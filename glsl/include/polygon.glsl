@@ -139,7 +139,7 @@ precise float dot2(vec2 a, vec2 b) {
     return a.x * b.x + a.y * b.y;
 }
 
-precise float dot3(vec3 a, vec3 b) {
+precise float polygon_dot3(vec3 a, vec3 b) {
     return a.x * b.x + a.y * b.y + a.z * b.z;
 }
 
@@ -148,7 +148,7 @@ precise float length2(vec2 v) {
 }
 
 precise float length3(vec3 v) {
-    return sqrt(dot3(v, v));
+    return sqrt(polygon_dot3(v, v));
 }
 
 precise vec2 normalize2(vec2 v) {
@@ -159,7 +159,7 @@ precise vec3 normalize3(vec3 v) {
     return v * (1.0 / length3(v));
 }
 
-precise vec3 cross3(vec3 a, vec3 b) {
+precise vec3 polygon_cross3(vec3 a, vec3 b) {
     return vec3(a.y * b.z - b.y * a.z, a.z * b.x - b.z * a.x, a.x * b.y - b.x * a.y);
 }
 
@@ -254,9 +254,9 @@ precise vec3 unit_difference(vec3 a, vec3 b) {
     precise float inverse_lengths = 1.0 / (length3(a) * length_b);
     precise vec3 normal = cross_stable(a, b);
     precise float sine = length3(normal) * inverse_lengths;
-    precise float cosine = dot3(a, b) * inverse_lengths;
+    precise float cosine = polygon_dot3(a, b) * inverse_lengths;
     precise float one_minus_cosine = cosine > 0.0 ? sine * sine / (1.0 + cosine) : 1.0 - cosine;
-    return cross3(b, normal) * (inverse_lengths / length_b) - b * (one_minus_cosine / length_b);
+    return polygon_cross3(b, normal) * (inverse_lengths / length_b) - b * (one_minus_cosine / length_b);
 }
 
 // Clips a convex polygon (3 to MAX_POLYGON_VERTICES vertices) to z >= 0 (supplement A.1).
@@ -352,7 +352,7 @@ precise float signed_projected_solid_angle(Polygon polygon) {
         // Curved part of the edge
         precise vec3 edge = unit_difference(b, a);
         precise vec3 c = cross_stable(normalize3(a), edge);
-        precise float segment = edge_segment_term(c, 1.0 - 0.5 * dot3(edge, edge));
+        precise float segment = edge_segment_term(c, 1.0 - 0.5 * polygon_dot3(edge, edge));
         fan += shoelace;
         segments += segment;
         magnitude += abs(shoelace) + abs(segment);
@@ -736,7 +736,7 @@ precise bool is_inside(vec3 vertices[MAX_CLIPPED_VERTICES], int count, float ori
             break;
         }
         precise vec3 normal = cross_stable(vertices[j], vertices[next_index(j, count)]) * orientation;
-        if (dot3(normal, direction) < -INSIDE_TOLERANCE * length3(normal)) {
+        if (polygon_dot3(normal, direction) < -INSIDE_TOLERANCE * length3(normal)) {
             return false;
         }
     }
@@ -790,13 +790,13 @@ precise SolidAngleSampler prepare_solid_angle(Polygon polygon) {
         previous_offset = offset_b;
         // v_0.d = -|d|^2/2 exactly for d = v - v_0
         precise vec2 reflected_a =
-            vec2(offset_a.y, offset_a.z) - householder_yz * (-0.5 * dot3(offset_a, offset_a) - sigma * offset_a.x);
+            vec2(offset_a.y, offset_a.z) - householder_yz * (-0.5 * polygon_dot3(offset_a, offset_a) - sigma * offset_a.x);
         precise vec2 reflected_b =
-            vec2(offset_b.y, offset_b.z) - householder_yz * (-0.5 * dot3(offset_b, offset_b) - sigma * offset_b.x);
+            vec2(offset_b.y, offset_b.z) - householder_yz * (-0.5 * polygon_dot3(offset_b, offset_b) - sigma * offset_b.x);
         precise float signed_det = sigma * det2(reflected_a, reflected_b);
         precise float g_0 = abs(signed_det);
-        precise float g_1 = dot3(a, b) + dot3(apex, b);
-        precise float g_2 = 1.0 + dot3(a, apex);
+        precise float g_1 = polygon_dot3(a, b) + polygon_dot3(apex, b);
+        precise float g_2 = 1.0 + polygon_dot3(a, apex);
         precise float triangle_solid_angle = 2.0 * polygon_atan2(g_0, g_1 + g_2);
         state.triangles[j] = vec3(g_0, g_1, g_2);
         total += triangle_solid_angle;
@@ -850,9 +850,9 @@ precise vec4 sample_solid_angle(SolidAngleSampler state, vec2 u) {
     precise float sin_half = sin(half_angle);
     precise float cos_half = cos(half_angle);
     precise vec3 r = (g.x * cos_half - g.y * sin_half) * a + (g.z * sin_half) * b;
-    precise vec3 new_b = (2.0 * dot3(a, r) / dot3(r, r)) * r - a;
+    precise vec3 new_b = (2.0 * polygon_dot3(a, r) / polygon_dot3(r, r)) * r - a;
     // Uniform in cos of the distance from the apex along the arc from apex to b'
-    precise float s_2 = dot3(apex, new_b);
+    precise float s_2 = polygon_dot3(apex, new_b);
     precise float s = mix_exact(1.0, s_2, u.y);
     precise float t = sqrt(max(u.y * (1.0 + s) / max(1.0 + s_2, POLYGON_MIN_POSITIVE), 0.0));
     precise vec3 direction = (s - t * s_2) * apex + t * new_b;

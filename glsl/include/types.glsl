@@ -10,6 +10,14 @@ struct GpuLight {
     vec4 radiance;   // rgb: colour * intensity (the irradiance at unit distance, facing the light)
 };
 
+// One polygonal area light (a one-sided Lambertian emitter, convex, planar).
+struct GpuPolygonLight {
+    vec4 vertices[8]; // xyz: world positions, the first `info.x` in order
+    vec4 normal;      // xyz: unit normal of the emitting side; w: area
+    vec4 radiance;    // rgb: emitted radiance
+    ivec4 info;       // x: vertex count (3 to 8)
+};
+
 // One material. Which fields mean what depends on MATERIAL_KIND.
 struct GpuMaterial {
     vec4 diffuse;    // Lambert kd, Blinn-Phong kd, GGX albedo
@@ -30,7 +38,7 @@ struct DrawConstants {
     uint fixed_level;    // tessellation level of the fixed:N mode
     uint patch_base;     // index of this draw's first triangle in the scene (level records)
     uint flags;          // bit 0: show the tessellation level heat map instead of shading
-    uint pad0;
+    uint light_index;    // emitter draws: the polygonal light drawn
     uint pad1;
     uint pad2;
 };

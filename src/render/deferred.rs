@@ -198,7 +198,7 @@ impl Renderer {
     fn record_ids(&self, cmd: vk::CommandBuffer, ids: &RenderTarget, view: &View, after: AfterPass) {
         let deferred = self.deferred.get().expect("prepared");
         let pick = |_: &super::DrawCall| Some(deferred.visibility.raw);
-        self.record_draws(&pick, cmd, ids, view, [0.0; 4], after);
+        self.record_draws(&pick, false, cmd, ids, view, [0.0; 4], after);
     }
 
     /// `pixel-deferred`: the id pass, then one full-screen shading pass per mesh into `target`,

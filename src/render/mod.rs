@@ -13,9 +13,11 @@ use textures::{gpu_material, material_set_bindings, SceneTextures};
 
 use crate::analysis::tessellator::uniform_vertex_count;
 use crate::error::Result;
-use crate::gpu_types::{DrawConstants, GpuLight, GpuMaterial, Vertex, FLAG_DERIVATIVE_CHECK, FLAG_HEAT_MAP};
+use crate::gpu_types::{
+    DrawConstants, GpuLight, GpuMaterial, GpuPolygonLight, Vertex, FLAG_DERIVATIVE_CHECK, FLAG_HEAT_MAP,
+};
 use crate::scene::adjacency::{adjacency_patches, PATCH_SIZE};
-use crate::scene::{Camera, Light, MaterialKind, Scene};
+use crate::scene::{Camera, Light, MaterialKind, PolygonSampling, Scene};
 use crate::shaders;
 use crate::shading::estimator::{Discontinuity, Split};
 use crate::vk::frames::FrameRing;
@@ -107,11 +109,48 @@ pub fn gpu_lights(lights: &[Light]) -> (Vec<GpuLight>, i32, i32) {
                 position: direction.extend(0.0),
                 radiance: (color * intensity).extend(0.0),
             }),
+            Light::Polygon(_) => {}
         }
     }
     let counts = (points.len() as i32, directionals.len() as i32);
     points.extend(directionals);
     (points, counts.0, counts.1)
+}
+
+/// The scene's polygonal lights, in scene order (the shaders' `polygon_lights`).
+pub fn gpu_polygon_lights(lights: &[Light]) -> Vec<GpuPolygonLight> {
+    lights
+        .iter()
+        .filter_map(|light| match light {
+            Light::Polygon(p) => {
+                let mut vertices = [glam::Vec4::ZERO; 8];
+                for (out, v) in vertices.iter_mut().zip(p.vertices()) {
+                    *out = v.extend(1.0);
+                }
+                Some(GpuPolygonLight {
+                    vertices,
+                    normal: p.normal.extend(p.area),
+                    radiance: p.radiance().extend(0.0),
+                    info: glam::IVec4::new(p.count as i32, 0, 0, 0),
+                })
+            }
+            _ => None,
+        })
+        .collect()
+}
+
+/// The specialization constants of the scene's polygonal lights (8 to 11, brdf.glsl).
+fn polygon_specialization(specialization: Specialization, scene: &Scene, count: usize) -> Specialization {
+    let sampling = scene.settings.light_sampling;
+    let technique = match sampling.technique {
+        PolygonSampling::ProjectedSolidAngle => 0,
+        PolygonSampling::SolidAngle => 1,
+    };
+    specialization
+        .int(8, count as i32)
+        .int(9, sampling.samples as i32)
+        .int(10, technique)
+        .float(11, sampling.mis_visibility)
 }
 
 /// GPU times and counts of measured frames.
@@ -268,6 +307,13 @@ struct DrawCall {
     pipeline: usize,
 }
 
+/// The emissive geometry of one polygonal light: a triangle fan in the scene's buffers.
+struct EmitterDraw {
+    first_index: u32,
+    index_count: u32,
+    light_index: u32,
+}
+
 /// A scene uploaded to the GPU with its specialised pipelines.
 pub struct Renderer {
     context: Arc<Context>,
@@ -280,6 +326,10 @@ pub struct Renderer {
     layout: PipelineLayout,
     _pool: DescriptorPool,
     descriptor_set: vk::DescriptorSet,
+    _polygon_lights: Buffer,
+    /// The polygonal lights' emissive geometry and the pipeline that draws it (None without).
+    emitters: Vec<EmitterDraw>,
+    emitter: Option<Pipeline>,
     variants: Vec<Variant>,
     /// The same pipelines drawing edges only, built by `enable_wireframe`.
     wireframe_variants: Option<Vec<Variant>>,
@@ -334,6 +384,26 @@ impl Renderer {
         }
         let (lights, point_count, directional_count) = gpu_lights(&scene.lights);
         let materials: Vec<GpuMaterial> = scene.materials.iter().map(gpu_material).collect();
+        let polygon_lights = gpu_polygon_lights(&scene.lights);
+        // The emitters' triangles go after the meshes' (level records cover the meshes only).
+        let triangle_count = indices.len() / 3;
+        let mut emitters = Vec::new();
+        for (light_index, light) in polygon_lights.iter().enumerate() {
+            let base = vertices.len() as u32;
+            let count = light.info.x as u32;
+            vertices.extend(light.vertices[..count as usize].iter().map(|v| Vertex {
+                position: v.truncate().to_array(),
+                normal: light.normal.truncate().to_array(),
+                uv: [0.0; 2],
+            }));
+            let first_index = indices.len() as u32;
+            indices.extend((1..count - 1).flat_map(|j| [base, base + j, base + j + 1]));
+            emitters.push(EmitterDraw {
+                first_index,
+                index_count: indices.len() as u32 - first_index,
+                light_index: light_index as u32,
+            });
+        }
 
         // Storage too: the deferred pass fetches triangles by id.
         let vertex_buffer = Buffer::with_data(
@@ -357,7 +427,7 @@ impl Renderer {
         let level_buffer = Buffer::new(
             context,
             "level records",
-            (indices.len() / 3 * 16) as vk::DeviceSize,
+            (triangle_count * 16) as vk::DeviceSize,
             vk::BufferUsageFlags::STORAGE_BUFFER,
             gpu_allocator::MemoryLocation::GpuToCpu,
         )?;
@@ -372,9 +442,18 @@ impl Renderer {
             Buffer::with_data(context, "scene lights", vk::BufferUsageFlags::STORAGE_BUFFER, &lights)?;
         let material_buffer =
             Buffer::with_data(context, "scene materials", vk::BufferUsageFlags::STORAGE_BUFFER, &materials)?;
+        // A scene without polygonal lights still binds one (unread) entry.
+        let polygon_entries =
+            if polygon_lights.is_empty() { vec![GpuPolygonLight::default()] } else { polygon_lights.clone() };
+        let polygon_buffer = Buffer::with_data(
+            context,
+            "scene polygonal lights",
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            &polygon_entries,
+        )?;
 
         let stages = vk::ShaderStageFlags::ALL_GRAPHICS;
-        let bindings = [0, 1, 2, 3].map(|b| graphics_binding(b, vk::DescriptorType::STORAGE_BUFFER));
+        let bindings = [0, 1, 2, 3, 4].map(|b| graphics_binding(b, vk::DescriptorType::STORAGE_BUFFER));
         let push = [vk::PushConstantRange::default()
             .stage_flags(stages)
             .size(std::mem::size_of::<DrawConstants>() as u32)];
@@ -391,14 +470,14 @@ impl Renderer {
             context,
             "forward descriptors",
             1,
-            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 4 }],
+            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 5 }],
         )?;
         let descriptor_set = pool.allocate(layout.set_layouts[0])?;
         bind_storage_buffers(
             context,
             descriptor_set,
             0,
-            &[light_buffer.raw, material_buffer.raw, level_buffer.raw, counter_buffer.raw],
+            &[light_buffer.raw, material_buffer.raw, level_buffer.raw, counter_buffer.raw, polygon_buffer.raw],
         );
 
         let modules = Modules {
@@ -413,6 +492,7 @@ impl Renderer {
             multirate_tese: ShaderModule::new(context, "multirate.tese", shaders::MULTIRATE_TESE)?,
             multirate_frag: ShaderModule::new(context, "multirate.frag", shaders::MULTIRATE_FRAG)?,
         };
+        let emitter = if emitters.is_empty() { None } else { Some(modules.emitter(context, &layout)?) };
         let mut variants = Vec::new();
         let mut specializations = Vec::new();
         for &kind in &kinds {
@@ -421,6 +501,7 @@ impl Renderer {
                 .int(1, point_count)
                 .int(2, directional_count)
                 .boolean(7, SceneTextures::any(scene));
+            let specialization = polygon_specialization(specialization, scene, polygon_lights.len());
             variants.push(modules.variant(
                 context,
                 &layout,
@@ -440,6 +521,9 @@ impl Renderer {
             patch_indices: patch_index_buffer,
             _lights: light_buffer,
             _materials: material_buffer,
+            _polygon_lights: polygon_buffer,
+            emitters,
+            emitter,
             textures,
             layout,
             _pool: pool,
@@ -531,13 +615,16 @@ impl Renderer {
             return;
         }
         let pick = |draw: &DrawCall| variants[draw.pipeline].for_view(view).map(|p| p.raw);
-        self.record_draws(&pick, cmd, target, view, self.clear_color, after);
+        self.record_draws(&pick, true, cmd, target, view, self.clear_color, after);
     }
 
-    /// The forward draws of every mesh with the pipeline `pick` gives, into `target`.
+    /// The forward draws of every mesh with the pipeline `pick` gives, into `target`, and with
+    /// `emitters` the polygonal lights' emissive geometry.
+    #[allow(clippy::too_many_arguments)]
     fn record_draws(
         &self,
         pick: &dyn Fn(&DrawCall) -> Option<vk::Pipeline>,
+        emitters: bool,
         cmd: vk::CommandBuffer,
         target: &RenderTarget,
         view: &View,
@@ -597,6 +684,20 @@ impl Renderer {
                 }
                 if view.mode == Mode::Multirate {
                     device.cmd_bind_index_buffer(cmd, self.indices.raw, 0, vk::IndexType::UINT32);
+                }
+            }
+            if let (Some(emitter), true) = (&self.emitter, emitters) {
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, emitter.raw);
+                for draw in &self.emitters {
+                    constants.light_index = draw.light_index;
+                    device.cmd_push_constants(
+                        cmd,
+                        self.layout.raw,
+                        vk::ShaderStageFlags::ALL_GRAPHICS,
+                        0,
+                        bytemuck::bytes_of(&constants),
+                    );
+                    device.cmd_draw_indexed(cmd, draw.index_count, 1, draw.first_index, 0, 0);
                 }
             }
         }
@@ -949,6 +1050,33 @@ impl Modules {
 }
 
 impl Modules {
+    /// The pipeline that draws the polygonal lights' emissive geometry.
+    fn emitter(&self, context: &Arc<Context>, layout: &PipelineLayout) -> Result<Pipeline> {
+        let emitter_frag = ShaderModule::new(context, "emitter.frag", shaders::EMITTER_FRAG)?;
+        use vk::ShaderStageFlags as S;
+        Pipeline::graphics(
+            context,
+            &GraphicsPipelineDesc {
+                name: "emissive geometry",
+                stages: vec![
+                    Stage { stage: S::VERTEX, module: &self.forward_vert, specialization: None },
+                    Stage { stage: S::FRAGMENT, module: &emitter_frag, specialization: None },
+                ],
+                layout,
+                vertex_bindings: &VERTEX_BINDINGS,
+                vertex_attributes: &VERTEX_ATTRIBUTES,
+                topology: vk::PrimitiveTopology::TRIANGLE_LIST,
+                patch_control_points: None,
+                polygon_mode: vk::PolygonMode::FILL,
+                cull_mode: vk::CullModeFlags::NONE,
+                front_face: vk::FrontFace::COUNTER_CLOCKWISE,
+                color_format: Some(COLOR_FORMAT),
+                depth_format: Some(DEPTH_FORMAT),
+                rasterizer_discard: false,
+            },
+        )
+    }
+
     /// The multirate pipeline of `variant` for `view`'s split and discontinuity handling.
     fn multirate(
         &self,

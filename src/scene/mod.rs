@@ -3,7 +3,7 @@
 //! This module owns everything between a scene file on disk and a checked, world-space
 //! [`Scene`] in memory: the camera, the render settings (shading-error bound `epsilon`,
 //! maximum shading rate `n_max`, exposure, image size), the materials (Lambert, Blinn-Phong,
-//! GGX), the lights (point, directional) and the triangle meshes, read from Wavefront OBJ files
+//! GGX), the lights (point, directional, polygonal area lights) and the triangle meshes, read from Wavefront OBJ files
 //! with their transforms applied and with finite, unit-length vertex normals. It knows nothing
 //! of Vulkan or of how a scene is drawn.
 //!
@@ -41,10 +41,15 @@
 //! rotate_degrees = [0, 0, 0]   # optional: about X, then Y, then Z
 //! scale = 1.0                  # optional: a number or [x, y, z]
 //! [[lights]]
-//! type = "point"               # point (position) | directional (direction)
+//! type = "point"               # point (position) | directional (direction) | polygon (vertices)
 //! position = [1, 1, 1]
 //! color = [1, 1, 1]
 //! intensity = 2.0
+//! [[lights]]
+//! type = "polygon"             # a one-sided Lambertian emitter: 3 to 8 vertices, convex, planar;
+//! vertices = [[0, 1, 0], [1, 1, 0], [1, 1, 1]]  # it emits towards the side they wind anticlockwise
+//! color = [1, 1, 1]            # radiance = color × intensity
+//! intensity = 5.0
 //! ```
 //!
 //! # Errors
@@ -57,6 +62,7 @@ pub mod adjacency;
 mod mesh;
 pub mod texture;
 
+use crate::shading::polygon::MAX_POLYGON_VERTICES;
 use texture::{MinMaxPyramid, Texture, TextureUsage};
 
 use std::fmt;
@@ -110,6 +116,42 @@ pub struct RenderSettings {
     pub exposure: f32,
     /// Linear colour of pixels no mesh covers, each component ≥ 0.
     pub clear_color: Vec3,
+    /// How polygonal lights are sampled (copied into every [`PolygonLight`]).
+    pub light_sampling: LightSampling,
+}
+
+/// How the specular part of a polygonal light is estimated at a shading point (the `[render]`
+/// keys `polygon_samples`, `polygon_sampling`, `mis_visibility`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LightSampling {
+    /// Samples per shading point of each technique (light and BRDF), in 1..=256. The same
+    /// low-discrepancy set at every point, so images do not flicker.
+    pub samples: u32,
+    /// How the light technique samples directions.
+    pub technique: PolygonSampling,
+    /// The visibility estimate `v` of clamped optimal MIS, in [0, 1].
+    pub mis_visibility: f32,
+}
+
+impl Default for LightSampling {
+    fn default() -> Self {
+        LightSampling {
+            samples: 8,
+            technique: PolygonSampling::ProjectedSolidAngle,
+            mis_visibility: crate::shading::polygon::DEFAULT_MIS_VISIBILITY,
+        }
+    }
+}
+
+/// The light-sampling technique for polygonal lights (seed 004).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PolygonSampling {
+    /// Proportional to projected solid angle (Algorithms 1–4): the cosine is importance
+    /// sampled too.
+    ProjectedSolidAngle,
+    /// Uniform in solid angle over a triangle fan of the clipped polygon (Algorithm 5).
+    SolidAngle,
 }
 
 impl Default for RenderSettings {
@@ -121,6 +163,7 @@ impl Default for RenderSettings {
             n_max: 16,
             exposure: 1.0,
             clear_color: Vec3::ZERO,
+            light_sampling: LightSampling::default(),
         }
     }
 }
@@ -250,6 +293,96 @@ pub enum Light {
         color: Vec3,
         intensity: f32,
     },
+    /// A polygonal area light (seed 004).
+    Polygon(PolygonLight),
+}
+
+/// A one-sided Lambertian emitter: a convex planar polygon of 3 to
+/// [`MAX_POLYGON_VERTICES`] vertices with constant radiance `color · intensity` towards the
+/// side from which its vertices wind anticlockwise (the side `normal` points to).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PolygonLight {
+    /// The first `count` entries are the vertices; the rest are zero.
+    pub vertices: [Vec3; MAX_POLYGON_VERTICES],
+    pub count: usize,
+    /// Unit normal of the emitting side.
+    pub normal: Vec3,
+    pub area: f32,
+    pub color: Vec3,
+    pub intensity: f32,
+    /// How its specular part is sampled: the scene's `[render]` settings.
+    pub sampling: LightSampling,
+}
+
+impl PolygonLight {
+    /// Checks `vertices` (3 to 8, finite, planar, strictly convex, simple) and builds the
+    /// light; the error says what is wrong.
+    pub fn new(vertices: &[Vec3], color: Vec3, intensity: f32) -> Result<PolygonLight, String> {
+        let count = vertices.len();
+        if !(3..=MAX_POLYGON_VERTICES).contains(&count) {
+            return Err(format!("a polygon light needs 3 to {MAX_POLYGON_VERTICES} vertices, not {count}"));
+        }
+        if let Some(j) = vertices.iter().position(|v| !v.is_finite()) {
+            return Err(format!("vertex {} is not finite", j + 1));
+        }
+        // Newell's normal: twice the area vector, exact for planar polygons of any winding.
+        let centroid = vertices.iter().sum::<Vec3>() / count as f32;
+        let twice_area: Vec3 = (0..count)
+            .map(|j| (vertices[j] - centroid).cross(vertices[(j + 1) % count] - centroid))
+            .sum();
+        let size = vertices.iter().map(|v| (*v - centroid).length()).fold(0.0, f32::max);
+        if !(twice_area.length() > 1.0e-6 * size * size) {
+            return Err("the polygon has no area (its vertices are collinear or coincide)".into());
+        }
+        let normal = twice_area.normalize();
+        for (j, v) in vertices.iter().enumerate() {
+            let off = (*v - centroid).dot(normal);
+            if off.abs() > 1.0e-4 * size {
+                return Err(format!(
+                    "the polygon is not planar: vertex {} lies {off:e} off the plane of the others",
+                    j + 1
+                ));
+            }
+        }
+        // Strictly convex and simple: every corner turns the same way (positive about the
+        // normal) and the turns add up to one full turn.
+        let mut turning = 0.0;
+        for j in 0..count {
+            let a = vertices[(j + count - 1) % count];
+            let b = vertices[j];
+            let c = vertices[(j + 1) % count];
+            let (e0, e1) = (b - a, c - b);
+            let cross = e0.cross(e1).dot(normal);
+            if !(cross > 1.0e-6 * e0.length() * e1.length()) {
+                return Err(format!("the polygon is not convex at vertex {} (or two vertices coincide)", j + 1));
+            }
+            turning += cross.atan2(e0.dot(e1));
+        }
+        if (turning - std::f32::consts::TAU).abs() > 1.0e-3 {
+            return Err("the polygon winds around more than once (it is not simple)".into());
+        }
+        let mut stored = [Vec3::ZERO; MAX_POLYGON_VERTICES];
+        stored[..count].copy_from_slice(vertices);
+        Ok(PolygonLight {
+            vertices: stored,
+            count,
+            normal,
+            area: 0.5 * twice_area.length(),
+            color,
+            intensity,
+            sampling: LightSampling::default(),
+        })
+    }
+
+    /// The vertices, in order.
+    pub fn vertices(&self) -> &[Vec3] {
+        &self.vertices[..self.count]
+    }
+
+    /// The emitted radiance, `color · intensity`.
+    pub fn radiance(&self) -> Vec3 {
+        self.color * self.intensity
+    }
 }
 
 /// A triangle mesh in world space.
@@ -417,6 +550,9 @@ struct RenderFile {
     n_max: u32,
     exposure: f32,
     clear_color: [f32; 3],
+    polygon_samples: u32,
+    polygon_sampling: PolygonSampling,
+    mis_visibility: f32,
 }
 
 impl Default for RenderFile {
@@ -429,6 +565,9 @@ impl Default for RenderFile {
             n_max: d.n_max,
             exposure: d.exposure,
             clear_color: d.clear_color.to_array(),
+            polygon_samples: d.light_sampling.samples,
+            polygon_sampling: d.light_sampling.technique,
+            mis_visibility: d.light_sampling.mis_visibility,
         }
     }
 }
@@ -478,6 +617,7 @@ struct MaterialFile {
 enum LightType {
     Point,
     Directional,
+    Polygon,
 }
 
 #[derive(Debug, Deserialize)]
@@ -487,6 +627,7 @@ struct LightFile {
     kind: LightType,
     position: Option<[f32; 3]>,
     direction: Option<[f32; 3]>,
+    vertices: Option<Vec<[f32; 3]>>,
     color: [f32; 3],
     intensity: f32,
 }
@@ -705,7 +846,7 @@ fn build(path: &Path, file: SceneFile) -> Result<Scene, SceneError> {
         .lights
         .iter()
         .enumerate()
-        .map(|(i, l)| check_light(path, i, l))
+        .map(|(i, l)| check_light(path, i, l, settings.light_sampling))
         .collect::<Result<Vec<_>, _>>()?;
 
     // The camera checks that do not need the meshes come first, so that a mistake there is
@@ -721,7 +862,12 @@ fn build(path: &Path, file: SceneFile) -> Result<Scene, SceneError> {
         meshes.push(load_mesh(path, folder, i, m, &materials)?);
     }
 
-    let (lo, hi) = bounds_of(meshes.iter().flat_map(|m: &Mesh| m.positions.iter().copied()));
+    // Emitters are drawn too, so the default far plane must reach them.
+    let emitters = lights.iter().flat_map(|l| match l {
+        Light::Polygon(p) => p.vertices().to_vec(),
+        _ => Vec::new(),
+    });
+    let (lo, hi) = bounds_of(meshes.iter().flat_map(|m: &Mesh| m.positions.iter().copied()).chain(emitters));
     let camera = finish_camera(&camera_item, camera, &file.camera, lo, hi)?;
 
     Ok(Scene {
@@ -749,6 +895,9 @@ fn check_render(path: &Path, r: &RenderFile) -> Result<RenderSettings, SceneErro
     if !(1..=64).contains(&r.n_max) {
         return Err(item.error(format!("`n_max` = {} is outside 1..=64", r.n_max)));
     }
+    if !(1..=256).contains(&r.polygon_samples) {
+        return Err(item.error(format!("`polygon_samples` = {} is outside 1..=256", r.polygon_samples)));
+    }
     Ok(RenderSettings {
         width,
         height,
@@ -756,6 +905,11 @@ fn check_render(path: &Path, r: &RenderFile) -> Result<RenderSettings, SceneErro
         n_max: r.n_max,
         exposure: item.range("exposure", r.exposure, Open(0.0), Bound::None)?,
         clear_color: item.vec3_range("clear_color", r.clear_color, Closed(0.0), Bound::None)?,
+        light_sampling: LightSampling {
+            samples: r.polygon_samples,
+            technique: r.polygon_sampling,
+            mis_visibility: item.range("mis_visibility", r.mis_visibility, Closed(0.0), Closed(1.0))?,
+        },
     })
 }
 
@@ -911,10 +1065,11 @@ fn check_maps(
     Ok(MaterialMaps { albedo, parameter })
 }
 
-fn check_light(path: &Path, index: usize, l: &LightFile) -> Result<Light, SceneError> {
+fn check_light(path: &Path, index: usize, l: &LightFile, sampling: LightSampling) -> Result<Light, SceneError> {
     let kind = match l.kind {
         LightType::Point => "point",
         LightType::Directional => "directional",
+        LightType::Polygon => "polygon",
     };
     let item = Item { path, item: format!("[[lights]] #{} ({kind})", index + 1) };
     let color = item.vec3_range("color", l.color, Closed(0.0), Bound::None)?;
@@ -925,11 +1080,22 @@ fn check_light(path: &Path, index: usize, l: &LightFile) -> Result<Light, SceneE
         LightType::Point => {
             let position = item.vec3("position", item.required("position", l.position, &why)?)?;
             item.forbidden("direction", &l.direction, &why_not)?;
+            item.forbidden("vertices", &l.vertices, &why_not)?;
             Light::Point { position, color, intensity }
+        }
+        LightType::Polygon => {
+            let raw = item.required("vertices", l.vertices.as_ref(), &why)?;
+            item.forbidden("position", &l.position, &why_not)?;
+            item.forbidden("direction", &l.direction, &why_not)?;
+            let vertices = raw.iter().map(|v| item.vec3("vertices", *v)).collect::<Result<Vec<_>, _>>()?;
+            let light = PolygonLight::new(&vertices, color, intensity)
+                .map_err(|problem| item.error(format!("`vertices`: {problem}")))?;
+            Light::Polygon(PolygonLight { sampling, ..light })
         }
         LightType::Directional => {
             let raw = item.required("direction", l.direction, &why)?;
             item.forbidden("position", &l.position, &why_not)?;
+            item.forbidden("vertices", &l.vertices, &why_not)?;
             let direction = item.vec3("direction", raw)?.normalize_or_zero();
             if direction == Vec3::ZERO || !direction.is_finite() {
                 return Err(item.error(format!("`direction` = {} is zero", fmt_array(raw))));

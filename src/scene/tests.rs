@@ -186,7 +186,8 @@ intensity = 2
             epsilon: 0.1,
             n_max: 8,
             exposure: 2.0,
-            clear_color: Vec3::new(0.1, 0.2, 0.3)
+            clear_color: Vec3::new(0.1, 0.2, 0.3),
+            light_sampling: LightSampling::default(),
         }
     );
     assert_eq!(
@@ -397,11 +398,66 @@ fn out_of_range_values_are_errors_naming_the_key() {
         ("exposure = -1", &["`exposure` = -1"]),
         ("clear_color = [0, 0, -0.5]", &["`clear_color`"]),
         ("width = -3", &["width", "line 5"]),
+        ("polygon_samples = 0", &["`polygon_samples` = 0", "1..=256"]),
+        ("mis_visibility = 1.5", &["`mis_visibility` = 1.5"]),
+        ("polygon_sampling = \"area\"", &["polygon_sampling", "area"]),
     ];
     for (line, needles) in render_cases {
         let text = minimal_with("[camera]", &format!("[render]\n{line}\n[camera]"));
         expect_error(&text, needles);
     }
+}
+
+/// A polygonal light as the last light of [`MINIMAL`], with `vertices` and extra lines.
+fn with_polygon(vertices: &str, extra: &str) -> String {
+    format!("{MINIMAL}\n[[lights]]\ntype = \"polygon\"\nvertices = {vertices}\ncolor = [1, 1, 1]\nintensity = 4\n{extra}")
+}
+
+#[test]
+fn polygon_lights_load_with_normal_area_and_sampling() {
+    let dir = TempDir::new("polygon");
+    // Anticlockwise seen from below: emits downwards.
+    let text = format!(
+        "{}\n[render]\npolygon_samples = 4\npolygon_sampling = \"solid_angle\"\nmis_visibility = 0.25\n",
+        with_polygon("[[0, 2, 0], [1, 2, 0], [1, 2, 1], [0, 2, 1]]", "")
+    );
+    let scene = load_text(&dir, &text).1.unwrap();
+    let Light::Polygon(light) = scene.lights[1] else { panic!("{:?}", scene.lights[1]) };
+    assert_eq!(light.count, 4);
+    assert!((light.normal - Vec3::new(0.0, -1.0, 0.0)).length() < 1e-6, "{:?}", light.normal);
+    assert!((light.area - 1.0).abs() < 1e-6);
+    assert_eq!(light.radiance(), Vec3::splat(4.0));
+    let sampling = LightSampling { samples: 4, technique: PolygonSampling::SolidAngle, mis_visibility: 0.25 };
+    assert_eq!(light.sampling, sampling);
+    assert_eq!(scene.settings.light_sampling, sampling);
+    // The default far plane reaches the emitter.
+    assert!(scene.camera.far > (Vec3::new(1.0, 2.0, 1.0) - scene.camera.eye).length());
+}
+
+#[test]
+fn bad_polygon_lights_are_named() {
+    let cases: &[(&str, &[&str])] = &[
+        ("[[0, 2, 0], [1, 2, 0]]", &["[[lights]] #2 (polygon)", "`vertices`", "3 to 8 vertices, not 2"]),
+        (
+            "[[0,2,0],[1,2,0],[2,2,1],[2,2,2],[1,2,3],[0,2,3],[-1,2,2],[-1,2,1],[-0.5,2,0.2]]",
+            &["3 to 8 vertices, not 9"],
+        ),
+        ("[[0, 2, 0], [1, 2, 0], [2, 2, 0]]", &["no area"]),
+        ("[[0, 2, 0], [1, 2, 0], [1, 2.5, 1], [0, 2, 1]]", &["not planar", "vertex"]),
+        ("[[0, 2, 0], [2, 2, 0], [1, 2, 0.5], [1, 2, 2]]", &["not convex at vertex"]),
+        ("[[0, 2, 0], [1, 2, 0], [1, 2, 0], [0, 2, 1]]", &["not convex", "coincide"]),
+        (
+            "[[1, 2, 0], [0.309, 2, 0.951], [-0.809, 2, -0.588], [-0.809, 2, 0.588], [0.309, 2, -0.951]]",
+            &["not convex"],
+        ),
+        ("[[0, 2, 0], [1, 2, nan], [0, 2, 1]]", &["`vertices`", "not a finite number"]),
+    ];
+    for (vertices, needles) in cases {
+        expect_error(&with_polygon(vertices, ""), needles);
+    }
+    expect_error(&with_polygon("[[0, 2, 0], [1, 2, 0], [0, 2, 1]]", "position = [0, 0, 0]"), &["`position` does not apply"]);
+    let point_with_vertices = MINIMAL.replace("[[lights]]", "[[lights]]\nvertices = [[0, 0, 0]]");
+    expect_error(&point_with_vertices, &["`vertices` does not apply"]);
 }
 
 #[test]

@@ -37,7 +37,7 @@
 // `!(x > y)` is used on purpose throughout: it is also true for NaN, which must mean "no bound".
 #![allow(clippy::neg_cmp_op_on_partial_ord, clippy::needless_range_loop)]
 
-use crate::scene::{Light, MaterialKind};
+use crate::scene::{Light, MaterialKind, PolygonLight, PolygonSampling};
 use crate::shading::brdf::{ggx_alpha, MIN_LIGHT_DISTANCE_SQUARED};
 use glam::Vec3;
 use std::cell::Cell;
@@ -276,11 +276,12 @@ pub fn estimate_textured(
     let guard = Guard::default();
     let mut sum = Sums::default();
     let mut reason = Reason::None;
-    // Point lights first, then directional ones: the order of the GPU's light buffer, so
-    // that the control stage sums the bounds in the same order (bit-identical sums).
+    // Point lights first, then directional ones, then polygons: the order of the GPU's light
+    // buffers, so that the control stage sums the bounds in the same order (bit-identical).
     let points = lights.iter().filter(|l| matches!(l, Light::Point { .. }));
     let directionals = lights.iter().filter(|l| matches!(l, Light::Directional { .. }));
-    for light in points.chain(directionals) {
+    let polygons = lights.iter().filter(|l| matches!(l, Light::Polygon(_)));
+    for light in points.chain(directionals).chain(polygons) {
         let added =
             add_light(&frame, material, parameter, light, settings.discontinuity, n_max, &mut sum, &guard);
         if let Err(r) = added {
@@ -976,6 +977,9 @@ struct LightSetup {
     nv_sign: Sign,
     /// Range of the angle between l̂ and v̂.
     psi_lv: (f32, f32),
+    /// A polygonal light: the range of the emitter's angle (see [`AreaGeometry`]); its diffuse
+    /// part is bounded as a continuum of point lights, its sampled specular part by its range.
+    area: Option<(f32, f32)>,
 }
 
 /// Accumulated bounds, per term and channel: `½·SAFETY·Σ weight·H` at level 1 and at
@@ -1007,10 +1011,15 @@ enum Sign {
 /// exact range `[q₋, q₊]` of the bilinear form `n·w` gives the sign and, through
 /// `q₋/(max|n| max|w|) ≤ cos ≤ q₊/(min|n| min|w|)`, a second range; the tighter ends are kept.
 fn cosine_range(frame: &Frame, w_cone: &Cone, w: [Vec3; 3]) -> ((f32, f32), Sign) {
-    let (mut p0, mut p1) = psi_range(&frame.n_cone, w_cone);
-    let (q_lo, q_hi) = bilinear_range(frame.normals, w);
+    let q = bilinear_range(frame.normals, w);
     let w_max = w[0].length().max(w[1].length()).max(w[2].length());
-    let w_min = min_length(w, w_cone);
+    cosine_range_of(frame, w_cone, q, w_max, min_length(w, w_cone))
+}
+
+/// [`cosine_range`] from the range `q` of `n·w` over the triangle and bounds on `|w|`.
+fn cosine_range_of(frame: &Frame, w_cone: &Cone, q: (f32, f32), w_max: f32, w_min: f32) -> ((f32, f32), Sign) {
+    let (mut p0, mut p1) = psi_range(&frame.n_cone, w_cone);
+    let (q_lo, q_hi) = q;
     let scale = frame.n_max_len * w_max;
     let tol = 1.0e-5 * scale;
     let sign = if q_lo > tol {
@@ -1037,6 +1046,59 @@ fn cosine_range(frame: &Frame, w_cone: &Cone, w: [Vec3; 3]) -> ((f32, f32), Sign
     ((p0, p1), sign)
 }
 
+/// Where a polygonal light is as seen from the triangle: every direction from a point of the
+/// triangle to a point of the polygon, and the emitter's cosine. See `docs/estimator.md` §13.
+struct AreaGeometry {
+    /// Contains every `y − x` (x in the triangle, y in the polygon): the cone around the
+    /// centroid-to-centroid axis through all vertex-to-vertex differences (a cone narrower
+    /// than a hemisphere is convex, so it holds their convex hull, which is the set).
+    cone: Cone,
+    /// `min |y − x|` ≥ the smallest projection of a vertex-to-vertex difference on the axis.
+    d_min: f32,
+    /// Range of `n·(y − x)` over the triangle and the polygon: per polygon vertex the exact
+    /// bilinear range over the triangle, and their hull (the form is affine in y).
+    q: (f32, f32),
+    w_max: f32,
+    /// Range of the angle between the emitter's normal and `x − y` (cosine at the emitter).
+    emitter: (f32, f32),
+}
+
+/// The [`AreaGeometry`] of `light` from `frame`, `Ok(None)` when the triangle lies behind the
+/// emitter (it then receives exactly nothing), `Err` when the emitter's plane cuts it.
+fn area_geometry(frame: &Frame, light: &PolygonLight) -> Result<Option<AreaGeometry>, Reason> {
+    let y = light.vertices();
+    let side = frame.vertices.map(|x| light.normal.dot(x - y[0]));
+    if side.iter().all(|&d| d <= 0.0) {
+        return Ok(None);
+    }
+    let reach = frame.vertices.iter().map(|x| (*x - y[0]).length()).fold(0.0, f32::max);
+    if !side.iter().all(|&d| d > 1.0e-5 * reach) {
+        return Err(Reason::Discontinuity);
+    }
+    let centroid = y.iter().copied().sum::<Vec3>() / y.len() as f32;
+    let axis = unit(centroid - frame.centroid);
+    let (mut half, mut d_min, mut w_max) = (0.0f32, f32::MAX, 0.0f32);
+    let (mut q_lo, mut q_hi) = (f32::MAX, -f32::MAX);
+    for &yj in y {
+        let w = frame.vertices.map(|x| yj - x);
+        for wk in w {
+            half = half.max(angle(axis, wk));
+            d_min = d_min.min(wk.dot(axis));
+            w_max = w_max.max(wk.length());
+        }
+        let (lo, hi) = bilinear_range(frame.normals, w);
+        q_lo = q_lo.min(lo);
+        q_hi = q_hi.max(hi);
+    }
+    half += ANGLE_PAD;
+    let cone = if axis == Vec3::ZERO || !(half < MAX_HALF) { NO_CONE } else { Cone { axis, half } };
+    if cone.half >= PI || !(d_min > 0.0) {
+        d_min = 0.0;
+    }
+    let emitter = psi_range(&Cone { axis: -light.normal, half: 0.0 }, &cone);
+    Ok(Some(AreaGeometry { cone, d_min, q: (q_lo, q_hi), w_max, emitter }))
+}
+
 /// Colour weights of the diffuse and specular parts.
 fn weights(material: &MaterialKind, radiance: Vec3) -> (Vec3, Vec3) {
     match *material {
@@ -1058,6 +1120,7 @@ fn add_light(
     sum: &mut Sums,
     gd: &Guard,
 ) -> Result<(), Reason> {
+    let mut area = None;
     let (radiance, l_cone, inv_d, l_center) = match *light {
         Light::Point { position, color, intensity } => {
             let radiance = color * intensity;
@@ -1085,6 +1148,21 @@ fn add_light(
             let l = unit(-direction);
             (radiance, Cone { axis: l, half: 0.0 }, 0.0, l)
         }
+        Light::Polygon(ref polygon) => {
+            if polygon.radiance() == Vec3::ZERO {
+                return Ok(());
+            }
+            let Some(geometry) = area_geometry(frame, polygon)? else {
+                return Ok(());
+            };
+            if !(geometry.d_min * geometry.d_min > MIN_LIGHT_DISTANCE_SQUARED * 1.001) {
+                return Err(Reason::Singular);
+            }
+            let (cone, d_min) = (geometry.cone, geometry.d_min);
+            area = Some(geometry);
+            // Per unit of this weight the diffuse part is ∫ (n·l)(cos at the emitter)/d² dA / A.
+            (polygon.radiance() * polygon.area, cone, 1.0 / d_min, cone.axis)
+        }
     };
     let (diff_w, spec_w) = weights(material, radiance);
     if diff_w == Vec3::ZERO && spec_w == Vec3::ZERO {
@@ -1094,11 +1172,13 @@ fn add_light(
         return Err(Reason::Singular);
     }
     // Sign of n·l: exact, from the bilinear form (Σλₖ Nₖ)·(Σλₖ wₖ) over the simplex.
-    let l_vectors = match *light {
-        Light::Point { position, .. } => frame.vertices.map(|x| position - x),
-        Light::Directional { .. } => [l_cone.axis; 3],
+    let (psi_nl, sign) = match (light, &area) {
+        (Light::Point { position, .. }, _) => {
+            cosine_range(frame, &l_cone, frame.vertices.map(|x| *position - x))
+        }
+        (_, Some(a)) => cosine_range_of(frame, &l_cone, a.q, a.w_max, a.d_min),
+        _ => cosine_range(frame, &l_cone, [l_cone.axis; 3]),
     };
-    let (psi_nl, sign) = cosine_range(frame, &l_cone, l_vectors);
     if sign == Sign::NonPositive {
         // n·l ≤ 0 everywhere: this light adds exactly 0.
         return Ok(());
@@ -1118,6 +1198,7 @@ fn add_light(
         psi_nv: (0.0, PI),
         nv_sign: Sign::Both,
         psi_lv: (0.0, PI),
+        area: area.as_ref().map(|a| a.emitter),
     };
     if frame.plane != Vec3::ZERO && inv_d > 0.0 {
         let (g0, g1) = psi_range(&l_cone, &Cone { axis: frame.plane, half: 0.0 });
@@ -1142,7 +1223,9 @@ fn add_light(
         let m0 = l_cone.axis + frame.v_cone.axis;
         let delta = 2.0 * est_sin(0.5 * l_cone.half) + 2.0 * est_sin(0.5 * frame.v_cone.half);
         let half_b = if delta < m0.length() { est_asin(delta / m0.length()) + ANGLE_PAD } else { PI };
-        let (h_axis, h_half) = if half_b < half_a { (unit(m0), half_b) } else { (axis_a, half_a) };
+        // (a) follows one light point; a polygon needs (b), which holds for all of them.
+        let (h_axis, h_half) =
+            if half_b < half_a || area.is_some() { (unit(m0), half_b) } else { (axis_a, half_a) };
         setup.h_cone = if h_axis == Vec3::ZERO || !(h_half < MAX_HALF) {
             NO_CONE
         } else {
@@ -1163,7 +1246,9 @@ fn add_light(
         let (psi_nv, nv_sign) = cosine_range(frame, &frame.v_cone, v_vectors);
         setup.psi_nv = psi_nv;
         setup.nv_sign = nv_sign;
-        match *material {
+        // A polygon's sampled specular part is bounded by its range: kinks do not matter.
+        let kinks = if area.is_some() { &MaterialKind::Lambert { kd: Vec3::ZERO } } else { material };
+        match *kinks {
             MaterialKind::BlinnPhong { .. } => {
                 // max(n·h, 0)^s is C^{1,1} across n·h = 0 only for s ≥ 2.
                 let nh = setup.psi_nh;
@@ -1212,7 +1297,16 @@ fn add_light(
     }
     // A textured parameter: the variation sup|f(α) − f(α')| over the range (Eq. 37), an
     // n-independent term like the Relaxed jumps.
-    zero += spec_w * parameter_variation(material, parameter, &setup, spec_sup);
+    match light {
+        Light::Polygon(polygon) => {
+            // The sampled specular part: no interpolation bound, its range (which also covers
+            // a textured parameter).
+            let bound = polygon_specular_bound(material, parameter, &setup, polygon, gd) * SAFETY;
+            zero += bound;
+            range += bound;
+        }
+        _ => zero += spec_w * parameter_variation(material, parameter, &setup, spec_sup),
+    }
     let (tot1, totn) = (sum_terms(&h[0]), sum_terms(&h[1]));
     let top = pattern_level(n_max, n_max);
     for c in 0..3 {
@@ -1234,6 +1328,80 @@ fn add_light(
         }
     }
     Ok(())
+}
+
+/// An upper bound, per channel, of a polygonal light's sampled specular part anywhere on the
+/// triangle. Every sample adds `w f/p` with an MIS weight `w ∈ [0, 1]`, so the estimate is at
+/// most `sup f/p_light + sup f/p_brdf` over the directions to the polygon (`f` the specular
+/// integrand, [`crate::shading::polygon_light`]):
+/// - Blinn-Phong, `f = L ks (n·h)^s`: `f/p_light ≤ L ks cos^s(ψ_nh,min) Ω_max` (solid angle),
+///   times `max n·l / min n·l` for projected solid angle (`p = n·l/Ω⊥`, `Ω⊥ ≤ Ω max n·l`);
+///   `f/p_brdf = L ks 8π (v·h)/(s + 1) ≤ 8π L ks/(s + 1)`.
+/// - GGX, `f = L D F V (n·l)/4`: `f/p_light ≤ L D_max F_max V_max max(n·l) Ω_max / 4` for either
+///   technique; `f/p_brdf = L F (n·l) V (v·h)/(n·h) ≤ L F_max / ((min n·v (1−k) + k) min n·h)`
+///   (since `(n·l)/((n·l)(1−k) + k) ≤ 1`).
+///
+/// `Ω_max = min(2π, A cos_max/d_min²)`. Shininess and roughness take their worst ends of the
+/// range (and D its peak over α). A bound that cannot be formed (`min n·l` or `min n·h` zero)
+/// saturates the guard, which means per-pixel shading.
+fn polygon_specular_bound(
+    material: &MaterialKind,
+    parameter: ParameterRange,
+    st: &LightSetup,
+    polygon: &PolygonLight,
+    gd: &Guard,
+) -> Vec3 {
+    let Some(emitter) = st.area else {
+        return Vec3::ZERO;
+    };
+    let radiance = polygon.radiance();
+    let cos_l_min = est_cos(st.psi_nl.1).max(0.0);
+    let cos_l_max = est_cos(st.psi_nl.0).min(1.0);
+    let cos_y_max = est_cos(emitter.0).min(1.0);
+    let omega = gd.c(gd.mul(polygon.area * cos_y_max, gd.mul(st.inv_d, st.inv_d)).min(2.0 * PI));
+    let (h0, h1) = st.psi_nh;
+    let projected = polygon.sampling.technique == PolygonSampling::ProjectedSolidAngle;
+    match *material {
+        MaterialKind::Lambert { .. } => Vec3::ZERO,
+        MaterialKind::BlinnPhong { ks, .. } => {
+            let s0 = parameter.lo;
+            let peak = if h0 < FRAC_PI_2 { est_pow(est_cos(h0), s0) } else { 0.0 };
+            let mut light = gd.mul(peak, omega);
+            if projected && light > 0.0 {
+                light = gd.c(light * cos_l_max / cos_l_min);
+            }
+            let brdf = 8.0 * PI / (s0 + 1.0);
+            radiance * ks * gd.c(light + brdf)
+        }
+        MaterialKind::Ggx { f0, .. } => {
+            let (alpha_lo, alpha_hi) = (ggx_alpha(parameter.lo), ggx_alpha(parameter.hi));
+            let k = 0.5 * alpha_lo;
+            let cos_h = if h0 < FRAC_PI_2 { est_cos(h0) } else { 0.0 };
+            let mut d_max = ggx_d_value(cos_h, alpha_lo).max(ggx_d_value(cos_h, alpha_hi));
+            if alpha_hi > alpha_lo && cos_h > 0.0 {
+                // D(c, α) peaks over α at α² = (1 − c²)/c².
+                let s2 = (1.0 - cos_h * cos_h).max(0.0);
+                let peak = (s2 / (cos_h * cos_h)).sqrt().max(alpha_lo).min(alpha_hi);
+                d_max = d_max.max(ggx_d_value(cos_h, peak));
+            }
+            let cos_v_min = est_cos(st.psi_nv.1).max(0.0);
+            let v_side = cos_v_min * (1.0 - k) + k;
+            let v_max = 1.0 / ((cos_l_min * (1.0 - k) + k) * v_side);
+            let light = if h0 < FRAC_PI_2 { gd.mul(gd.mul(0.25 * d_max, v_max), omega * cos_l_max) } else { 0.0 };
+            let cos_h_min = est_cos(h1.min(FRAC_PI_2)).max(0.0);
+            let brdf = gd.c(1.0 / (v_side * cos_h_min));
+            let om = 1.0 - est_cos(0.5 * st.psi_lv.1).clamp(0.0, 1.0);
+            let f_max = f0 + (Vec3::ONE - f0) * om.powi(5);
+            radiance * f_max * gd.c(light + brdf)
+        }
+    }
+}
+
+/// The GGX distribution at `n·h = c` (the formula of `brdf::ggx_d`).
+fn ggx_d_value(c: f32, alpha: f32) -> f32 {
+    let a2 = alpha * alpha;
+    let d = c * c * (a2 - 1.0) + 1.0;
+    a2 / (PI * d * d)
 }
 
 /// The jets of one light's diffuse part (`E'·(n·l)`, per unit weight) and specular part
@@ -1263,10 +1431,19 @@ fn light_jets(
     } else {
         Jet::constant(1.0)
     };
+    // A polygon: each of its points is a point light whose intensity has the emitter's cosine
+    // `(−n_e)·l̂`, a cosine between a constant direction and l̂.
+    let att = match st.area {
+        Some(emitter) => {
+            let fixed = Field { w: 0.0, x: 0.0, term: Term::Light };
+            product([att, cosine(&fixed, &l, emitter, gd)], gd)
+        }
+        None => att,
+    };
     let c_nl = cosine(&n, &l, st.psi_nl, gd);
     let diffuse = product([att, c_nl], gd);
     let zero = Jet::constant(0.0);
-    if matches!(material, MaterialKind::Lambert { .. }) {
+    if matches!(material, MaterialKind::Lambert { .. }) || st.area.is_some() {
         return (diffuse, [zero; 3]);
     }
 

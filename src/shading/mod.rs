@@ -5,23 +5,26 @@ pub mod brdf;
 pub mod derivatives;
 pub mod estimator;
 pub mod polygon;
+pub mod polygon_light;
 pub mod tonemap;
 
 use crate::scene::{Light, MaterialKind};
+use polygon_light::shade_polygon;
 use brdf::{ggx_alpha, ggx_d, safe_normalize, schlick_f, smith_v, MIN_LIGHT_DISTANCE_SQUARED};
 use glam::Vec3;
 
-/// Reflected radiance per unit irradiance for one light; n, l, v are unit vectors.
-pub fn reflect_one_light(n: Vec3, l: Vec3, v: Vec3, material: &MaterialKind) -> Vec3 {
+/// Reflected radiance per unit irradiance for one light, `(diffuse, specular)`; n, l, v are
+/// unit vectors.
+pub fn reflect_split(n: Vec3, l: Vec3, v: Vec3, material: &MaterialKind) -> (Vec3, Vec3) {
     let n_dot_l = n.dot(l);
     if n_dot_l <= 0.0 {
-        return Vec3::ZERO;
+        return (Vec3::ZERO, Vec3::ZERO);
     }
     let h = safe_normalize(l + v);
     let n_dot_h = n.dot(h).max(0.0);
     match *material {
-        MaterialKind::Lambert { kd } => kd * n_dot_l,
-        MaterialKind::BlinnPhong { kd, ks, shininess } => kd * n_dot_l + ks * n_dot_h.powf(shininess),
+        MaterialKind::Lambert { kd } => (kd * n_dot_l, Vec3::ZERO),
+        MaterialKind::BlinnPhong { kd, ks, shininess } => (kd * n_dot_l, ks * n_dot_h.powf(shininess)),
         MaterialKind::Ggx { albedo, f0, roughness } => {
             let alpha = ggx_alpha(roughness);
             let k = 0.5 * alpha;
@@ -29,20 +32,28 @@ pub fn reflect_one_light(n: Vec3, l: Vec3, v: Vec3, material: &MaterialKind) -> 
             let v_dot_h = v.dot(h).clamp(0.0, 1.0);
             let specular =
                 ggx_d(n_dot_h, alpha) * schlick_f(v_dot_h, f0) * smith_v(n_dot_l, n_dot_v, k) * 0.25;
-            (albedo + specular) * n_dot_l
+            (albedo * n_dot_l, specular * n_dot_l)
         }
     }
 }
 
-/// Direction to the light (unit) and the irradiance it delivers facing it, at `position`.
-pub fn light_at(light: &Light, position: Vec3) -> (Vec3, Vec3) {
+/// Reflected radiance per unit irradiance for one light; n, l, v are unit vectors.
+pub fn reflect_one_light(n: Vec3, l: Vec3, v: Vec3, material: &MaterialKind) -> Vec3 {
+    let (diffuse, specular) = reflect_split(n, l, v, material);
+    diffuse + specular
+}
+
+/// Direction to a point or directional light (unit) and the irradiance it delivers facing it,
+/// at `position`; `None` for a polygonal light.
+pub fn light_at(light: &Light, position: Vec3) -> Option<(Vec3, Vec3)> {
     match *light {
         Light::Point { position: light_position, color, intensity } => {
             let to_light = light_position - position;
             let d2 = to_light.dot(to_light).max(MIN_LIGHT_DISTANCE_SQUARED);
-            (to_light * (1.0 / d2.sqrt()), color * intensity / d2)
+            Some((to_light * (1.0 / d2.sqrt()), color * intensity / d2))
         }
-        Light::Directional { direction, color, intensity } => (-direction, color * intensity),
+        Light::Directional { direction, color, intensity } => Some((-direction, color * intensity)),
+        Light::Polygon(_) => None,
     }
 }
 
@@ -58,9 +69,13 @@ pub fn shade_point(
     let v = safe_normalize(eye - position);
     lights
         .iter()
-        .map(|light| {
-            let (l, irradiance) = light_at(light, position);
-            reflect_one_light(n, l, v, material) * irradiance
+        .map(|light| match (light, light_at(light, position)) {
+            (Light::Polygon(polygon), _) => {
+                let (diffuse, specular) = shade_polygon(position, n, v, material, polygon);
+                diffuse + specular
+            }
+            (_, Some((l, irradiance))) => reflect_one_light(n, l, v, material) * irradiance,
+            (_, None) => Vec3::ZERO,
         })
         .sum()
 }

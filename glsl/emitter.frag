@@ -1,0 +1,14 @@
+#version 460
+// The emissive geometry of a polygonal light: its radiance on the emitting side, black behind
+// (a one-sided emitter). `draw.light_index` names the light.
+#include "bindings.glsl"
+
+layout(location = 0) in vec3 in_position;
+
+layout(location = 0) out vec4 out_color;
+
+void main() {
+    GpuPolygonLight light = polygon_lights[draw.light_index];
+    bool front = dot(light.normal.xyz, draw.eye.xyz - in_position) > 0.0;
+    out_color = vec4(front ? light.radiance.rgb : vec3(0.0), 1.0);
+}
