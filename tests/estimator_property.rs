@@ -7,6 +7,9 @@
 //! the hardware pattern (`triangle_pattern(n, [n; 3])`) at the estimator's level must be
 //! `≤ ε` in every channel: zero violations, for all three BRDFs.
 //!
+//! The same for polygonal lights (`polygon_lights_never_exceed_epsilon`, random polygons of 3
+//! to 8 vertices; see [`random_polygon_case`]).
+//!
 //! Run with `cargo test --release --test estimator_property -- --nocapture` to see the
 //! figures (violations, fallback rates, estimator level over oracle level, shading
 //! evaluations). `docs/estimator.md` quotes them.
@@ -19,7 +22,7 @@ use multirate::analysis::oracle::{
     oracle_level, true_error, true_error_sampled, true_error_textured, vertices_at_level,
 };
 use multirate::analysis::tessellator::{triangle_pattern, Pattern};
-use multirate::scene::{with_parameter, Light, MaterialKind};
+use multirate::scene::{with_parameter, Light, LightSampling, MaterialKind, PolygonLight, PolygonSampling};
 use multirate::shading::estimator::{
     estimate, estimate_textured, Discontinuity, EstimatorSettings, ParameterRange, Reason, Split, Term,
     TriangleInput,
@@ -206,6 +209,116 @@ fn percentile(v: &mut [f64], p: f64) -> f64 {
     }
     v.sort_by(|a, b| a.partial_cmp(b).unwrap());
     v[((v.len() - 1) as f64 * p).round() as usize]
+}
+
+/// [`random_case`] with its lights replaced by 1 to 3 random polygonal lights: regular 3- to
+/// 8-gons, from tiny to as wide as they are far, facing the triangle or tilted by up to 60°
+/// (sometimes far enough that the triangle is partly or wholly behind the emitter), sampled
+/// with either technique and a random MIS visibility.
+fn random_polygon_case(rng: &mut Rng, brdf: Brdf) -> Case {
+    let mut case = random_case(rng, brdf);
+    let [a, b, c] = case.tri.positions;
+    let centre = (a + b + c) / 3.0;
+    let size = (b - a).length().max((c - a).length()).max(1e-6);
+    let base = case.tri.normals[0].normalize();
+    let count = 1 + (rng.next_u64() % 3) as usize;
+    case.lights.clear();
+    for _ in 0..count {
+        let angle = rng.range(0.0, 1.8);
+        let dir = tilt(rng, base, angle);
+        let dist = size * rng.log(0.5, 300.0);
+        let radius = dist * rng.log(1e-3, 1.0);
+        let lean = if rng.chance(0.2) { rng.range(0.0, 1.05) } else { 0.0 };
+        let facing = tilt(rng, -dir, lean);
+        let (u, w) = facing.any_orthonormal_pair();
+        let sides = 3 + (rng.next_u64() % 6) as usize;
+        let turn = rng.range(0.0, 1.0);
+        let vertices: Vec<Vec3> = (0..sides)
+            .map(|k| {
+                let t = std::f32::consts::TAU * (k as f32 + turn) / sides as f32;
+                centre + dir * dist + (u * t.cos() + w * t.sin()) * radius
+            })
+            .collect();
+        // Solid angle up to about π: radiance so that the diffuse part is of order 1.
+        let intensity = rng.range(0.3, 3.0) * (dist / radius).powi(2).min(1.0e6) / std::f32::consts::PI;
+        let color = rng.color(0.2, 1.0);
+        let Ok(mut light) = PolygonLight::new(&vertices, color, intensity) else {
+            continue;
+        };
+        if light.normal.dot(facing) < 0.0 {
+            let reversed: Vec<Vec3> = vertices.iter().rev().copied().collect();
+            light = PolygonLight::new(&reversed, light.color, intensity).expect("the same polygon");
+        }
+        light.sampling = LightSampling {
+            samples: 4,
+            technique: if rng.chance(0.5) { PolygonSampling::ProjectedSolidAngle } else { PolygonSampling::SolidAngle },
+            mis_visibility: [0.0, 0.5, 1.0][(rng.next_u64() % 3) as usize],
+        };
+        case.lights.push(Light::Polygon(light));
+    }
+    case
+}
+
+/// Polygonal lights: wherever the estimator does not fall back, the true error at its level is
+/// `≤ ε` (Conservative and Relaxed). The oracle's own level is not computed (too slow with
+/// sampled shading); the figures are printed.
+fn check_polygons(brdf: Brdf, seed: u64, count: usize) {
+    let mut text = String::new();
+    let mut violations = 0;
+    for (name, settings_of) in [("Conservative", conservative as fn(f32) -> EstimatorSettings), ("Relaxed", relaxed)] {
+        let start = Instant::now();
+        let mut rng = SplitMix64(seed);
+        let (mut tessellated, mut closest, mut levels) = (0usize, 0.0f64, [0usize; N_MAX as usize + 1]);
+        let mut reasons = [0usize; 4];
+        for index in 0..count {
+            let case = random_polygon_case(&mut rng, brdf);
+            let settings = settings_of(case.epsilon);
+            let est = estimate(&case.tri, &case.material, &case.lights, &settings);
+            assert!(est.n >= 1 && est.n <= N_MAX && est.level.is_finite());
+            if est.fallback {
+                reasons[match est.reason {
+                    Reason::Level => 1,
+                    Reason::Discontinuity => 2,
+                    _ => 3,
+                }] += 1;
+                continue;
+            }
+            tessellated += 1;
+            levels[est.n as usize] += 1;
+            let eps = f64::from(case.epsilon);
+            let pattern = hardware(est.n);
+            let error = true_error(&case.tri, &case.material, &case.lights, &pattern);
+            let worst = error.iter().copied().fold(0.0, f64::max);
+            closest = closest.max(worst / eps);
+            if worst > eps {
+                violations += 1;
+                let _ = writeln!(
+                    text,
+                    "VIOLATION #{index}: n = {}, true {worst:.4e} > ε {eps}, predicted {:.4e}, {:?}, {:?}, {:?}",
+                    est.n, est.predicted_error, case.material, case.lights, case.tri
+                );
+            }
+        }
+        let _ = writeln!(
+            text,
+            "{brdf:?} polygons, {name}: {count} triangles in {:.1} s, {tessellated} tessellated (levels {:?}), \
+             fallback level/discontinuity/singular {}/{}/{}, worst true/ε {closest:.3}",
+            start.elapsed().as_secs_f64(),
+            levels.iter().enumerate().filter(|(_, &c)| c > 0).collect::<Vec<_>>(),
+            reasons[1],
+            reasons[2],
+            reasons[3]
+        );
+    }
+    println!("{text}");
+    assert_eq!(violations, 0, "{text}");
+}
+
+#[test]
+fn polygon_lights_never_exceed_epsilon() {
+    check_polygons(Brdf::Lambert, 0x4d6e_8f0a_2b3c_4567, 6000);
+    check_polygons(Brdf::BlinnPhong, 0x5e7f_9a1b_3c4d_5678, 6000);
+    check_polygons(Brdf::Ggx, 0x6f8a_0b2c_4d5e_6789, 6000);
 }
 
 fn run(brdf: Brdf, seed: u64, count: usize, settings_of: impl Fn(f32) -> EstimatorSettings) -> Stats {

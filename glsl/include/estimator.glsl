@@ -712,6 +712,9 @@ struct LightSetup {
     vec2 psi_nv;
     int nv_sign;
     vec2 psi_lv;
+    // A polygonal light, and the range of the emitter's angle (see `LightSetup` in Rust).
+    bool area;
+    vec2 emitter;
 };
 
 // Accumulated bounds (see `Sums`): per term and channel, levels 1 and >= 2.
@@ -723,17 +726,14 @@ vec3 sum_jumps;
 vec3 sum_range;
 vec3 sum_one;
 
-// Range of the angle between n and the field normalize(sum l_k w_k), and the sign of n.w.
-// Returns the range; the sign goes to `sign_out`.
-P vec2 cosine_range(Frame frame, Cone w_cone, vec3 w[3], out int sign_out) {
+// The range of the angle between n and w from the range q of n.w over the triangle and bounds
+// on |w| (see `cosine_range_of`); the sign of n.w goes to `sign_out`.
+P vec2 cosine_range_of(Frame frame, Cone w_cone, vec2 q, float w_max, float w_min, out int sign_out) {
     P vec2 psi = psi_range(frame.n_cone, w_cone);
     P float p0 = psi.x;
     P float p1 = psi.y;
-    P vec2 q = bilinear_range(frame.normals, w);
     P float q_lo = q.x;
     P float q_hi = q.y;
-    P float w_max = rmax(rmax(len(w[0]), len(w[1])), len(w[2]));
-    P float w_min = min_length(w[0], w[1], w[2], w_cone);
     P float scale = frame.n_max_len * w_max;
     P float tol = 1.0e-5 * scale;
     int sign_of = q_lo > tol ? SIGN_POSITIVE : (q_hi < -tol ? SIGN_NON_POSITIVE : SIGN_BOTH);
@@ -752,6 +752,82 @@ P vec2 cosine_range(Frame frame, Cone w_cone, vec3 w[3], out int sign_out) {
         p0 = p1;
     }
     return vec2(p0, p1);
+}
+
+// Range of the angle between n and the field normalize(sum l_k w_k), and the sign of n.w.
+// Returns the range; the sign goes to `sign_out`.
+P vec2 cosine_range(Frame frame, Cone w_cone, vec3 w[3], out int sign_out) {
+    P vec2 q = bilinear_range(frame.normals, w);
+    P float w_max = rmax(rmax(len(w[0]), len(w[1])), len(w[2]));
+    P float w_min = min_length(w[0], w[1], w[2], w_cone);
+    return cosine_range_of(frame, w_cone, q, w_max, w_min, sign_out);
+}
+
+// Where a polygonal light is as seen from the triangle (see `AreaGeometry` in Rust).
+struct AreaGeometry {
+    Cone cone;
+    float d_min;
+    vec2 q;
+    float w_max;
+    vec2 emitter;
+};
+
+// `area_geometry` in Rust: 0 with the geometry, 1 when the triangle is behind the emitter (it
+// receives nothing), 2 when the emitter's plane cuts the triangle (a discontinuity).
+int area_geometry(Frame frame, GpuPolygonLight light, out AreaGeometry g) {
+    int count = light.info.x;
+    P vec3 y0 = light.vertices[0].xyz;
+    P vec3 normal = light.normal.xyz;
+    P float side[3] = float[3](dot3(normal, frame.vertices[0] - y0), dot3(normal, frame.vertices[1] - y0),
+                               dot3(normal, frame.vertices[2] - y0));
+    if (side[0] <= 0.0 && side[1] <= 0.0 && side[2] <= 0.0) {
+        return 1;
+    }
+    P float reach = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        reach = rmax(reach, len(frame.vertices[k] - y0));
+    }
+    P float tol = 1.0e-5 * reach;
+    if (!(side[0] > tol && side[1] > tol && side[2] > tol)) {
+        return 2;
+    }
+    P vec3 light_centre = vec3(0.0);
+    for (int j = 0; j < 8; ++j) {
+        if (j < count) {
+            light_centre = light_centre + light.vertices[j].xyz;
+        }
+    }
+    light_centre = light_centre / float(count);
+    P vec3 axis = unit(light_centre - frame.center);
+    P float half_angle = 0.0;
+    P float d_min = 3.4028235e38;
+    P float w_max = 0.0;
+    P float q_lo = 3.4028235e38;
+    P float q_hi = -3.4028235e38;
+    for (int j = 0; j < 8; ++j) {
+        if (j < count) {
+            P vec3 yj = light.vertices[j].xyz;
+            P vec3 w[3] = vec3[3](yj - frame.vertices[0], yj - frame.vertices[1], yj - frame.vertices[2]);
+            for (int k = 0; k < 3; ++k) {
+                half_angle = rmax(half_angle, angle(axis, w[k]));
+                d_min = rmin(d_min, dot3(w[k], axis));
+                w_max = rmax(w_max, len(w[k]));
+            }
+            P vec2 q = bilinear_range(frame.normals, w);
+            q_lo = rmin(q_lo, q.x);
+            q_hi = rmax(q_hi, q.y);
+        }
+    }
+    half_angle = half_angle + ANGLE_PAD;
+    g.cone = (is_zero(axis) || !(half_angle < MAX_HALF)) ? no_cone() : Cone(axis, half_angle);
+    if (g.cone.spread >= PI || !(d_min > 0.0)) {
+        d_min = 0.0;
+    }
+    g.d_min = d_min;
+    g.q = vec2(q_lo, q_hi);
+    g.w_max = w_max;
+    g.emitter = psi_range(Cone(-normal, 0.0), g.cone);
+    return 0;
 }
 
 // Diffuse and specular colour weights of a light (see `weights`).
@@ -891,13 +967,18 @@ void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Sc
     } else {
         att = jet_constant(1.0);
     }
+    if (st.area) {
+        // Each point of the polygon: a point light with the emitter's cosine.
+        Field fixed_direction = Field(0.0, 0.0, T_LIGHT);
+        att = product2(att, cosine(fixed_direction, l, st.emitter));
+    }
     Jet c_nl = cosine(n, l, st.psi_nl);
     diffuse = product2(att, c_nl);
     Jet zero = jet_constant(0.0);
     spec[0] = zero;
     spec[1] = zero;
     spec[2] = zero;
-    if (MATERIAL_KIND == MATERIAL_LAMBERT) {
+    if (MATERIAL_KIND == MATERIAL_LAMBERT || st.area) {
         return;
     }
 
@@ -1050,11 +1131,94 @@ P vec3 parameter_variation(vec2 param, LightSetup st, vec3 spec_sup) {
     return spec_sup * (share * SAFETY);
 }
 
+// The GGX distribution at n.h = c (see `ggx_d_value`).
+P float ggx_d_value(float c, float alpha) {
+    P float a2 = alpha * alpha;
+    P float d = c * c * (a2 - 1.0) + 1.0;
+    return a2 / (PI * d * d);
+}
+
+// (2 - v) sup f/p_light + v sup f/p_brdf (see `mis_bound` in Rust).
+P float mis_bound(float light_part, float brdf_part) {
+    return gc(gmul(2.0 - MIS_VISIBILITY, light_part) + gmul(MIS_VISIBILITY, brdf_part));
+}
+
+// An upper bound of a polygonal light's sampled specular part on the triangle, per channel
+// (see `polygon_specular_bound` in Rust for the derivation).
+P vec3 polygon_specular_bound(GpuMaterial material, vec2 param, LightSetup st, GpuPolygonLight light) {
+    if (MATERIAL_KIND == MATERIAL_LAMBERT || !st.area) {
+        return vec3(0.0);
+    }
+    P vec3 radiance = light.radiance.rgb;
+    P float cos_l_min = rmax(est_cos(st.psi_nl.y), 0.0);
+    P float cos_l_max = rmin(est_cos(st.psi_nl.x), 1.0);
+    P float cos_y_max = rmin(est_cos(st.emitter.x), 1.0);
+    P float omega = gc(rmin(gmul(light.normal.w * cos_y_max, gmul(st.inv_d, st.inv_d)), 2.0 * PI));
+    P float h0 = st.psi_nh.x;
+    P float h1 = st.psi_nh.y;
+    bool projected = POLYGON_TECHNIQUE == 0;
+    if (MATERIAL_KIND == MATERIAL_BLINN_PHONG) {
+        P float s0 = param.x;
+        P float peak = h0 < HALF_PI ? est_pow(est_cos(h0), s0) : 0.0;
+        P float light_part = gmul(peak, omega);
+        if (projected && light_part > 0.0) {
+            light_part = gc(light_part * cos_l_max / cos_l_min);
+        }
+        P float brdf_part = 8.0 * PI / (s0 + 1.0);
+        P vec3 b = radiance * material.specular.rgb * mis_bound(light_part, brdf_part);
+        return b;
+    }
+    P float alpha_lo = max(param.x * param.x, GGX_MIN_ALPHA);
+    P float alpha_hi = max(param.y * param.y, GGX_MIN_ALPHA);
+    P float k = 0.5 * alpha_lo;
+    P float cos_h = h0 < HALF_PI ? est_cos(h0) : 0.0;
+    P float d_max = rmax(ggx_d_value(cos_h, alpha_lo), ggx_d_value(cos_h, alpha_hi));
+    if (alpha_hi > alpha_lo && cos_h > 0.0) {
+        P float s2 = rmax(1.0 - cos_h * cos_h, 0.0);
+        P float peak = rmin(rmax(sqrt(s2 / (cos_h * cos_h)), alpha_lo), alpha_hi);
+        d_max = rmax(d_max, ggx_d_value(cos_h, peak));
+    }
+    P float cos_v_min = rmax(est_cos(st.psi_nv.y), 0.0);
+    P float v_side = cos_v_min * (1.0 - k) + k;
+    P float v_max = 1.0 / ((cos_l_min * (1.0 - k) + k) * v_side);
+    P float light_part = h0 < HALF_PI ? gmul(gmul(0.25 * d_max, v_max), omega * cos_l_max) : 0.0;
+    P float cos_h_min = rmax(est_cos(rmin(h1, HALF_PI)), 0.0);
+    P float brdf_part = v_side * cos_h_min > 0.5 / v_max ? 1.0 / (v_side * cos_h_min) : 2.0 * v_max;
+    P float om = 1.0 - clamp(est_cos(0.5 * st.psi_lv.y), 0.0, 1.0);
+    P float om2 = om * om;
+    P float om4 = om2 * om2;
+    P float om5 = om * om4;
+    P vec3 f_max = material.specular.rgb + (vec3(1.0) - material.specular.rgb) * om5;
+    P vec3 b = radiance * f_max * mis_bound(light_part, brdf_part);
+    return b;
+}
+
 // Adds one light's bounds to the sums; returns a fallback reason (REASON_NONE if none), as
-// `add_light` in Rust. `point`: a point light at `position`, else a directional light whose
+// `add_light` in Rust. `polygon` >= 0: the polygonal light of that index (`position` and
+// `radiance` unused); else `point`: a point light at `position`, or a directional light whose
 // travel direction is `position`.
 int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 position,
-              vec3 radiance, float top) {
+              vec3 radiance, int polygon, float top) {
+    bool area = polygon >= 0;
+    AreaGeometry geometry;
+    GpuPolygonLight light;
+    if (area) {
+        light = polygon_lights[polygon];
+        if (is_zero(light.radiance.rgb)) {
+            return REASON_NONE;
+        }
+        int where_is = area_geometry(frame, light, geometry);
+        if (where_is == 1) {
+            return REASON_NONE;
+        }
+        if (where_is == 2) {
+            return REASON_DISCONTINUITY;
+        }
+        if (!(geometry.d_min * geometry.d_min > MIN_D2_SAFE)) {
+            return REASON_SINGULAR;
+        }
+        radiance = light.radiance.rgb * light.normal.w;
+    }
     if (is_zero(radiance)) {
         return REASON_NONE;
     }
@@ -1065,7 +1229,11 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     P float inv_d;
     P vec3 l_center;
     P vec3 l_vectors[3];
-    if (point) {
+    if (area) {
+        l_cone = geometry.cone;
+        inv_d = 1.0 / geometry.d_min;
+        l_center = l_cone.axis;
+    } else if (point) {
         l_vectors[0] = position - frame.vertices[0];
         l_vectors[1] = position - frame.vertices[1];
         l_vectors[2] = position - frame.vertices[2];
@@ -1094,7 +1262,8 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
         return REASON_SINGULAR;
     }
     int l_sign;
-    P vec2 psi_nl = cosine_range(frame, l_cone, l_vectors, l_sign);
+    P vec2 psi_nl = area ? cosine_range_of(frame, l_cone, geometry.q, geometry.w_max, geometry.d_min, l_sign)
+                         : cosine_range(frame, l_cone, l_vectors, l_sign);
     if (l_sign == SIGN_NON_POSITIVE) {
         return REASON_NONE;
     }
@@ -1113,6 +1282,8 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     setup.psi_nv = vec2(0.0, PI);
     setup.nv_sign = SIGN_BOTH;
     setup.psi_lv = vec2(0.0, PI);
+    setup.area = area;
+    setup.emitter = area ? geometry.emitter : vec2(0.0);
     if (!is_zero(frame.plane) && inv_d > 0.0) {
         P vec2 g = psi_range(l_cone, Cone(frame.plane, 0.0));
         setup.plane_sin = max_sin(g.x, g.y);
@@ -1135,7 +1306,8 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
         P float half_b = delta < len(m0) ? est_asin(delta / len(m0)) + ANGLE_PAD : PI;
         P vec3 h_axis;
         P float h_half;
-        if (half_b < half_a) {
+        // (a) follows one light point; a polygon needs (b), which holds for all of them.
+        if (half_b < half_a || area) {
             h_axis = unit(m0);
             h_half = half_b;
         } else {
@@ -1158,7 +1330,9 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
         int nv_sign;
         setup.psi_nv = cosine_range(frame, frame.v_cone, v_vectors, nv_sign);
         setup.nv_sign = nv_sign;
-        if (MATERIAL_KIND == MATERIAL_BLINN_PHONG) {
+        // A polygon's sampled specular part is bounded by its range: kinks do not matter.
+        if (area) {
+        } else if (MATERIAL_KIND == MATERIAL_BLINN_PHONG) {
             // max(n.h, 0)^s is C^{1,1} across n.h = 0 only for s >= 2.
             if (setup.psi_nh.x < HALF_PI && setup.psi_nh.y >= HALF_PI && param.x < 2.0) {
                 return REASON_DISCONTINUITY;
@@ -1209,8 +1383,15 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
             zero = spec_w * spec_m * SAFETY;
         }
     }
-    // A textured parameter: its variation over the range, an n-independent term.
-    zero = zero + spec_w * parameter_variation(param, setup, spec_sup);
+    if (area) {
+        // The sampled specular part: no interpolation bound, its range.
+        P vec3 bound = polygon_specular_bound(material, param, setup, light) * SAFETY;
+        zero = zero + bound;
+        range = range + bound;
+    } else {
+        // A textured parameter: its variation over the range, an n-independent term.
+        zero = zero + spec_w * parameter_variation(param, setup, spec_sup);
+    }
     // Sums over the terms in term order (the skipped ones are exact zeros).
     P vec3 tot1 = vec3(0.0);
     P vec3 totn = vec3(0.0);
@@ -1601,7 +1782,10 @@ float required_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 
     for (int i = 0; i < POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT; ++i) {
         GpuLight light = lights[i];
         reason = worse(reason, add_light(frame, material, param, i < POINT_LIGHT_COUNT,
-                                         light.position.xyz, light.radiance.rgb, top));
+                                         light.position.xyz, light.radiance.rgb, -1, top));
+    }
+    for (int i = 0; i < POLYGON_LIGHT_COUNT; ++i) {
+        reason = worse(reason, add_light(frame, material, param, false, vec3(0.0), vec3(0.0), i, top));
     }
     if (est_bad) {
         reason = worse(reason, REASON_SINGULAR);

@@ -1331,15 +1331,16 @@ fn add_light(
 }
 
 /// An upper bound, per channel, of a polygonal light's sampled specular part anywhere on the
-/// triangle. Every sample adds `w f/p` with an MIS weight `w ∈ [0, 1]`, so the estimate is at
-/// most `sup f/p_light + sup f/p_brdf` over the directions to the polygon (`f` the specular
-/// integrand, [`crate::shading::polygon_light`]):
+/// triangle (`f` the specular integrand, [`crate::shading::polygon_light`]). A light sample adds
+/// `w_l f/p_l ≤ f/p_l` (`w ∈ [0, 1]`); a BRDF sample adds `f (v c_b/Σcₖpₖ + (1 − v)/Σpₖ)`
+/// (clamped optimal MIS, B.3) `≤ v f/p_b + (1 − v) f/p_l`. So the estimate is at most
+/// `(2 − v) sup f/p_l + v sup f/p_b` over the directions to the polygon, with:
 /// - Blinn-Phong, `f = L ks (n·h)^s`: `f/p_light ≤ L ks cos^s(ψ_nh,min) Ω_max` (solid angle),
 ///   times `max n·l / min n·l` for projected solid angle (`p = n·l/Ω⊥`, `Ω⊥ ≤ Ω max n·l`);
 ///   `f/p_brdf = L ks 8π (v·h)/(s + 1) ≤ 8π L ks/(s + 1)`.
 /// - GGX, `f = L D F V (n·l)/4`: `f/p_light ≤ L D_max F_max V_max max(n·l) Ω_max / 4` for either
-///   technique; `f/p_brdf = L F (n·l) V (v·h)/(n·h) ≤ L F_max / ((min n·v (1−k) + k) min n·h)`
-///   (since `(n·l)/((n·l)(1−k) + k) ≤ 1`).
+///   technique; `f/p_brdf = L F (n·l) V (v·h)/(n·h) ≤ L F_max min(1/((min n·v (1−k) + k) min n·h),
+///   2 V_max)` (since `(n·l)/((n·l)(1−k) + k) ≤ 1`, and `n·h ≥ (n·l + n·v)/2`).
 ///
 /// `Ω_max = min(2π, A cos_max/d_min²)`. Shininess and roughness take their worst ends of the
 /// range (and D its peak over α). A bound that cannot be formed (`min n·l` or `min n·h` zero)
@@ -1371,7 +1372,7 @@ fn polygon_specular_bound(
                 light = gd.c(light * cos_l_max / cos_l_min);
             }
             let brdf = 8.0 * PI / (s0 + 1.0);
-            radiance * ks * gd.c(light + brdf)
+            radiance * ks * mis_bound(light, brdf, polygon.sampling.mis_visibility, gd)
         }
         MaterialKind::Ggx { f0, .. } => {
             let (alpha_lo, alpha_hi) = (ggx_alpha(parameter.lo), ggx_alpha(parameter.hi));
@@ -1388,13 +1389,20 @@ fn polygon_specular_bound(
             let v_side = cos_v_min * (1.0 - k) + k;
             let v_max = 1.0 / ((cos_l_min * (1.0 - k) + k) * v_side);
             let light = if h0 < FRAC_PI_2 { gd.mul(gd.mul(0.25 * d_max, v_max), omega * cos_l_max) } else { 0.0 };
+            // (v·h)/(n·h) ≤ 1/min n·h, and also ≤ 2/(n·l + n·v) (n·h = (n·l + n·v)/|l + v|),
+            // which with (n·l)/(n·l + n·v) ≤ 1 leaves 2 V: finite where the h cone is wide.
             let cos_h_min = est_cos(h1.min(FRAC_PI_2)).max(0.0);
-            let brdf = gd.c(1.0 / (v_side * cos_h_min));
+            let brdf = if v_side * cos_h_min > 0.5 / v_max { 1.0 / (v_side * cos_h_min) } else { 2.0 * v_max };
             let om = 1.0 - est_cos(0.5 * st.psi_lv.1).clamp(0.0, 1.0);
             let f_max = f0 + (Vec3::ONE - f0) * om.powi(5);
-            radiance * f_max * gd.c(light + brdf)
+            radiance * f_max * mis_bound(light, brdf, polygon.sampling.mis_visibility, gd)
         }
     }
+}
+
+/// `(2 − v) sup f/p_l + v sup f/p_b` (see [`polygon_specular_bound`]).
+fn mis_bound(light: f32, brdf: f32, visibility: f32, gd: &Guard) -> f32 {
+    gd.c(gd.mul(2.0 - visibility, light) + gd.mul(visibility, brdf))
 }
 
 /// The GGX distribution at `n·h = c` (the formula of `brdf::ggx_d`).
