@@ -251,7 +251,11 @@ fn random_polygon_case(rng: &mut Rng, brdf: Brdf) -> Case {
         }
         light.sampling = LightSampling {
             samples: 4,
-            technique: if rng.chance(0.5) { PolygonSampling::ProjectedSolidAngle } else { PolygonSampling::SolidAngle },
+            technique: if rng.chance(0.5) {
+                PolygonSampling::ProjectedSolidAngle
+            } else {
+                PolygonSampling::SolidAngle
+            },
             mis_visibility: [0.0, 0.5, 1.0][(rng.next_u64() % 3) as usize],
         };
         case.lights.push(Light::Polygon(light));
@@ -265,7 +269,9 @@ fn random_polygon_case(rng: &mut Rng, brdf: Brdf) -> Case {
 fn check_polygons(brdf: Brdf, seed: u64, count: usize) {
     let mut text = String::new();
     let mut violations = 0;
-    for (name, settings_of) in [("Conservative", conservative as fn(f32) -> EstimatorSettings), ("Relaxed", relaxed)] {
+    for (name, settings_of) in
+        [("Conservative", conservative as fn(f32) -> EstimatorSettings), ("Relaxed", relaxed)]
+    {
         let start = Instant::now();
         let mut rng = SplitMix64(seed);
         let (mut tessellated, mut closest, mut levels) = (0usize, 0.0f64, [0usize; N_MAX as usize + 1]);

@@ -63,3 +63,17 @@ fn window_opens_resizes_and_closes_cleanly() {
     assert!(last.heat_map, "H toggled the heat map on");
     assert!(last.wireframe, "W toggled the wireframe on (lavapipe has fillModeNonSolid)");
 }
+
+#[test]
+fn polygon_light_scene_renders_in_the_window() {
+    let _display = VirtualDisplay::ensure();
+    let scene = Scene::load(&common::repo_path("scenes/plane_polygons.toml")).expect("scene loads");
+    let script =
+        ViewScript { keys: vec![(2, "p")], resize_at_frame: 1, resize_to: (320, 180), close_at_frame: 4 };
+    let start = View { mode: Mode::Multirate, ..View::of_scene(&scene) };
+    let report = view(scene, start, &ContextOptions { validate: true, device_name: None }, Some(script))
+        .expect("the viewer runs");
+    assert!(report.frames_presented >= 4, "{report:?}");
+    assert_eq!(report.validation_messages, 0, "{report:?}");
+    assert_eq!(report.final_view.as_ref().expect("the view at close").mode, Mode::Pixel, "{report:?}");
+}

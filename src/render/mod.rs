@@ -477,7 +477,13 @@ impl Renderer {
             context,
             descriptor_set,
             0,
-            &[light_buffer.raw, material_buffer.raw, level_buffer.raw, counter_buffer.raw, polygon_buffer.raw],
+            &[
+                light_buffer.raw,
+                material_buffer.raw,
+                level_buffer.raw,
+                counter_buffer.raw,
+                polygon_buffer.raw,
+            ],
         );
 
         let modules = Modules {

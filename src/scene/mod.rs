@@ -327,9 +327,8 @@ impl PolygonLight {
         }
         // Newell's normal: twice the area vector, exact for planar polygons of any winding.
         let centroid = vertices.iter().sum::<Vec3>() / count as f32;
-        let twice_area: Vec3 = (0..count)
-            .map(|j| (vertices[j] - centroid).cross(vertices[(j + 1) % count] - centroid))
-            .sum();
+        let twice_area: Vec3 =
+            (0..count).map(|j| (vertices[j] - centroid).cross(vertices[(j + 1) % count] - centroid)).sum();
         let size = vertices.iter().map(|v| (*v - centroid).length()).fold(0.0, f32::max);
         if !(twice_area.length() > 1.0e-6 * size * size) {
             return Err("the polygon has no area (its vertices are collinear or coincide)".into());
@@ -354,7 +353,10 @@ impl PolygonLight {
             let (e0, e1) = (b - a, c - b);
             let cross = e0.cross(e1).dot(normal);
             if !(cross > 1.0e-6 * e0.length() * e1.length()) {
-                return Err(format!("the polygon is not convex at vertex {} (or two vertices coincide)", j + 1));
+                return Err(format!(
+                    "the polygon is not convex at vertex {} (or two vertices coincide)",
+                    j + 1
+                ));
             }
             turning += cross.atan2(e0.dot(e1));
         }
@@ -1065,7 +1067,12 @@ fn check_maps(
     Ok(MaterialMaps { albedo, parameter })
 }
 
-fn check_light(path: &Path, index: usize, l: &LightFile, sampling: LightSampling) -> Result<Light, SceneError> {
+fn check_light(
+    path: &Path,
+    index: usize,
+    l: &LightFile,
+    sampling: LightSampling,
+) -> Result<Light, SceneError> {
     let kind = match l.kind {
         LightType::Point => "point",
         LightType::Directional => "directional",

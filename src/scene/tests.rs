@@ -455,7 +455,10 @@ fn bad_polygon_lights_are_named() {
     for (vertices, needles) in cases {
         expect_error(&with_polygon(vertices, ""), needles);
     }
-    expect_error(&with_polygon("[[0, 2, 0], [1, 2, 0], [0, 2, 1]]", "position = [0, 0, 0]"), &["`position` does not apply"]);
+    expect_error(
+        &with_polygon("[[0, 2, 0], [1, 2, 0], [0, 2, 1]]", "position = [0, 0, 0]"),
+        &["`position` does not apply"],
+    );
     let point_with_vertices = MINIMAL.replace("[[lights]]", "[[lights]]\nvertices = [[0, 0, 0]]");
     expect_error(&point_with_vertices, &["`vertices` does not apply"]);
 }

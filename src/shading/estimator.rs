@@ -1017,7 +1017,13 @@ fn cosine_range(frame: &Frame, w_cone: &Cone, w: [Vec3; 3]) -> ((f32, f32), Sign
 }
 
 /// [`cosine_range`] from the range `q` of `n·w` over the triangle and bounds on `|w|`.
-fn cosine_range_of(frame: &Frame, w_cone: &Cone, q: (f32, f32), w_max: f32, w_min: f32) -> ((f32, f32), Sign) {
+fn cosine_range_of(
+    frame: &Frame,
+    w_cone: &Cone,
+    q: (f32, f32),
+    w_max: f32,
+    w_min: f32,
+) -> ((f32, f32), Sign) {
     let (mut p0, mut p1) = psi_range(&frame.n_cone, w_cone);
     let (q_lo, q_hi) = q;
     let scale = frame.n_max_len * w_max;
@@ -1388,11 +1394,13 @@ fn polygon_specular_bound(
             let cos_v_min = est_cos(st.psi_nv.1).max(0.0);
             let v_side = cos_v_min * (1.0 - k) + k;
             let v_max = 1.0 / ((cos_l_min * (1.0 - k) + k) * v_side);
-            let light = if h0 < FRAC_PI_2 { gd.mul(gd.mul(0.25 * d_max, v_max), omega * cos_l_max) } else { 0.0 };
+            let light =
+                if h0 < FRAC_PI_2 { gd.mul(gd.mul(0.25 * d_max, v_max), omega * cos_l_max) } else { 0.0 };
             // (v·h)/(n·h) ≤ 1/min n·h, and also ≤ 2/(n·l + n·v) (n·h = (n·l + n·v)/|l + v|),
             // which with (n·l)/(n·l + n·v) ≤ 1 leaves 2 V: finite where the h cone is wide.
             let cos_h_min = est_cos(h1.min(FRAC_PI_2)).max(0.0);
-            let brdf = if v_side * cos_h_min > 0.5 / v_max { 1.0 / (v_side * cos_h_min) } else { 2.0 * v_max };
+            let brdf =
+                if v_side * cos_h_min > 0.5 / v_max { 1.0 / (v_side * cos_h_min) } else { 2.0 * v_max };
             let om = 1.0 - est_cos(0.5 * st.psi_lv.1).clamp(0.0, 1.0);
             let f_max = f0 + (Vec3::ONE - f0) * om.powi(5);
             radiance * f_max * mis_bound(light, brdf, polygon.sampling.mis_visibility, gd)

@@ -9,9 +9,9 @@ pub mod polygon_light;
 pub mod tonemap;
 
 use crate::scene::{Light, MaterialKind};
-use polygon_light::shade_polygon;
 use brdf::{ggx_alpha, ggx_d, safe_normalize, schlick_f, smith_v, MIN_LIGHT_DISTANCE_SQUARED};
 use glam::Vec3;
+use polygon_light::shade_polygon;
 
 /// Reflected radiance per unit irradiance for one light, `(diffuse, specular)`; n, l, v are
 /// unit vectors.

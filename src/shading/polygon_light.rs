@@ -21,8 +21,9 @@
 use super::brdf::{ggx_alpha, ggx_d, safe_normalize};
 use super::polygon::{
     clip_to_horizon, prepare_projected_solid_angle, prepare_solid_angle, projected_solid_angle,
-    projected_solid_angle_density, projected_to_solid_angle_density, sample_point, sample_projected_solid_angle,
-    sample_solid_angle, solid_angle_density, Polygon, ProjectedSolidAngleSampler, SolidAngleSampler,
+    projected_solid_angle_density, projected_to_solid_angle_density, sample_point,
+    sample_projected_solid_angle, sample_solid_angle, solid_angle_density, Polygon,
+    ProjectedSolidAngleSampler, SolidAngleSampler,
 };
 use super::reflect_split;
 use crate::scene::{MaterialKind, PolygonLight, PolygonSampling};
@@ -59,7 +60,9 @@ impl LightSampler {
     /// The density with respect to solid angle of producing `w`.
     fn density(&self, w: Vec3) -> f32 {
         match self {
-            LightSampler::Projected(s) => projected_to_solid_angle_density(projected_solid_angle_density(s, w), w),
+            LightSampler::Projected(s) => {
+                projected_to_solid_angle_density(projected_solid_angle_density(s, w), w)
+            }
             LightSampler::Solid(s) => solid_angle_density(s, w),
         }
     }
@@ -99,7 +102,9 @@ pub fn brdf_density(l: Vec3, v: Vec3, material: &MaterialKind) -> f32 {
     }
     let half_density = match *material {
         MaterialKind::Lambert { .. } => 0.0,
-        MaterialKind::BlinnPhong { shininess, .. } => (shininess + 1.0) / (2.0 * PI) * n_dot_h.powf(shininess),
+        MaterialKind::BlinnPhong { shininess, .. } => {
+            (shininess + 1.0) / (2.0 * PI) * n_dot_h.powf(shininess)
+        }
         MaterialKind::Ggx { roughness, .. } => ggx_d(n_dot_h, ggx_alpha(roughness)) * n_dot_h,
     };
     half_density / (4.0 * v_dot_h)
@@ -117,7 +122,13 @@ fn ratio(f: Vec3, p: f32) -> Vec3 {
 /// The light's contribution at `position` (unit normal `n`, unit direction to the eye `v`):
 /// `(diffuse, specular)`, the diffuse part as `kd · L · Ω⊥` (an albedo map multiplies it later).
 /// The light's [`PolygonLight::sampling`] says how its specular part is sampled.
-pub fn shade_polygon(position: Vec3, n: Vec3, v: Vec3, material: &MaterialKind, light: &PolygonLight) -> (Vec3, Vec3) {
+pub fn shade_polygon(
+    position: Vec3,
+    n: Vec3,
+    v: Vec3,
+    material: &MaterialKind,
+    light: &PolygonLight,
+) -> (Vec3, Vec3) {
     let settings = &light.sampling;
     let radiance = light.radiance();
     // One-sided: only points in front of the emitter's plane see it.
@@ -138,7 +149,9 @@ pub fn shade_polygon(position: Vec3, n: Vec3, v: Vec3, material: &MaterialKind, 
         MaterialKind::Ggx { albedo, .. } => (albedo, true),
     };
     let sampler = match settings.technique {
-        PolygonSampling::ProjectedSolidAngle => LightSampler::Projected(prepare_projected_solid_angle(&clipped)),
+        PolygonSampling::ProjectedSolidAngle => {
+            LightSampler::Projected(prepare_projected_solid_angle(&clipped))
+        }
         PolygonSampling::SolidAngle => LightSampler::Solid(prepare_solid_angle(&clipped)),
     };
     let projected = match &sampler {
@@ -155,7 +168,8 @@ pub fn shade_polygon(position: Vec3, n: Vec3, v: Vec3, material: &MaterialKind, 
     let centre = safe_normalize(clipped.as_slice().iter().map(|w| safe_normalize(*w)).sum());
     let c_light = ratio(specular(centre, v_local, material), sampler.density(centre)).max_element();
     let mirror = Vec3::new(-v_local.x, -v_local.y, v_local.z);
-    let c_brdf = ratio(specular(mirror, v_local, material), brdf_density(mirror, v_local, material)).max_element();
+    let c_brdf =
+        ratio(specular(mirror, v_local, material), brdf_density(mirror, v_local, material)).max_element();
     let coefficients = [c_light, c_brdf];
     let visibility = settings.mis_visibility;
 
@@ -173,7 +187,8 @@ pub fn shade_polygon(position: Vec3, n: Vec3, v: Vec3, material: &MaterialKind, 
         if p_brdf > 0.0 && l.z > 0.0 {
             let p_light = sampler.density(l);
             if p_light > 0.0 {
-                let w = super::polygon::clamped_optimal_mis_weights([p_light, p_brdf], coefficients, visibility);
+                let w =
+                    super::polygon::clamped_optimal_mis_weights([p_light, p_brdf], coefficients, visibility);
                 sum += specular(l, v_local, material) * (w[1] / p_brdf);
             }
         }
@@ -205,7 +220,9 @@ mod tests {
 
     #[test]
     fn tangent_frame_is_orthonormal_and_right_handed() {
-        for n in [Vec3::Z, -Vec3::Z, Vec3::X, Vec3::new(0.3, -0.5, 0.8).normalize(), Vec3::new(0.0, 1e-8, -1.0)] {
+        for n in
+            [Vec3::Z, -Vec3::Z, Vec3::X, Vec3::new(0.3, -0.5, 0.8).normalize(), Vec3::new(0.0, 1e-8, -1.0)]
+        {
             let (t, b) = tangent_frame(n);
             assert!((t.length() - 1.0).abs() < 1e-6 && (b.length() - 1.0).abs() < 1e-6);
             assert!(t.dot(b).abs() < 1e-6 && t.dot(n).abs() < 1e-6 && b.dot(n).abs() < 1e-6);
@@ -217,7 +234,7 @@ mod tests {
     fn diffuse_is_kd_radiance_projected_solid_angle_and_one_sided() {
         let light = quad(Vec3::new(0.0, 1.0, 0.0), 0.05, 3.0);
         let material = MaterialKind::Lambert { kd: Vec3::splat(0.5) };
-                let (d, s) = shade_polygon(Vec3::ZERO, Vec3::Y, Vec3::Y, &material, &light);
+        let (d, s) = shade_polygon(Vec3::ZERO, Vec3::Y, Vec3::Y, &material, &light);
         // Small, straight above: Ω⊥ ≈ area / distance².
         let expected = 0.5 * 3.0 * light.area;
         assert!((d.x - expected).abs() < 0.01 * expected, "{d} vs {expected}");
@@ -250,7 +267,8 @@ mod tests {
             let local = |w: Vec3| Vec3::new(w.dot(t), w.dot(bt), w.dot(n));
             for i in 0..steps {
                 for j in 0..steps {
-                    let y = a + e0 * ((i as f32 + 0.5) / steps as f32) + e1 * ((j as f32 + 0.5) / steps as f32);
+                    let y =
+                        a + e0 * ((i as f32 + 0.5) / steps as f32) + e1 * ((j as f32 + 0.5) / steps as f32);
                     let to = y - position;
                     let d2 = to.length_squared();
                     let l = to / d2.sqrt();
