@@ -47,7 +47,8 @@ fn meets_emitter(scene: &Scene, x: f32, y: f32) -> bool {
         let normal = polygon.normal.as_dvec3();
         let corner = polygon.vertices[0].as_dvec3();
         let t = (corner - origin).dot(normal) / direction.dot(normal);
-        if !(t > 0.0) {
+        let ahead = t > 0.0;
+        if !ahead {
             return false;
         }
         let hit = origin + direction * t;

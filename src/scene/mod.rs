@@ -330,7 +330,9 @@ impl PolygonLight {
         let twice_area: Vec3 =
             (0..count).map(|j| (vertices[j] - centroid).cross(vertices[(j + 1) % count] - centroid)).sum();
         let size = vertices.iter().map(|v| (*v - centroid).length()).fold(0.0, f32::max);
-        if !(twice_area.length() > 1.0e-6 * size * size) {
+        // (NaN fails these comparisons, and so is rejected.)
+        let has_area = twice_area.length() > 1.0e-6 * size * size;
+        if !has_area {
             return Err("the polygon has no area (its vertices are collinear or coincide)".into());
         }
         let normal = twice_area.normalize();
@@ -352,7 +354,8 @@ impl PolygonLight {
             let c = vertices[(j + 1) % count];
             let (e0, e1) = (b - a, c - b);
             let cross = e0.cross(e1).dot(normal);
-            if !(cross > 1.0e-6 * e0.length() * e1.length()) {
+            let turns_left = cross > 1.0e-6 * e0.length() * e1.length();
+            if !turns_left {
                 return Err(format!(
                     "the polygon is not convex at vertex {} (or two vertices coincide)",
                     j + 1

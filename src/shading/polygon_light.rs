@@ -159,7 +159,8 @@ pub fn shade_polygon(
         LightSampler::Solid(_) => projected_solid_angle(&clipped),
     };
     let diffuse = kd * radiance * projected;
-    if !has_specular || !(projected > 0.0) {
+    let lit = projected > 0.0;
+    if !has_specular || !lit {
         return (diffuse, Vec3::ZERO);
     }
 
