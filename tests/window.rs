@@ -4,44 +4,11 @@
 
 mod common;
 
+use common::VirtualDisplay;
 use multirate::render::{Mode, View};
 use multirate::scene::Scene;
 use multirate::vk::ContextOptions;
 use multirate::window::{view, ViewScript};
-use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Stdio};
-
-/// Starts `Xvfb` on a free display and returns it (killed on drop) when no display is set.
-struct VirtualDisplay(Option<Child>);
-
-impl VirtualDisplay {
-    fn ensure() -> VirtualDisplay {
-        if std::env::var_os("DISPLAY").is_some_and(|d| !d.is_empty()) {
-            return VirtualDisplay(None);
-        }
-        let mut child = Command::new("Xvfb")
-            .args(["-displayfd", "1", "-screen", "0", "1024x768x24", "-nolisten", "tcp"])
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("no DISPLAY and no Xvfb to start (Debian package xvfb)");
-        let mut line = String::new();
-        BufReader::new(child.stdout.take().expect("piped"))
-            .read_line(&mut line)
-            .expect("Xvfb reports its display number");
-        std::env::set_var("DISPLAY", format!(":{}", line.trim()));
-        VirtualDisplay(Some(child))
-    }
-}
-
-impl Drop for VirtualDisplay {
-    fn drop(&mut self) {
-        if let Some(child) = &mut self.0 {
-            let _ = child.kill();
-            let _ = child.wait();
-        }
-    }
-}
 
 #[test]
 fn window_opens_resizes_and_closes_cleanly() {
@@ -62,18 +29,4 @@ fn window_opens_resizes_and_closes_cleanly() {
     assert_eq!(last.mode, Mode::Fixed(4), "keys switch modes: {report:?}");
     assert!(last.heat_map, "H toggled the heat map on");
     assert!(last.wireframe, "W toggled the wireframe on (lavapipe has fillModeNonSolid)");
-}
-
-#[test]
-fn polygon_light_scene_renders_in_the_window() {
-    let _display = VirtualDisplay::ensure();
-    let scene = Scene::load(&common::repo_path("scenes/plane_polygons.toml")).expect("scene loads");
-    let script =
-        ViewScript { keys: vec![(2, "p")], resize_at_frame: 1, resize_to: (320, 180), close_at_frame: 4 };
-    let start = View { mode: Mode::Multirate, ..View::of_scene(&scene) };
-    let report = view(scene, start, &ContextOptions { validate: true, device_name: None }, Some(script))
-        .expect("the viewer runs");
-    assert!(report.frames_presented >= 4, "{report:?}");
-    assert_eq!(report.validation_messages, 0, "{report:?}");
-    assert_eq!(report.final_view.as_ref().expect("the view at close").mode, Mode::Pixel, "{report:?}");
 }

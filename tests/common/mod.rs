@@ -1,12 +1,15 @@
 //! Helpers shared by the GPU tests: a validated headless context, CPU ray casting of scenes
-//! and a check that the validation layer stayed silent.
+//! a check that the validation layer stayed silent, and a virtual display for the window tests
+//! (one per test binary: winit allows one event loop per process).
 #![allow(dead_code)]
 
 use glam::{DVec3, Vec3};
 use multirate::scene::Scene;
 use multirate::vk::target::FloatImage;
 use multirate::vk::{Context, ContextOptions};
+use std::io::{BufRead, BufReader};
 use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
 use std::sync::Arc;
 
 /// A headless context with the Khronos validation layer on.
@@ -144,5 +147,37 @@ impl SplitMix64 {
     /// Uniform in [lo, hi).
     pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
         lo + (hi - lo) * self.f()
+    }
+}
+
+/// Starts `Xvfb` on a free display and returns it (killed on drop) when no display is set.
+pub struct VirtualDisplay(Option<Child>);
+
+impl VirtualDisplay {
+    pub fn ensure() -> VirtualDisplay {
+        if std::env::var_os("DISPLAY").is_some_and(|d| !d.is_empty()) {
+            return VirtualDisplay(None);
+        }
+        let mut child = Command::new("Xvfb")
+            .args(["-displayfd", "1", "-screen", "0", "1024x768x24", "-nolisten", "tcp"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("no DISPLAY and no Xvfb to start (Debian package xvfb)");
+        let mut line = String::new();
+        BufReader::new(child.stdout.take().expect("piped"))
+            .read_line(&mut line)
+            .expect("Xvfb reports its display number");
+        std::env::set_var("DISPLAY", format!(":{}", line.trim()));
+        VirtualDisplay(Some(child))
+    }
+}
+
+impl Drop for VirtualDisplay {
+    fn drop(&mut self) {
+        if let Some(child) = &mut self.0 {
+            let _ = child.kill();
+            let _ = child.wait();
+        }
     }
 }
