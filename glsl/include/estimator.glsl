@@ -50,6 +50,8 @@ const float BIG = 1.0e18;
 const float UNIFORM_TINY = 9.536743e-7;   // 1.0 / 1048576.0
 const float SAFETY = 1.01;
 const float ANGLE_PAD = 2.0e-6;
+// Relaxed: Lg - g <= E_f + TERMINATOR_KINK osc(f) where g = max(f, 0) has its kink (see Rust).
+const float TERMINATOR_KINK = 0.25;
 const float HALF_PI = 1.5707964;          // std::f32::consts::FRAC_PI_2
 const float MAX_HALF = 1.5706964;         // FRAC_PI_2 - 1.0e-4 in f32
 const float INV_SQRT3 = 0.57735026;       // 1.0 / 3.0f32.sqrt()
@@ -723,6 +725,7 @@ vec3 sum_hn[TERM_COUNT];
 vec3 sum_lin1;
 vec3 sum_linn;
 vec3 sum_jumps;
+vec3 sum_jumps1;
 vec3 sum_range;
 vec3 sum_one;
 
@@ -1102,6 +1105,19 @@ int active_term(int pass) {
 // One light
 // ---------------------------------------------------------------------------------------------
 
+// Smallest real n > 0 with a/n^2 + b/n + c <= eps (infinity if none).
+P float level_for(float a, float b, float c, float eps) {
+    if (a <= 0.0 && b <= 0.0) {
+        return c <= eps ? 0.0 : infinity();
+    }
+    P float room = eps - c;
+    if (!(room > 0.0)) {
+        return infinity();
+    }
+    P float n = (b + sqrt(b * b + 4.0 * a * room)) / (2.0 * room);
+    return is_nan(n) ? infinity() : n;
+}
+
 // The variation sup|f(a) - f(a')| of one light's specular part for a parameter anywhere in
 // `param` (see `parameter_variation`).
 P vec3 parameter_variation(vec2 param, LightSetup st, vec3 spec_sup) {
@@ -1193,12 +1209,59 @@ P vec3 polygon_specular_bound(GpuMaterial material, vec2 param, LightSetup st, G
     return b;
 }
 
+// Relaxed: a bound on |n.l| over a sub-triangle the terminator crosses, of diameters `d` (see
+// `terminator_band`).
+P float terminator_band(Frame frame, LightSetup st, Scale d) {
+    return gc(d.b / frame.r_n + d.a * st.inv_d);
+}
+
+// Relaxed: the factor <= 1 by which the specular lobe's sup over the band 0 < n.l <= beta is
+// below its sup over the triangle (see `lobe_band_share`).
+P float lobe_band_share(vec2 param, LightSetup st, float beta) {
+    if (MATERIAL_KIND == MATERIAL_LAMBERT) {
+        return 0.0;
+    }
+    if (MATERIAL_KIND == MATERIAL_BLINN_PHONG) {
+        // The angle from n to h is at least the angle from n to l (>= acos beta) minus half
+        // the angle between l and v.
+        P float h0 = st.psi_nh.x;
+        P float edge = est_acos(rmin(beta, 1.0)) - ANGLE_PAD - 0.5 * st.psi_lv.y;
+        if (!(edge > h0)) {
+            return 1.0;
+        }
+        P float ce = est_cos(edge);
+        P float ch = est_cos(h0);
+        if (!(ch > 0.0) || !(ce < ch)) {
+            return 1.0;
+        }
+        if (!(ce > 0.0)) {
+            return 0.0;
+        }
+        return est_pow(ce / ch, param.x);
+    }
+    // GGX: G(c) = c/(c(1-k)+k) on the band, at the smallest k, against G(c_max).
+    P float k = 0.5 * max(param.x * param.x, GGX_MIN_ALPHA);
+    P float c1 = est_cos(st.psi_nl.x);
+    if (!(beta < c1)) {
+        return 1.0;
+    }
+    return (beta * (c1 * (1.0 - k) + k)) / (c1 * (beta * (1.0 - k) + k));
+}
+
+// Relaxed: the jump of the specular lobe that n.l > 0 switches on, on the band of width beta.
+P vec3 terminator_jump(vec3 spec_w, vec3 spec_sup, vec2 param, LightSetup st, float beta) {
+    if (!st.straddle || st.area) {
+        return vec3(0.0);
+    }
+    return spec_w * spec_sup * (lobe_band_share(param, st, beta) * SAFETY);
+}
+
 // Adds one light's bounds to the sums; returns a fallback reason (REASON_NONE if none), as
 // `add_light` in Rust. `polygon` >= 0: the polygonal light of that index (`position` and
 // `radiance` unused); else `point`: a point light at `position`, or a directional light whose
 // travel direction is `position`.
 int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 position,
-              vec3 radiance, int polygon, float top) {
+              vec3 radiance, int polygon, float top, float eps) {
     bool area = polygon >= 0;
     AreaGeometry geometry;
     GpuPolygonLight light;
@@ -1354,9 +1417,15 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     }
     P vec3 lin1 = vec3(0.0);
     P vec3 linn = vec3(0.0);
-    P vec3 zero = vec3(0.0);
     P vec3 range = vec3(0.0);
     P vec3 spec_sup = vec3(0.0);
+    // Relaxed: how far n.l can be from 0 on a crossed sub-triangle, at level 1 and per 1/L.
+    P float band1 = 0.0;
+    P float bandn = 0.0;
+    if (setup.straddle) {
+        band1 = terminator_band(frame, setup, frame.d1);
+        bandn = terminator_band(frame, setup, frame.dn);
+    }
     for (int level = 0; level < 2; ++level) {
         Scale s = level == 0 ? frame.s1 : frame.sn;
         Jet diff;
@@ -1374,23 +1443,20 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
         // The contribution lies in [0, sup] and so does its interpolant.
         range = (diff_w * diff.m + spec_w * spec_m) * SAFETY;
         if (setup.straddle && level == 1) {
-            // Relaxed: first-order term at the terminator and the specular jump.
+            // Relaxed: the diffuse kink adds 1/4 sup E' osc(n.l) (see Rust).
             P float att = setup.inv_d > 0.0 ? setup.inv_d * setup.inv_d : 1.0;
-            P float gc1 = gc(frame.d1.b / frame.r_n + frame.d1.a * setup.inv_d);
-            lin1 = diff_w * (0.5 * SAFETY * gmul(att, gc1));
-            P float gcn = gc(frame.dn.b / frame.r_n + frame.dn.a * setup.inv_d);
-            linn = diff_w * (0.5 * SAFETY * gmul(att, gcn));
-            zero = spec_w * spec_m * SAFETY;
+            lin1 = diff_w * (TERMINATOR_KINK * SAFETY * gmul(att, band1));
+            linn = diff_w * (TERMINATOR_KINK * SAFETY * gmul(att, bandn));
         }
     }
+    P vec3 other;
     if (area) {
         // The sampled specular part: no interpolation bound, its range.
-        P vec3 bound = polygon_specular_bound(material, param, setup, light) * SAFETY;
-        zero = zero + bound;
-        range = range + bound;
+        other = polygon_specular_bound(material, param, setup, light) * SAFETY;
+        range = range + other;
     } else {
         // A textured parameter: its variation over the range, an n-independent term.
-        zero = zero + spec_w * parameter_variation(param, setup, spec_sup);
+        other = spec_w * parameter_variation(param, setup, spec_sup);
     }
     // Sums over the terms in term order (the skipped ones are exact zeros).
     P vec3 tot1 = vec3(0.0);
@@ -1399,14 +1465,27 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
         tot1 = tot1 + h[0][active_term(pass)];
         totn = totn + h[1][active_term(pass)];
     }
+    P vec3 zero1 = terminator_jump(spec_w, spec_sup, param, setup, band1) + other;
+    P vec3 zero_top = terminator_jump(spec_w, spec_sup, param, setup, bandn / top) + other;
+    // Per channel: the smaller of the light's interpolation bound and its range.
+    bool interpolated[3];
     for (int c = 0; c < 3; ++c) {
-        // Per channel: the smaller of the light's interpolation bound and its range.
-        P float at_n_max = totn[c] / (top * top) + linn[c] / top + zero[c];
-        P float one = rmin(tot1[c] + lin1[c] + zero[c], range[c]);
+        P float at_n_max = totn[c] / (top * top) + linn[c] / top + zero_top[c];
+        interpolated[c] = !(range[c] <= at_n_max);
+    }
+    // The jump at levels >= 2 at a lower bound of the final level (see Rust).
+    P vec3 zero_inf = terminator_jump(spec_w, spec_sup, param, setup, 0.0) + other;
+    P float low = 1.0;
+    for (int c = 0; c < 3; ++c) {
+        if (interpolated[c]) {
+            low = rmax(low, level_for(totn[c], linn[c], zero_inf[c], eps));
+        }
+    }
+    P vec3 zeron = terminator_jump(spec_w, spec_sup, param, setup, bandn / low) + other;
+    for (int c = 0; c < 3; ++c) {
+        P float one = rmin(tot1[c] + lin1[c] + zero1[c], range[c]);
         sum_one[c] = sum_one[c] + one;
-        if (range[c] <= at_n_max) {
-            sum_range[c] = sum_range[c] + range[c];
-        } else {
+        if (interpolated[c]) {
             for (int pass = 0; pass < active_term_count(); ++pass) {
                 int t = active_term(pass);
                 sum_h1[t][c] = sum_h1[t][c] + h[0][t][c];
@@ -1414,7 +1493,10 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
             }
             sum_lin1[c] = sum_lin1[c] + lin1[c];
             sum_linn[c] = sum_linn[c] + linn[c];
-            sum_jumps[c] = sum_jumps[c] + zero[c];
+            sum_jumps1[c] = sum_jumps1[c] + zero1[c];
+            sum_jumps[c] = sum_jumps[c] + zeron[c];
+        } else {
+            sum_range[c] = sum_range[c] + range[c];
         }
     }
     return REASON_NONE;
@@ -1741,19 +1823,6 @@ PatchLevels patch_levels(float own, vec3 neighbours, float n_max_value) {
 // The estimate
 // ---------------------------------------------------------------------------------------------
 
-// Smallest real n > 0 with a/n^2 + b/n + c <= eps (infinity if none).
-P float level_for(float a, float b, float c, float eps) {
-    if (a <= 0.0 && b <= 0.0) {
-        return c <= eps ? 0.0 : infinity();
-    }
-    P float room = eps - c;
-    if (!(room > 0.0)) {
-        return infinity();
-    }
-    P float n = (b + sqrt(b * b + 4.0 * a * room)) / (2.0 * room);
-    return is_nan(n) ? infinity() : n;
-}
-
 int worse(int a, int b) {
     return b > a ? b : a;
 }
@@ -1775,6 +1844,7 @@ float required_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 
     sum_lin1 = vec3(0.0);
     sum_linn = vec3(0.0);
     sum_jumps = vec3(0.0);
+    sum_jumps1 = vec3(0.0);
     sum_range = vec3(0.0);
     sum_one = vec3(0.0);
     int reason = REASON_NONE;
@@ -1782,10 +1852,10 @@ float required_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 
     for (int i = 0; i < POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT; ++i) {
         GpuLight light = lights[i];
         reason = worse(reason, add_light(frame, material, param, i < POINT_LIGHT_COUNT,
-                                         light.position.xyz, light.radiance.rgb, -1, top));
+                                         light.position.xyz, light.radiance.rgb, -1, top, eps));
     }
     for (int i = 0; i < POLYGON_LIGHT_COUNT; ++i) {
-        reason = worse(reason, add_light(frame, material, param, false, vec3(0.0), vec3(0.0), i, top));
+        reason = worse(reason, add_light(frame, material, param, false, vec3(0.0), vec3(0.0), i, top, eps));
     }
     if (est_bad) {
         reason = worse(reason, REASON_SINGULAR);
@@ -1818,14 +1888,14 @@ float required_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 
                 count += 1u;
             }
         }
-        if (max_el(sum_linn) > tiny || max_el(sum_jumps) > tiny) {
+        if (max_el(sum_linn) > tiny || max_el(sum_jumps) > tiny || max_el(sum_jumps1) > tiny) {
             count += 1u;
         }
         if (max_el(sum_range) > tiny) {
             count += 1u;
         }
         P float share = eps * (1.0 - 16.0 * UNIFORM_TINY) / float(max(count, 1u));
-        one_ok = max_el(sum_lin1 + sum_jumps) <= share && max_el(sum_range) <= share;
+        one_ok = max_el(sum_lin1 + sum_jumps1) <= share && max_el(sum_range) <= share;
         for (int t = 0; t < TERM_COUNT; ++t) {
             one_ok = one_ok && max_el(sum_h1[t]) <= share;
             for (int c = 0; c < 3; ++c) {

@@ -220,7 +220,7 @@ impl View {
             epsilon: scene.settings.epsilon,
             n_max: scene.settings.n_max,
             split: Split::Heuristic,
-            discontinuity: Discontinuity::Conservative,
+            discontinuity: Discontinuity::Relaxed,
             heat_map: false,
             wireframe: false,
             derivative_check: false,

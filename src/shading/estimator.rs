@@ -68,9 +68,10 @@ pub enum Split {
 pub enum Discontinuity {
     /// The paper's solution (1): fall back to per-pixel shading.
     Conservative,
-    /// Keep tessellating, with a bound that stays valid across the kink: the diffuse
-    /// `max(c, 0)` adds a first-order term `½·sup E·|∇c|·diam/n`, the specular lobe that
-    /// `n·l > 0` switches on adds its maximum (an `n`-independent term). See the docs.
+    /// The default: keep tessellating, with a bound that stays valid across the kink. The
+    /// diffuse `max(E'c, 0)` adds a first-order term `¼·sup E'·sup|∇c|·diam/L` (sharp), the
+    /// specular lobe that `n·l > 0` switches on adds its sup over the band
+    /// `0 < n·l ≤ sup|∇c|·diam/L` where the terminator-crossed sub-triangles lie. See the docs.
     Relaxed,
 }
 
@@ -91,7 +92,7 @@ impl Default for EstimatorSettings {
             epsilon: 0.075,
             n_max: 16,
             split: Split::Heuristic,
-            discontinuity: Discontinuity::Conservative,
+            discontinuity: Discontinuity::Relaxed,
         }
     }
 }
@@ -220,6 +221,11 @@ const BIG: f32 = 1.0e18;
 /// Multiplies every bound: f32 rounding in this estimator and in the shading. (The driver's
 /// 16.16 fixed-point placement of the pattern vertices is in [`pattern_level`].)
 const SAFETY: f32 = 1.01;
+/// Relaxed: where `g = max(f, 0)` has its kink inside a sub-triangle,
+/// `−E_f ≤ Lg − g ≤ E_f + TERMINATOR_KINK·(max_k f(v_k) − min_k f(v_k))` (`E_f` the
+/// interpolation bound of the smooth `f`); sharp for linear `f` with corner values
+/// `(1, −1, −1)`. Derived in `docs/estimator.md` §4.
+const TERMINATOR_KINK: f32 = 0.25;
 /// Radians added to every cone half-angle (f32 rounding of the directions).
 const ANGLE_PAD: f32 = 2.0e-6;
 /// A cone wider than this is no bound at all (a cap wider than a hemisphere is not convex).
@@ -282,8 +288,8 @@ pub fn estimate_textured(
     let directionals = lights.iter().filter(|l| matches!(l, Light::Directional { .. }));
     let polygons = lights.iter().filter(|l| matches!(l, Light::Polygon(_)));
     for light in points.chain(directionals).chain(polygons) {
-        let added =
-            add_light(&frame, material, parameter, light, settings.discontinuity, n_max, &mut sum, &guard);
+        let mode = settings.discontinuity;
+        let added = add_light(&frame, material, parameter, light, mode, n_max, eps, &mut sum, &guard);
         if let Err(r) = added {
             reason = worse(reason, r);
         }
@@ -990,8 +996,11 @@ struct Sums {
     hn: [Vec3; TERM_COUNT],
     lin1: Vec3,
     linn: Vec3,
-    /// Constant (n-independent) parts: the Relaxed specular jumps at the terminator...
+    /// Constant (n-independent) parts at levels ≥ 2: the Relaxed specular jumps at the
+    /// terminator (taken at a lower bound of the level) and the parameter variations...
     jumps: Vec3,
+    /// ...the same at level 1...
+    jumps1: Vec3,
     /// ...and the lights bounded by their range, reported as [`Term::Range`].
     range: Vec3,
     /// The level-1 bound, per light the smaller of its interpolation bound and its range.
@@ -1123,6 +1132,7 @@ fn add_light(
     light: &Light,
     mode: Discontinuity,
     n_max: u32,
+    eps: f32,
     sum: &mut Sums,
     gd: &Guard,
 ) -> Result<(), Reason> {
@@ -1273,11 +1283,18 @@ fn add_light(
     }
 
     // This light's bounds: second order per term at level 1 and at levels ≥ 2, the Relaxed
-    // first- and zero-order parts, and the range of its contribution.
+    // diffuse first-order parts, and the range of its contribution.
     let mut h = [[Vec3::ZERO; TERM_COUNT]; 2];
-    let (mut lin1, mut linn, mut zero) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
+    let (mut lin1, mut linn) = (Vec3::ZERO, Vec3::ZERO);
     let mut range = Vec3::ZERO;
     let mut spec_sup = Vec3::ZERO;
+    // Relaxed: how far n·l can be from 0 on a sub-triangle the terminator crosses, at level 1
+    // (the patch's diameters) and per 1/L at levels L ≥ 2 (see `terminator_band`).
+    let (band1, bandn) = if setup.straddle {
+        (terminator_band(frame, &setup, frame.d1, gd), terminator_band(frame, &setup, frame.dn, gd))
+    } else {
+        (0.0, 0.0)
+    };
     for (level, hl) in h.iter_mut().enumerate() {
         let s = if level == 0 { frame.s1 } else { frame.sn };
         let (diff, spec) = light_jets(frame, material, parameter, &setup, s, gd);
@@ -1290,50 +1307,117 @@ fn add_light(
         // The contribution lies in [0, sup] and so does its interpolant.
         range = (diff_w * diff.m + spec_w * spec_m) * SAFETY;
         if setup.straddle && level == 1 {
-            // Relaxed: on a sub-triangle the terminator crosses, |c| ≤ sup|Dc|·diam/n, so
-            // the diffuse max(c,0) = (c + |c|)/2 adds ½·sup E'·sup|Dc|(diam)/n; the
-            // specular lobe switched on by n·l > 0 adds at most its maximum.
+            // Relaxed: with f = E'·c and g = max(f, 0), Lg − g ≤ E_f + ¼·sup E'·osc(c) on a
+            // sub-triangle the terminator crosses (docs/estimator.md §4), and
+            // osc(c) ≤ sup|Dc|·diam ≤ band/L.
             let att = if setup.inv_d > 0.0 { setup.inv_d * setup.inv_d } else { 1.0 };
-            for (lin, d) in [(&mut lin1, frame.d1), (&mut linn, frame.dn)] {
-                let gc = gd.c(d.b / frame.r_n + d.a * setup.inv_d);
-                *lin = diff_w * (0.5 * SAFETY * gd.mul(att, gc));
-            }
-            zero = spec_w * spec_m * SAFETY;
+            lin1 = diff_w * (TERMINATOR_KINK * SAFETY * gd.mul(att, band1));
+            linn = diff_w * (TERMINATOR_KINK * SAFETY * gd.mul(att, bandn));
         }
     }
-    // A textured parameter: the variation sup|f(α) − f(α')| over the range (Eq. 37), an
-    // n-independent term like the Relaxed jumps.
-    match light {
+    // The n-independent parts: a textured parameter's variation sup|f(α) − f(α')| over the
+    // range (Eq. 37), or a polygon's sampled specular part, bounded by its range (which also
+    // covers a textured parameter).
+    let other = match light {
         Light::Polygon(polygon) => {
-            // The sampled specular part: no interpolation bound, its range (which also covers
-            // a textured parameter).
             let bound = polygon_specular_bound(material, parameter, &setup, polygon, gd) * SAFETY;
-            zero += bound;
             range += bound;
+            bound
         }
-        _ => zero += spec_w * parameter_variation(material, parameter, &setup, spec_sup),
-    }
+        _ => spec_w * parameter_variation(material, parameter, &setup, spec_sup),
+    };
+    // Relaxed: the specular lobe that n·l > 0 switches on jumps on the sub-triangles the
+    // terminator crosses, by at most its sup over the band 0 < n·l ≤ band/L.
+    let jump = |beta: f32| {
+        if setup.straddle && setup.area.is_none() {
+            spec_w * spec_sup * (lobe_band_share(material, parameter, &setup, beta) * SAFETY)
+        } else {
+            Vec3::ZERO
+        }
+    };
     let (tot1, totn) = (sum_terms(&h[0]), sum_terms(&h[1]));
     let top = pattern_level(n_max, n_max);
+    let zero1 = jump(band1) + other;
+    let zero_top = jump(bandn / top) + other;
+    // Per channel: the smaller of the light's interpolation bound and its range. The range
+    // wins for good if it is below the bound even at n_max (dim or spiky lights).
+    let mut interpolated = [false; 3];
     for c in 0..3 {
-        // Per channel: the smaller of the light's interpolation bound and its range. The
-        // range wins for good if it is below the bound even at n_max (dim or spiky lights).
-        let at_n_max = totn[c] / (top * top) + linn[c] / top + zero[c];
-        if range[c] <= at_n_max {
-            sum.one[c] += (tot1[c] + lin1[c] + zero[c]).min(range[c]);
-            sum.range[c] += range[c];
-        } else {
+        let at_n_max = totn[c] / (top * top) + linn[c] / top + zero_top[c];
+        interpolated[c] = !(range[c] <= at_n_max);
+    }
+    // The jump at levels ≥ 2 is taken at a lower bound of the final level: the level this
+    // light alone needs with the jump at its infimum (the band's width 0). Every level the
+    // solver returns is at least that (it adds the other lights' non-negative bounds), and
+    // the band only narrows as the level grows.
+    let zero_inf = jump(0.0) + other;
+    let mut low = 1.0f32;
+    for c in 0..3 {
+        if interpolated[c] {
+            low = low.max(level_for(totn[c], linn[c], zero_inf[c], eps));
+        }
+    }
+    let zeron = jump(bandn / low) + other;
+    for c in 0..3 {
+        sum.one[c] += (tot1[c] + lin1[c] + zero1[c]).min(range[c]);
+        if interpolated[c] {
             for t in 0..TERM_COUNT {
                 sum.h1[t][c] += h[0][t][c];
                 sum.hn[t][c] += h[1][t][c];
             }
             sum.lin1[c] += lin1[c];
             sum.linn[c] += linn[c];
-            sum.jumps[c] += zero[c];
-            sum.one[c] += (tot1[c] + lin1[c] + zero[c]).min(range[c]);
+            sum.jumps1[c] += zero1[c];
+            sum.jumps[c] += zeron[c];
+        } else {
+            sum.range[c] += range[c];
         }
     }
     Ok(())
+}
+
+/// Relaxed: a bound on `|n̂·l̂|` over a sub-triangle that the terminator crosses, whose
+/// diameters (positions, normals) are `d`: it has a zero of `c = n̂·l̂`, so every point is
+/// within `sup|Dc|·diam` of 0, and `|Dc| ≤ |Dn̂| + |Dl̂| ≤ |Nδ|/min|N| + |Xδ|/d_min`.
+fn terminator_band(frame: &Frame, st: &LightSetup, d: Scale, gd: &Guard) -> f32 {
+    gd.c(d.b / frame.r_n + d.a * st.inv_d)
+}
+
+/// Relaxed: the factor `≤ 1` by which the specular lobe's sup over the band `0 < n̂·l̂ ≤ β`
+/// is below its sup over the triangle (the latter is what the jets' `m` bound).
+/// - Blinn-Phong, `(n·h)^s`: ĥ bisects l̂ and v̂, so `∠(n, h) ≥ ∠(n, l) − ∠(l, v)/2`, and
+///   `∠(n, l) ≥ acos β` on the band: `(n·h)^s ≤ cos^s(max(ψ_nh,min, acos β − ψ_lv,max/2))`.
+/// - GGX: the specular part carries `G(c) = c/(c(1−k)+k)`, increasing in `c` and decreasing
+///   in `k`: on the band it is at most `G(β)` at the smallest `k`, against `G(c_max)` in the
+///   jets.
+fn lobe_band_share(material: &MaterialKind, parameter: ParameterRange, st: &LightSetup, beta: f32) -> f32 {
+    match *material {
+        MaterialKind::Lambert { .. } => 0.0,
+        MaterialKind::BlinnPhong { .. } => {
+            let h0 = st.psi_nh.0;
+            let edge = est_acos(beta.min(1.0)) - ANGLE_PAD - 0.5 * st.psi_lv.1;
+            if !(edge > h0) {
+                return 1.0;
+            }
+            let (ce, ch) = (est_cos(edge), est_cos(h0));
+            if !(ch > 0.0) || !(ce < ch) {
+                1.0
+            } else if !(ce > 0.0) {
+                0.0
+            } else {
+                est_pow(ce / ch, parameter.lo)
+            }
+        }
+        MaterialKind::Ggx { .. } => {
+            let k = 0.5 * ggx_alpha(parameter.lo);
+            let c1 = est_cos(st.psi_nl.0);
+            if !(beta < c1) {
+                1.0
+            } else {
+                (beta * (c1 * (1.0 - k) + k)) / (c1 * (beta * (1.0 - k) + k))
+            }
+        }
+    }
 }
 
 /// An upper bound, per channel, of a polygonal light's sampled specular part anywhere on the
@@ -1773,7 +1857,8 @@ fn decide(sum: &Sums, eps: f32, n_max: u32, split: Split, reason: Reason) -> Est
                     count += 1;
                 }
             }
-            if sum.linn.max_element() > tiny || jumps.max_element() > tiny {
+            if sum.linn.max_element() > tiny || jumps.max_element() > tiny || sum.jumps1.max_element() > tiny
+            {
                 count += 1;
             }
             if sum.range.max_element() > tiny {
@@ -1781,7 +1866,7 @@ fn decide(sum: &Sums, eps: f32, n_max: u32, split: Split, reason: Reason) -> Est
             }
             let share = eps * (1.0 - 16.0 * UNIFORM_TINY) / count.max(1) as f32;
             let one_ok = (0..TERM_COUNT).all(|t| sum.h1[t].max_element() <= share)
-                && (sum.lin1 + jumps).max_element() <= share
+                && (sum.lin1 + sum.jumps1).max_element() <= share
                 && sum.range.max_element() <= share;
             let mut n = 0.0f32;
             for t in 0..TERM_COUNT {
@@ -2900,6 +2985,67 @@ mod tests {
         estimate(t, m, lights, &EstimatorSettings { epsilon: eps, ..EstimatorSettings::default() })
     }
 
+    /// `Lg − g` for `g = max(f, 0)` at local barycentrics `mu`, with `f` given at the corners
+    /// (`fc`) and at the point (`fx`).
+    fn kink_error(fc: [f64; 3], fx: f64, mu: [f64; 3]) -> f64 {
+        let lg: f64 = (0..3).map(|k| mu[k] * fc[k].max(0.0)).sum();
+        lg - fx.max(0.0)
+    }
+
+    #[test]
+    fn terminator_kink_constant_is_sharp() {
+        // Linear f with corner values (1, −1, −1): E_f = 0, the corner oscillation is 2, and on
+        // the zero line (the midpoints of the edges from the first corner) Lg − g = ½ exactly:
+        // ¼·2, so no smaller constant bounds it.
+        let fc = [1.0, -1.0, -1.0];
+        let linear = |mu: [f64; 3]| mu[0] * fc[0] + mu[1] * fc[1] + mu[2] * fc[2];
+        let bound = f64::from(TERMINATOR_KINK) * (1.0 - -1.0);
+        let k = 64;
+        let mut worst = f64::MIN;
+        for i in 0..=k {
+            for j in 0..=k - i {
+                let mu = [i as f64 / k as f64, j as f64 / k as f64, (k - i - j) as f64 / k as f64];
+                let e = kink_error(fc, linear(mu), mu);
+                assert!(e >= 0.0 && e <= bound + 1e-12, "{mu:?}: {e}");
+                worst = worst.max(e);
+            }
+        }
+        assert_eq!(worst, 0.5);
+        assert_eq!(bound, 0.5);
+        assert_eq!(kink_error(fc, 0.0, [0.5, 0.5, 0.0]), 0.5);
+
+        // Any smooth f: pointwise −max(f − Lf, 0) ≤ Lg − g ≤ max(Lf − f, 0) + ¼·osc of the
+        // corner values (random quadratics on the reference triangle).
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut rnd = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for _ in 0..2000 {
+            let c: [f64; 6] = std::array::from_fn(|_| rnd());
+            let curve = 3.0 * rnd().abs();
+            let f = |mu: [f64; 3]| {
+                let (x, y) = (mu[1], mu[2]);
+                c[0] + c[1] * x + c[2] * y + curve * (c[3] * x * x + c[4] * x * y + c[5] * y * y)
+            };
+            let corners = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]].map(f);
+            let osc = corners.iter().copied().fold(f64::MIN, f64::max)
+                - corners.iter().copied().fold(f64::MAX, f64::min);
+            for _ in 0..50 {
+                let (a, b) = (rnd().abs(), rnd().abs());
+                let (a, b) = if a + b > 1.0 { (1.0 - a, 1.0 - b) } else { (a, b) };
+                let mu = [1.0 - a - b, a, b];
+                let lf: f64 = (0..3).map(|k| mu[k] * corners[k]).sum();
+                let e = kink_error(corners, f(mu), mu);
+                let tol = 1e-12;
+                assert!(e <= (lf - f(mu)).max(0.0) + f64::from(TERMINATOR_KINK) * osc + tol);
+                assert!(e >= -(f(mu) - lf).max(0.0) - tol);
+            }
+        }
+    }
+
     #[test]
     fn extremes_behave() {
         let lam = materials()[0];
@@ -2937,13 +3083,13 @@ mod tests {
         curved.normals =
             [Vec3::new(0.7, 0.0, 0.7).normalize(), Vec3::new(-0.7, 0.0, 0.7).normalize(), Vec3::Z];
         let grazing = [sun(Vec3::new(-1.0, 0.0, -0.1))];
-        assert_eq!(est(&curved, &lam, &grazing, 0.5).reason, Reason::Discontinuity);
-        let relaxed = EstimatorSettings {
+        let conservative = EstimatorSettings {
             epsilon: 0.5,
-            discontinuity: Discontinuity::Relaxed,
+            discontinuity: Discontinuity::Conservative,
             ..EstimatorSettings::default()
         };
-        let e = estimate(&curved, &lam, &grazing, &relaxed);
+        assert_eq!(estimate(&curved, &lam, &grazing, &conservative).reason, Reason::Discontinuity);
+        let e = est(&curved, &lam, &grazing, 0.5);
         assert!(!e.fallback, "{e:?}");
         assert!(e.term(Term::Terminator) > 0.0);
         // The sharpest lobes over a curved triangle at the highlight need more than n_max.
