@@ -1,12 +1,37 @@
-//! Compiles every shader stage under `glsl/` to SPIR-V with shaderc.
+//! Compiles every shader stage under `glsl/` to SPIR-V with shaderc, once per feature variant.
 //!
 //! Stages are recognised by extension (`.vert .tesc .tese .geom .frag .comp`); headers live in
 //! `glsl/include/` and are pulled in with `#include "name.glsl"`. Warnings are errors, and a
 //! compile error fails the build with the file and line shaderc reports. Every stage and every
 //! header is a `rerun-if-changed` input, so editing any of them rebuilds the SPIR-V.
-//! The SPIR-V lands in `$OUT_DIR/spirv/<file name>.spv` and is embedded by `src/shaders.rs`.
+//!
+//! A stage that shades declares, in a line `// variants: AXIS ...`, the features it is compiled
+//! for; it is then compiled once per combination, each feature a preprocessor define
+//! (`VARIANT_MATERIAL_KIND` 0 to 2, the others 0 or 1), so that a scene's pipelines contain only
+//! the code the scene uses (specialization constants do not remove dead code on every driver).
+//! Stages without the line are compiled once with every feature off.
+//!
+//! The SPIR-V lands in `$OUT_DIR/spirv/<stage>[.<variant>].spv`, and `$OUT_DIR/spirv/variants.rs`
+//! lists every module for `src/shaders.rs` to embed.
 
+use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+
+/// A feature axis: its name in the `// variants:` line, its define and its values.
+struct Axis {
+    name: &'static str,
+    define: &'static str,
+    values: u32,
+}
+
+/// In `shaders::Features` order.
+const AXES: [Axis; 5] = [
+    Axis { name: "material_kind", define: "VARIANT_MATERIAL_KIND", values: 3 },
+    Axis { name: "polygon_lights", define: "VARIANT_POLYGON_LIGHTS", values: 2 },
+    Axis { name: "textured", define: "VARIANT_TEXTURED", values: 2 },
+    Axis { name: "count_evaluations", define: "VARIANT_COUNT_EVALUATIONS", values: 2 },
+    Axis { name: "record_levels", define: "VARIANT_RECORD_LEVELS", values: 2 },
+];
 
 fn stage_kind(path: &Path) -> Option<shaderc::ShaderKind> {
     Some(match path.extension()?.to_str()? {
@@ -30,6 +55,125 @@ fn files_in(dir: &Path) -> Vec<PathBuf> {
     files
 }
 
+/// The axes (indices into `AXES`) a stage's `// variants:` line names.
+fn axes_of(stage: &Path, source: &str) -> Vec<usize> {
+    let Some(line) = source.lines().find_map(|l| l.trim().strip_prefix("// variants:")) else {
+        return Vec::new();
+    };
+    line.split_whitespace()
+        .map(|name| {
+            AXES.iter().position(|a| a.name == name).unwrap_or_else(|| {
+                panic!("{}: unknown variant axis `{name}` in `// variants:`", stage.display())
+            })
+        })
+        .collect()
+}
+
+/// One module to compile: the stage, its feature values (all axes; 0 where not varied) and the
+/// axes it varies over.
+struct Job {
+    stage: PathBuf,
+    kind: shaderc::ShaderKind,
+    source: String,
+    values: [u32; AXES.len()],
+    varied: Vec<usize>,
+}
+
+impl Job {
+    /// `pixel.frag` or `pixel.frag.material_kind1.polygon_lights0...`.
+    fn module_name(&self) -> String {
+        let file = self.stage.file_name().expect("stage has a file name").to_string_lossy();
+        let mut name = file.into_owned();
+        for &axis in &self.varied {
+            let _ = write!(name, ".{}{}", AXES[axis].name, self.values[axis]);
+        }
+        name
+    }
+}
+
+/// Every combination of the values of `varied`, the other axes 0.
+fn combinations(varied: &[usize]) -> Vec<[u32; AXES.len()]> {
+    let mut all = vec![[0u32; AXES.len()]];
+    for &axis in varied {
+        all = all
+            .into_iter()
+            .flat_map(|values| {
+                (0..AXES[axis].values).map(move |v| {
+                    let mut next = values;
+                    next[axis] = v;
+                    next
+                })
+            })
+            .collect();
+    }
+    all
+}
+
+fn compile(job: &Job, include_dir: &Path, out_dir: &Path) -> Result<(), String> {
+    let compiler = shaderc::Compiler::new().expect("shaderc compiler");
+    let mut options = shaderc::CompileOptions::new().expect("shaderc options");
+    options.set_target_env(shaderc::TargetEnv::Vulkan, shaderc::EnvVersion::Vulkan1_3 as u32);
+    options.set_source_language(shaderc::SourceLanguage::GLSL);
+    options.set_warnings_as_errors();
+    // Names (OpName, OpMemberName) for the layout test and debuggers; `without_source` then
+    // drops the embedded source text, which would make every variant ~300 kB.
+    options.set_generate_debug_info();
+    options.set_optimization_level(shaderc::OptimizationLevel::Performance);
+    for (axis, value) in AXES.iter().zip(job.values) {
+        options.add_macro_definition(axis.define, Some(&value.to_string()));
+    }
+    let include_root = include_dir.to_path_buf();
+    options.set_include_callback(move |name, _kind, requester, _depth| {
+        let path = include_root.join(name);
+        let content = std::fs::read_to_string(&path)
+            .map_err(|e| format!("{requester}: cannot include {}: {e}", path.display()))?;
+        Ok(shaderc::ResolvedInclude { resolved_name: path.display().to_string(), content })
+    });
+    let name = job.module_name();
+    let artifact = compiler
+        .compile_into_spirv(&job.source, job.kind, &job.stage.display().to_string(), "main", Some(&options))
+        .map_err(|e| format!("{name}: {e}"))?;
+    let out = out_dir.join(format!("{name}.spv"));
+    let words = without_source(artifact.as_binary());
+    let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+    std::fs::write(&out, bytes).map_err(|e| format!("cannot write {}: {e}", out.display()))
+}
+
+/// The module without its source-level debug instructions (OpSourceContinued, OpSource,
+/// OpSourceExtension, OpString, OpLine, OpNoLine, OpModuleProcessed): only OpLine and OpSource
+/// refer to OpString's ids, and none of them changes what the module does.
+fn without_source(module: &[u32]) -> Vec<u32> {
+    const SOURCE_ONLY: [u32; 7] = [2, 3, 4, 7, 8, 317, 330];
+    let (header, mut rest) = module.split_at(5);
+    let mut kept = header.to_vec();
+    while let Some(&first) = rest.first() {
+        let count = ((first >> 16) as usize).clamp(1, rest.len());
+        if !SOURCE_ONLY.contains(&(first & 0xffff)) {
+            kept.extend_from_slice(&rest[..count]);
+        }
+        rest = &rest[count..];
+    }
+    kept
+}
+
+/// `src/shaders.rs`'s table: per module, its stage, the features it varies over and their values.
+fn variant_table(jobs: &[Job]) -> String {
+    let mut table = String::from("&[\n");
+    for job in jobs {
+        let stage = job.stage.file_name().expect("stage has a file name").to_string_lossy();
+        let mask: u32 = job.varied.iter().map(|&a| 1 << a).sum();
+        let _ = writeln!(
+            table,
+            "    Module {{ stage: {stage:?}, varied: {mask}, values: {:?}, spirv: \
+             include_bytes!(concat!(env!(\"OUT_DIR\"), \"/spirv/{}.spv\")) }},",
+            job.values,
+            job.module_name()
+        );
+    }
+    table.push(']');
+    table
+}
+
 fn main() {
     let glsl = Path::new("glsl");
     let include_dir = glsl.join("include");
@@ -42,38 +186,40 @@ fn main() {
         println!("cargo:rerun-if-changed={}", header.display());
     }
 
-    let compiler = shaderc::Compiler::new().expect("shaderc compiler");
-    let mut options = shaderc::CompileOptions::new().expect("shaderc options");
-    options.set_target_env(shaderc::TargetEnv::Vulkan, shaderc::EnvVersion::Vulkan1_3 as u32);
-    options.set_source_language(shaderc::SourceLanguage::GLSL);
-    options.set_warnings_as_errors();
-    options.set_generate_debug_info();
-    options.set_optimization_level(shaderc::OptimizationLevel::Performance);
-    let include_root = include_dir.clone();
-    options.set_include_callback(move |name, _kind, requester, _depth| {
-        let path = include_root.join(name);
-        let content = std::fs::read_to_string(&path)
-            .map_err(|e| format!("{requester}: cannot include {}: {e}", path.display()))?;
-        Ok(shaderc::ResolvedInclude { resolved_name: path.display().to_string(), content })
-    });
-
-    let mut failures = Vec::new();
+    let mut jobs = Vec::new();
     for stage in files_in(glsl) {
         let Some(kind) = stage_kind(&stage) else { continue };
         println!("cargo:rerun-if-changed={}", stage.display());
         let source = std::fs::read_to_string(&stage)
             .unwrap_or_else(|e| panic!("cannot read {}: {e}", stage.display()));
-        let name = stage.display().to_string();
-        match compiler.compile_into_spirv(&source, kind, &name, "main", Some(&options)) {
-            Ok(artifact) => {
-                let file = stage.file_name().expect("stage has a file name").to_string_lossy();
-                let out = out_dir.join(format!("{file}.spv"));
-                std::fs::write(&out, artifact.as_binary_u8())
-                    .unwrap_or_else(|e| panic!("cannot write {}: {e}", out.display()));
-            }
-            Err(error) => failures.push(error.to_string()),
+        let varied = axes_of(&stage, &source);
+        for values in combinations(&varied) {
+            jobs.push(Job {
+                stage: stage.clone(),
+                kind,
+                source: source.clone(),
+                values,
+                varied: varied.clone(),
+            });
         }
     }
+
+    // Compile on every core: the biggest stages take seconds each, and there are many variants.
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(jobs.len().max(1));
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let failures = std::sync::Mutex::new(Vec::new());
+    std::thread::scope(|scope| {
+        for _ in 0..threads {
+            scope.spawn(|| loop {
+                let index = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                let Some(job) = jobs.get(index) else { break };
+                if let Err(error) = compile(job, &include_dir, &out_dir) {
+                    failures.lock().expect("no thread panicked holding the lock").push(error);
+                }
+            });
+        }
+    });
+    let failures = failures.into_inner().expect("no thread panicked holding the lock");
     if !failures.is_empty() {
         for failure in &failures {
             for line in failure.lines() {
@@ -82,4 +228,7 @@ fn main() {
         }
         panic!("{} shader(s) failed to compile:\n{}", failures.len(), failures.join("\n"));
     }
+    let table = out_dir.join("variants.rs");
+    std::fs::write(&table, variant_table(&jobs))
+        .unwrap_or_else(|e| panic!("cannot write {}: {e}", table.display()));
 }

@@ -1,4 +1,5 @@
 #version 460
+// variants: textured
 // Writes the colour interpolated from shaded vertices (alpha = coverage), the albedo map
 // applied per pixel to the diffuse part; vertex and fixed:N modes (whose level is
 // draw.fixed_level).

@@ -1,4 +1,5 @@
 #version 460
+// variants: material_kind polygon_lights textured count_evaluations
 // `pixel-deferred` mode: the per-pixel reference rebuilt from the visibility buffer. The
 // triangle's vertices come from the vertex and index buffers; perspective-correct barycentrics
 // and their screen derivatives (seed 002, derivatives.glsl) give the position, normal, texture

@@ -1,4 +1,5 @@
 #version 460
+// variants: material_kind polygon_lights textured count_evaluations
 // `vertex` mode: shade the triangle's own vertices (Gouraud); the rasteriser interpolates.
 #include "texturing.glsl"
 

@@ -1,4 +1,5 @@
 #version 460
+// variants: material_kind polygon_lights textured count_evaluations
 // `multirate` mode: the interpolated vertex shading (its diffuse part times the albedo map), or
 // full per-pixel shading where the triangle fell back (level 0).
 #include "texturing.glsl"

@@ -1,4 +1,5 @@
 #version 460
+// variants: material_kind polygon_lights textured record_levels
 // `multirate` mode: estimate, per triangle, the real-valued level that keeps the interpolation
 // error under epsilon (glsl/include/estimator.glsl, the port of src/shading/estimator.rs), and
 // tessellate with the levels the combination rule `patch_levels` derives from it.
@@ -16,7 +17,7 @@
 #include "texture_bounds.glsl"
 
 // The analysis variant also records each triangle's levels (bindings.glsl, level_records).
-layout(constant_id = 5) const bool RECORD_LEVELS = false;
+const bool RECORD_LEVELS = VARIANT_RECORD_LEVELS != 0;
 
 layout(vertices = 3) out;
 

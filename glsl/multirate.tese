@@ -1,4 +1,5 @@
 #version 460
+// variants: material_kind polygon_lights textured count_evaluations
 // `multirate` mode: shade the sub-vertices of tessellated triangles; for fallback triangles
 // (patch_level 0) pass position, normal and texture coordinates on for per-pixel shading.
 #include "texturing.glsl"

@@ -1,4 +1,5 @@
 #version 460
+// variants: material_kind polygon_lights textured count_evaluations
 // Per-pixel reference shading: the full shading function at every fragment.
 // Alpha is geometric coverage (the clear value is 0).
 #include "texturing.glsl"

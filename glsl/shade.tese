@@ -1,4 +1,5 @@
 #version 460
+// variants: material_kind polygon_lights textured count_evaluations
 // Tessellated modes: shade every sub-vertex. Position and normal are interpolated linearly over
 // the patch (the triangle's own barycentrics, as per-pixel shading sees them); the rasteriser
 // then interpolates the shaded colour over each sub-triangle.

@@ -1,9 +1,11 @@
-//! The `#[repr(C)]` twins in `src/gpu_types.rs` have the layout the shaders were compiled with.
-//! The member offsets and array strides are read out of the embedded SPIR-V (OpMemberDecorate
-//! Offset, OpDecorate ArrayStride) and compared with `offset_of!` and `size_of`.
+//! What the embedded SPIR-V holds, read out of its instructions:
+//! - the `#[repr(C)]` twins in `src/gpu_types.rs` have the layout the shaders were compiled with
+//!   (OpMemberDecorate Offset, OpDecorate ArrayStride, against `offset_of!` and `size_of`);
+//! - each shading variant contains only the code of its features: no polygonal-light, texture
+//!   or other material code where the scene has none.
 
 use multirate::gpu_types::{DrawConstants, GpuLight, GpuMaterial, GpuPolygonLight};
-use multirate::shaders;
+use multirate::shaders::{self, Features};
 use std::collections::HashMap;
 use std::mem::{offset_of, size_of};
 
@@ -66,8 +68,8 @@ fn reflect(spirv: &[u8]) -> Reflection {
 /// Checks every struct named `name` in every module; returns how many were checked.
 fn check_struct(name: &str, expected: &[(&str, usize)], size: usize) -> usize {
     let mut checked = 0;
-    for (stage, spirv) in shaders::ALL {
-        let reflection = reflect(spirv);
+    for module in shaders::ALL {
+        let (stage, reflection) = (module.stage, reflect(module.spirv));
         for (&type_id, type_name) in &reflection.names {
             if type_name != name {
                 continue;
@@ -171,4 +173,98 @@ fn draw_constants_match_glsl() {
     );
     assert!(checked > 0, "no shader declares DrawConstants");
     assert!(size_of::<DrawConstants>() <= 128, "push constants beyond the guaranteed 128 bytes");
+}
+
+const OP_EXT_INST: u32 = 12;
+const OP_IMAGE_SAMPLE_FIRST: u32 = 87; // OpImageSampleImplicitLod
+const OP_IMAGE_SAMPLE_LAST: u32 = 94; // OpImageSampleProjDrefExplicitLod
+const OP_IMAGE_QUERY_SIZE_LOD: u32 = 103;
+const DECORATION_SPEC_ID: u32 = 1;
+const GLSL_STD_450_POW: u32 = 26;
+/// brdf.glsl's polygonal-light constants (count, samples, technique, MIS v).
+const POLYGON_SPEC_IDS: std::ops::RangeInclusive<u32> = 8..=11;
+
+/// The instructions of a module that tell which code it holds.
+#[derive(Debug, Default)]
+struct Contents {
+    instructions: usize,
+    spec_ids: Vec<u32>,
+    texture_reads: usize,
+    pows: usize,
+}
+
+fn contents(spirv: &[u8]) -> Contents {
+    let words = shaders::words(spirv);
+    let mut contents = Contents::default();
+    let mut at = 5;
+    while at < words.len() {
+        let count = (words[at] >> 16) as usize;
+        assert!(count > 0, "malformed SPIR-V");
+        let opcode = words[at] & 0xffff;
+        let operands = &words[at + 1..at + count];
+        contents.instructions += 1;
+        match opcode {
+            OP_DECORATE if operands[1] == DECORATION_SPEC_ID => contents.spec_ids.push(operands[2]),
+            OP_IMAGE_SAMPLE_FIRST..=OP_IMAGE_SAMPLE_LAST | OP_IMAGE_QUERY_SIZE_LOD => {
+                contents.texture_reads += 1
+            }
+            OP_EXT_INST if operands[3] == GLSL_STD_450_POW => contents.pows += 1,
+            _ => {}
+        }
+        at += count;
+    }
+    contents
+}
+
+fn pixel_shader(material_kind: u32, polygon_lights: bool, textured: bool) -> Contents {
+    let features = Features { material_kind, polygon_lights, textured, ..Features::default() };
+    contents(shaders::spirv("pixel.frag", features))
+}
+
+#[test]
+fn untextured_pixel_shader_without_polygon_lights_has_neither() {
+    let lean = pixel_shader(1, false, false);
+    let full = pixel_shader(1, true, true);
+    // The detectors see the code where it is there.
+    assert!(full.spec_ids.iter().any(|id| POLYGON_SPEC_IDS.contains(id)), "{full:?}");
+    assert!(full.texture_reads > 0, "{full:?}");
+    assert!(!lean.spec_ids.iter().any(|id| POLYGON_SPEC_IDS.contains(id)), "polygon constants in {lean:?}");
+    assert_eq!(lean.texture_reads, 0, "texture reads in the untextured variant");
+    // Only the light counts are left to specialise.
+    assert_eq!(lean.spec_ids.iter().copied().collect::<std::collections::BTreeSet<_>>(), [1, 2].into());
+    assert!(
+        lean.instructions * 10 < full.instructions,
+        "the lean variant has {} instructions against {} with polygons and textures",
+        lean.instructions,
+        full.instructions
+    );
+}
+
+#[test]
+fn lambert_pixel_shader_has_no_specular_lobe() {
+    // Blinn-Phong's lobe is the only pow of an untextured variant without polygonal lights.
+    assert!(pixel_shader(1, false, false).pows > 0);
+    assert_eq!(pixel_shader(0, false, false).pows, 0);
+}
+
+#[test]
+fn every_shading_variant_holds_only_its_features() {
+    let mut checked = 0;
+    for module in shaders::ALL {
+        let features = module.features();
+        let found = contents(module.spirv);
+        if !features.polygon_lights {
+            assert!(
+                !found.spec_ids.iter().any(|id| POLYGON_SPEC_IDS.contains(id)),
+                "{}: {features:?} holds polygonal-light constants",
+                module.stage
+            );
+        }
+        if !features.textured && module.stage != "present.frag" {
+            // (present.frag samples the rendered image, whatever the scene.)
+            assert_eq!(found.texture_reads, 0, "{}: {features:?} reads textures", module.stage);
+        }
+        checked += 1;
+    }
+    assert!(checked > 100, "only {checked} modules: build.rs compiled no variants");
 }

@@ -243,8 +243,8 @@ fn run_on_gpu(context: &std::sync::Arc<multirate::vk::Context>, cases: &[Case]) 
     .expect("descriptor pool");
     let set = pool.allocate(layout.set_layouts[0]).expect("descriptor set");
     bind_storage_buffers(context, set, 0, &[input.raw, output.raw]);
-    let module =
-        ShaderModule::new(context, "polygon_check.comp", shaders::POLYGON_CHECK_COMP).expect("shader module");
+    let module = ShaderModule::new(context, "polygon_check.comp", shaders::single("polygon_check.comp"))
+        .expect("shader module");
     let pipeline = Pipeline::compute(context, "polygon check", &layout, &module, None).expect("pipeline");
     let device = &context.device;
     context

@@ -3,6 +3,12 @@
 #define BINDINGS_GLSL
 #include "types.glsl"
 
+// The variant's features, defined by build.rs for every module (0 or 1; the material kind in
+// brdf.glsl). Each selects code at compile time, so a variant contains only what its scenes use.
+#if !defined(VARIANT_POLYGON_LIGHTS) || !defined(VARIANT_TEXTURED) || !defined(VARIANT_COUNT_EVALUATIONS)
+#error "build.rs defines the VARIANT_ macros"
+#endif
+
 layout(set = 0, binding = 0, std430) readonly buffer Lights { GpuLight lights[]; };
 layout(set = 0, binding = 1, std430) readonly buffer Materials { GpuMaterial materials[]; };
 // Written only by the level-recording variant of multirate.tesc (RECORD_LEVELS): per
@@ -12,8 +18,8 @@ layout(push_constant, std430) uniform Push { DrawConstants draw; };
 layout(set = 0, binding = 4, std430) readonly buffer PolygonLights { GpuPolygonLight polygon_lights[]; };
 
 // The counting variant (COUNT_EVALUATIONS) adds one to these for every run of the full shading
-// function, by where it ran. The timed variants compile the counting out.
-layout(constant_id = 6) const bool COUNT_EVALUATIONS = false;
+// function, by where it ran. The timed variants contain no counting.
+const bool COUNT_EVALUATIONS = VARIANT_COUNT_EVALUATIONS != 0;
 layout(set = 0, binding = 3, std430) buffer EvaluationCounters {
     uint vertex_evaluations;    // vertex mode: triangle vertices (vertex shader)
     uint subvertex_evaluations; // tessellated modes: sub-vertices (evaluation shader)
@@ -29,6 +35,6 @@ layout(set = 1, binding = 1) uniform sampler2D parameter_map;
 // of level-0 texels.
 layout(set = 1, binding = 2) uniform sampler2D parameter_pyramid;
 // Whether any material of the scene has a texture: without, no texture code is compiled in.
-layout(constant_id = 7) const bool TEXTURED = false;
+const bool TEXTURED = VARIANT_TEXTURED != 0;
 
 #endif

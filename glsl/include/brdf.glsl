@@ -4,8 +4,9 @@
 // polygon_light.glsl). Keep the two in step, operation
 // for operation: a GPU test compares rendered pixels with the twin.
 //
-// Specialization constants select the variant, so only what the scene uses is compiled in:
-// a Lambert-only pipeline contains no GGX code after the driver folds the constants.
+// The material kind and whether polygonal lights exist are build.rs's variant defines, so only
+// what the scene uses is compiled in: a Lambert variant contains no GGX code, a variant without
+// polygonal lights none of polygon_light.glsl. The light counts are specialization constants.
 #ifndef BRDF_GLSL
 #define BRDF_GLSL
 #include "bindings.glsl"
@@ -14,15 +15,24 @@
 #define MATERIAL_BLINN_PHONG 1
 #define MATERIAL_GGX 2
 
-layout(constant_id = 0) const int MATERIAL_KIND = MATERIAL_LAMBERT;
+const int MATERIAL_KIND = VARIANT_MATERIAL_KIND;
 layout(constant_id = 1) const int POINT_LIGHT_COUNT = 0;
 layout(constant_id = 2) const int DIRECTIONAL_LIGHT_COUNT = 0;
+#if VARIANT_POLYGON_LIGHTS
 // Polygonal lights: how many, samples per technique, the light technique (0 projected solid
 // angle, 1 solid angle) and MIS's visibility estimate v (polygon_light.glsl).
 layout(constant_id = 8) const int POLYGON_LIGHT_COUNT = 0;
 layout(constant_id = 9) const int POLYGON_SAMPLES = 8;
 layout(constant_id = 10) const int POLYGON_TECHNIQUE = 0;
 layout(constant_id = 11) const float MIS_VISIBILITY = 0.5;
+#else
+// No polygonal lights: the loops over them vanish (the estimator's polygon bounds, which read
+// the other three, are then never called).
+const int POLYGON_LIGHT_COUNT = 0;
+const int POLYGON_SAMPLES = 8;
+const int POLYGON_TECHNIQUE = 0;
+const float MIS_VISIBILITY = 0.5;
+#endif
 
 const float PI = 3.14159265358979323846;
 // GGX alpha is clamped from below so that D stays finite at roughness 0.
@@ -90,7 +100,9 @@ Shading reflect_one_light(vec3 n, vec3 l, vec3 v, GpuMaterial m, float parameter
     return s;
 }
 
+#if VARIANT_POLYGON_LIGHTS
 #include "polygon_light.glsl"
+#endif
 
 // Outgoing radiance at a surface point, summed over every light of the scene, diffuse and
 // specular apart. `normal` need not be unit length (it is interpolated); `eye` is the camera.
@@ -114,11 +126,13 @@ Shading shade(vec3 position, vec3 normal, vec3 eye, uint material_index, float p
         total.diffuse += one.diffuse * light.radiance.rgb;
         total.specular += one.specular * light.radiance.rgb;
     }
+#if VARIANT_POLYGON_LIGHTS
     for (int i = 0; i < POLYGON_LIGHT_COUNT; ++i) {
         Shading one = shade_polygon(position, n, v, m, parameter, i);
         total.diffuse += one.diffuse;
         total.specular += one.specular;
     }
+#endif
     return total;
 }
 

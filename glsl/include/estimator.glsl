@@ -1147,7 +1147,7 @@ P vec3 parameter_variation(vec2 param, LightSetup st, vec3 spec_sup) {
     return spec_sup * (share * SAFETY);
 }
 
-// The GGX distribution at n.h = c (see `ggx_d_value`).
+// The GGX distribution at n.h = c: brdf.glsl's ggx_d, `precise` (no contraction, as in Rust).
 P float ggx_d_value(float c, float alpha) {
     P float a2 = alpha * alpha;
     P float d = c * c * (a2 - 1.0) + 1.0;

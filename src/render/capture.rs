@@ -88,10 +88,10 @@ impl TessellationCapture {
         let set = pool.allocate(layout.set_layouts[0])?;
         bind_storage_buffers(context, set, 0, &[coords.raw, triangles.raw]);
 
-        let vert = ShaderModule::new(context, "capture.vert", shaders::CAPTURE_VERT)?;
-        let tesc = ShaderModule::new(context, "capture.tesc", shaders::CAPTURE_TESC)?;
-        let tese = ShaderModule::new(context, "capture.tese", shaders::CAPTURE_TESE)?;
-        let geom = ShaderModule::new(context, "capture.geom", shaders::CAPTURE_GEOM)?;
+        let vert = ShaderModule::new(context, "capture.vert", shaders::single("capture.vert"))?;
+        let tesc = ShaderModule::new(context, "capture.tesc", shaders::single("capture.tesc"))?;
+        let tese = ShaderModule::new(context, "capture.tese", shaders::single("capture.tese"))?;
+        let geom = ShaderModule::new(context, "capture.geom", shaders::single("capture.geom"))?;
         use vk::ShaderStageFlags as S;
         let pipeline = Pipeline::graphics(
             context,

@@ -7,13 +7,13 @@
 
 use super::{draw_constants, Instrumentation, Renderer, View};
 use crate::error::{Error, Result};
-use crate::shaders;
+use crate::shaders::{self, Features};
 use crate::vk::memory::Buffer;
 use crate::vk::pipeline::{
     bind_sampled_images, bind_storage_buffers, graphics_binding, DescriptorPool, GraphicsPipelineDesc,
     Pipeline, PipelineLayout, ShaderModule, Specialization, Stage,
 };
-use crate::vk::target::{AfterPass, FloatImage, RenderTarget, COLOR_FORMAT, DEPTH_FORMAT};
+use crate::vk::target::{AfterPass, FloatImage, RenderTarget};
 use crate::vk::texture::Sampler;
 use crate::vk::Context;
 use ash::vk;
@@ -43,12 +43,13 @@ pub struct Deferred {
 }
 
 impl Deferred {
-    /// Builds the passes for `specializations` (one per material kind); needs primitive ids in
-    /// the fragment stage, that is the `geometryShader` feature.
+    /// Builds the passes for `specializations` (one per material kind: its shader features and
+    /// specialization constants); needs primitive ids in the fragment stage, that is the
+    /// `geometryShader` feature.
     pub fn new(
         context: &Arc<Context>,
         layout: &PipelineLayout,
-        specializations: &[Specialization],
+        specializations: &[(Features, Specialization)],
         vertices: &Buffer,
         indices: &Buffer,
     ) -> Result<Deferred> {
@@ -59,10 +60,12 @@ impl Deferred {
                 missing: "the geometryShader feature",
             });
         }
-        let visibility_vert = ShaderModule::new(context, "visibility.vert", shaders::VISIBILITY_VERT)?;
-        let visibility_frag = ShaderModule::new(context, "visibility.frag", shaders::VISIBILITY_FRAG)?;
-        let fullscreen = ShaderModule::new(context, "fullscreen.vert", shaders::FULLSCREEN_VERT)?;
-        let deferred_frag = ShaderModule::new(context, "deferred.frag", shaders::DEFERRED_FRAG)?;
+        let visibility_vert =
+            ShaderModule::new(context, "visibility.vert", shaders::single("visibility.vert"))?;
+        let visibility_frag =
+            ShaderModule::new(context, "visibility.frag", shaders::single("visibility.frag"))?;
+        let fullscreen = ShaderModule::new(context, "fullscreen.vert", shaders::single("fullscreen.vert"))?;
+        // The visibility pass reads positions only; the full-screen passes read no vertices.
         fn desc<'a>(
             name: &'a str,
             stages: Vec<Stage<'a>>,
@@ -70,20 +73,9 @@ impl Deferred {
             vertex_input: bool,
         ) -> GraphicsPipelineDesc<'a> {
             GraphicsPipelineDesc {
-                name,
-                stages,
-                layout,
-                // Positions only.
                 vertex_bindings: if vertex_input { &super::VERTEX_BINDINGS } else { &[] },
                 vertex_attributes: if vertex_input { &super::VERTEX_ATTRIBUTES[..1] } else { &[] },
-                topology: vk::PrimitiveTopology::TRIANGLE_LIST,
-                patch_control_points: None,
-                polygon_mode: vk::PolygonMode::FILL,
-                cull_mode: vk::CullModeFlags::NONE,
-                front_face: vk::FrontFace::COUNTER_CLOCKWISE,
-                color_format: Some(COLOR_FORMAT),
-                depth_format: Some(DEPTH_FORMAT),
-                rasterizer_discard: false,
+                ..super::scene_pipeline(name, stages, layout)
             }
         }
         use vk::ShaderStageFlags as S;
@@ -109,8 +101,9 @@ impl Deferred {
         };
         let mut shade = [Vec::new(), Vec::new()];
         for (&instrumentation, pipelines) in instrumentations.iter().zip(&mut shade) {
-            for specialization in specializations {
-                let specialization = instrumentation.specialize(specialization);
+            for (features, specialization) in specializations {
+                let features = instrumentation.features(*features);
+                let deferred_frag = super::variant_module(context, "deferred.frag", features)?;
                 pipelines.push(Pipeline::graphics(
                     context,
                     &desc(
@@ -120,7 +113,7 @@ impl Deferred {
                             Stage {
                                 stage: S::FRAGMENT,
                                 module: &deferred_frag,
-                                specialization: Some(&specialization),
+                                specialization: Some(specialization),
                             },
                         ],
                         layout,
@@ -182,10 +175,8 @@ impl Renderer {
         if let Some(deferred) = self.deferred.get() {
             return Ok(deferred);
         }
-        let specializations: Vec<Specialization> =
-            self.specializations.iter().map(|(_, s)| s.clone()).collect();
         let deferred =
-            Deferred::new(&self.context, &self.layout, &specializations, &self.vertices, &self.indices)?;
+            Deferred::new(&self.context, &self.layout, &self.specializations, &self.vertices, &self.indices)?;
         Ok(self.deferred.get_or_init(|| deferred))
     }
 

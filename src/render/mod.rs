@@ -18,7 +18,7 @@ use crate::gpu_types::{
 };
 use crate::scene::adjacency::{adjacency_patches, PATCH_SIZE};
 use crate::scene::{Camera, Light, MaterialKind, PolygonSampling, Scene};
-use crate::shaders;
+use crate::shaders::{self, Features};
 use crate::shading::estimator::{Discontinuity, Split};
 use crate::vk::frames::FrameRing;
 use crate::vk::memory::Buffer;
@@ -88,8 +88,8 @@ impl std::fmt::Display for Mode {
     }
 }
 
-/// The values of the shaders' MATERIAL_KIND specialization constant.
-fn material_kind_id(kind: &MaterialKind) -> i32 {
+/// The values of the shaders' MATERIAL_KIND (`Features::material_kind`).
+fn material_kind_id(kind: &MaterialKind) -> u32 {
     match kind {
         MaterialKind::Lambert { .. } => 0,
         MaterialKind::BlinnPhong { .. } => 1,
@@ -139,7 +139,8 @@ pub fn gpu_polygon_lights(lights: &[Light]) -> Vec<GpuPolygonLight> {
         .collect()
 }
 
-/// The specialization constants of the scene's polygonal lights (8 to 11, brdf.glsl).
+/// The specialization constants of the scene's polygonal lights (8 to 11, brdf.glsl; only the
+/// variants with polygonal lights have them).
 fn polygon_specialization(specialization: Specialization, scene: &Scene, count: usize) -> Specialization {
     let sampling = scene.settings.light_sampling;
     let technique = match sampling.technique {
@@ -236,7 +237,8 @@ struct Variant {
     /// Indexed by `split` and `discontinuity` (their specialization constants); built on
     /// first use by `Renderer::prepare`, since the estimator makes them slow to compile.
     multirate: [[OnceCell<Pipeline>; 2]; 2],
-    kind: i32,
+    /// The shader variant's features, instrumentation included.
+    features: Features,
     instrumentation: Instrumentation,
     polygon_mode: vk::PolygonMode,
 }
@@ -252,12 +254,13 @@ enum Instrumentation {
 }
 
 impl Instrumentation {
-    /// The specialization constants RECORD_LEVELS (5) and COUNT_EVALUATIONS (6).
-    fn specialize(self, specialization: &Specialization) -> Specialization {
-        specialization
-            .clone()
-            .boolean(5, self == Instrumentation::RecordLevels)
-            .boolean(6, self == Instrumentation::CountEvaluations)
+    /// The scene's `features` with this instrumentation compiled in.
+    fn features(self, features: Features) -> Features {
+        Features {
+            count_evaluations: self == Instrumentation::CountEvaluations,
+            record_levels: self == Instrumentation::RecordLevels,
+            ..features
+        }
     }
 }
 
@@ -335,7 +338,8 @@ pub struct Renderer {
     wireframe_variants: Option<Vec<Variant>>,
     /// Kept for the level-recording variants, built on demand.
     modules: Modules,
-    specializations: Vec<(i32, Specialization)>,
+    /// Per material kind of the scene: its shader features and specialization constants.
+    specializations: Vec<(Features, Specialization)>,
     levels: Buffer,
     /// The counting variants' four counters (`EvaluationCounters` in bindings.glsl).
     counters: Buffer,
@@ -355,7 +359,7 @@ impl Renderer {
         let mut indices = Vec::new();
         let mut patch_indices = Vec::new();
         let mut draws = Vec::new();
-        let mut kinds: Vec<i32> = Vec::new();
+        let mut kinds: Vec<u32> = Vec::new();
         for (mesh_index, mesh) in scene.meshes.iter().enumerate() {
             let base = vertices.len() as u32;
             vertices.extend(mesh.positions.iter().zip(&mesh.normals).enumerate().map(|(i, (p, n))| Vertex {
@@ -443,8 +447,9 @@ impl Renderer {
         let material_buffer =
             Buffer::with_data(context, "scene materials", vk::BufferUsageFlags::STORAGE_BUFFER, &materials)?;
         // A scene without polygonal lights still binds one (unread) entry.
+        let polygon_count = polygon_lights.len();
         let polygon_entries =
-            if polygon_lights.is_empty() { vec![GpuPolygonLight::default()] } else { polygon_lights.clone() };
+            if polygon_lights.is_empty() { vec![GpuPolygonLight::default()] } else { polygon_lights };
         let polygon_buffer = Buffer::with_data(
             context,
             "scene polygonal lights",
@@ -487,36 +492,31 @@ impl Renderer {
         );
 
         let modules = Modules {
-            forward_vert: ShaderModule::new(context, "forward.vert", shaders::FORWARD_VERT)?,
-            pixel_frag: ShaderModule::new(context, "pixel.frag", shaders::PIXEL_FRAG)?,
-            gouraud_vert: ShaderModule::new(context, "gouraud.vert", shaders::GOURAUD_VERT)?,
-            color_frag: ShaderModule::new(context, "color.frag", shaders::COLOR_FRAG)?,
-            patch_vert: ShaderModule::new(context, "patch.vert", shaders::PATCH_VERT)?,
-            fixed_tesc: ShaderModule::new(context, "fixed.tesc", shaders::FIXED_TESC)?,
-            shade_tese: ShaderModule::new(context, "shade.tese", shaders::SHADE_TESE)?,
-            multirate_tesc: ShaderModule::new(context, "multirate.tesc", shaders::MULTIRATE_TESC)?,
-            multirate_tese: ShaderModule::new(context, "multirate.tese", shaders::MULTIRATE_TESE)?,
-            multirate_frag: ShaderModule::new(context, "multirate.frag", shaders::MULTIRATE_FRAG)?,
+            forward_vert: ShaderModule::new(context, "forward.vert", shaders::single("forward.vert"))?,
+            patch_vert: ShaderModule::new(context, "patch.vert", shaders::single("patch.vert"))?,
+            fixed_tesc: ShaderModule::new(context, "fixed.tesc", shaders::single("fixed.tesc"))?,
         };
         let emitter = if emitters.is_empty() { None } else { Some(modules.emitter(context, &layout)?) };
         let mut variants = Vec::new();
         let mut specializations = Vec::new();
         for &kind in &kinds {
-            let specialization = Specialization::default()
-                .int(0, kind)
-                .int(1, point_count)
-                .int(2, directional_count)
-                .boolean(7, SceneTextures::any(scene));
-            let specialization = polygon_specialization(specialization, scene, polygon_lights.len());
+            let features = Features {
+                material_kind: kind,
+                polygon_lights: polygon_count > 0,
+                textured: SceneTextures::any(scene),
+                ..Features::default()
+            };
+            let specialization = Specialization::default().int(1, point_count).int(2, directional_count);
+            let specialization = polygon_specialization(specialization, scene, polygon_count);
             variants.push(modules.variant(
                 context,
                 &layout,
-                kind,
+                features,
                 &specialization,
                 Instrumentation::None,
                 vk::PolygonMode::FILL,
             )?);
-            specializations.push((kind, specialization));
+            specializations.push((features, specialization));
         }
         context.name(descriptor_set, "forward descriptor set");
         let clear = scene.settings.clear_color;
@@ -592,11 +592,11 @@ impl Renderer {
         }
         if self.wireframe_variants.is_none() {
             let mut lines = Vec::new();
-            for (kind, specialization) in &self.specializations {
+            for (features, specialization) in &self.specializations {
                 lines.push(self.modules.variant(
                     &self.context,
                     &self.layout,
-                    *kind,
+                    *features,
                     specialization,
                     Instrumentation::None,
                     vk::PolygonMode::LINE,
@@ -715,11 +715,11 @@ impl Renderer {
     /// control stage chose them (level 0: per-pixel fallback).
     pub fn record_levels(&self, target: &RenderTarget, view: &View) -> Result<Vec<[f32; 4]>> {
         let mut recording = Vec::new();
-        for (kind, specialization) in &self.specializations {
+        for (features, specialization) in &self.specializations {
             recording.push(self.modules.variant(
                 &self.context,
                 &self.layout,
-                *kind,
+                *features,
                 specialization,
                 Instrumentation::RecordLevels,
                 vk::PolygonMode::FILL,
@@ -807,11 +807,11 @@ impl Renderer {
             Some(variants) => variants,
             None => {
                 let mut variants = Vec::new();
-                for (kind, specialization) in &self.specializations {
+                for (features, specialization) in &self.specializations {
                     variants.push(self.modules.variant(
                         &self.context,
                         &self.layout,
-                        *kind,
+                        *features,
                         specialization,
                         Instrumentation::CountEvaluations,
                         vk::PolygonMode::FILL,
@@ -943,18 +943,17 @@ pub fn render_headless(
     renderer.render(&target, view)
 }
 
-/// The shader modules of the forward passes, alive while pipelines are built.
+/// The shader modules every variant of the forward passes shares; the shading stages are
+/// created per variant from their feature set (`shaders::spirv`).
 struct Modules {
     forward_vert: ShaderModule,
-    pixel_frag: ShaderModule,
-    gouraud_vert: ShaderModule,
-    color_frag: ShaderModule,
     patch_vert: ShaderModule,
     fixed_tesc: ShaderModule,
-    shade_tese: ShaderModule,
-    multirate_tesc: ShaderModule,
-    multirate_tese: ShaderModule,
-    multirate_frag: ShaderModule,
+}
+
+/// The module of `stage` compiled for `features`.
+fn variant_module(context: &Arc<Context>, stage: &str, features: Features) -> Result<ShaderModule> {
+    ShaderModule::new(context, stage, shaders::spirv(stage, features))
 }
 
 const VERTEX_BINDINGS: [vk::VertexInputBindingDescription; 1] = [vk::VertexInputBindingDescription {
@@ -984,44 +983,65 @@ const VERTEX_ATTRIBUTES: [vk::VertexInputAttributeDescription; 3] = [
     },
 ];
 
+/// A pipeline of the forward passes: the scene's vertices as filled triangles, both faces, into
+/// the float colour target with depth. Callers change what differs (patches, lines, inputs).
+fn scene_pipeline<'a>(
+    name: &'a str,
+    stages: Vec<Stage<'a>>,
+    layout: &'a PipelineLayout,
+) -> GraphicsPipelineDesc<'a> {
+    GraphicsPipelineDesc {
+        name,
+        stages,
+        layout,
+        vertex_bindings: &VERTEX_BINDINGS,
+        vertex_attributes: &VERTEX_ATTRIBUTES,
+        topology: vk::PrimitiveTopology::TRIANGLE_LIST,
+        patch_control_points: None,
+        polygon_mode: vk::PolygonMode::FILL,
+        cull_mode: vk::CullModeFlags::NONE,
+        front_face: vk::FrontFace::COUNTER_CLOCKWISE,
+        color_format: Some(COLOR_FORMAT),
+        depth_format: Some(DEPTH_FORMAT),
+        rasterizer_discard: false,
+    }
+}
+
 impl Modules {
     /// The pixel, vertex and tessellated pipelines of one material kind.
     fn variant(
         &self,
         context: &Arc<Context>,
         layout: &PipelineLayout,
-        kind: i32,
+        features: Features,
         specialization: &Specialization,
         instrumentation: Instrumentation,
         polygon_mode: vk::PolygonMode,
     ) -> Result<Variant> {
-        let specialization = &instrumentation.specialize(specialization);
+        let features = instrumentation.features(features);
+        let kind = features.material_kind;
+        let pixel_frag = variant_module(context, "pixel.frag", features)?;
+        let gouraud_vert = variant_module(context, "gouraud.vert", features)?;
+        let color_frag = variant_module(context, "color.frag", features)?;
+        let shade_tese = variant_module(context, "shade.tese", features)?;
         let stage = |stage, module, specialised: bool| Stage {
             stage,
             module,
             specialization: specialised.then_some(specialization),
         };
         let build = |name: String, stages: Vec<Stage<'_>>, control_points: Option<u32>| {
+            let topology = if control_points.is_some() {
+                vk::PrimitiveTopology::PATCH_LIST
+            } else {
+                vk::PrimitiveTopology::TRIANGLE_LIST
+            };
             Pipeline::graphics(
                 context,
                 &GraphicsPipelineDesc {
-                    name: &name,
-                    stages,
-                    layout,
-                    vertex_bindings: &VERTEX_BINDINGS,
-                    vertex_attributes: &VERTEX_ATTRIBUTES,
-                    topology: if control_points.is_some() {
-                        vk::PrimitiveTopology::PATCH_LIST
-                    } else {
-                        vk::PrimitiveTopology::TRIANGLE_LIST
-                    },
+                    topology,
                     patch_control_points: control_points,
                     polygon_mode,
-                    cull_mode: vk::CullModeFlags::NONE,
-                    front_face: vk::FrontFace::COUNTER_CLOCKWISE,
-                    color_format: Some(COLOR_FORMAT),
-                    depth_format: Some(DEPTH_FORMAT),
-                    rasterizer_discard: false,
+                    ..scene_pipeline(&name, stages, layout)
                 },
             )
         };
@@ -1029,12 +1049,12 @@ impl Modules {
         Ok(Variant {
             pixel: build(
                 format!("pixel mode, material kind {kind}"),
-                vec![stage(S::VERTEX, &self.forward_vert, false), stage(S::FRAGMENT, &self.pixel_frag, true)],
+                vec![stage(S::VERTEX, &self.forward_vert, false), stage(S::FRAGMENT, &pixel_frag, true)],
                 None,
             )?,
             vertex: build(
                 format!("vertex mode, material kind {kind}"),
-                vec![stage(S::VERTEX, &self.gouraud_vert, true), stage(S::FRAGMENT, &self.color_frag, false)],
+                vec![stage(S::VERTEX, &gouraud_vert, true), stage(S::FRAGMENT, &color_frag, false)],
                 None,
             )?,
             tessellated: build(
@@ -1042,13 +1062,13 @@ impl Modules {
                 vec![
                     stage(S::VERTEX, &self.patch_vert, false),
                     stage(S::TESSELLATION_CONTROL, &self.fixed_tesc, false),
-                    stage(S::TESSELLATION_EVALUATION, &self.shade_tese, true),
-                    stage(S::FRAGMENT, &self.color_frag, false),
+                    stage(S::TESSELLATION_EVALUATION, &shade_tese, true),
+                    stage(S::FRAGMENT, &color_frag, false),
                 ],
                 Some(3),
             )?,
             multirate: Default::default(),
-            kind,
+            features,
             instrumentation,
             polygon_mode,
         })
@@ -1058,29 +1078,13 @@ impl Modules {
 impl Modules {
     /// The pipeline that draws the polygonal lights' emissive geometry.
     fn emitter(&self, context: &Arc<Context>, layout: &PipelineLayout) -> Result<Pipeline> {
-        let emitter_frag = ShaderModule::new(context, "emitter.frag", shaders::EMITTER_FRAG)?;
+        let emitter_frag = ShaderModule::new(context, "emitter.frag", shaders::single("emitter.frag"))?;
         use vk::ShaderStageFlags as S;
-        Pipeline::graphics(
-            context,
-            &GraphicsPipelineDesc {
-                name: "emissive geometry",
-                stages: vec![
-                    Stage { stage: S::VERTEX, module: &self.forward_vert, specialization: None },
-                    Stage { stage: S::FRAGMENT, module: &emitter_frag, specialization: None },
-                ],
-                layout,
-                vertex_bindings: &VERTEX_BINDINGS,
-                vertex_attributes: &VERTEX_ATTRIBUTES,
-                topology: vk::PrimitiveTopology::TRIANGLE_LIST,
-                patch_control_points: None,
-                polygon_mode: vk::PolygonMode::FILL,
-                cull_mode: vk::CullModeFlags::NONE,
-                front_face: vk::FrontFace::COUNTER_CLOCKWISE,
-                color_format: Some(COLOR_FORMAT),
-                depth_format: Some(DEPTH_FORMAT),
-                rasterizer_discard: false,
-            },
-        )
+        let stages = vec![
+            Stage { stage: S::VERTEX, module: &self.forward_vert, specialization: None },
+            Stage { stage: S::FRAGMENT, module: &emitter_frag, specialization: None },
+        ];
+        Pipeline::graphics(context, &scene_pipeline("emissive geometry", stages, layout))
     }
 
     /// The multirate pipeline of `variant` for `view`'s split and discontinuity handling.
@@ -1093,34 +1097,30 @@ impl Modules {
         view: &View,
     ) -> Result<Pipeline> {
         let (split, discontinuity) = (split_id(view.split), discontinuity_id(view.discontinuity));
-        let specialization =
-            variant.instrumentation.specialize(&specialization.clone().int(3, split).int(4, discontinuity));
+        let specialization = specialization.clone().int(3, split).int(4, discontinuity);
+        let features = variant.features;
+        let multirate_tesc = variant_module(context, "multirate.tesc", features)?;
+        let multirate_tese = variant_module(context, "multirate.tese", features)?;
+        let multirate_frag = variant_module(context, "multirate.frag", features)?;
         let stage = |stage, module| Stage { stage, module, specialization: Some(&specialization) };
         use vk::ShaderStageFlags as S;
+        let name = format!(
+            "multirate mode, material kind {}, split {split}, discontinuity {discontinuity}",
+            features.material_kind
+        );
+        let stages = vec![
+            stage(S::VERTEX, &self.patch_vert),
+            stage(S::TESSELLATION_CONTROL, &multirate_tesc),
+            stage(S::TESSELLATION_EVALUATION, &multirate_tese),
+            stage(S::FRAGMENT, &multirate_frag),
+        ];
         Pipeline::graphics(
             context,
             &GraphicsPipelineDesc {
-                name: &format!(
-                    "multirate mode, material kind {}, split {split}, discontinuity {discontinuity}",
-                    variant.kind
-                ),
-                stages: vec![
-                    stage(S::VERTEX, &self.patch_vert),
-                    stage(S::TESSELLATION_CONTROL, &self.multirate_tesc),
-                    stage(S::TESSELLATION_EVALUATION, &self.multirate_tese),
-                    stage(S::FRAGMENT, &self.multirate_frag),
-                ],
-                layout,
-                vertex_bindings: &VERTEX_BINDINGS,
-                vertex_attributes: &VERTEX_ATTRIBUTES,
                 topology: vk::PrimitiveTopology::PATCH_LIST,
                 patch_control_points: Some(PATCH_SIZE as u32),
                 polygon_mode: variant.polygon_mode,
-                cull_mode: vk::CullModeFlags::NONE,
-                front_face: vk::FrontFace::COUNTER_CLOCKWISE,
-                color_format: Some(COLOR_FORMAT),
-                depth_format: Some(DEPTH_FORMAT),
-                rasterizer_discard: false,
+                ..scene_pipeline(&name, stages, layout)
             },
         )
     }

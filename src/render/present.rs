@@ -45,8 +45,8 @@ impl PresentPass {
             &[vk::DescriptorPoolSize { ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, descriptor_count: 1 }],
         )?;
         let set = pool.allocate(layout.set_layouts[0])?;
-        let vertex = ShaderModule::new(context, "fullscreen.vert", shaders::FULLSCREEN_VERT)?;
-        let fragment = ShaderModule::new(context, "present.frag", shaders::PRESENT_FRAG)?;
+        let vertex = ShaderModule::new(context, "fullscreen.vert", shaders::single("fullscreen.vert"))?;
+        let fragment = ShaderModule::new(context, "present.frag", shaders::single("present.frag"))?;
         let specialization = Specialization::default().boolean(0, encode_srgb);
         let pipeline = Pipeline::graphics(
             context,

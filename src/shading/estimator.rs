@@ -38,7 +38,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord, clippy::needless_range_loop)]
 
 use crate::scene::{Light, MaterialKind, PolygonLight, PolygonSampling};
-use crate::shading::brdf::{ggx_alpha, MIN_LIGHT_DISTANCE_SQUARED};
+use crate::shading::brdf::{ggx_alpha, ggx_d, MIN_LIGHT_DISTANCE_SQUARED};
 use glam::Vec3;
 use std::cell::Cell;
 use std::f32::consts::{FRAC_2_PI, FRAC_PI_2, FRAC_PI_4, LN_2, LOG2_E, PI, SQRT_2};
@@ -1468,12 +1468,12 @@ fn polygon_specular_bound(
             let (alpha_lo, alpha_hi) = (ggx_alpha(parameter.lo), ggx_alpha(parameter.hi));
             let k = 0.5 * alpha_lo;
             let cos_h = if h0 < FRAC_PI_2 { est_cos(h0) } else { 0.0 };
-            let mut d_max = ggx_d_value(cos_h, alpha_lo).max(ggx_d_value(cos_h, alpha_hi));
+            let mut d_max = ggx_d(cos_h, alpha_lo).max(ggx_d(cos_h, alpha_hi));
             if alpha_hi > alpha_lo && cos_h > 0.0 {
                 // D(c, α) peaks over α at α² = (1 − c²)/c².
                 let s2 = (1.0 - cos_h * cos_h).max(0.0);
                 let peak = (s2 / (cos_h * cos_h)).sqrt().max(alpha_lo).min(alpha_hi);
-                d_max = d_max.max(ggx_d_value(cos_h, peak));
+                d_max = d_max.max(ggx_d(cos_h, peak));
             }
             let cos_v_min = est_cos(st.psi_nv.1).max(0.0);
             let v_side = cos_v_min * (1.0 - k) + k;
@@ -1495,13 +1495,6 @@ fn polygon_specular_bound(
 /// `(2 − v) sup f/p_l + v sup f/p_b` (see [`polygon_specular_bound`]).
 fn mis_bound(light: f32, brdf: f32, visibility: f32, gd: &Guard) -> f32 {
     gd.c(gd.mul(2.0 - visibility, light) + gd.mul(visibility, brdf))
-}
-
-/// The GGX distribution at `n·h = c` (the formula of `brdf::ggx_d`).
-fn ggx_d_value(c: f32, alpha: f32) -> f32 {
-    let a2 = alpha * alpha;
-    let d = c * c * (a2 - 1.0) + 1.0;
-    a2 / (PI * d * d)
 }
 
 /// The jets of one light's diffuse part (`E'·(n·l)`, per unit weight) and specular part
