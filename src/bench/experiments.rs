@@ -76,6 +76,7 @@ fn config(options: &ExperimentOptions, modes: Vec<Mode>, resolutions: Vec<(u32, 
         frames: options.frames,
         split: Split::Heuristic,
         discontinuity: Discontinuity::Conservative,
+        estimators: Vec::new(),
         images: None,
     }
 }
