@@ -91,7 +91,8 @@ impl Job {
     }
 }
 
-/// Every combination of the values of `varied`, the other axes 0.
+/// Every combination of the values of `varied`, the other axes 0; a pipeline either counts or
+/// records, never both.
 fn combinations(varied: &[usize]) -> Vec<[u32; AXES.len()]> {
     let mut all = vec![[0u32; AXES.len()]];
     for &axis in varied {
@@ -106,6 +107,7 @@ fn combinations(varied: &[usize]) -> Vec<[u32; AXES.len()]> {
             })
             .collect();
     }
+    all.retain(|values| values[3] == 0 || values[4] == 0);
     all
 }
 

@@ -4,7 +4,10 @@
 // (patch_level 0) pass position, normal and texture coordinates on for per-pixel shading.
 #include "texturing.glsl"
 
-layout(triangles, equal_spacing, ccw) in;
+// Vulkan's tessellation domain has its origin at the upper left, which mirrors the domain: `cw`
+// here emits sub-triangles with the winding of the patch (anticlockwise from the front), so that
+// back-face culling treats them as it treats the triangle itself.
+layout(triangles, equal_spacing, cw) in;
 
 layout(location = 0) in vec3 in_position[];
 layout(location = 1) in vec3 in_normal[];

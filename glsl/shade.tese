@@ -5,7 +5,10 @@
 // then interpolates the shaded colour over each sub-triangle.
 #include "texturing.glsl"
 
-layout(triangles, equal_spacing, ccw) in;
+// Vulkan's tessellation domain has its origin at the upper left, which mirrors the domain: `cw`
+// here emits sub-triangles with the winding of the patch (anticlockwise from the front), so that
+// back-face culling treats them as it treats the triangle itself.
+layout(triangles, equal_spacing, cw) in;
 
 layout(location = 0) in vec3 in_position[];
 layout(location = 1) in vec3 in_normal[];

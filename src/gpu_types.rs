@@ -60,16 +60,22 @@ pub struct DrawConstants {
     /// Index of the draw's first triangle in the scene (level records).
     pub patch_base: u32,
     /// Bit 0 ([`FLAG_HEAT_MAP`]): show the level heat map instead of shading; bit 1
-    /// ([`FLAG_DERIVATIVE_CHECK`]): see [`crate::render::View::derivative_check`].
+    /// ([`FLAG_DERIVATIVE_CHECK`]): see [`crate::render::View::derivative_check`]; bit 2
+    /// ([`FLAG_ONE_SIDED`]): the mesh's back faces are culled.
     pub flags: u32,
     /// Emitter draws: index of the polygonal light drawn.
     pub light_index: u32,
-    pub pad1: u32,
+    /// The triangle-level pre-pass: how many triangles the dispatch covers.
+    pub triangle_count: u32,
     pub pad2: u32,
 }
 
 /// `DrawConstants::flags` bit: colour by tessellation level instead of shading.
 pub const FLAG_HEAT_MAP: u32 = 1;
+
+/// `DrawConstants::flags` bit: the mesh is one-sided; its back-facing triangles are culled
+/// (by the rasteriser, and in multirate mode before their estimate).
+pub const FLAG_ONE_SIDED: u32 = 4;
 
 /// `DrawConstants::flags` bit: `pixel-deferred` writes the analytic against hardware uv
 /// derivative difference instead of shading.

@@ -4,7 +4,7 @@ use anyhow::{Context as _, Result};
 use clap::{Args, Parser, Subcommand};
 use multirate::analysis::report;
 use multirate::bench::{self, BenchConfig, BenchScene};
-use multirate::render::{output, render_headless, Mode, View, MAX_LEVEL};
+use multirate::render::{output, render_headless, Estimator, Mode, View, MAX_LEVEL};
 use multirate::scene::Scene;
 use multirate::shading::estimator::{Discontinuity, EstimatorSettings, Split};
 use multirate::vk::{Context, ContextOptions};
@@ -96,6 +96,10 @@ struct BenchArgs {
     /// shading wherever it may cross a triangle) handling of the terminator.
     #[arg(long, value_parser = parse_discontinuity, default_value = "relaxed")]
     discontinuity: Discontinuity,
+    /// multirate: where the estimator runs, each measured: tcs, compute or both
+    /// (tcs,compute); default: compute.
+    #[arg(long, value_delimiter = ',')]
+    estimator: Vec<Estimator>,
 }
 
 fn parse_resolution(text: &str) -> Result<(u32, u32), String> {
@@ -181,6 +185,10 @@ struct ShadingArgs {
     /// kink (relaxed) or shade it per pixel (conservative, the paper's choice).
     #[arg(long, value_parser = parse_discontinuity, default_value = "relaxed")]
     discontinuity: Discontinuity,
+    /// multirate: run the estimator in the tessellation control stage (tcs) or in a compute
+    /// pre-pass (compute, the default); both give the same levels.
+    #[arg(long, default_value_t = Estimator::default())]
+    estimator: Estimator,
 }
 
 fn parse_split(text: &str) -> Result<Split, String> {
@@ -206,6 +214,7 @@ impl ShadingArgs {
         view.mode = self.mode;
         view.split = self.split;
         view.discontinuity = self.discontinuity;
+        view.estimator = self.estimator;
         if let Some(epsilon) = self.epsilon {
             anyhow::ensure!(
                 epsilon.is_finite() && epsilon > 0.0,
@@ -289,6 +298,7 @@ impl Default for ShadingArgs {
             nmax: None,
             split: Split::Heuristic,
             discontinuity: Discontinuity::Relaxed,
+            estimator: Estimator::default(),
         }
     }
 }
@@ -404,6 +414,7 @@ fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
         frames: args.frames,
         split: args.split,
         discontinuity: args.discontinuity,
+        estimators: args.estimator.clone(),
         images: args.images.then(|| args.out.join("images")),
     };
     std::fs::create_dir_all(&args.out).with_context(|| format!("{}: cannot create", args.out.display()))?;

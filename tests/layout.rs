@@ -166,7 +166,7 @@ fn draw_constants_match_glsl() {
             ("patch_base", offset_of!(DrawConstants, patch_base)),
             ("flags", offset_of!(DrawConstants, flags)),
             ("light_index", offset_of!(DrawConstants, light_index)),
-            ("pad1", offset_of!(DrawConstants, pad1)),
+            ("triangle_count", offset_of!(DrawConstants, triangle_count)),
             ("pad2", offset_of!(DrawConstants, pad2)),
         ],
         size_of::<DrawConstants>(),

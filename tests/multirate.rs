@@ -1,6 +1,7 @@
 //! `multirate` mode on lavapipe with the validation layer on:
 //! - the levels the control stage chooses (recorded by its analysis variant) equal the Rust
-//!   twin's (`analysis::report`), shared edges included;
+//!   twin's (`analysis::report`), shared edges and culled triangles included, and are the same
+//!   with the estimator in the control stage and in the compute pre-pass;
 //! - every pixel of a tessellated triangle is within ε of `pixel` mode;
 //! - no cracks: coverage inside the reference silhouette is complete;
 //! - extreme inputs render with the coverage of `pixel` mode and no NaN.
@@ -10,7 +11,8 @@ mod common;
 use ash::vk;
 use common::{assert_validation_clean, cracks, interior_tessellated, repo_path, validated_context};
 use multirate::analysis::report;
-use multirate::render::{Mode, Renderer, View};
+use multirate::render::cull::CULLED_LEVEL;
+use multirate::render::{Estimator, Mode, Renderer, View};
 use multirate::scene::Scene;
 use multirate::shading::estimator::{Discontinuity, EstimatorSettings, Split};
 use multirate::vk::target::{FloatImage, RenderTarget};
@@ -31,8 +33,9 @@ fn settings(view: &View) -> EstimatorSettings {
 #[test]
 fn control_stage_levels_equal_the_twin() {
     let context = validated_context();
-    let target = RenderTarget::new(&context, vk::Extent2D { width: 64, height: 48 }).expect("target");
-    let (mut compared, mut different) = (0usize, 0usize);
+    let (width, height) = (64, 48);
+    let target = RenderTarget::new(&context, vk::Extent2D { width, height }).expect("target");
+    let (mut compared, mut different, mut culled) = (0usize, 0usize, 0usize);
     for relative in [
         "scenes/bunny.toml",
         "scenes/teapot.toml",
@@ -43,10 +46,12 @@ fn control_stage_levels_equal_the_twin() {
         "scenes/plane_polygons.toml",
         "scenes/teapot_polygons.toml",
     ] {
-        let scene = Scene::load(&repo_path(relative)).expect("scene");
+        let mut scene = Scene::load(&repo_path(relative)).expect("scene");
+        // The twin culls with the scene's camera at the scene's size: the target's.
+        (scene.settings.width, scene.settings.height) = (width, height);
         let renderer = Renderer::new(&context, &scene).expect("renderer");
         // Every setting builds its own pipelines (about 20 s each on lavapipe): the textured
-        // and polygon-light scenes take the default one and a relaxed one.
+        // and polygon-light scenes take the default one (Relaxed) and a conservative one.
         let settings_to_check = if relative.contains("_spots") || relative.contains("_fabric") {
             1
         } else if relative.contains("_polygons") {
@@ -55,15 +60,23 @@ fn control_stage_levels_equal_the_twin() {
             3
         };
         for (epsilon, split, discontinuity) in [
-            (0.075, Split::Heuristic, Discontinuity::Conservative),
+            (0.075, Split::Heuristic, Discontinuity::Relaxed),
+            (0.3, Split::Heuristic, Discontinuity::Conservative),
             (0.02, Split::Uniform, Discontinuity::Relaxed),
-            (0.3, Split::Heuristic, Discontinuity::Relaxed),
         ]
         .into_iter()
         .take(settings_to_check)
         {
             let view = View { epsilon, split, discontinuity, ..View::of_scene(&scene) };
-            let gpu = renderer.record_levels(&target, &view).expect("levels");
+            let gpu =
+                renderer.record_levels(&target, &View { estimator: Estimator::Compute, ..view.clone() });
+            let gpu = gpu.expect("levels");
+            let in_control_stage =
+                renderer.record_levels(&target, &View { estimator: Estimator::Tcs, ..view.clone() });
+            assert!(
+                in_control_stage.expect("levels") == gpu,
+                "{relative} ε {epsilon}: the placements differ"
+            );
             let twin = report::analyze(
                 &scene,
                 &settings(&view),
@@ -74,7 +87,12 @@ fn control_stage_levels_equal_the_twin() {
             assert_eq!(gpu.len(), twin.len(), "{relative}: one record per triangle");
             for (g, t) in gpu.iter().zip(&twin) {
                 let level = t.patch_level as f32;
-                let expected = [level, t.outer[0] as f32, t.outer[1] as f32, t.outer[2] as f32];
+                let expected = if t.culled {
+                    culled += 1;
+                    [CULLED_LEVEL, 0.0, 0.0, 0.0]
+                } else {
+                    [level, t.outer[0] as f32, t.outer[1] as f32, t.outer[2] as f32]
+                };
                 compared += 1;
                 if *g != expected {
                     different += 1;
@@ -88,7 +106,8 @@ fn control_stage_levels_equal_the_twin() {
             }
         }
     }
-    eprintln!("levels: {different} of {compared} triangles differ");
+    eprintln!("levels: {different} of {compared} triangles differ; {culled} culled");
+    assert!(culled > 0, "no triangle was culled: the culling goes untested");
     // The GLSL estimator is bit-identical to the twin (its own elementary functions, precise
     // arithmetic): every level must agree exactly.
     assert_eq!(different, 0, "{different} of {compared} triangles differ from the twin");
@@ -244,7 +263,7 @@ fn extremes_keep_coverage_and_stay_finite() {
             );
             assert_eq!(cracks(&reference, &image), 0, "{} ε {epsilon}: cracks", path.display());
             let levels = renderer.record_levels(&target, &view).expect("levels");
-            for record in levels {
+            for record in levels.into_iter().filter(|r| *r != [CULLED_LEVEL, 0.0, 0.0, 0.0]) {
                 assert!(record.iter().all(|v| v.is_finite()), "{}: level {record:?}", path.display());
                 assert!(record[0] == 0.0 || (1.0..=view.n_max as f32).contains(&record[0]), "{record:?}");
                 assert!(record[1..].iter().all(|o| (1.0..=view.n_max as f32).contains(o)), "{record:?}");

@@ -24,8 +24,17 @@ layout(set = 0, binding = 3, std430) buffer EvaluationCounters {
     uint vertex_evaluations;    // vertex mode: triangle vertices (vertex shader)
     uint subvertex_evaluations; // tessellated modes: sub-vertices (evaluation shader)
     uint pixel_evaluations;     // pixel mode, and multirate's per-pixel fallback
-    uint counters_pad;
+    uint culled_patches;        // multirate: triangles culled before their estimate
 } counters;
+
+// The multirate pass with the estimator in a compute pre-pass (triangle_levels.comp): per
+// triangle of the scene its level (triangle_level.glsl) and the triangles across its edges 0,
+// 1, 2 (itself where it has none); the pre-pass reads the scene's vertices (8 floats each:
+// position, normal, uv) and indices.
+layout(set = 0, binding = 5, std430) buffer TriangleLevels { float triangle_levels[]; };
+layout(set = 0, binding = 6, std430) readonly buffer TriangleNeighbours { uvec4 triangle_neighbours[]; };
+layout(set = 0, binding = 7, std430) readonly buffer SceneVertices { float scene_vertices[]; };
+layout(set = 0, binding = 8, std430) readonly buffer SceneIndices { uint scene_indices[]; };
 
 // The textures of the draw's material (set 1, bound per draw); a white 1x1 texture where the
 // material has none. GpuMaterial.maps says which are real.

@@ -37,9 +37,10 @@ struct DrawConstants {
     uint mesh_index;
     uint fixed_level;    // tessellation level of the fixed:N mode
     uint patch_base;     // index of this draw's first triangle in the scene (level records)
-    uint flags;          // bit 0: show the tessellation level heat map instead of shading
+    uint flags;          // bit 0: show the tessellation level heat map instead of shading;
+                         // bit 2: the mesh is one-sided (back faces are culled)
     uint light_index;    // emitter draws: the polygonal light drawn
-    uint pad1;
+    uint triangle_count; // the triangle-level pre-pass: triangles of this dispatch
     uint pad2;
 };
 

@@ -8,6 +8,7 @@ use super::measured::Measured;
 use super::oracle::{oracle_level, true_error_textured, vertices_at_level, SAMPLES_PER_EDGE};
 use super::tessellator::triangle_pattern;
 use crate::render::camera::view_projection;
+use crate::render::cull::{culled, CULLED_LEVEL};
 use crate::scene::adjacency::{adjacency_patches, PATCH_SIZE};
 use crate::scene::texture::PowerSat;
 use crate::scene::{with_parameter, Scene};
@@ -38,6 +39,9 @@ pub struct TriangleReport {
     /// True L∞ error (max over channels) on the pattern the driver really emits for
     /// `levels` (None for fallback patches).
     pub true_error: Option<f64>,
+    /// Culled before its estimate (`render::cull`): not drawn, outer levels 0. Only
+    /// `Triangles::All` reports culled triangles.
+    pub culled: bool,
 }
 
 /// Vertices (shading evaluations) of the pattern with these levels.
@@ -60,22 +64,11 @@ pub struct Summary {
     pub violations: usize,
 }
 
-/// Whether any part of the triangle may be inside the view frustum (no clip plane has all
-/// three vertices outside).
-fn in_frustum(clip: &[Vec4; 3]) -> bool {
-    let outside = |f: &dyn Fn(&Vec4) -> bool| clip.iter().all(f);
-    !(outside(&|c| c.x < -c.w)
-        || outside(&|c| c.x > c.w)
-        || outside(&|c| c.y < -c.w)
-        || outside(&|c| c.y > c.w)
-        || outside(&|c| c.z < 0.0)
-        || outside(&|c| c.z > c.w))
-}
-
 /// Which triangles to analyse.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Triangles {
-    /// Those in the camera's view frustum.
+    /// Those the control stage does not cull (`render::cull`): in the camera's view frustum,
+    /// and front-facing where the mesh is one-sided.
     Visible,
     /// All, in scene order (meshes in order): what the GPU's level records hold.
     All,
@@ -145,15 +138,22 @@ pub fn analyze(
         let estimate_of = |corners: &[u32]| {
             estimate_textured(&input(corners), material, range(corners), &scene.lights, settings)
         };
+        let culled_of = |corners: &[u32]| {
+            let positions = [0, 1, 2].map(|k| mesh.positions[corners[k] as usize]);
+            culled(&view_proj, scene.camera.eye, positions, !mesh.two_sided)
+        };
+        // As triangle_level.glsl: a culled triangle gets no estimate.
+        let level_of =
+            |corners: &[u32]| if culled_of(corners) { CULLED_LEVEL } else { estimate_of(corners).level };
         let patches = adjacency_patches(mesh);
         for (triangle, patch) in patches.chunks_exact(PATCH_SIZE).enumerate() {
-            let clip = [0, 1, 2].map(|k| view_proj * mesh.positions[patch[k] as usize].extend(1.0));
-            if which == Triangles::Visible && !in_frustum(&clip) {
+            let own_culled = culled_of(&patch[0..3]);
+            if which == Triangles::Visible && own_culled {
                 continue;
             }
             let own = input(&patch[0..3]);
             let own_estimate = estimate_of(&patch[0..3]);
-            let neighbours = [0, 1, 2].map(|edge| estimate_of(&patch[3 + 3 * edge..6 + 3 * edge]).level);
+            let neighbours = [0, 1, 2].map(|edge| level_of(&patch[3 + 3 * edge..6 + 3 * edge]));
             let levels = patch_levels(own_estimate.level, neighbours, n_max);
             let (oracle_n, true_err) = if with_oracle {
                 let oracle =
@@ -198,6 +198,7 @@ pub fn analyze(
                 outer: levels.outer.map(|o| o.ceil() as u32),
                 oracle_n,
                 true_error: true_err,
+                culled: own_culled,
             });
         }
     }

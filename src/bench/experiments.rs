@@ -75,9 +75,10 @@ fn config(options: &ExperimentOptions, modes: Vec<Mode>, resolutions: Vec<(u32, 
         warmup: options.warmup,
         frames: options.frames,
         split: Split::Heuristic,
-        // The paper's tables: its multirate shades every triangle the terminator may cross per
-        // pixel (the renderer's default is Relaxed).
-        discontinuity: Discontinuity::Conservative,
+        // The renderer's default (the paper shades every triangle the terminator may cross per
+        // pixel, which `--discontinuity conservative` reproduces).
+        discontinuity: Discontinuity::Relaxed,
+        estimators: Vec::new(),
         images: None,
     }
 }

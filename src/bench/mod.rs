@@ -14,7 +14,7 @@ pub mod trace;
 
 use crate::analysis::metrics::{self, fallback_mask, fallback_pixels, scaled_difference, ImageError};
 use crate::error::Result;
-use crate::render::{output, EvaluationCounts, Measurement, Mode, Renderer, View};
+use crate::render::{output, Estimator, EvaluationCounts, Measurement, Mode, Renderer, View};
 use crate::scene::Scene;
 use crate::shading::estimator::{Discontinuity, Split};
 use crate::vk::target::{FloatImage, RenderTarget};
@@ -54,6 +54,8 @@ pub struct BenchConfig {
     pub frames: u32,
     pub split: Split,
     pub discontinuity: Discontinuity,
+    /// multirate's estimator placements, each measured (empty: the default).
+    pub estimators: Vec<Estimator>,
     /// Where to write each row's images (error ×30, heat map, fallback mask), if anywhere.
     pub images: Option<PathBuf>,
 }
@@ -102,6 +104,8 @@ pub struct Row {
     pub epsilon: Option<f32>,
     /// multirate only.
     pub n_max: Option<u32>,
+    /// multirate only: where the estimator ran (`tcs` or `compute`).
+    pub estimator: Option<String>,
     pub width: u32,
     pub height: u32,
     pub frames: u32,
@@ -141,6 +145,7 @@ struct Job {
     mode: Mode,
     epsilon: f32,
     n_max: u32,
+    estimator: Estimator,
 }
 
 impl Job {
@@ -149,7 +154,8 @@ impl Job {
         let name = &scenes[self.scene].name;
         match self.mode {
             Mode::Multirate => {
-                format!("{name} {width}x{height} multirate ε={} n_max={}", self.epsilon, self.n_max)
+                let (epsilon, n_max, estimator) = (self.epsilon, self.n_max, self.estimator);
+                format!("{name} {width}x{height} multirate ε={epsilon} n_max={n_max} estimator {estimator}")
             }
             mode => format!("{name} {width}x{height} {mode}"),
         }
@@ -168,18 +174,30 @@ fn jobs(scenes: &[BenchScene], config: &BenchConfig) -> Vec<Job> {
         let epsilons =
             if config.epsilons.is_empty() { vec![settings.epsilon] } else { config.epsilons.clone() };
         let n_maxes = if config.n_maxes.is_empty() { vec![settings.n_max] } else { config.n_maxes.clone() };
+        let estimators =
+            if config.estimators.is_empty() { vec![Estimator::default()] } else { config.estimators.clone() };
         for &resolution in &resolutions {
-            let job = |mode, epsilon, n_max| Job { scene: index, resolution, mode, epsilon, n_max };
-            jobs.push(job(Mode::Pixel, settings.epsilon, settings.n_max));
+            let job = |mode, epsilon, n_max, estimator| Job {
+                scene: index,
+                resolution,
+                mode,
+                epsilon,
+                n_max,
+                estimator,
+            };
+            let default = Estimator::default();
+            jobs.push(job(Mode::Pixel, settings.epsilon, settings.n_max, default));
             for &mode in config.modes.iter().filter(|&&m| m != Mode::Pixel) {
                 if mode == Mode::Multirate {
                     for &epsilon in &epsilons {
                         for &n_max in &n_maxes {
-                            jobs.push(job(mode, epsilon, n_max));
+                            for &estimator in &estimators {
+                                jobs.push(job(mode, epsilon, n_max, estimator));
+                            }
                         }
                     }
                 } else {
-                    jobs.push(job(mode, settings.epsilon, settings.n_max));
+                    jobs.push(job(mode, settings.epsilon, settings.n_max, default));
                 }
             }
         }
@@ -235,6 +253,7 @@ pub fn run(
             n_max: job.n_max,
             split: config.split,
             discontinuity: config.discontinuity,
+            estimator: job.estimator,
             ..View::of_scene(scene)
         };
         let image = renderer.render(target, &view)?;
@@ -307,6 +326,7 @@ fn row(
         mode: job.mode.to_string(),
         epsilon: multirate.then_some(job.epsilon),
         n_max: multirate.then_some(job.n_max),
+        estimator: multirate.then(|| job.estimator.to_string()),
         width: job.resolution.0,
         height: job.resolution.1,
         frames: config.frames,
@@ -363,9 +383,9 @@ fn write_row_images(
 }
 
 /// The CSV header; `csv_line` writes the fields in this order.
-pub const CSV_HEADER: &str = "scene,triangles,mode,epsilon,n_max,width,height,frames,\
+pub const CSV_HEADER: &str = "scene,triangles,mode,epsilon,n_max,estimator,width,height,frames,\
 gpu_ms_median,gpu_ms_p10,gpu_ms_p90,speedup,evaluations,vertex_evaluations,subvertex_evaluations,\
-fragment_evaluations,evaluation_ratio,l_inf,l_inf_interior,pixels_over_epsilon,mean_l2,psnr_db,flip,fallback_fraction,\
+fragment_evaluations,culled_patches,evaluation_ratio,l_inf,l_inf_interior,pixels_over_epsilon,mean_l2,psnr_db,flip,fallback_fraction,\
 vs_invocations,tcs_patches,tes_invocations,clipping_primitives,fs_invocations,device,driver";
 
 /// "NA" marks a value that does not apply to the row (ε of `pixel` mode, statistics on a
@@ -393,6 +413,7 @@ pub fn csv_line(row: &Row) -> String {
         row.mode.clone(),
         optional(row.epsilon),
         optional(row.n_max),
+        optional(row.estimator.as_ref()),
         row.width.to_string(),
         row.height.to_string(),
         row.frames.to_string(),
@@ -404,6 +425,7 @@ pub fn csv_line(row: &Row) -> String {
         row.evaluations.vertices.to_string(),
         row.evaluations.sub_vertices.to_string(),
         row.evaluations.fragments.to_string(),
+        optional((row.mode == "multirate").then_some(row.evaluations.culled_patches)),
         format!("{:.5}", row.evaluation_ratio),
         format!("{:.6}", row.l_inf),
         format!("{:.6}", row.l_inf_interior),

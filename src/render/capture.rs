@@ -114,6 +114,7 @@ impl TessellationCapture {
                 color_format: None,
                 depth_format: None,
                 rasterizer_discard: true,
+                dynamic_cull_mode: false,
             },
         )?;
         Ok(TessellationCapture {

@@ -10,7 +10,7 @@ use crate::error::{Error, Result};
 use crate::shaders::{self, Features};
 use crate::vk::memory::Buffer;
 use crate::vk::pipeline::{
-    bind_sampled_images, bind_storage_buffers, graphics_binding, DescriptorPool, GraphicsPipelineDesc,
+    bind_sampled_images, bind_storage_buffers, shader_binding, DescriptorPool, GraphicsPipelineDesc,
     Pipeline, PipelineLayout, ShaderModule, Specialization, Stage,
 };
 use crate::vk::target::{AfterPass, FloatImage, RenderTarget};
@@ -23,9 +23,9 @@ use std::sync::Arc;
 /// Set 2 of the forward layout: the id image, the vertices and the indices.
 pub fn deferred_set_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; 3] {
     [
-        graphics_binding(0, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
-        graphics_binding(1, vk::DescriptorType::STORAGE_BUFFER),
-        graphics_binding(2, vk::DescriptorType::STORAGE_BUFFER),
+        shader_binding(0, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
+        shader_binding(1, vk::DescriptorType::STORAGE_BUFFER),
+        shader_binding(2, vk::DescriptorType::STORAGE_BUFFER),
     ]
 }
 
@@ -75,6 +75,8 @@ impl Deferred {
             GraphicsPipelineDesc {
                 vertex_bindings: if vertex_input { &super::VERTEX_BINDINGS } else { &[] },
                 vertex_attributes: if vertex_input { &super::VERTEX_ATTRIBUTES[..1] } else { &[] },
+                // The id pass culls as the forward passes do; the full-screen passes need not.
+                dynamic_cull_mode: vertex_input,
                 ..super::scene_pipeline(name, stages, layout)
             }
         }
@@ -231,7 +233,7 @@ impl Renderer {
                 device.cmd_push_constants(
                     cmd,
                     self.layout.raw,
-                    vk::ShaderStageFlags::ALL_GRAPHICS,
+                    super::PUSH_STAGES,
                     0,
                     bytemuck::bytes_of(&constants),
                 );

@@ -3,6 +3,7 @@
 
 pub mod camera;
 pub mod capture;
+pub mod cull;
 pub mod deferred;
 pub mod output;
 pub mod present;
@@ -15,15 +16,16 @@ use crate::analysis::tessellator::uniform_vertex_count;
 use crate::error::Result;
 use crate::gpu_types::{
     DrawConstants, GpuLight, GpuMaterial, GpuPolygonLight, Vertex, FLAG_DERIVATIVE_CHECK, FLAG_HEAT_MAP,
+    FLAG_ONE_SIDED,
 };
-use crate::scene::adjacency::{adjacency_patches, PATCH_SIZE};
+use crate::scene::adjacency::{adjacency_patches, neighbours, PATCH_SIZE};
 use crate::scene::{Camera, Light, MaterialKind, PolygonSampling, Scene};
 use crate::shaders::{self, Features};
 use crate::shading::estimator::{Discontinuity, Split};
 use crate::vk::frames::FrameRing;
 use crate::vk::memory::Buffer;
 use crate::vk::pipeline::{
-    bind_storage_buffers, graphics_binding, DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout,
+    bind_storage_buffers, shader_binding, DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout,
     ShaderModule, Specialization, Stage,
 };
 use crate::vk::target::{AfterPass, FloatImage, RenderTarget, COLOR_FORMAT, DEPTH_FORMAT};
@@ -54,6 +56,46 @@ pub enum Mode {
 
 /// Highest tessellation level Vulkan guarantees (`maxTessellationGenerationLevel` ≥ 64).
 pub const MAX_LEVEL: u32 = 64;
+
+/// The stages the push constants (`DrawConstants`) are visible to: every graphics stage, and
+/// the triangle-level pre-pass.
+pub(crate) const PUSH_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
+    vk::ShaderStageFlags::ALL_GRAPHICS.as_raw() | vk::ShaderStageFlags::COMPUTE.as_raw(),
+);
+
+/// Where `multirate` mode runs the estimator. Both give the same levels (tests/multirate.rs).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Estimator {
+    /// In the tessellation control stage, as the seeds describe it: each patch carries its
+    /// neighbours' vertices, and its four invocations estimate the triangle and its three
+    /// neighbours, one each.
+    Tcs,
+    /// In a compute pre-pass, one invocation per triangle, once per frame; the control stage
+    /// reads its own and its neighbours' levels and only combines them. The default: faster on
+    /// every device measured (docs/results.md).
+    #[default]
+    Compute,
+}
+
+impl std::str::FromStr for Estimator {
+    type Err = String;
+    fn from_str(text: &str) -> Result<Estimator, String> {
+        match text {
+            "tcs" => Ok(Estimator::Tcs),
+            "compute" => Ok(Estimator::Compute),
+            _ => Err(format!("unknown estimator placement \"{text}\" (known: tcs, compute)")),
+        }
+    }
+}
+
+impl std::fmt::Display for Estimator {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Estimator::Tcs => "tcs",
+            Estimator::Compute => "compute",
+        })
+    }
+}
 
 impl std::str::FromStr for Mode {
     type Err = String;
@@ -179,6 +221,9 @@ pub struct EvaluationCounts {
     pub sub_vertices: u64,
     /// `pixel` mode and `multirate`'s fallback: fragments shaded per pixel.
     pub fragments: u64,
+    /// `multirate`: triangles culled before their estimate (outside the view frustum, or back
+    /// faces of one-sided meshes). Not a shading evaluation.
+    pub culled_patches: u64,
 }
 
 impl EvaluationCounts {
@@ -201,6 +246,8 @@ pub struct View {
     pub n_max: u32,
     pub split: Split,
     pub discontinuity: Discontinuity,
+    /// `multirate` only: where the estimator runs.
+    pub estimator: Estimator,
     /// Colour by tessellation level (heat map) instead of shading.
     pub heat_map: bool,
     /// Draw triangle edges only (where the device has `fillModeNonSolid`).
@@ -222,6 +269,7 @@ impl View {
             n_max: scene.settings.n_max,
             split: Split::Heuristic,
             discontinuity: Discontinuity::Relaxed,
+            estimator: Estimator::default(),
             heat_map: false,
             wireframe: false,
             derivative_check: false,
@@ -234,9 +282,10 @@ struct Variant {
     pixel: Pipeline,
     vertex: Pipeline,
     tessellated: Pipeline,
-    /// Indexed by `split` and `discontinuity` (their specialization constants); built on
-    /// first use by `Renderer::prepare`, since the estimator makes them slow to compile.
-    multirate: [[OnceCell<Pipeline>; 2]; 2],
+    /// Indexed by estimator placement, `split` and `discontinuity` (their specialization
+    /// constants); built on first use by `Renderer::prepare`, since the estimator makes them
+    /// slow to compile.
+    multirate: [[[OnceCell<Multirate>; 2]; 2]; 2],
     /// The shader variant's features, instrumentation included.
     features: Features,
     instrumentation: Instrumentation,
@@ -264,6 +313,13 @@ impl Instrumentation {
     }
 }
 
+/// The pipelines of `multirate` mode for one estimator placement.
+struct Multirate {
+    draw: Pipeline,
+    /// `Estimator::Compute`: the triangle-level pre-pass.
+    levels: Option<Pipeline>,
+}
+
 impl Variant {
     /// The pipeline of `view` (None: a multirate pipeline not yet prepared).
     fn for_view(&self, view: &View) -> Option<&Pipeline> {
@@ -273,12 +329,14 @@ impl Variant {
             Mode::PixelDeferred => None,
             Mode::Vertex => Some(&self.vertex),
             Mode::Fixed(_) => Some(&self.tessellated),
-            Mode::Multirate => self.multirate_cell(view).get(),
+            Mode::Multirate => self.multirate_cell(view).get().map(|m| &m.draw),
         }
     }
 
-    fn multirate_cell(&self, view: &View) -> &OnceCell<Pipeline> {
-        &self.multirate[split_id(view.split) as usize][discontinuity_id(view.discontinuity) as usize]
+    fn multirate_cell(&self, view: &View) -> &OnceCell<Multirate> {
+        let placement = usize::from(view.estimator == Estimator::Compute);
+        &self.multirate[placement][split_id(view.split) as usize]
+            [discontinuity_id(view.discontinuity) as usize]
     }
 }
 
@@ -305,6 +363,8 @@ struct DrawCall {
     index_count: u32,
     /// Where this mesh's 12-index adjacency patches start in the patch index buffer.
     first_patch_index: u32,
+    /// Back faces are culled (`Mesh::two_sided` false).
+    one_sided: bool,
     material_index: u32,
     mesh_index: u32,
     pipeline: usize,
@@ -323,6 +383,10 @@ pub struct Renderer {
     vertices: Buffer,
     indices: Buffer,
     patch_indices: Buffer,
+    /// Per triangle: its level, written by the pre-pass of `Estimator::Compute`.
+    _triangle_levels: Buffer,
+    /// Per triangle: the triangles across its edges (`uvec4`, scene indices).
+    _triangle_neighbours: Buffer,
     _lights: Buffer,
     _materials: Buffer,
     textures: SceneTextures,
@@ -358,6 +422,7 @@ impl Renderer {
         let mut vertices = Vec::new();
         let mut indices = Vec::new();
         let mut patch_indices = Vec::new();
+        let mut triangle_neighbours: Vec<[u32; 4]> = Vec::new();
         let mut draws = Vec::new();
         let mut kinds: Vec<u32> = Vec::new();
         for (mesh_index, mesh) in scene.meshes.iter().enumerate() {
@@ -371,6 +436,9 @@ impl Renderer {
             indices.extend(mesh.indices.iter().map(|i| i + base));
             let first_patch_index = patch_indices.len() as u32;
             patch_indices.extend(adjacency_patches(mesh).iter().map(|i| i + base));
+            let first_triangle = first_index / 3;
+            triangle_neighbours
+                .extend(neighbours(mesh).iter().map(|n| [n[0], n[1], n[2], 0].map(|t| t + first_triangle)));
             let kind = material_kind_id(&scene.materials[mesh.material].kind);
             let pipeline = kinds.iter().position(|&k| k == kind).unwrap_or_else(|| {
                 kinds.push(kind);
@@ -381,6 +449,7 @@ impl Renderer {
                 first_index,
                 index_count: mesh.indices.len() as u32,
                 first_patch_index,
+                one_sided: !mesh.two_sided,
                 material_index: mesh.material as u32,
                 mesh_index: mesh_index as u32,
                 pipeline,
@@ -428,6 +497,22 @@ impl Renderer {
             vk::BufferUsageFlags::INDEX_BUFFER,
             &patch_indices,
         )?;
+        let triangle_level_buffer = Buffer::new(
+            context,
+            "triangle levels",
+            (triangle_count.max(1) * 4) as vk::DeviceSize,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            gpu_allocator::MemoryLocation::GpuOnly,
+        )?;
+        if triangle_neighbours.is_empty() {
+            triangle_neighbours.push([0; 4]);
+        }
+        let neighbour_buffer = Buffer::with_data(
+            context,
+            "triangle neighbours",
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            &triangle_neighbours,
+        )?;
         let level_buffer = Buffer::new(
             context,
             "level records",
@@ -457,10 +542,10 @@ impl Renderer {
             &polygon_entries,
         )?;
 
-        let stages = vk::ShaderStageFlags::ALL_GRAPHICS;
-        let bindings = [0, 1, 2, 3, 4].map(|b| graphics_binding(b, vk::DescriptorType::STORAGE_BUFFER));
+        let bindings =
+            [0, 1, 2, 3, 4, 5, 6, 7, 8].map(|b| shader_binding(b, vk::DescriptorType::STORAGE_BUFFER));
         let push = [vk::PushConstantRange::default()
-            .stage_flags(stages)
+            .stage_flags(PUSH_STAGES)
             .size(std::mem::size_of::<DrawConstants>() as u32)];
         let material_bindings = material_set_bindings();
         let deferred_bindings = deferred_set_bindings();
@@ -475,7 +560,7 @@ impl Renderer {
             context,
             "forward descriptors",
             1,
-            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 5 }],
+            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 9 }],
         )?;
         let descriptor_set = pool.allocate(layout.set_layouts[0])?;
         bind_storage_buffers(
@@ -488,6 +573,10 @@ impl Renderer {
                 level_buffer.raw,
                 counter_buffer.raw,
                 polygon_buffer.raw,
+                triangle_level_buffer.raw,
+                neighbour_buffer.raw,
+                vertex_buffer.raw,
+                index_buffer.raw,
             ],
         );
 
@@ -525,6 +614,8 @@ impl Renderer {
             vertices: vertex_buffer,
             indices: index_buffer,
             patch_indices: patch_index_buffer,
+            _triangle_levels: triangle_level_buffer,
+            _triangle_neighbours: neighbour_buffer,
             _lights: light_buffer,
             _materials: material_buffer,
             _polygon_lights: polygon_buffer,
@@ -620,8 +711,71 @@ impl Renderer {
             self.record_deferred(instrumentation, cmd, target, view, after);
             return;
         }
+        if view.mode == Mode::Multirate && view.estimator == Estimator::Compute {
+            self.record_triangle_levels(variants, cmd, view, target.extent());
+        }
         let pick = |draw: &DrawCall| variants[draw.pipeline].for_view(view).map(|p| p.raw);
         self.record_draws(&pick, true, cmd, target, view, self.clear_color, after);
+    }
+
+    /// `Estimator::Compute`: the pre-pass that writes every triangle's level for the control
+    /// stage, with the barriers that order it after the previous frame's reads and before this
+    /// frame's.
+    fn record_triangle_levels(
+        &self,
+        variants: &[Variant],
+        cmd: vk::CommandBuffer,
+        view: &View,
+        extent: vk::Extent2D,
+    ) {
+        let device = &self.context.device;
+        let previous_reads = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::TESSELLATION_CONTROL_SHADER)
+            .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)];
+        let written = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+            .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::TESSELLATION_CONTROL_SHADER)
+            .dst_access_mask(vk::AccessFlags2::SHADER_STORAGE_READ)];
+        let mut constants = draw_constants(view, extent);
+        // SAFETY: `cmd` is recording outside a render pass; every bound object is owned by
+        // `self` and outlives the submission.
+        unsafe {
+            device
+                .cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&previous_reads));
+            self.bind_set_at(cmd, vk::PipelineBindPoint::COMPUTE, 0, self.descriptor_set);
+            for draw in &self.draws {
+                let Some(levels) =
+                    variants[draw.pipeline].multirate_cell(view).get().and_then(|m| m.levels.as_ref())
+                else {
+                    debug_assert!(false, "render, measure and the viewer prepare the view first");
+                    continue;
+                };
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, levels.raw);
+                let material_set = self.textures.sets[draw.material_index as usize];
+                self.bind_set_at(cmd, vk::PipelineBindPoint::COMPUTE, 1, material_set);
+                self.set_draw_constants(&mut constants, draw);
+                constants.patch_base = draw.first_triangle;
+                constants.triangle_count = draw.index_count / 3;
+                device.cmd_push_constants(
+                    cmd,
+                    self.layout.raw,
+                    PUSH_STAGES,
+                    0,
+                    bytemuck::bytes_of(&constants),
+                );
+                device.cmd_dispatch(cmd, constants.triangle_count.div_ceil(TRIANGLE_LEVEL_GROUP), 1, 1);
+            }
+            device.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&written));
+        }
+    }
+
+    /// The per-mesh fields of the push constants.
+    fn set_draw_constants(&self, constants: &mut DrawConstants, draw: &DrawCall) {
+        constants.material_index = draw.material_index;
+        constants.mesh_index = draw.mesh_index;
+        constants.flags =
+            (constants.flags & !FLAG_ONE_SIDED) | if draw.one_sided { FLAG_ONE_SIDED } else { 0 };
     }
 
     /// The forward draws of every mesh with the pipeline `pick` gives, into `target`, and with
@@ -648,14 +802,16 @@ impl Renderer {
             device.cmd_bind_index_buffer(cmd, self.indices.raw, 0, vk::IndexType::UINT32);
             self.bind_set(cmd, 0, self.descriptor_set);
             for draw in &self.draws {
-                constants.material_index = draw.material_index;
-                constants.mesh_index = draw.mesh_index;
+                self.set_draw_constants(&mut constants, draw);
+                let cull = if draw.one_sided { vk::CullModeFlags::BACK } else { vk::CullModeFlags::NONE };
                 let Some(pipeline) = pick(draw) else {
                     debug_assert!(false, "render, measure and the viewer prepare the view first");
                     continue;
                 };
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+                device.cmd_set_cull_mode(cmd, cull);
                 self.bind_set(cmd, 1, self.textures.sets[draw.material_index as usize]);
+                let adjacency = view.mode == Mode::Multirate && view.estimator == Estimator::Tcs;
                 let (first_index, index_count, patches, indices_per_primitive) = match view.mode {
                     Mode::Pixel | Mode::Vertex | Mode::PixelDeferred => {
                         (draw.first_index, draw.index_count, u32::MAX, 3)
@@ -663,14 +819,20 @@ impl Renderer {
                     Mode::Fixed(level) => {
                         (draw.first_index, draw.index_count, self.patches_per_draw(level), 3)
                     }
-                    Mode::Multirate => (
+                    Mode::Multirate if adjacency => (
                         draw.first_patch_index,
                         draw.index_count / 3 * PATCH_SIZE as u32,
-                        self.multirate_patches_per_draw(view.n_max),
+                        self.multirate_patches_per_draw(view.n_max, PATCH_SIZE as u32),
                         PATCH_SIZE as u32,
                     ),
+                    Mode::Multirate => (
+                        draw.first_index,
+                        draw.index_count,
+                        self.multirate_patches_per_draw(view.n_max, 3),
+                        3,
+                    ),
                 };
-                if view.mode == Mode::Multirate {
+                if adjacency {
                     device.cmd_bind_index_buffer(cmd, self.patch_indices.raw, 0, vk::IndexType::UINT32);
                 }
                 let chunk = patches.saturating_mul(indices_per_primitive);
@@ -681,25 +843,26 @@ impl Renderer {
                     device.cmd_push_constants(
                         cmd,
                         self.layout.raw,
-                        vk::ShaderStageFlags::ALL_GRAPHICS,
+                        PUSH_STAGES,
                         0,
                         bytemuck::bytes_of(&constants),
                     );
                     device.cmd_draw_indexed(cmd, count, 1, first_index + first, 0, 0);
                     first += count;
                 }
-                if view.mode == Mode::Multirate {
+                if adjacency {
                     device.cmd_bind_index_buffer(cmd, self.indices.raw, 0, vk::IndexType::UINT32);
                 }
             }
             if let (Some(emitter), true) = (&self.emitter, emitters) {
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, emitter.raw);
+                device.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
                 for draw in &self.emitters {
                     constants.light_index = draw.light_index;
                     device.cmd_push_constants(
                         cmd,
                         self.layout.raw,
-                        vk::ShaderStageFlags::ALL_GRAPHICS,
+                        PUSH_STAGES,
                         0,
                         bytemuck::bytes_of(&constants),
                     );
@@ -857,16 +1020,18 @@ impl Renderer {
             vertices: u64::from(values[0]),
             sub_vertices: u64::from(values[1]),
             fragments: u64::from(values[2]),
+            culled_patches: u64::from(values[3]),
         })
     }
 
-    /// Patches per multirate draw: besides the vertex budget, lavapipe (Mesa 22.3) restarts
-    /// `gl_PrimitiveID` in the control stage every 1020 control points (85 patches of 12),
-    /// which would scramble the level records; other drivers get no limit.
-    fn multirate_patches_per_draw(&self, n_max: u32) -> u32 {
+    /// Patches of `patch_size` control points per multirate draw: besides the vertex budget,
+    /// lavapipe (Mesa 22.3) restarts `gl_PrimitiveID` in the control stage every 1020 control
+    /// points (85 patches of 12, 340 of 3), which would scramble the triangle indices; other
+    /// drivers get no limit.
+    fn multirate_patches_per_draw(&self, n_max: u32, patch_size: u32) -> u32 {
         let patches = self.patches_per_draw(n_max);
         if self.tessellated_vertex_budget.is_some() {
-            patches.min((1020 / PATCH_SIZE) as u32)
+            patches.min(1020 / patch_size)
         } else {
             patches
         }
@@ -888,22 +1053,30 @@ impl Renderer {
 }
 
 impl Renderer {
-    /// Binds `set` as set `index` of the forward layout on `cmd` (recording).
+    /// Binds `set` as set `index` of the forward layout for graphics on `cmd` (recording).
     fn bind_set(&self, cmd: vk::CommandBuffer, index: u32, set: vk::DescriptorSet) {
+        self.bind_set_at(cmd, vk::PipelineBindPoint::GRAPHICS, index, set);
+    }
+
+    /// Binds `set` as set `index` of the forward layout at `bind_point` on `cmd` (recording).
+    fn bind_set_at(
+        &self,
+        cmd: vk::CommandBuffer,
+        bind_point: vk::PipelineBindPoint,
+        index: u32,
+        set: vk::DescriptorSet,
+    ) {
         // SAFETY: `cmd` is recording; the set belongs to this renderer's layout and outlives
         // the submission.
         unsafe {
-            self.context.device.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.layout.raw,
-                index,
-                &[set],
-                &[],
-            )
+            self.context.device.cmd_bind_descriptor_sets(cmd, bind_point, self.layout.raw, index, &[set], &[])
         };
     }
 }
+
+/// Invocations per work group of the triangle-level pre-pass (`local_size_x` of
+/// glsl/triangle_levels.comp).
+const TRIANGLE_LEVEL_GROUP: u32 = 64;
 
 /// The push constants of `view` on a target of `extent` (per draw: material, mesh, first
 /// triangle).
@@ -983,8 +1156,9 @@ const VERTEX_ATTRIBUTES: [vk::VertexInputAttributeDescription; 3] = [
     },
 ];
 
-/// A pipeline of the forward passes: the scene's vertices as filled triangles, both faces, into
-/// the float colour target with depth. Callers change what differs (patches, lines, inputs).
+/// A pipeline of the forward passes: the scene's vertices as filled triangles, into the float
+/// colour target with depth; the cull mode is set per mesh (back faces of one-sided meshes).
+/// Callers change what differs (patches, lines, inputs).
 fn scene_pipeline<'a>(
     name: &'a str,
     stages: Vec<Stage<'a>>,
@@ -1001,6 +1175,7 @@ fn scene_pipeline<'a>(
         polygon_mode: vk::PolygonMode::FILL,
         cull_mode: vk::CullModeFlags::NONE,
         front_face: vk::FrontFace::COUNTER_CLOCKWISE,
+        dynamic_cull_mode: true,
         color_format: Some(COLOR_FORMAT),
         depth_format: Some(DEPTH_FORMAT),
         rasterizer_discard: false,
@@ -1087,7 +1262,8 @@ impl Modules {
         Pipeline::graphics(context, &scene_pipeline("emissive geometry", stages, layout))
     }
 
-    /// The multirate pipeline of `variant` for `view`'s split and discontinuity handling.
+    /// The multirate pipelines of `variant` for `view`'s estimator placement, split and
+    /// discontinuity handling.
     fn multirate(
         &self,
         context: &Arc<Context>,
@@ -1095,18 +1271,27 @@ impl Modules {
         variant: &Variant,
         specialization: &Specialization,
         view: &View,
-    ) -> Result<Pipeline> {
+    ) -> Result<Multirate> {
         let (split, discontinuity) = (split_id(view.split), discontinuity_id(view.discontinuity));
         let specialization = specialization.clone().int(3, split).int(4, discontinuity);
         let features = variant.features;
-        let multirate_tesc = variant_module(context, "multirate.tesc", features)?;
+        let (control, control_points, levels) = match view.estimator {
+            Estimator::Tcs => ("multirate.tesc", PATCH_SIZE as u32, None),
+            Estimator::Compute => {
+                let module = variant_module(context, "triangle_levels.comp", features)?;
+                let name = format!("triangle levels, material kind {}", features.material_kind);
+                let levels = Pipeline::compute(context, &name, layout, &module, Some(&specialization))?;
+                ("multirate_levels.tesc", 3, Some(levels))
+            }
+        };
+        let multirate_tesc = variant_module(context, control, features)?;
         let multirate_tese = variant_module(context, "multirate.tese", features)?;
         let multirate_frag = variant_module(context, "multirate.frag", features)?;
         let stage = |stage, module| Stage { stage, module, specialization: Some(&specialization) };
         use vk::ShaderStageFlags as S;
         let name = format!(
-            "multirate mode, material kind {}, split {split}, discontinuity {discontinuity}",
-            features.material_kind
+            "multirate mode, estimator {}, material kind {}, split {split}, discontinuity {discontinuity}",
+            view.estimator, features.material_kind
         );
         let stages = vec![
             stage(S::VERTEX, &self.patch_vert),
@@ -1114,14 +1299,15 @@ impl Modules {
             stage(S::TESSELLATION_EVALUATION, &multirate_tese),
             stage(S::FRAGMENT, &multirate_frag),
         ];
-        Pipeline::graphics(
+        let draw = Pipeline::graphics(
             context,
             &GraphicsPipelineDesc {
                 topology: vk::PrimitiveTopology::PATCH_LIST,
-                patch_control_points: Some(PATCH_SIZE as u32),
+                patch_control_points: Some(control_points),
                 polygon_mode: variant.polygon_mode,
                 ..scene_pipeline(&name, stages, layout)
             },
-        )
+        )?;
+        Ok(Multirate { draw, levels })
     }
 }

@@ -71,6 +71,7 @@ impl PresentPass {
                 color_format: Some(format),
                 depth_format: None,
                 rasterizer_discard: false,
+                dynamic_cull_mode: false,
             },
         )?;
         // SAFETY: live sampler handle.

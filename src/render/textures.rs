@@ -8,7 +8,7 @@ use crate::gpu_types::GpuMaterial;
 use crate::scene::texture::MipLevel;
 use crate::scene::{Material, MaterialKind, ParameterMapping, Scene};
 use crate::vk::memory::Image;
-use crate::vk::pipeline::{bind_sampled_images, graphics_binding, DescriptorPool};
+use crate::vk::pipeline::{bind_sampled_images, shader_binding, DescriptorPool};
 use crate::vk::texture::{upload_image, LevelData, Sampler};
 use crate::vk::Context;
 use ash::vk;
@@ -33,7 +33,7 @@ fn levels_of(levels: &[MipLevel]) -> Vec<LevelData<'_>> {
 
 /// The layout of a material set: three combined image samplers, every stage.
 pub fn material_set_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; MATERIAL_BINDINGS as usize] {
-    [0, 1, 2].map(|binding| graphics_binding(binding, vk::DescriptorType::COMBINED_IMAGE_SAMPLER))
+    [0, 1, 2].map(|binding| shader_binding(binding, vk::DescriptorType::COMBINED_IMAGE_SAMPLER))
 }
 
 impl SceneTextures {

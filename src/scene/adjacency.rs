@@ -4,6 +4,9 @@
 //! triangle's own order. The control stage estimates its own level and its neighbours' from the
 //! neighbours' own data, so both sides of a shared edge compute the same outer level.
 //!
+//! With `--estimator compute` the control stage reads levels by triangle instead, and needs only
+//! each triangle's `neighbours`.
+//!
 //! Vertices are matched by position (welded), so seams that duplicate vertices still connect.
 //! An edge with no neighbour, or shared by more than two triangles (non-manifold), gets the
 //! triangle itself as its "neighbour"; at a non-manifold edge levels can then disagree.
@@ -11,11 +14,40 @@
 use super::Mesh;
 use std::collections::HashMap;
 
-/// Control points per patch of the adaptive (multirate) pipeline.
+/// Control points per patch of the adaptive (multirate) pipeline with `--estimator tcs`.
 pub const PATCH_SIZE: usize = 12;
 
-/// The 12-index patches of `mesh`, indices local to the mesh.
-pub fn adjacency_patches(mesh: &Mesh) -> Vec<u32> {
+/// Per triangle of `mesh`, the triangle across each edge k (opposite vertex k), as a triangle
+/// index local to the mesh: the triangle itself where the edge has no neighbour or more than one.
+pub fn neighbours(mesh: &Mesh) -> Vec<[u32; 3]> {
+    let (triangles, edges, edge_key) = edge_map(mesh);
+    triangles
+        .iter()
+        .enumerate()
+        .map(|(index, triangle)| {
+            [0, 1, 2].map(|k| match edges[&edge_key(triangle, k)].as_slice() {
+                [a, b] if *a == index => *b as u32,
+                [a, b] if *b == index => *a as u32,
+                _ => index as u32,
+            })
+        })
+        .collect()
+}
+
+/// Whether `mesh` is closed: every edge (positions welded) is shared by exactly two triangles.
+pub fn is_closed(mesh: &Mesh) -> bool {
+    let (_, edges, _) = edge_map(mesh);
+    !edges.is_empty() && edges.values().all(|sharing| sharing.len() == 2)
+}
+
+type EdgeKey = (u32, u32);
+
+/// The mesh's triangles, the triangles sharing each welded edge, and the key of edge k of a
+/// triangle.
+#[allow(clippy::type_complexity)]
+fn edge_map(
+    mesh: &Mesh,
+) -> (Vec<[u32; 3]>, HashMap<EdgeKey, Vec<usize>>, impl Fn(&[u32; 3], usize) -> EdgeKey) {
     let mut welded: HashMap<[u32; 3], u32> = HashMap::new();
     let canonical: Vec<u32> = mesh
         .positions
@@ -27,28 +59,28 @@ pub fn adjacency_patches(mesh: &Mesh) -> Vec<u32> {
         })
         .collect();
     let triangles: Vec<[u32; 3]> = mesh.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
-    let edge_key = |t: &[u32; 3], k: usize| {
+    let edge_key = move |t: &[u32; 3], k: usize| {
         let a = canonical[t[(k + 1) % 3] as usize];
         let b = canonical[t[(k + 2) % 3] as usize];
         (a.min(b), a.max(b))
     };
-    let mut edges: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
+    let mut edges: HashMap<EdgeKey, Vec<usize>> = HashMap::new();
     for (index, triangle) in triangles.iter().enumerate() {
         for k in 0..3 {
             edges.entry(edge_key(triangle, k)).or_default().push(index);
         }
     }
-    let mut patches = Vec::with_capacity(triangles.len() * PATCH_SIZE);
-    for (index, triangle) in triangles.iter().enumerate() {
-        patches.extend_from_slice(triangle);
-        for k in 0..3 {
-            let sharing = &edges[&edge_key(triangle, k)];
-            let neighbour = match sharing.as_slice() {
-                [a, b] if *a == index => *b,
-                [a, b] if *b == index => *a,
-                _ => index,
-            };
-            patches.extend_from_slice(&triangles[neighbour]);
+    (triangles, edges, edge_key)
+}
+
+/// The 12-index patches of `mesh`, indices local to the mesh.
+pub fn adjacency_patches(mesh: &Mesh) -> Vec<u32> {
+    let triangle = |t: u32| &mesh.indices[3 * t as usize..3 * t as usize + 3];
+    let mut patches = Vec::with_capacity(mesh.indices.len() / 3 * PATCH_SIZE);
+    for (index, across) in neighbours(mesh).iter().enumerate() {
+        patches.extend_from_slice(triangle(index as u32));
+        for &neighbour in across {
+            patches.extend_from_slice(triangle(neighbour));
         }
     }
     patches
@@ -68,6 +100,7 @@ mod tests {
             positions,
             indices,
             uvs: Vec::new(),
+            two_sided: true,
         }
     }
 

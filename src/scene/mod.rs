@@ -408,6 +408,10 @@ pub struct Mesh {
     /// Texture coordinates, one per position (from the OBJ file's `vt` or `uv_projection`),
     /// or empty when the mesh has none.
     pub uvs: Vec<Vec2>,
+    /// Whether back faces are drawn. From the `two_sided` key; without it, closed meshes are
+    /// one-sided (their back faces are hidden, so every mode culls them) and open ones
+    /// two-sided.
+    pub two_sided: bool,
 }
 
 /// Why a scene could not be loaded. `Display` starts with the path of the file at fault.
@@ -648,6 +652,7 @@ struct MeshFile {
     scale: Option<Scale>,
     uv_projection: Option<UvProjection>,
     uv_scale: Option<[f32; 2]>,
+    two_sided: Option<bool>,
 }
 
 /// Texture coordinates computed from world-space positions, about the centre of the mesh's
@@ -1223,7 +1228,9 @@ fn load_mesh(
         normals: loaded.normals,
         indices: loaded.indices,
         uvs: loaded.uvs,
+        two_sided: true,
     };
+    mesh.two_sided = m.two_sided.unwrap_or_else(|| !adjacency::is_closed(&mesh));
     if let Some(projection) = m.uv_projection {
         let uv_scale = m.uv_scale.unwrap_or([1.0, 1.0]);
         if !uv_scale.iter().all(|s| s.is_finite() && *s != 0.0) {

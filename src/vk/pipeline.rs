@@ -144,6 +144,8 @@ pub struct GraphicsPipelineDesc<'a> {
     pub polygon_mode: vk::PolygonMode,
     pub cull_mode: vk::CullModeFlags,
     pub front_face: vk::FrontFace,
+    /// The cull mode is set per draw (`vkCmdSetCullMode`) instead of `cull_mode`.
+    pub dynamic_cull_mode: bool,
     /// No attachment at all (for example a capture pipeline that discards rasterisation).
     pub color_format: Option<vk::Format>,
     pub depth_format: Option<vk::Format>,
@@ -205,8 +207,11 @@ impl Pipeline {
         let attachment_count = usize::from(desc.color_format.is_some());
         let blend = vk::PipelineColorBlendStateCreateInfo::default()
             .attachments(&blend_attachment[..attachment_count]);
-        let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
-        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+        let dynamic_states =
+            [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR, vk::DynamicState::CULL_MODE];
+        let dynamic_count = if desc.dynamic_cull_mode { 3 } else { 2 };
+        let dynamic =
+            vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states[..dynamic_count]);
         let color_formats: Vec<vk::Format> = desc.color_format.into_iter().collect();
         let mut rendering = vk::PipelineRenderingCreateInfo::default()
             .color_attachment_formats(&color_formats)
@@ -301,13 +306,13 @@ impl DescriptorPool {
     }
 }
 
-/// One descriptor of `ty` at `binding`, visible to every graphics stage.
-pub fn graphics_binding(binding: u32, ty: vk::DescriptorType) -> vk::DescriptorSetLayoutBinding<'static> {
+/// One descriptor of `ty` at `binding`, visible to every graphics stage and to compute.
+pub fn shader_binding(binding: u32, ty: vk::DescriptorType) -> vk::DescriptorSetLayoutBinding<'static> {
     vk::DescriptorSetLayoutBinding::default()
         .binding(binding)
         .descriptor_type(ty)
         .descriptor_count(1)
-        .stage_flags(vk::ShaderStageFlags::ALL_GRAPHICS)
+        .stage_flags(vk::ShaderStageFlags::ALL_GRAPHICS | vk::ShaderStageFlags::COMPUTE)
 }
 
 /// Points bindings `first`, `first + 1`, … of `set` at whole storage buffers, in order. The

@@ -1,0 +1,52 @@
+// The control stages of the multirate pass (multirate.tesc, multirate_levels.tesc): from the
+// levels of a triangle and of its three neighbours, the tessellation levels of its patch.
+//
+// Both triangles sharing an edge compute both levels from identical inputs with identical
+// (precise) code, and the edge's outer level is a symmetric function of the two, so shared edges
+// get the same level and no T-junction cracks appear. The inner level is chosen so that the whole
+// pattern, including the transition strips next to raised edges, keeps the error bound
+// (src/shading/estimator.rs, `pattern_level`). A triangle that cannot be tessellated finely
+// enough falls back to per-pixel shading (patch_level = 0) but keeps the edge levels its
+// neighbours expect; a culled triangle gets outer level 0 and is not drawn.
+#ifndef MULTIRATE_PATCH_GLSL
+#define MULTIRATE_PATCH_GLSL
+#include "triangle_level.glsl"
+
+// The analysis variant records each triangle's levels (bindings.glsl, level_records).
+const bool RECORD_LEVELS = VARIANT_RECORD_LEVELS != 0;
+
+layout(location = 3) patch out float patch_level;
+layout(location = 4) patch out float parameter_lod_bound;
+
+// Sets the patch's levels for the triangle of scene index `triangle` with level `own`, its
+// neighbours' levels across edges 0, 1, 2, and its parameter-map lod bound.
+void set_patch_levels(float own, vec3 neighbours, float own_lod_bound, uint triangle) {
+    if (own == CULLED_LEVEL) {
+        gl_TessLevelOuter[0] = 0.0;
+        gl_TessLevelOuter[1] = 0.0;
+        gl_TessLevelOuter[2] = 0.0;
+        gl_TessLevelInner[0] = 0.0;
+        patch_level = 0.0;
+        parameter_lod_bound = 0.0;
+        if (RECORD_LEVELS) {
+            level_records[triangle] = vec4(CULLED_LEVEL, 0.0, 0.0, 0.0);
+        }
+        return;
+    }
+    PatchLevels levels = patch_levels(own, neighbours, draw.viewport.w);
+    gl_TessLevelOuter[0] = levels.outer.x;
+    gl_TessLevelOuter[1] = levels.outer.y;
+    gl_TessLevelOuter[2] = levels.outer.z;
+    gl_TessLevelInner[0] = levels.inner;
+    patch_level = levels.fallback ? 0.0 : ceil(levels.inner);
+    // The evaluation stage samples no coarser than this (a little finer than the bound the
+    // parameter range covers, for the sampler's fixed-point level of detail).
+    GpuMaterial material = materials[draw.material_index];
+    parameter_lod_bound = TEXTURED && material.maps.y >= 0 ? own_lod_bound - 0.02 : 0.0;
+    if (RECORD_LEVELS) {
+        level_records[triangle] = vec4(patch_level, ceil(levels.outer.x), ceil(levels.outer.y),
+                                       ceil(levels.outer.z));
+    }
+}
+
+#endif

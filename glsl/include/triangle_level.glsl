@@ -1,0 +1,104 @@
+// The level of one triangle of the multirate pass, wherever it is computed: in the control stage
+// (`--estimator tcs`, multirate.tesc) or in the compute pre-pass (`--estimator compute`,
+// triangle_levels.comp). Both run this same code, so both give the same levels.
+//
+// A triangle that cannot be seen is culled before the estimator runs: it lies wholly outside
+// one plane of the view frustum, or it faces away from the eye on a one-sided mesh. Its level is
+// CULLED_LEVEL, and the control stage gives its patch outer level 0. Rust twin of the culling:
+// `src/render/cull.rs` (bit-identical: `precise`, no fused multiply-adds).
+#ifndef TRIANGLE_LEVEL_GLSL
+#define TRIANGLE_LEVEL_GLSL
+#include "estimator.glsl"
+#include "texture_bounds.glsl"
+
+// The level of a culled triangle: below every real level, so a culled neighbour asks its
+// neighbours for nothing (uniform_level gives 1).
+const float CULLED_LEVEL = -1.0;
+const uint FLAG_ONE_SIDED = 4u;
+// Back faces are culled here only when the eye is more than this sine away from their plane;
+// the rasteriser culls the nearly edge-on rest, so culling never differs from `pixel` mode.
+const float BACKFACE_MARGIN_SQUARED = 1.0e-6;
+
+// Clip-space position of world point p, summed in a fixed order (`cull::clip_of` in Rust).
+P vec4 clip_of(vec3 p) {
+    P vec4 c = ((draw.view_proj[0] * p.x + draw.view_proj[1] * p.y) + draw.view_proj[2] * p.z)
+        + draw.view_proj[3];
+    return c;
+}
+
+// Whether no point of the triangle can be visible (`cull::culled` in Rust).
+bool patch_culled(vec3 p0, vec3 p1, vec3 p2) {
+    P vec4 a = clip_of(p0);
+    P vec4 b = clip_of(p1);
+    P vec4 c = clip_of(p2);
+    // Clip coordinates are linear in the position, so a triangle whose three corners are
+    // outside one half-space lies wholly outside it.
+    if ((a.x > a.w && b.x > b.w && c.x > c.w) || (a.x < -a.w && b.x < -b.w && c.x < -c.w)
+        || (a.y > a.w && b.y > b.w && c.y > c.w) || (a.y < -a.w && b.y < -b.w && c.y < -c.w)
+        || (a.z > a.w && b.z > b.w && c.z > c.w) || (a.z < 0.0 && b.z < 0.0 && c.z < 0.0)) {
+        return true;
+    }
+    if ((draw.flags & FLAG_ONE_SIDED) == 0u) {
+        return false;
+    }
+    // Front faces wind anticlockwise: their normal (p1 − p0) × (p2 − p0) points to the eye.
+    P vec3 normal = cross3(p1 - p0, p2 - p0);
+    P vec3 to_eye = draw.eye.xyz - p0;
+    P float facing = dot3(normal, to_eye);
+    P float margin = BACKFACE_MARGIN_SQUARED * len2(normal) * len2(to_eye);
+    return facing < 0.0 && facing * facing > margin;
+}
+
+// The coarsest level of detail at which the evaluation stage samples the parameter map on the
+// triangle with texture coordinates a, b, c: log2 of its texel extent (at least 0). Rust twin:
+// `ParameterMap::lod_bound` in src/scene/mod.rs.
+float lod_bound_of(vec2 a, vec2 b, vec2 c, vec2 size) {
+    P vec2 extent = (max(max(a, b), c) - min(min(a, b), c)) * size;
+    return est_log2(rmax(rmax(extent.x, extent.y), 1.0));
+}
+
+// The parameter map's level-of-detail bound of the draw's material on the triangle (0 without
+// a parameter map).
+float material_lod_bound(vec2 a, vec2 b, vec2 c) {
+    GpuMaterial m = materials[draw.material_index];
+    if (!TEXTURED || m.maps.y < 0) {
+        return 0.0;
+    }
+    return lod_bound_of(a, b, c, vec2(textureSize(parameter_map, 0)));
+}
+
+// The range of the material's shininess or roughness over the triangle's texels (seed 003
+// Sec. 3.5), from the min/max pyramid; the material's own value without a map.
+// `bound`: the triangle's lod_bound_of.
+vec2 parameter_range_of(GpuMaterial m, vec2 p, vec2 q, vec2 r, float bound) {
+    if (!TEXTURED || m.maps.y < 0) {
+        return vec2(m.params.x);
+    }
+    vec2 u = parameter_bounds(min(min(p, q), r), max(max(p, q), r), bound);
+    P float lo = m.parameter_range.x;
+    P float hi = m.parameter_range.y;
+    P float a;
+    P float b;
+    if (m.maps.w == 1) {
+        a = lo * est_pow(hi / lo, u.x);
+        b = lo * est_pow(hi / lo, u.y);
+    } else {
+        a = lo + (hi - lo) * u.x;
+        b = lo + (hi - lo) * u.y;
+    }
+    return vec2(a, b);
+}
+
+// The level of the draw's triangle (positions p, normals n, texture coordinates t): CULLED_LEVEL,
+// or the estimator's level (>= 1, or FALLBACK_LEVEL for per-pixel shading).
+float triangle_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2) {
+    if (patch_culled(p0, p1, p2)) {
+        return CULLED_LEVEL;
+    }
+    GpuMaterial material = materials[draw.material_index];
+    vec2 range = parameter_range_of(material, t0, t1, t2, material_lod_bound(t0, t1, t2));
+    return required_level(p0, p1, p2, n0, n1, n2, draw.eye.xyz, draw.material_index, range,
+                          draw.viewport.z, draw.viewport.w);
+}
+
+#endif
