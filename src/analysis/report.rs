@@ -16,7 +16,6 @@ use crate::shading::estimator::{
     estimate_textured, patch_levels, Estimate, EstimatorSettings, ParameterRange, PatchLevels, TriangleInput,
     TERM_NAMES,
 };
-use glam::Vec4;
 use std::collections::HashMap;
 use std::fmt::Write as _;
 
