@@ -7,19 +7,10 @@
 // pass per mesh shades that mesh's pixels.
 #include "texturing.glsl"
 
+// The triangles' vertices come from bindings.glsl's scene_vertices and scene_indices.
 layout(set = 2, binding = 0) uniform sampler2D visibility;
-layout(set = 2, binding = 1, std430) readonly buffer Vertices { float vertex_data[]; };
-layout(set = 2, binding = 2, std430) readonly buffer Indices { uint index_data[]; };
 
 layout(location = 0) out vec4 out_color;
-
-// One Vertex (src/gpu_types.rs): position, normal, uv.
-const uint VERTEX_FLOATS = 8u;
-
-vec3 vertex_vec3(uint vertex, uint offset) {
-    uint base = vertex * VERTEX_FLOATS + offset;
-    return vec3(vertex_data[base], vertex_data[base + 1u], vertex_data[base + 2u]);
-}
 
 const uint FLAG_DERIVATIVE_CHECK = 2u;
 
@@ -34,10 +25,10 @@ void main() {
     vec2 t[3];
     vec4 clip[3];
     for (int k = 0; k < 3; ++k) {
-        uint vertex = index_data[3u * triangle + uint(k)];
-        p[k] = vertex_vec3(vertex, 0u);
-        n[k] = vertex_vec3(vertex, 3u);
-        t[k] = vec2(vertex_data[vertex * VERTEX_FLOATS + 6u], vertex_data[vertex * VERTEX_FLOATS + 7u]);
+        uint vertex = scene_indices[3u * triangle + uint(k)];
+        p[k] = scene_vec3(vertex, 0u);
+        n[k] = scene_vec3(vertex, 3u);
+        t[k] = scene_uv(vertex);
         clip[k] = draw.view_proj * vec4(p[k], 1.0);
     }
     BarycentricDerivatives b =

@@ -1,5 +1,5 @@
 #version 460
-// variants: textured record_levels
+// variants: textured count_evaluations record_levels
 // `multirate` mode, `--estimator compute`: the compute pre-pass (triangle_levels.comp) has
 // written every triangle's level; the control stage only reads its own and its neighbours'
 // (bindings.glsl, triangle_levels and triangle_neighbours) and combines them
@@ -23,6 +23,9 @@ void main() {
         // Note: lavapipe (Mesa 22.3) restarts gl_PrimitiveID every 1020 control points within a
         // draw, so draws there are no longer than that.
         uint triangle = draw.patch_base + uint(gl_PrimitiveID);
+        if (COUNT_EVALUATIONS && triangle_levels[triangle] == CULLED_LEVEL) {
+            atomicAdd(counters.culled_patches, 1u);
+        }
         uvec4 across = triangle_neighbours[triangle];
         vec3 neighbours = vec3(triangle_levels[across.x], triangle_levels[across.y], triangle_levels[across.z]);
         set_patch_levels(triangle_levels[triangle], neighbours,

@@ -7,7 +7,7 @@
 use crate::error::{Error, Result, VkContext as _};
 use crate::render::camera::Orbit;
 use crate::render::present::PresentPass;
-use crate::render::{Mode, Renderer, View, MAX_LEVEL};
+use crate::render::{Estimator, Mode, Renderer, View, MAX_LEVEL};
 use crate::scene::Scene;
 use crate::vk::swapchain::{Acquired, Swapchain};
 use crate::vk::target::{AfterPass, RenderTarget};
@@ -278,9 +278,14 @@ impl App {
         if let Some(state) = &self.state {
             if self.report.frames_presented % 10 == 0 {
                 state.window.set_title(&format!(
-                    "multirate: {} ({}) {:.2} ms",
+                    "multirate: {} ({}{}) {:.2} ms",
                     self.scene.path.display(),
                     self.view.mode,
+                    if self.view.mode == Mode::Multirate {
+                        format!(", estimator {}", self.view.estimator)
+                    } else {
+                        String::new()
+                    },
                     self.smoothed_frame.as_secs_f64() * 1e3
                 ));
             }
@@ -308,7 +313,8 @@ impl App {
     }
 
     /// Mode keys: P pixel, D pixel-deferred, V vertex, F fixed:N, M multirate, + / - change N
-    /// (and switch to fixed:N).
+    /// (and switch to fixed:N); E moves multirate's estimator between the control stage and the
+    /// compute pre-pass.
     fn on_key(&mut self, text: &str) {
         let level = match self.view.mode {
             Mode::Fixed(level) => level,
@@ -322,6 +328,13 @@ impl App {
             "m" => Mode::Multirate,
             "h" => {
                 self.view.heat_map = !self.view.heat_map;
+                return;
+            }
+            "e" => {
+                self.view.estimator = match self.view.estimator {
+                    Estimator::Tcs => Estimator::Compute,
+                    Estimator::Compute => Estimator::Tcs,
+                };
                 return;
             }
             "w" => {

@@ -50,15 +50,10 @@ fn control_stage_levels_equal_the_twin() {
         // The twin culls with the scene's camera at the scene's size: the target's.
         (scene.settings.width, scene.settings.height) = (width, height);
         let renderer = Renderer::new(&context, &scene).expect("renderer");
-        // Every setting builds its own pipelines (about 20 s each on lavapipe): the textured
-        // and polygon-light scenes take the default one (Relaxed) and a conservative one.
-        let settings_to_check = if relative.contains("_spots") || relative.contains("_fabric") {
-            1
-        } else if relative.contains("_polygons") {
-            2
-        } else {
-            3
-        };
+        // Every setting builds its own pipelines (about 20 s each on lavapipe): the shipped
+        // untextured scenes take all three, the others the default one (Relaxed).
+        let untextured = ["scenes/bunny.toml", "scenes/teapot.toml", "scenes/plane_lights.toml"];
+        let settings_to_check = if untextured.contains(&relative) { 3 } else { 1 };
         for (epsilon, split, discontinuity) in [
             (0.075, Split::Heuristic, Discontinuity::Relaxed),
             (0.3, Split::Heuristic, Discontinuity::Conservative),
@@ -71,12 +66,13 @@ fn control_stage_levels_equal_the_twin() {
             let gpu =
                 renderer.record_levels(&target, &View { estimator: Estimator::Compute, ..view.clone() });
             let gpu = gpu.expect("levels");
-            let in_control_stage =
-                renderer.record_levels(&target, &View { estimator: Estimator::Tcs, ..view.clone() });
-            assert!(
-                in_control_stage.expect("levels") == gpu,
-                "{relative} ε {epsilon}: the placements differ"
-            );
+            if epsilon == 0.075 {
+                // Both placements run triangle_level.glsl; the control-stage one is checked at
+                // the default setting only, to keep the pipelines built (and the time) in bounds.
+                let tcs =
+                    renderer.record_levels(&target, &View { estimator: Estimator::Tcs, ..view.clone() });
+                assert!(tcs.expect("levels") == gpu, "{relative} ε {epsilon}: the placements differ");
+            }
             let twin = report::analyze(
                 &scene,
                 &settings(&view),
@@ -176,8 +172,10 @@ fn tessellated_pixels_are_within_epsilon_of_pixel_mode_without_cracks() {
 }
 
 /// A scene around the shipped icosphere, with `material` and `lights` and the mesh scaled
-/// by `scale` (the camera scales along).
+/// by `scale` (the camera scales along). A camera inside the (closed, so by default one-sided)
+/// sphere sees its inner faces: the mesh is then two-sided.
 fn extreme_scene(name: &str, scale: f32, material: &str, lights: &str, eye: [f32; 3]) -> PathBuf {
+    let inside = eye.iter().map(|c| c * c).sum::<f32>() < 1.0;
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("extremes");
     std::fs::create_dir_all(&dir).expect("scratch folder");
     let mesh = repo_path("scenes/test/icosphere.obj");
@@ -196,6 +194,7 @@ name = "m"
 obj = "{}"
 material = "m"
 scale = {scale}
+two_sided = {inside}
 {lights}
 "#,
         eye[0] * scale,

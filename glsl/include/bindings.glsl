@@ -35,6 +35,24 @@ layout(set = 0, binding = 5, std430) buffer TriangleLevels { float triangle_leve
 layout(set = 0, binding = 6, std430) readonly buffer TriangleNeighbours { uvec4 triangle_neighbours[]; };
 layout(set = 0, binding = 7, std430) readonly buffer SceneVertices { float scene_vertices[]; };
 layout(set = 0, binding = 8, std430) readonly buffer SceneIndices { uint scene_indices[]; };
+// The pre-pass's culling step (cull_triangles.comp) lists each mesh's triangles that are not
+// culled, from the mesh's first triangle on, and counts them per mesh (draw.mesh_index), so that
+// the estimator's invocations run side by side on visible triangles only.
+layout(set = 0, binding = 9, std430) buffer VisibleTriangles { uint visible_triangles[]; };
+layout(set = 0, binding = 10, std430) buffer VisibleCounts { uint visible_counts[]; };
+
+// One Vertex of scene_vertices (src/gpu_types.rs): position, normal, uv.
+const uint VERTEX_FLOATS = 8u;
+
+vec3 scene_vec3(uint vertex, uint offset) {
+    uint base = vertex * VERTEX_FLOATS + offset;
+    return vec3(scene_vertices[base], scene_vertices[base + 1u], scene_vertices[base + 2u]);
+}
+
+vec2 scene_uv(uint vertex) {
+    uint base = vertex * VERTEX_FLOATS + 6u;
+    return vec2(scene_vertices[base], scene_vertices[base + 1u]);
+}
 
 // The textures of the draw's material (set 1, bound per draw); a white 1x1 texture where the
 // material has none. GpuMaterial.maps says which are real.

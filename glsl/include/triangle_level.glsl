@@ -89,16 +89,21 @@ vec2 parameter_range_of(GpuMaterial m, vec2 p, vec2 q, vec2 r, float bound) {
     return vec2(a, b);
 }
 
-// The level of the draw's triangle (positions p, normals n, texture coordinates t): CULLED_LEVEL,
-// or the estimator's level (>= 1, or FALLBACK_LEVEL for per-pixel shading).
-float triangle_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2) {
-    if (patch_culled(p0, p1, p2)) {
-        return CULLED_LEVEL;
-    }
+// The estimator's level of the draw's triangle (positions p, normals n, texture coordinates t),
+// not culled: >= 1, or FALLBACK_LEVEL for per-pixel shading.
+float estimated_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2) {
     GpuMaterial material = materials[draw.material_index];
     vec2 range = parameter_range_of(material, t0, t1, t2, material_lod_bound(t0, t1, t2));
     return required_level(p0, p1, p2, n0, n1, n2, draw.eye.xyz, draw.material_index, range,
                           draw.viewport.z, draw.viewport.w);
+}
+
+// The level of the draw's triangle: CULLED_LEVEL, or its estimated_level.
+float triangle_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2) {
+    if (patch_culled(p0, p1, p2)) {
+        return CULLED_LEVEL;
+    }
+    return estimated_level(p0, p1, p2, n0, n1, n2, t0, t1, t2);
 }
 
 #endif

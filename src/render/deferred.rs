@@ -8,10 +8,9 @@
 use super::{draw_constants, Instrumentation, Renderer, View};
 use crate::error::{Error, Result};
 use crate::shaders::{self, Features};
-use crate::vk::memory::Buffer;
 use crate::vk::pipeline::{
-    bind_sampled_images, bind_storage_buffers, shader_binding, DescriptorPool, GraphicsPipelineDesc,
-    Pipeline, PipelineLayout, ShaderModule, Specialization, Stage,
+    bind_sampled_images, shader_binding, DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout,
+    ShaderModule, Specialization, Stage,
 };
 use crate::vk::target::{AfterPass, FloatImage, RenderTarget};
 use crate::vk::texture::Sampler;
@@ -20,13 +19,9 @@ use ash::vk;
 use std::cell::RefCell;
 use std::sync::Arc;
 
-/// Set 2 of the forward layout: the id image, the vertices and the indices.
-pub fn deferred_set_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; 3] {
-    [
-        shader_binding(0, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
-        shader_binding(1, vk::DescriptorType::STORAGE_BUFFER),
-        shader_binding(2, vk::DescriptorType::STORAGE_BUFFER),
-    ]
+/// Set 2 of the forward layout: the id image (the vertices and indices are set 0's).
+pub fn deferred_set_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; 1] {
+    [shader_binding(0, vk::DescriptorType::COMBINED_IMAGE_SAMPLER)]
 }
 
 /// The pipelines, the id target (sized on use) and set 2.
@@ -50,8 +45,6 @@ impl Deferred {
         context: &Arc<Context>,
         layout: &PipelineLayout,
         specializations: &[(Features, Specialization)],
-        vertices: &Buffer,
-        indices: &Buffer,
     ) -> Result<Deferred> {
         if !context.features.geometry_shader {
             return Err(Error::Unsupported {
@@ -128,18 +121,10 @@ impl Deferred {
             context,
             "deferred descriptors",
             1,
-            &[
-                vk::DescriptorPoolSize {
-                    ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                    descriptor_count: 1,
-                },
-                vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 2 },
-            ],
+            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, descriptor_count: 1 }],
         )?;
         let set = pool.allocate(layout.set_layouts[2])?;
         context.name(set, "deferred descriptor set");
-        // The set was just allocated (idle); the buffers live as long as the renderer.
-        bind_storage_buffers(context, set, 1, &[vertices.raw, indices.raw]);
         let sampler = Sampler::trilinear_repeat(context, "id buffer sampler")?;
         Ok(Deferred {
             context: context.clone(),
@@ -177,8 +162,7 @@ impl Renderer {
         if let Some(deferred) = self.deferred.get() {
             return Ok(deferred);
         }
-        let deferred =
-            Deferred::new(&self.context, &self.layout, &self.specializations, &self.vertices, &self.indices)?;
+        let deferred = Deferred::new(&self.context, &self.layout, &self.specializations)?;
         Ok(self.deferred.get_or_init(|| deferred))
     }
 

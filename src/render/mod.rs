@@ -316,8 +316,14 @@ impl Instrumentation {
 /// The pipelines of `multirate` mode for one estimator placement.
 struct Multirate {
     draw: Pipeline,
-    /// `Estimator::Compute`: the triangle-level pre-pass.
-    levels: Option<Pipeline>,
+    /// `Estimator::Compute`: the pre-pass, culling then the levels of the visible triangles.
+    pre_pass: Option<PrePass>,
+}
+
+/// The two steps of the triangle-level pre-pass (`Estimator::Compute`).
+struct PrePass {
+    cull: Pipeline,
+    levels: Pipeline,
 }
 
 impl Variant {
@@ -387,6 +393,10 @@ pub struct Renderer {
     _triangle_levels: Buffer,
     /// Per triangle: the triangles across its edges (`uvec4`, scene indices).
     _triangle_neighbours: Buffer,
+    /// Per mesh, from its first triangle on: its triangles the pre-pass did not cull.
+    _visible_triangles: Buffer,
+    /// Per mesh: how many it listed (zeroed before each pre-pass).
+    visible_counts: Buffer,
     _lights: Buffer,
     _materials: Buffer,
     textures: SceneTextures,
@@ -409,6 +419,8 @@ pub struct Renderer {
     counters: Buffer,
     /// The counting variants, built on first use by `count_evaluations`.
     counting_variants: OnceCell<Vec<Variant>>,
+    /// The level-recording variants, built on first use by `record_levels`.
+    recording_variants: OnceCell<Vec<Variant>>,
     draws: Vec<DrawCall>,
     clear_color: [f32; 4],
     /// Most tessellated vertices one draw may emit, where the driver needs a limit.
@@ -513,6 +525,20 @@ impl Renderer {
             vk::BufferUsageFlags::STORAGE_BUFFER,
             &triangle_neighbours,
         )?;
+        let visible_triangle_buffer = Buffer::new(
+            context,
+            "visible triangles",
+            (triangle_count.max(1) * 4) as vk::DeviceSize,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            gpu_allocator::MemoryLocation::GpuOnly,
+        )?;
+        let visible_count_buffer = Buffer::new(
+            context,
+            "visible triangle counts",
+            (draws.len().max(1) * 4) as vk::DeviceSize,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            gpu_allocator::MemoryLocation::GpuOnly,
+        )?;
         let level_buffer = Buffer::new(
             context,
             "level records",
@@ -543,7 +569,7 @@ impl Renderer {
         )?;
 
         let bindings =
-            [0, 1, 2, 3, 4, 5, 6, 7, 8].map(|b| shader_binding(b, vk::DescriptorType::STORAGE_BUFFER));
+            std::array::from_fn::<_, 11, _>(|b| shader_binding(b as u32, vk::DescriptorType::STORAGE_BUFFER));
         let push = [vk::PushConstantRange::default()
             .stage_flags(PUSH_STAGES)
             .size(std::mem::size_of::<DrawConstants>() as u32)];
@@ -560,7 +586,7 @@ impl Renderer {
             context,
             "forward descriptors",
             1,
-            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 9 }],
+            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 11 }],
         )?;
         let descriptor_set = pool.allocate(layout.set_layouts[0])?;
         bind_storage_buffers(
@@ -577,6 +603,8 @@ impl Renderer {
                 neighbour_buffer.raw,
                 vertex_buffer.raw,
                 index_buffer.raw,
+                visible_triangle_buffer.raw,
+                visible_count_buffer.raw,
             ],
         );
 
@@ -616,6 +644,8 @@ impl Renderer {
             patch_indices: patch_index_buffer,
             _triangle_levels: triangle_level_buffer,
             _triangle_neighbours: neighbour_buffer,
+            _visible_triangles: visible_triangle_buffer,
+            visible_counts: visible_count_buffer,
             _lights: light_buffer,
             _materials: material_buffer,
             _polygon_lights: polygon_buffer,
@@ -632,6 +662,7 @@ impl Renderer {
             levels: level_buffer,
             counters: counter_buffer,
             counting_variants: OnceCell::new(),
+            recording_variants: OnceCell::new(),
             draws,
             clear_color: [clear.x, clear.y, clear.z, 0.0],
             tessellated_vertex_budget: tessellated_vertex_budget(&context.info),
@@ -719,7 +750,8 @@ impl Renderer {
     }
 
     /// `Estimator::Compute`: the pre-pass that writes every triangle's level for the control
-    /// stage, with the barriers that order it after the previous frame's reads and before this
+    /// stage: culling, which lists each mesh's visible triangles, then the estimator over those
+    /// lists; with the barriers that order it after the previous frame's reads and before this
     /// frame's.
     fn record_triangle_levels(
         &self,
@@ -728,45 +760,70 @@ impl Renderer {
         view: &View,
         extent: vk::Extent2D,
     ) {
+        use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
         let device = &self.context.device;
-        let previous_reads = [vk::MemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::TESSELLATION_CONTROL_SHADER)
-            .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)];
-        let written = [vk::MemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
-            .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::TESSELLATION_CONTROL_SHADER)
-            .dst_access_mask(vk::AccessFlags2::SHADER_STORAGE_READ)];
+        let barrier = |src: S, src_access: A, dst: S, dst_access: A| {
+            let barriers = [vk::MemoryBarrier2::default()
+                .src_stage_mask(src)
+                .src_access_mask(src_access)
+                .dst_stage_mask(dst)
+                .dst_access_mask(dst_access)];
+            // SAFETY: `cmd` is recording outside a render pass.
+            unsafe {
+                device.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&barriers))
+            };
+        };
+        let storage = A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE;
+        // The previous frame's control stages have read the levels.
+        barrier(S::TESSELLATION_CONTROL_SHADER, A::NONE, S::COMPUTE_SHADER | S::CLEAR, A::NONE);
+        // SAFETY: recording outside a render pass; the counts buffer has TRANSFER_DST usage.
+        unsafe { device.cmd_fill_buffer(cmd, self.visible_counts.raw, 0, vk::WHOLE_SIZE, 0) };
+        barrier(S::CLEAR, A::TRANSFER_WRITE, S::COMPUTE_SHADER, storage);
         let mut constants = draw_constants(view, extent);
-        // SAFETY: `cmd` is recording outside a render pass; every bound object is owned by
-        // `self` and outlives the submission.
-        unsafe {
-            device
-                .cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&previous_reads));
+        for step in [PrePassStep::Cull, PrePassStep::Levels] {
             self.bind_set_at(cmd, vk::PipelineBindPoint::COMPUTE, 0, self.descriptor_set);
             for draw in &self.draws {
-                let Some(levels) =
-                    variants[draw.pipeline].multirate_cell(view).get().and_then(|m| m.levels.as_ref())
-                else {
+                let cell = variants[draw.pipeline].multirate_cell(view);
+                let Some(pre_pass) = cell.get().and_then(|m| m.pre_pass.as_ref()) else {
                     debug_assert!(false, "render, measure and the viewer prepare the view first");
                     continue;
                 };
-                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, levels.raw);
-                let material_set = self.textures.sets[draw.material_index as usize];
-                self.bind_set_at(cmd, vk::PipelineBindPoint::COMPUTE, 1, material_set);
+                let pipeline = match step {
+                    PrePassStep::Cull => &pre_pass.cull,
+                    PrePassStep::Levels => &pre_pass.levels,
+                };
                 self.set_draw_constants(&mut constants, draw);
                 constants.patch_base = draw.first_triangle;
                 constants.triangle_count = draw.index_count / 3;
-                device.cmd_push_constants(
-                    cmd,
-                    self.layout.raw,
-                    PUSH_STAGES,
-                    0,
-                    bytemuck::bytes_of(&constants),
-                );
-                device.cmd_dispatch(cmd, constants.triangle_count.div_ceil(TRIANGLE_LEVEL_GROUP), 1, 1);
+                let material_set = self.textures.sets[draw.material_index as usize];
+                self.bind_set_at(cmd, vk::PipelineBindPoint::COMPUTE, 1, material_set);
+                // SAFETY: recording outside a render pass; every bound object is owned by
+                // `self` and outlives the submission.
+                unsafe {
+                    device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw);
+                    device.cmd_push_constants(
+                        cmd,
+                        self.layout.raw,
+                        PUSH_STAGES,
+                        0,
+                        bytemuck::bytes_of(&constants),
+                    );
+                    // The levels step covers every triangle too; the invocations past the
+                    // mesh's visible count return at once.
+                    device.cmd_dispatch(cmd, constants.triangle_count.div_ceil(TRIANGLE_LEVEL_GROUP), 1, 1);
+                }
             }
-            device.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&written));
+            match step {
+                PrePassStep::Cull => {
+                    barrier(S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE, S::COMPUTE_SHADER, storage)
+                }
+                PrePassStep::Levels => barrier(
+                    S::COMPUTE_SHADER,
+                    A::SHADER_STORAGE_WRITE,
+                    S::TESSELLATION_CONTROL_SHADER,
+                    A::SHADER_STORAGE_READ,
+                ),
+            }
         }
     }
 
@@ -877,21 +934,12 @@ impl Renderer {
     /// triangle of the scene (meshes in order), `[level, outer0, outer1, outer2]` as the
     /// control stage chose them (level 0: per-pixel fallback).
     pub fn record_levels(&self, target: &RenderTarget, view: &View) -> Result<Vec<[f32; 4]>> {
-        let mut recording = Vec::new();
-        for (features, specialization) in &self.specializations {
-            recording.push(self.modules.variant(
-                &self.context,
-                &self.layout,
-                *features,
-                specialization,
-                Instrumentation::RecordLevels,
-                vk::PolygonMode::FILL,
-            )?);
-        }
+        let recording =
+            self.instrumented_variants(&self.recording_variants, Instrumentation::RecordLevels)?;
         let view = View { mode: Mode::Multirate, ..view.clone() };
-        self.prepare_variants(&recording, &view)?;
+        self.prepare_variants(recording, &view)?;
         target.render_and_read(&self.context, |cmd| {
-            self.record_with(&recording, cmd, target, &view, AfterPass::Readback);
+            self.record_with(recording, cmd, target, &view, AfterPass::Readback);
             let barrier = [vk::MemoryBarrier2::default()
                 .src_stage_mask(vk::PipelineStageFlags2::TESSELLATION_CONTROL_SHADER)
                 .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
@@ -966,23 +1014,8 @@ impl Renderer {
                 missing: "vertexPipelineStoresAndAtomics and fragmentStoresAndAtomics",
             });
         }
-        let counting = match self.counting_variants.get() {
-            Some(variants) => variants,
-            None => {
-                let mut variants = Vec::new();
-                for (features, specialization) in &self.specializations {
-                    variants.push(self.modules.variant(
-                        &self.context,
-                        &self.layout,
-                        *features,
-                        specialization,
-                        Instrumentation::CountEvaluations,
-                        vk::PolygonMode::FILL,
-                    )?);
-                }
-                self.counting_variants.get_or_init(|| variants)
-            }
-        };
+        let counting =
+            self.instrumented_variants(&self.counting_variants, Instrumentation::CountEvaluations)?;
         self.prepare(view, target)?;
         if view.mode == Mode::Multirate {
             self.prepare_variants(counting, view)?;
@@ -1022,6 +1055,29 @@ impl Renderer {
             fragments: u64::from(values[2]),
             culled_patches: u64::from(values[3]),
         })
+    }
+
+    /// The variants with `instrumentation`, built into `cell` on first use.
+    fn instrumented_variants<'a>(
+        &self,
+        cell: &'a OnceCell<Vec<Variant>>,
+        instrumentation: Instrumentation,
+    ) -> Result<&'a [Variant]> {
+        if let Some(variants) = cell.get() {
+            return Ok(variants);
+        }
+        let mut variants = Vec::new();
+        for (features, specialization) in &self.specializations {
+            variants.push(self.modules.variant(
+                &self.context,
+                &self.layout,
+                *features,
+                specialization,
+                instrumentation,
+                vk::PolygonMode::FILL,
+            )?);
+        }
+        Ok(cell.get_or_init(|| variants))
     }
 
     /// Patches of `patch_size` control points per multirate draw: besides the vertex budget,
@@ -1072,6 +1128,13 @@ impl Renderer {
             self.context.device.cmd_bind_descriptor_sets(cmd, bind_point, self.layout.raw, index, &[set], &[])
         };
     }
+}
+
+/// The steps of the triangle-level pre-pass, in order.
+#[derive(Clone, Copy)]
+enum PrePassStep {
+    Cull,
+    Levels,
 }
 
 /// Invocations per work group of the triangle-level pre-pass (`local_size_x` of
@@ -1275,13 +1338,19 @@ impl Modules {
         let (split, discontinuity) = (split_id(view.split), discontinuity_id(view.discontinuity));
         let specialization = specialization.clone().int(3, split).int(4, discontinuity);
         let features = variant.features;
-        let (control, control_points, levels) = match view.estimator {
+        let (control, control_points, pre_pass) = match view.estimator {
             Estimator::Tcs => ("multirate.tesc", PATCH_SIZE as u32, None),
             Estimator::Compute => {
                 let module = variant_module(context, "triangle_levels.comp", features)?;
                 let name = format!("triangle levels, material kind {}", features.material_kind);
                 let levels = Pipeline::compute(context, &name, layout, &module, Some(&specialization))?;
-                ("multirate_levels.tesc", 3, Some(levels))
+                let module = ShaderModule::new(
+                    context,
+                    "cull_triangles.comp",
+                    shaders::single("cull_triangles.comp"),
+                )?;
+                let cull = Pipeline::compute(context, "triangle culling", layout, &module, None)?;
+                ("multirate_levels.tesc", 3, Some(PrePass { cull, levels }))
             }
         };
         let multirate_tesc = variant_module(context, control, features)?;
@@ -1308,6 +1377,6 @@ impl Modules {
                 ..scene_pipeline(&name, stages, layout)
             },
         )?;
-        Ok(Multirate { draw, levels })
+        Ok(Multirate { draw, pre_pass })
     }
 }

@@ -612,3 +612,20 @@ fn cylindrical_uvs_have_no_triangle_across_the_seam() {
         }
     }
 }
+
+#[test]
+fn closed_meshes_default_to_one_sided_and_open_ones_to_two_sided() {
+    let dir = TempDir::new("sides");
+    let (_, quad) = load_text(&dir, MINIMAL);
+    assert!(quad.expect("quad").meshes[0].two_sided, "an open quad shows both faces");
+    // A tetrahedron: every edge shared by two triangles.
+    dir.write("tetra.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+    let tetra = minimal_with("obj = \"quad.obj\"", "obj = \"tetra.obj\"");
+    let (_, closed) = load_text(&dir, &tetra);
+    assert!(!closed.expect("tetrahedron").meshes[0].two_sided, "a closed mesh hides its back faces");
+    let forced = minimal_with("obj = \"quad.obj\"", "obj = \"tetra.obj\"\ntwo_sided = true");
+    let (_, forced) = load_text(&dir, &forced);
+    assert!(forced.expect("tetrahedron, two-sided").meshes[0].two_sided);
+    let shipped = Scene::load(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/bunny.toml"))).unwrap();
+    assert!(!shipped.meshes[0].two_sided, "the bunny is closed");
+}
