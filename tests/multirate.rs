@@ -35,7 +35,7 @@ fn control_stage_levels_equal_the_twin() {
     let context = validated_context();
     let (width, height) = (64, 48);
     let target = RenderTarget::new(&context, vk::Extent2D { width, height }).expect("target");
-    let (mut compared, mut different, mut culled) = (0usize, 0usize, 0usize);
+    let (mut compared, mut different, mut culled, mut placements_compared) = (0usize, 0usize, 0usize, 0);
     for relative in [
         "scenes/bunny.toml",
         "scenes/teapot.toml",
@@ -63,15 +63,15 @@ fn control_stage_levels_equal_the_twin() {
         .take(settings_to_check)
         {
             let view = View { epsilon, split, discontinuity, ..View::of_scene(&scene) };
-            let gpu =
-                renderer.record_levels(&target, &View { estimator: Estimator::Compute, ..view.clone() });
-            let gpu = gpu.expect("levels");
-            if epsilon == 0.075 {
-                // Both placements run triangle_level.glsl; the control-stage one is checked at
-                // the default setting only, to keep the pipelines built (and the time) in bounds.
-                let tcs =
-                    renderer.record_levels(&target, &View { estimator: Estimator::Tcs, ..view.clone() });
-                assert!(tcs.expect("levels") == gpu, "{relative} ε {epsilon}: the placements differ");
+            let gpu = renderer.record_levels(&target, &view).expect("levels");
+            if epsilon == 0.075 && ["scenes/bunny.toml", "scenes/teapot_fabric.toml"].contains(&relative) {
+                // Both placements run triangle_level.glsl; the compute pre-pass is checked on a
+                // culled and a textured scene only, its pipeline taking ~2 minutes to build on
+                // lavapipe without a shader cache.
+                let compute = View { estimator: Estimator::Compute, ..view.clone() };
+                let compute = renderer.record_levels(&target, &compute).expect("levels");
+                assert!(compute == gpu, "{relative} ε {epsilon}: the placements differ");
+                placements_compared += 1;
             }
             let twin = report::analyze(
                 &scene,
@@ -104,6 +104,7 @@ fn control_stage_levels_equal_the_twin() {
     }
     eprintln!("levels: {different} of {compared} triangles differ; {culled} culled");
     assert!(culled > 0, "no triangle was culled: the culling goes untested");
+    assert_eq!(placements_compared, 2, "the compute pre-pass was compared with the control stage");
     // The GLSL estimator is bit-identical to the twin (its own elementary functions, precise
     // arithmetic): every level must agree exactly.
     assert_eq!(different, 0, "{different} of {compared} triangles differ from the twin");

@@ -68,12 +68,14 @@ pub(crate) const PUSH_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_
 pub enum Estimator {
     /// In the tessellation control stage, as the seeds describe it: each patch carries its
     /// neighbours' vertices, and its four invocations estimate the triangle and its three
-    /// neighbours, one each.
-    Tcs,
-    /// In a compute pre-pass, one invocation per triangle, once per frame; the control stage
-    /// reads its own and its neighbours' levels and only combines them. The default: faster on
-    /// every device measured (docs/results.md).
+    /// neighbours, one each. The default: on lavapipe, the only device measured, its pipeline
+    /// compiles in 6 s where the compute pre-pass's takes about 2 minutes (without Mesa's shader
+    /// cache), which outweighs the pre-pass's faster frames for a first render.
     #[default]
+    Tcs,
+    /// In a compute pre-pass, once per visible triangle and frame; the control stage reads its
+    /// own and its neighbours' levels and only combines them. 1.7–2.8× faster frames than `Tcs`
+    /// on lavapipe (docs/speedups.md).
     Compute,
 }
 
