@@ -511,13 +511,8 @@ impl Renderer {
             vk::BufferUsageFlags::INDEX_BUFFER,
             &patch_indices,
         )?;
-        let triangle_level_buffer = Buffer::new(
-            context,
-            "triangle levels",
-            (triangle_count.max(1) * 4) as vk::DeviceSize,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            gpu_allocator::MemoryLocation::GpuOnly,
-        )?;
+        let triangle_level_buffer =
+            device_words(context, "triangle levels", triangle_count, vk::BufferUsageFlags::empty())?;
         if triangle_neighbours.is_empty() {
             triangle_neighbours.push([0; 4]);
         }
@@ -527,19 +522,13 @@ impl Renderer {
             vk::BufferUsageFlags::STORAGE_BUFFER,
             &triangle_neighbours,
         )?;
-        let visible_triangle_buffer = Buffer::new(
-            context,
-            "visible triangles",
-            (triangle_count.max(1) * 4) as vk::DeviceSize,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            gpu_allocator::MemoryLocation::GpuOnly,
-        )?;
-        let visible_count_buffer = Buffer::new(
+        let visible_triangle_buffer =
+            device_words(context, "visible triangles", triangle_count, vk::BufferUsageFlags::empty())?;
+        let visible_count_buffer = device_words(
             context,
             "visible triangle counts",
-            (draws.len().max(1) * 4) as vk::DeviceSize,
-            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
-            gpu_allocator::MemoryLocation::GpuOnly,
+            draws.len(),
+            vk::BufferUsageFlags::TRANSFER_DST,
         )?;
         let level_buffer = Buffer::new(
             context,
@@ -782,8 +771,8 @@ impl Renderer {
         unsafe { device.cmd_fill_buffer(cmd, self.visible_counts.raw, 0, vk::WHOLE_SIZE, 0) };
         barrier(S::CLEAR, A::TRANSFER_WRITE, S::COMPUTE_SHADER, storage);
         let mut constants = draw_constants(view, extent);
+        self.bind_set_at(cmd, vk::PipelineBindPoint::COMPUTE, 0, self.descriptor_set);
         for step in [PrePassStep::Cull, PrePassStep::Levels] {
-            self.bind_set_at(cmd, vk::PipelineBindPoint::COMPUTE, 0, self.descriptor_set);
             for draw in &self.draws {
                 let cell = variants[draw.pipeline].multirate_cell(view);
                 let Some(pre_pass) = cell.get().and_then(|m| m.pre_pass.as_ref()) else {
@@ -1130,6 +1119,19 @@ impl Renderer {
             self.context.device.cmd_bind_descriptor_sets(cmd, bind_point, self.layout.raw, index, &[set], &[])
         };
     }
+}
+
+/// A device-local storage buffer of `count` 32-bit words (at least one), written and read only
+/// by shaders (and by the usages in `extra`).
+fn device_words(
+    context: &Arc<Context>,
+    name: &str,
+    count: usize,
+    extra: vk::BufferUsageFlags,
+) -> Result<Buffer> {
+    let size = (count.max(1) * std::mem::size_of::<u32>()) as vk::DeviceSize;
+    let usage = vk::BufferUsageFlags::STORAGE_BUFFER | extra;
+    Buffer::new(context, name, size, usage, gpu_allocator::MemoryLocation::GpuOnly)
 }
 
 /// The steps of the triangle-level pre-pass, in order.
