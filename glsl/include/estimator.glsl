@@ -43,6 +43,8 @@ const int T_V = 9;
 const int T_CROSS = 10;
 const int T_TERMINATOR = 11;
 const int T_RANGE = 12;
+// Not a term: the jets carry the sum of all terms (`Jet::t` in Rust).
+const int T_ALL = 13;
 
 // The f32 values of the Rust constants (shortest decimals that round to them).
 const float K23 = 1.1547005;
@@ -301,17 +303,24 @@ P float gmul(float a, float b) {
 }
 
 // The bounds of one factor (see `Jet` in Rust): m >= sup|f|, g >= sup|Df|, and h, the part of
-// sup|D^2 f| booked under the term `est_term`. Rust carries all 13 terms at once; every
-// operation on them acts on each term separately (scaling, sums, the guard), so the
-// control stage computes one term per pass (`add_light`) and gets the same value for each.
+// sup|D^2 f| booked under the term `est_term`, or all of it (`Jet::t`) when est_term is
+// T_ALL. Rust carries all 13 terms and their sum at once; every operation on them acts on
+// each separately (scaling, sums, the guard), so a pass here gets the same value as Rust
+// for its term. The levels are decided on the sum: one pass per level (`add_light`); the
+// Uniform split adds one pass per term.
 struct Jet {
     float m;
     float g;
     float h;
 };
 
-// The term whose share of the second derivative the jets carry in this pass.
+// The term whose share of the second derivative the jets carry in this pass, or T_ALL.
 int est_term;
+
+// Whether this pass carries the parts booked under `term`.
+bool booked(int term) {
+    return est_term == term || est_term == T_ALL;
+}
 
 Jet jet_constant(float m) {
     return Jet(m, 0.0, 0.0);
@@ -349,7 +358,7 @@ Jet product(Jet f[5], int k) {
             }
             P float gg = gmul(f[i].g, f[j].g);
             P float cr = gmul(gg, rest);
-            if (est_term == T_CROSS) {
+            if (booked(T_CROSS)) {
                 o.h = gc(o.h + cr);
             }
         }
@@ -408,8 +417,8 @@ P float max_cos_sin(float p, float q, float a, float b) {
     return r;
 }
 
-// Jet of c = a.b where the angle between them stays in psi (a and b book under different
-// terms, neither T_DOT).
+// Jet of c = a.b where the angle between them stays in psi (neither a nor b books under
+// T_DOT; they may share a term, as a polygon's emitter cosine does).
 Jet cosine(Field a, Field b, vec2 psi) {
     P float s_max = max_sin(psi.x, psi.y);
     P float phi = max_phi(psi.x, psi.y);
@@ -417,12 +426,14 @@ Jet cosine(Field a, Field b, vec2 psi) {
     P float ha = gc(phi * a.w * a.w + s_max * a.x);
     P float hb = gc(phi * b.w * b.w + s_max * b.x);
     P float hd = gc(2.0 * a.w * b.w);
-    if (est_term == a.term) {
+    if (booked(a.term)) {
         j.h = ha;
-    } else if (est_term == b.term) {
-        j.h = hb;
-    } else if (est_term == T_DOT) {
-        j.h = hd;
+    }
+    if (booked(b.term)) {
+        j.h = j.h + hb;
+    }
+    if (booked(T_DOT)) {
+        j.h = j.h + hd;
     }
     j.g = gc(s_max * (a.w + b.w));
     return j;
@@ -719,9 +730,11 @@ struct LightSetup {
     vec2 emitter;
 };
 
-// Accumulated bounds (see `Sums`): per term and channel, levels 1 and >= 2.
+// Accumulated bounds (see `Sums`): per term and channel, levels 1 and >= 2 (Uniform split
+// only), and all terms at levels >= 2.
 vec3 sum_h1[TERM_COUNT];
 vec3 sum_hn[TERM_COUNT];
+vec3 sum_tn;
 vec3 sum_lin1;
 vec3 sum_linn;
 vec3 sum_jumps;
@@ -880,7 +893,7 @@ Jet ggx_d_jet(Jet c, float p0, float p1, float w, float alpha) {
     P float w2 = gmul(w, w);
     P float dd = gc(coef * d2);
     P float dh = gmul(dd, w2);
-    if (est_term == T_D) {
+    if (booked(T_D)) {
         o.h = gc(o.h + dh);
     }
     return guard_jet(o);
@@ -906,7 +919,7 @@ void ggx_factor_jets(Field n, Field l, Field v, Field h, LightSetup st, vec2 nh,
     gjet.h = gmul(c_g.h, g1);
     P float cg2 = gmul(c_g.g, c_g.g);
     P float hg = gmul(g2, cg2);
-    if (est_term == T_V) {
+    if (booked(T_V)) {
         gjet.h = gc(gjet.h + hg);
     }
     gjet.m = c1 / q1;
@@ -926,7 +939,7 @@ void ggx_factor_jets(Field n, Field l, Field v, Field h, LightSetup st, vec2 nh,
         vjet.h = gmul(c_v.h, v1);
         P float cv2 = gmul(c_v.g, c_v.g);
         P float hv = gmul(v2, cv2);
-        if (est_term == T_V) {
+        if (booked(T_V)) {
             vjet.h = gc(vjet.h + hv);
         }
         vjet.m = 1.0 / q;
@@ -963,7 +976,7 @@ void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Sc
         P float a_id2 = gmul(a_id, a_id);
         P float k = rmax(6.0 * sg * sg - 2.0, 2.0);
         P float ha = gmul(k * a_id2, id2);
-        if (est_term == T_ATTENUATION) {
+        if (booked(T_ATTENUATION)) {
             att.h = ha;
         }
         att.g = gmul(2.0 * sg * a_id, id2);
@@ -1007,7 +1020,7 @@ void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Sc
             P float k = s1 * (s1 - 1.0) * max_cos_sin(s0 - 2.0, 2.0, h0, h1);
             P float w2 = gmul(w_nh, w_nh);
             P float hp = gmul(k, w2);
-            if (est_term == T_POWER) {
+            if (booked(T_POWER)) {
                 t.h = gc(t.h + hp);
             }
         }
@@ -1054,8 +1067,9 @@ void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Sc
     P float ht_light = gc(0.5 * K23 * l.w * l.w);
     P float ht_view = gc(0.5 * K23 * v.w * v.w);
     P float ht_half = gc(0.5 * (l.w + v.w) * (l.w + v.w) / st.m_min);
-    P float ht = est_term == T_LIGHT ? ht_light
-        : (est_term == T_VIEW ? ht_view : (est_term == T_HALF ? ht_half : 0.0));
+    P float ht = est_term == T_ALL ? ht_light + ht_view + ht_half
+        : (est_term == T_LIGHT ? ht_light
+        : (est_term == T_VIEW ? ht_view : (est_term == T_HALF ? ht_half : 0.0)));
     P float om = 1.0 - t0;
     P float om2 = om * om;
     P float om3 = om * om2;
@@ -1070,7 +1084,7 @@ void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Sc
         fjet.h = gmul(ht, f1);
         P float gt2 = gmul(gt, gt);
         P float hf = gmul(f2, gt2);
-        if (est_term == T_F) {
+        if (booked(T_F)) {
             fjet.h = gc(fjet.h + hf);
         }
         fjet.m = fm;
@@ -1408,12 +1422,16 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
         }
     }
 
-    // This light's bounds at level 1 (index 0) and levels >= 2 (index 1), one term per pass
-    // (terms that are zero for every light of this material are skipped: they add nothing).
+    // This light's bounds at level 1 (index 0) and levels >= 2 (index 1): all terms in one
+    // pass, and for the Uniform split one more pass per term (terms that are zero for every
+    // light of this material are skipped: they add nothing).
     vec3 h[2][TERM_COUNT];
-    for (int t = 0; t < TERM_COUNT; ++t) {
-        h[0][t] = vec3(0.0);
-        h[1][t] = vec3(0.0);
+    P vec3 tot[2];
+    if (SPLIT == 0) {
+        for (int t = 0; t < TERM_COUNT; ++t) {
+            h[0][t] = vec3(0.0);
+            h[1][t] = vec3(0.0);
+        }
     }
     P vec3 lin1 = vec3(0.0);
     P vec3 linn = vec3(0.0);
@@ -1430,13 +1448,19 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
         Scale s = level == 0 ? frame.s1 : frame.sn;
         Jet diff;
         Jet spec[3];
-        for (int pass = 0; pass < active_term_count(); ++pass) {
-            est_term = active_term(pass);
-            light_jets(frame, material, param, setup, s, diff, spec);
-            P vec3 spec_h = vec3(spec[0].h, spec[1].h, spec[2].h);
-            P vec3 ht = (diff_w * diff.h + spec_w * spec_h) * (0.5 * SAFETY);
-            h[level][est_term] = ht;
+        if (SPLIT == 0) {
+            for (int pass = 0; pass < active_term_count(); ++pass) {
+                est_term = active_term(pass);
+                light_jets(frame, material, param, setup, s, diff, spec);
+                P vec3 spec_h = vec3(spec[0].h, spec[1].h, spec[2].h);
+                P vec3 ht = (diff_w * diff.h + spec_w * spec_h) * (0.5 * SAFETY);
+                h[level][est_term] = ht;
+            }
         }
+        est_term = T_ALL;
+        light_jets(frame, material, param, setup, s, diff, spec);
+        P vec3 spec_t = vec3(spec[0].h, spec[1].h, spec[2].h);
+        tot[level] = (diff_w * diff.h + spec_w * spec_t) * (0.5 * SAFETY);
         // (The sups m do not depend on the pass.)
         P vec3 spec_m = vec3(spec[0].m, spec[1].m, spec[2].m);
         spec_sup = spec_m;
@@ -1458,13 +1482,8 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
         // A textured parameter: its variation over the range, an n-independent term.
         other = spec_w * parameter_variation(param, setup, spec_sup);
     }
-    // Sums over the terms in term order (the skipped ones are exact zeros).
-    P vec3 tot1 = vec3(0.0);
-    P vec3 totn = vec3(0.0);
-    for (int pass = 0; pass < active_term_count(); ++pass) {
-        tot1 = tot1 + h[0][active_term(pass)];
-        totn = totn + h[1][active_term(pass)];
-    }
+    P vec3 tot1 = tot[0];
+    P vec3 totn = tot[1];
     P vec3 zero1 = terminator_jump(spec_w, spec_sup, param, setup, band1) + other;
     P vec3 zero_top = terminator_jump(spec_w, spec_sup, param, setup, bandn / top) + other;
     // Per channel: the smaller of the light's interpolation bound and its range.
@@ -1486,11 +1505,14 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
         P float one = rmin(tot1[c] + lin1[c] + zero1[c], range[c]);
         sum_one[c] = sum_one[c] + one;
         if (interpolated[c]) {
-            for (int pass = 0; pass < active_term_count(); ++pass) {
-                int t = active_term(pass);
-                sum_h1[t][c] = sum_h1[t][c] + h[0][t][c];
-                sum_hn[t][c] = sum_hn[t][c] + h[1][t][c];
+            if (SPLIT == 0) {
+                for (int pass = 0; pass < active_term_count(); ++pass) {
+                    int t = active_term(pass);
+                    sum_h1[t][c] = sum_h1[t][c] + h[0][t][c];
+                    sum_hn[t][c] = sum_hn[t][c] + h[1][t][c];
+                }
             }
+            sum_tn[c] = sum_tn[c] + totn[c];
             sum_lin1[c] = sum_lin1[c] + lin1[c];
             sum_linn[c] = sum_linn[c] + linn[c];
             sum_jumps1[c] = sum_jumps1[c] + zero1[c];
@@ -1837,10 +1859,13 @@ float required_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 
     GpuMaterial material = materials[material_index];
     Frame frame = make_frame(p0, p1, p2, n0, n1, n2, eye);
     est_bad = false;
-    for (int t = 0; t < TERM_COUNT; ++t) {
-        sum_h1[t] = vec3(0.0);
-        sum_hn[t] = vec3(0.0);
+    if (SPLIT == 0) {
+        for (int t = 0; t < TERM_COUNT; ++t) {
+            sum_h1[t] = vec3(0.0);
+            sum_hn[t] = vec3(0.0);
+        }
     }
+    sum_tn = vec3(0.0);
     sum_lin1 = vec3(0.0);
     sum_linn = vec3(0.0);
     sum_jumps = vec3(0.0);
@@ -1866,10 +1891,7 @@ float required_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 
     }
 
     // `decide`: one_ok (the level-1 bound holds) and need (the smallest effective level).
-    P vec3 an = sum_hn[0];
-    for (int t = 1; t < TERM_COUNT; ++t) {
-        an = an + sum_hn[t];
-    }
+    P vec3 an = sum_tn;
     P vec3 zero = sum_jumps + sum_range;
     bool relaxed_on = max_el(sum_linn) > 0.0 || max_el(sum_jumps) > 0.0;
     bool one_ok;

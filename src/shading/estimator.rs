@@ -278,6 +278,20 @@ pub fn estimate_textured(
     let n_max = settings.n_max.clamp(1, 64);
     // NaN and non-positive ε become 0: only an exactly flat shading passes then.
     let eps = if settings.epsilon > 0.0 { settings.epsilon } else { 0.0 };
+    let (sum, reason) = light_sums(tri, material, parameter, lights, settings.discontinuity, n_max, eps);
+    decide(&sum, eps, n_max, settings.split, reason)
+}
+
+/// Every light's bounds, summed, and the worst reason for fallback met on the way.
+fn light_sums(
+    tri: &TriangleInput,
+    material: &MaterialKind,
+    parameter: ParameterRange,
+    lights: &[Light],
+    mode: Discontinuity,
+    n_max: u32,
+    eps: f32,
+) -> (Sums, Reason) {
     let frame = Frame::new(tri);
     let guard = Guard::default();
     let mut sum = Sums::default();
@@ -288,7 +302,6 @@ pub fn estimate_textured(
     let directionals = lights.iter().filter(|l| matches!(l, Light::Directional { .. }));
     let polygons = lights.iter().filter(|l| matches!(l, Light::Polygon(_)));
     for light in points.chain(directionals).chain(polygons) {
-        let mode = settings.discontinuity;
         let added = add_light(&frame, material, parameter, light, mode, n_max, eps, &mut sum, &guard);
         if let Err(r) = added {
             reason = worse(reason, r);
@@ -297,7 +310,7 @@ pub fn estimate_textured(
     if guard.bad.get() {
         reason = worse(reason, Reason::Singular);
     }
-    decide(&sum, eps, n_max, settings.split, reason)
+    (sum, reason)
 }
 
 fn worse(a: Reason, b: Reason) -> Reason {
@@ -488,18 +501,26 @@ pub(crate) fn est_pow(x: f32, y: f32) -> f32 {
 /// Bounds of one factor over the whole triangle: `m ≥ sup|f|`, `g ≥ sup|Df[δ]|` and
 /// `Σₜ h[t] ≥ sup|D²f[δ,δ]|`, the derivatives taken along a domain step `δ` and evaluated
 /// at the pattern scale (`|Xδ| → a`, `|Nδ| → b`, see [`Scale`]).
+///
+/// `t ≥ sup|D²f[δ,δ]|` is the same second-order bound carried as one number: every rule
+/// that adds a part to some `h[t]` adds it to `t` too, in a fixed order, so that the GPU,
+/// which carries only `t` (one pass over the jets instead of one per term), gets the same
+/// value bit for bit. The levels are decided on `t`; `h` tells which term dominates
+/// (`Estimate::terms`) and drives the `Uniform` split. `t ≤ Σₜ h[t]` (equal up to rounding
+/// except where [`jet_max`] takes the larger of two jets).
 #[derive(Clone, Copy, Debug)]
 struct Jet {
     m: f32,
     g: f32,
     h: [f32; TERM_COUNT],
+    t: f32,
 }
 
 const NO_H: [f32; TERM_COUNT] = [0.0; TERM_COUNT];
 
 impl Jet {
     fn constant(m: f32) -> Jet {
-        Jet { m, g: 0.0, h: NO_H }
+        Jet { m, g: 0.0, h: NO_H, t: 0.0 }
     }
 }
 
@@ -527,7 +548,7 @@ impl Guard {
     }
 
     fn jet(&self, j: Jet) -> Jet {
-        let mut out = Jet { m: self.c(j.m), g: self.c(j.g), h: j.h };
+        let mut out = Jet { m: self.c(j.m), g: self.c(j.g), h: j.h, t: self.c(j.t) };
         for h in &mut out.h {
             *h = self.c(*h);
         }
@@ -565,6 +586,8 @@ fn product<const K: usize>(f: [Jet; K], gd: &Guard) -> Jet {
             let hi = gd.mul(f[i].h[t], others);
             out.h[t] = gd.c(out.h[t] + hi);
         }
+        let ti = gd.mul(f[i].t, others);
+        out.t = gd.c(out.t + ti);
         for j in (i + 1)..K {
             let mut rest = 2.0;
             for (l, fl) in f.iter().enumerate() {
@@ -575,6 +598,7 @@ fn product<const K: usize>(f: [Jet; K], gd: &Guard) -> Jet {
             let gg = gd.mul(f[i].g, f[j].g);
             let cross = gd.mul(gg, rest);
             out.h[Term::Cross as usize] = gd.c(out.h[Term::Cross as usize] + cross);
+            out.t = gd.c(out.t + cross);
         }
     }
     out
@@ -601,11 +625,12 @@ fn cosine(a: &Field, b: &Field, psi: (f32, f32), gd: &Guard) -> Jet {
     let mut h = NO_H;
     let ha = gd.c(phi * a.w * a.w + s_max * a.x);
     let hb = gd.c(phi * b.w * b.w + s_max * b.x);
+    let hd = gd.c(2.0 * a.w * b.w);
     h[a.term as usize] += ha;
     h[b.term as usize] += hb;
-    h[Term::Dot as usize] += gd.c(2.0 * a.w * b.w);
+    h[Term::Dot as usize] += hd;
     let g = gd.c(s_max * (a.w + b.w));
-    Jet { m: est_cos(p0).abs().max(est_cos(p1).abs()), g, h }
+    Jet { m: est_cos(p0).abs().max(est_cos(p1).abs()), g, h, t: ha + hb + hd }
 }
 
 /// `max sin ψ` over `[p0, p1] ⊂ [0, π]`.
@@ -994,6 +1019,9 @@ struct LightSetup {
 struct Sums {
     h1: [Vec3; TERM_COUNT],
     hn: [Vec3; TERM_COUNT],
+    /// The second-order bound at levels ≥ 2 as one number per channel ([`Jet::t`]): what
+    /// the level is decided on (the level-1 bound goes into `one`).
+    tn: Vec3,
     lin1: Vec3,
     linn: Vec3,
     /// Constant (n-independent) parts at levels ≥ 2: the Relaxed specular jumps at the
@@ -1285,6 +1313,7 @@ fn add_light(
     // This light's bounds: second order per term at level 1 and at levels ≥ 2, the Relaxed
     // diffuse first-order parts, and the range of its contribution.
     let mut h = [[Vec3::ZERO; TERM_COUNT]; 2];
+    let mut tot = [Vec3::ZERO; 2];
     let (mut lin1, mut linn) = (Vec3::ZERO, Vec3::ZERO);
     let mut range = Vec3::ZERO;
     let mut spec_sup = Vec3::ZERO;
@@ -1302,6 +1331,8 @@ fn add_light(
             let spec_h = Vec3::new(spec[0].h[t], spec[1].h[t], spec[2].h[t]);
             *ht = (diff_w * diff.h[t] + spec_w * spec_h) * (0.5 * SAFETY);
         }
+        let spec_t = Vec3::new(spec[0].t, spec[1].t, spec[2].t);
+        tot[level] = (diff_w * diff.t + spec_w * spec_t) * (0.5 * SAFETY);
         let spec_m = Vec3::new(spec[0].m, spec[1].m, spec[2].m);
         spec_sup = spec_m;
         // The contribution lies in [0, sup] and so does its interpolant.
@@ -1335,7 +1366,7 @@ fn add_light(
             Vec3::ZERO
         }
     };
-    let (tot1, totn) = (sum_terms(&h[0]), sum_terms(&h[1]));
+    let [tot1, totn] = tot;
     let top = pattern_level(n_max, n_max);
     let zero1 = jump(band1) + other;
     let zero_top = jump(bandn / top) + other;
@@ -1365,6 +1396,7 @@ fn add_light(
                 sum.h1[t][c] += h[0][t][c];
                 sum.hn[t][c] += h[1][t][c];
             }
+            sum.tn[c] += totn[c];
             sum.lin1[c] += lin1[c];
             sum.linn[c] += linn[c];
             sum.jumps1[c] += zero1[c];
@@ -1519,8 +1551,9 @@ fn light_jets(
         let mut h = NO_H;
         let a_id2 = gd.mul(a_id, a_id);
         let k = (6.0 * sg * sg - 2.0).max(2.0);
-        h[Term::Attenuation as usize] = gd.mul(k * a_id2, id2);
-        Jet { m: id2, g: gd.mul(2.0 * sg * a_id, id2), h }
+        let t = gd.mul(k * a_id2, id2);
+        h[Term::Attenuation as usize] = t;
+        Jet { m: id2, g: gd.mul(2.0 * sg * a_id, id2), h, t }
     } else {
         Jet::constant(1.0)
     };
@@ -1564,13 +1597,17 @@ fn light_jets(
             // |D²T| ≤ s(s−1) cos^(s−2)ψ sin²ψ·w² + s t^(s−1)|D²t|.
             let chi = est_cos(h0);
             let g = gd.c(s1 * max_cos_sin(s0 - 1.0, 1.0, h0, h1) * w_nh);
-            let mut hh = scaled(&c_nh.h, s1 * est_pow(chi, s0 - 1.0), gd);
+            let slope = s1 * est_pow(chi, s0 - 1.0);
+            let mut hh = scaled(&c_nh.h, slope, gd);
+            let mut ht = gd.mul(c_nh.t, slope);
             if s1 > 1.0 {
                 let k = s1 * (s1 - 1.0) * max_cos_sin(s0 - 2.0, 2.0, h0, h1);
                 let w2 = gd.mul(w_nh, w_nh);
-                hh[Term::Power as usize] = gd.c(hh[Term::Power as usize] + gd.mul(k, w2));
+                let hp = gd.mul(k, w2);
+                hh[Term::Power as usize] = gd.c(hh[Term::Power as usize] + hp);
+                ht = gd.c(ht + hp);
             }
-            let t = gd.jet(Jet { m: est_pow(chi, s0), g, h: hh });
+            let t = gd.jet(Jet { m: est_pow(chi, s0), g, h: hh, t: ht });
             let spec = product([att, t], gd);
             (diffuse, [spec; 3])
         }
@@ -1605,6 +1642,8 @@ fn light_jets(
             ht[Term::Light as usize] = gd.c(0.5 * K23 * l.w * l.w);
             ht[Term::View as usize] = gd.c(0.5 * K23 * v.w * v.w);
             ht[Term::Half as usize] = gd.c(0.5 * (l.w + v.w) * (l.w + v.w) / st.m_min);
+            let ht_total =
+                ht[Term::Light as usize] + ht[Term::View as usize] + ht[Term::Half as usize];
             let om = 1.0 - t0;
             let mut spec = [zero; 3];
             for (c, out) in spec.iter_mut().enumerate() {
@@ -1613,11 +1652,14 @@ fn light_jets(
                 let f1 = 5.0 * (1.0 - f0c) * om.powi(4);
                 let f2 = 20.0 * (1.0 - f0c) * om.powi(3);
                 let mut fh = scaled(&ht, f1, gd);
+                let mut ft = gd.mul(ht_total, f1);
                 let gt2 = gd.mul(gt, gt);
-                fh[Term::F as usize] = gd.c(fh[Term::F as usize] + gd.mul(f2, gt2));
-                let fjet = gd.jet(Jet { m: fm, g: gd.mul(f1, gt), h: fh });
+                let hf = gd.mul(f2, gt2);
+                fh[Term::F as usize] = gd.c(fh[Term::F as usize] + hf);
+                ft = gd.c(ft + hf);
+                let fjet = gd.jet(Jet { m: fm, g: gd.mul(f1, gt), h: fh, t: ft });
                 let p = product([att, djet, fjet, gjet, vjet], gd);
-                *out = Jet { m: 0.25 * p.m, g: 0.25 * p.g, h: scaled(&p.h, 0.25, gd) };
+                *out = Jet { m: 0.25 * p.m, g: 0.25 * p.g, h: scaled(&p.h, 0.25, gd), t: gd.mul(p.t, 0.25) };
             }
             (diffuse, spec)
         }
@@ -1651,9 +1693,12 @@ fn ggx_factor_jets(
     let g1 = k / (q0 * q0);
     let g2 = 2.0 * k * (1.0 - k) / (q0 * q0 * q0);
     let mut gh = scaled(&c_g.h, g1, gd);
+    let mut gt = gd.mul(c_g.t, g1);
     let cg2 = gd.mul(c_g.g, c_g.g);
-    gh[Term::V as usize] = gd.c(gh[Term::V as usize] + gd.mul(g2, cg2));
-    let gjet = gd.jet(Jet { m: c1 / q1, g: gd.mul(g1, c_g.g), h: gh });
+    let hg = gd.mul(g2, cg2);
+    gh[Term::V as usize] = gd.c(gh[Term::V as usize] + hg);
+    gt = gd.c(gt + hg);
+    let gjet = gd.jet(Jet { m: c1 / q1, g: gd.mul(g1, c_g.g), h: gh, t: gt });
 
     // V_v = 1/(max(n·v, 0)(1−k)+k): constant 1/k where n·v ≤ 0 throughout.
     let vjet = if st.nv_sign == Sign::NonPositive {
@@ -1665,9 +1710,12 @@ fn ggx_factor_jets(
         let v1 = (1.0 - k) / (q * q);
         let v2 = 2.0 * (1.0 - k) * (1.0 - k) / (q * q * q);
         let mut vh = scaled(&c_v.h, v1, gd);
+        let mut vt = gd.mul(c_v.t, v1);
         let cv2 = gd.mul(c_v.g, c_v.g);
-        vh[Term::V as usize] = gd.c(vh[Term::V as usize] + gd.mul(v2, cv2));
-        gd.jet(Jet { m: 1.0 / q, g: gd.mul(v1, c_v.g), h: vh })
+        let hv = gd.mul(v2, cv2);
+        vh[Term::V as usize] = gd.c(vh[Term::V as usize] + hv);
+        vt = gd.c(vt + hv);
+        gd.jet(Jet { m: 1.0 / q, g: gd.mul(v1, c_v.g), h: vh, t: vt })
     };
 
     // D(t), t = n·h = cos ψ, with s2 = sin²ψ and u = α² + (1−α²)s2:
@@ -1687,7 +1735,7 @@ fn jet_max(a: &Jet, b: &Jet) -> Jet {
     for t in 0..TERM_COUNT {
         h[t] = a.h[t].max(b.h[t]);
     }
-    Jet { m: a.m.max(b.m), g: a.g.max(b.g), h }
+    Jet { m: a.m.max(b.m), g: a.g.max(b.g), h, t: a.t.max(b.t) }
 }
 
 /// The variation `sup |f(α) − f(α')|` of one light's specular part (per unit weight, per
@@ -1755,10 +1803,13 @@ fn ggx_d_jet(c: &Jet, p0: f32, p1: f32, w: f32, alpha: f32, gd: &Guard) -> Jet {
     let g = gd.mul(gd.c(coef * d1), w);
     let slope = gd.c(coef * est_cos(p0) / (u0 * u0 * u0));
     let mut h = scaled(&c.h, slope, gd);
+    let mut t = gd.mul(c.t, slope);
     let w2 = gd.mul(w, w);
     let dd = gd.c(coef * d2);
-    h[Term::D as usize] = gd.c(h[Term::D as usize] + gd.mul(dd, w2));
-    gd.jet(Jet { m, g, h })
+    let hd = gd.mul(dd, w2);
+    h[Term::D as usize] = gd.c(h[Term::D as usize] + hd);
+    t = gd.c(t + hd);
+    gd.jet(Jet { m, g, h, t })
 }
 
 /// Smallest real `n > 0` with `a/n² + b/n + c ≤ eps` (`∞` if none).
@@ -1778,10 +1829,6 @@ fn level_for(a: f32, b: f32, c: f32, eps: f32) -> f32 {
     }
 }
 
-fn sum_terms(h: &[Vec3; TERM_COUNT]) -> Vec3 {
-    h.iter().fold(Vec3::ZERO, |acc, x| acc + *x)
-}
-
 /// The bound on the uniform pattern at level `n`: per channel the level-1 bound (`n = 1`)
 /// or the bound for sub-triangles of radius² `K/L²`, `L = pattern_level(n, n)`.
 fn bound_at(sum: &Sums, an: Vec3, n: u32) -> f32 {
@@ -1799,7 +1846,7 @@ fn bound_at(sum: &Sums, an: Vec3, n: u32) -> f32 {
 }
 
 fn decide(sum: &Sums, eps: f32, n_max: u32, split: Split, reason: Reason) -> Estimate {
-    let an = sum_terms(&sum.hn);
+    let an = sum.tn;
     let finite = |x: f32| {
         if x.is_nan() {
             f32::MAX
@@ -2946,6 +2993,44 @@ mod tests {
             }
         }
         v
+    }
+
+    /// The levels are decided on the jets' one-number second-order bound (`Jet::t`), the
+    /// GPU's single pass; the per-term bounds are its parts. They must agree: equal up to
+    /// rounding for a constant parameter, and never above the parts' sum where a textured
+    /// range takes the larger of several jets.
+    #[test]
+    fn second_order_total_is_the_sum_of_its_terms() {
+        let mut compared = 0;
+        let mut textured = 0;
+        for (tname, t) in triangles() {
+            for (lname, lights) in light_sets(&t) {
+                for m in materials() {
+                    let own = ParameterRange::of(&m);
+                    let wide = ParameterRange { lo: own.lo * 0.5, hi: own.hi * 2.0 };
+                    for (parameter, exact) in [(own, true), (wide, false)] {
+                        for mode in [Discontinuity::Conservative, Discontinuity::Relaxed] {
+                            let (sum, reason) = light_sums(&t, &m, parameter, &lights, mode, 16, 0.075);
+                            if reason != Reason::None {
+                                continue;
+                            }
+                            let parts = sum.hn.iter().fold(Vec3::ZERO, |acc, h| acc + *h);
+                            for c in 0..3 {
+                                let (total, parts) = (sum.tn[c], parts[c]);
+                                let what = format!("{tname} / {lname} / {m:?} / {parameter:?} / {mode:?}");
+                                assert!(total <= parts * (1.0 + 1.0e-5), "{what}: {total} > {parts}");
+                                if exact {
+                                    assert!(total >= parts * (1.0 - 1.0e-5), "{what}: {total} < {parts}");
+                                }
+                            }
+                            compared += 1;
+                            textured += usize::from(!exact);
+                        }
+                    }
+                }
+            }
+        }
+        assert!(compared > 100 && textured > 50, "{compared} compared, {textured} textured");
     }
 
     #[test]
