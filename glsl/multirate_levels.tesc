@@ -3,7 +3,8 @@
 // `multirate` mode, `--estimator compute`: the compute pre-pass (triangle_levels.comp) has
 // written every triangle's level; the control stage only reads its own and its neighbours'
 // (bindings.glsl, triangle_levels and triangle_neighbours) and combines them
-// (multirate_patch.glsl). The patch is the triangle's three vertices.
+// (multirate_patch.glsl). The patch is the triangle's three vertices. Each mesh is drawn twice,
+// interpolated patches then fallback patches (multirate_patch.glsl).
 #include "multirate_patch.glsl"
 
 layout(vertices = 3) out;
@@ -23,7 +24,7 @@ void main() {
         // Note: lavapipe (Mesa 22.3) restarts gl_PrimitiveID every 1020 control points within a
         // draw, so draws there are no longer than that.
         uint triangle = draw.patch_base + uint(gl_PrimitiveID);
-        if (COUNT_EVALUATIONS && triangle_levels[triangle] == CULLED_LEVEL) {
+        if (COUNT_EVALUATIONS && triangle_levels[triangle] == CULLED_LEVEL && first_draw_of_patches()) {
             atomicAdd(counters.culled_patches, 1u);
         }
         uvec4 across = triangle_neighbours[triangle];

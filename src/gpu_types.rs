@@ -61,7 +61,9 @@ pub struct DrawConstants {
     pub patch_base: u32,
     /// Bit 0 ([`FLAG_HEAT_MAP`]): show the level heat map instead of shading; bit 1
     /// ([`FLAG_DERIVATIVE_CHECK`]): see [`crate::render::View::derivative_check`]; bit 2
-    /// ([`FLAG_ONE_SIDED`]): the mesh's back faces are culled.
+    /// ([`FLAG_ONE_SIDED`]): the mesh's back faces are culled; bits 3 and 4
+    /// ([`FLAG_INTERPOLATED_PATCHES`], [`FLAG_FALLBACK_PATCHES`]): which multirate patches
+    /// the draw keeps.
     pub flags: u32,
     /// Emitter draws: index of the polygonal light drawn.
     pub light_index: u32,
@@ -76,6 +78,14 @@ pub const FLAG_HEAT_MAP: u32 = 1;
 /// `DrawConstants::flags` bit: the mesh is one-sided; its back-facing triangles are culled
 /// (by the rasteriser, and in multirate mode before their estimate).
 pub const FLAG_ONE_SIDED: u32 = 4;
+
+/// `DrawConstants::flags` bit: a multirate draw that keeps only the patches shaded on their
+/// sub-vertices (the fallback patches get outer level 0 and are drawn by another draw).
+pub const FLAG_INTERPOLATED_PATCHES: u32 = 8;
+
+/// `DrawConstants::flags` bit: a multirate draw that keeps only the fallback patches, shaded
+/// per pixel. Without either bit one draw keeps both.
+pub const FLAG_FALLBACK_PATCHES: u32 = 16;
 
 /// `DrawConstants::flags` bit: `pixel-deferred` writes the analytic against hardware uv
 /// derivative difference instead of shading.

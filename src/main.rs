@@ -450,13 +450,14 @@ fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
     }
     println!("{} on {} ({})", args.out.display(), context.info.name, context.info.driver);
     println!(
-        "{:<44} {:>10} {:>8} {:>10} {:>9} {:>10} {:>8}",
-        "configuration", "GPU ms", "speedup", "evals", "L∞", "mean L2", "FLIP"
+        "{:<44} {:>10} {:>9} {:>8} {:>10} {:>9} {:>10} {:>8}",
+        "configuration", "GPU ms", "pre-pass", "speedup", "evals", "L∞", "mean L2", "FLIP"
     );
     for row in &result.rows {
         let name = format!("{} {}x{} {}", row.scene, row.width, row.height, bench::plot::row_label(row));
+        let pre_pass = row.pre_pass_ms.map_or_else(|| "-".to_string(), |t| format!("{:.3}", t.median));
         println!(
-            "{name:<44} {:>10.3} {:>7.0}% {:>9.1}% {:>9.5} {:>10.2e} {:>8.5}",
+            "{name:<44} {:>10.3} {pre_pass:>9} {:>7.0}% {:>9.1}% {:>9.5} {:>10.2e} {:>8.5}",
             row.gpu_ms.median,
             row.speedup * 100.0,
             row.evaluation_ratio * 100.0,

@@ -40,6 +40,10 @@ layout(set = 0, binding = 8, std430) readonly buffer SceneIndices { uint scene_i
 // the estimator's invocations run side by side on visible triangles only.
 layout(set = 0, binding = 9, std430) buffer VisibleTriangles { uint visible_triangles[]; };
 layout(set = 0, binding = 10, std430) buffer VisibleCounts { uint visible_counts[]; };
+// The effective levels of the hardware patterns (estimator.glsl, `pattern_level`): Rust's
+// `PATTERN_LEVELS` words. A buffer rather than a constant array: lavapipe copies a shader's
+// array into every invocation's private memory before the first read.
+layout(set = 0, binding = 11, std430) readonly buffer PatternLevels { uint pattern_level_words[]; };
 
 // One Vertex of scene_vertices (src/gpu_types.rs): position, normal, uv.
 const uint VERTEX_FLOATS = 8u;

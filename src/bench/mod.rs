@@ -110,6 +110,8 @@ pub struct Row {
     pub height: u32,
     pub frames: u32,
     pub gpu_ms: Timing,
+    /// `--estimator compute`: the part of `gpu_ms` the triangle-level pre-pass took.
+    pub pre_pass_ms: Option<Timing>,
     /// `pixel` median time over this row's: the paper's speedup ratio (×100 %).
     pub speedup: f64,
     pub evaluations: EvaluationCounts,
@@ -331,6 +333,7 @@ fn row(
         height: job.resolution.1,
         frames: config.frames,
         gpu_ms,
+        pre_pass_ms: (!measurement.pre_pass.is_empty()).then(|| Timing::of(&measurement.pre_pass_ms())),
         speedup: reference.gpu_ms / gpu_ms.median,
         evaluations,
         evaluation_ratio: evaluations.total() as f64 / reference.evaluations.max(1) as f64,
@@ -384,7 +387,7 @@ fn write_row_images(
 
 /// The CSV header; `csv_line` writes the fields in this order.
 pub const CSV_HEADER: &str = "scene,triangles,mode,epsilon,n_max,estimator,width,height,frames,\
-gpu_ms_median,gpu_ms_p10,gpu_ms_p90,speedup,evaluations,vertex_evaluations,subvertex_evaluations,\
+gpu_ms_median,gpu_ms_p10,gpu_ms_p90,pre_pass_ms_median,speedup,evaluations,vertex_evaluations,subvertex_evaluations,\
 fragment_evaluations,culled_patches,evaluation_ratio,l_inf,l_inf_interior,pixels_over_epsilon,mean_l2,psnr_db,flip,fallback_fraction,\
 vs_invocations,tcs_patches,tes_invocations,clipping_primitives,fs_invocations,device,driver";
 
@@ -420,6 +423,7 @@ pub fn csv_line(row: &Row) -> String {
         format!("{:.4}", row.gpu_ms.median),
         format!("{:.4}", row.gpu_ms.p10),
         format!("{:.4}", row.gpu_ms.p90),
+        optional(row.pre_pass_ms.map(|t| format!("{:.4}", t.median))),
         format!("{:.4}", row.speedup),
         row.evaluations.total().to_string(),
         row.evaluations.vertices.to_string(),
@@ -481,6 +485,6 @@ mod tests {
         assert_eq!(quoted("a,b"), "\"a,b\"");
         assert_eq!(quoted("say \"x\", y"), "\"say \"\"x\"\", y\"");
         assert_eq!(quoted("plain"), "plain");
-        assert_eq!(CSV_HEADER.split(',').count(), 33);
+        assert_eq!(CSV_HEADER.split(',').count(), 34);
     }
 }

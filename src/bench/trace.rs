@@ -1,6 +1,7 @@
 //! Timing captures in the Chrome trace event format (JSON), which Perfetto and
 //! chrome://tracing open: one track per benchmarked configuration, one complete ("X") event
-//! per measured frame's forward pass, placed at its GPU timestamps.
+//! per measured frame's forward pass, placed at its GPU timestamps, and one per pre-pass
+//! (`--estimator compute`) nested in it.
 
 use super::Row;
 use crate::render::Measurement;
@@ -29,6 +30,19 @@ pub fn chrome_trace(rows: &[Row], measurements: &[Measurement]) -> String {
         for (frame, interval) in measurement.frames.iter().enumerate() {
             events.push(json!({
                 "name": format!("forward pass ({})", row.mode),
+                "cat": "gpu",
+                "ph": "X",
+                "pid": 1,
+                "tid": tid,
+                "ts": (interval.start_ns - origin_ns) * 1e-3,
+                "dur": (interval.end_ns - interval.start_ns) * 1e-3,
+                "args": { "frame": frame, "gpu_ms": interval.milliseconds() },
+            }));
+        }
+        // `--estimator compute`: the pre-pass, nested in its frame's event.
+        for (frame, interval) in measurement.pre_pass.iter().enumerate() {
+            events.push(json!({
+                "name": "triangle-level pre-pass",
                 "cat": "gpu",
                 "ph": "X",
                 "pid": 1,

@@ -15,8 +15,8 @@ use textures::{gpu_material, material_set_bindings, SceneTextures};
 use crate::analysis::tessellator::uniform_vertex_count;
 use crate::error::Result;
 use crate::gpu_types::{
-    DrawConstants, GpuLight, GpuMaterial, GpuPolygonLight, Vertex, FLAG_DERIVATIVE_CHECK, FLAG_HEAT_MAP,
-    FLAG_ONE_SIDED,
+    DrawConstants, GpuLight, GpuMaterial, GpuPolygonLight, Vertex, FLAG_DERIVATIVE_CHECK,
+    FLAG_FALLBACK_PATCHES, FLAG_HEAT_MAP, FLAG_INTERPOLATED_PATCHES, FLAG_ONE_SIDED,
 };
 use crate::scene::adjacency::{adjacency_patches, neighbours, PATCH_SIZE};
 use crate::scene::{Camera, Light, MaterialKind, PolygonSampling, Scene};
@@ -203,6 +203,9 @@ fn polygon_specialization(specialization: Specialization, scene: &Scene, count: 
 pub struct Measurement {
     /// When the forward pass ran in every measured frame, in submission order.
     pub frames: Vec<GpuInterval>,
+    /// `Estimator::Compute`: when the triangle-level pre-pass (culling and estimating, part of
+    /// the frame) ran in every measured frame; empty otherwise.
+    pub pre_pass: Vec<GpuInterval>,
     /// Pipeline statistics of the last frame, where the device has them.
     pub statistics: Option<PipelineStatistics>,
 }
@@ -211,6 +214,11 @@ impl Measurement {
     /// Forward-pass milliseconds of every measured frame.
     pub fn gpu_ms(&self) -> Vec<f64> {
         self.frames.iter().map(GpuInterval::milliseconds).collect()
+    }
+
+    /// Pre-pass milliseconds of every measured frame (empty without a pre-pass).
+    pub fn pre_pass_ms(&self) -> Vec<f64> {
+        self.pre_pass.iter().map(GpuInterval::milliseconds).collect()
     }
 }
 
@@ -318,6 +326,10 @@ impl Instrumentation {
 /// The pipelines of `multirate` mode for one estimator placement.
 struct Multirate {
     draw: Pipeline,
+    /// `Estimator::Compute`: the fallback patches' pipeline, shaded per pixel; `draw` then
+    /// keeps only the patches shaded on their sub-vertices, and its fragment shader holds no
+    /// shading code (multirate_interpolated.frag).
+    fallback: Option<Pipeline>,
     /// `Estimator::Compute`: the pre-pass, culling then the levels of the visible triangles.
     pre_pass: Option<PrePass>,
 }
@@ -330,14 +342,18 @@ struct PrePass {
 
 impl Variant {
     /// The pipeline of `view` (None: a multirate pipeline not yet prepared).
-    fn for_view(&self, view: &View) -> Option<&Pipeline> {
+    fn for_view(&self, view: &View) -> Option<MeshPipelines> {
+        let one = |pipeline: &Pipeline| MeshPipelines { first: pipeline.raw, fallback: None };
         match view.mode {
-            Mode::Pixel => Some(&self.pixel),
+            Mode::Pixel => Some(one(&self.pixel)),
             // Drawn by `record_deferred`, with its own pipelines.
             Mode::PixelDeferred => None,
-            Mode::Vertex => Some(&self.vertex),
-            Mode::Fixed(_) => Some(&self.tessellated),
-            Mode::Multirate => self.multirate_cell(view).get().map(|m| &m.draw),
+            Mode::Vertex => Some(one(&self.vertex)),
+            Mode::Fixed(_) => Some(one(&self.tessellated)),
+            Mode::Multirate => self.multirate_cell(view).get().map(|m| MeshPipelines {
+                first: m.draw.raw,
+                fallback: m.fallback.as_ref().map(|p| p.raw),
+            }),
         }
     }
 
@@ -361,6 +377,22 @@ fn discontinuity_id(discontinuity: Discontinuity) -> i32 {
     match discontinuity {
         Discontinuity::Conservative => 0,
         Discontinuity::Relaxed => 1,
+    }
+}
+
+/// The pipelines that draw one mesh.
+#[derive(Clone, Copy)]
+struct MeshPipelines {
+    first: vk::Pipeline,
+    /// Multirate's fallback patches (`Multirate::fallback`): `first` then keeps the others.
+    fallback: Option<vk::Pipeline>,
+}
+
+impl MeshPipelines {
+    /// Each draw of the mesh: its pipeline and the `DrawConstants::flags` bits it adds.
+    fn draws(self) -> impl Iterator<Item = (vk::Pipeline, u32)> {
+        let first = if self.fallback.is_some() { FLAG_INTERPOLATED_PATCHES } else { 0 };
+        std::iter::once((self.first, first)).chain(self.fallback.map(|p| (p, FLAG_FALLBACK_PATCHES)))
     }
 }
 
@@ -399,6 +431,8 @@ pub struct Renderer {
     _visible_triangles: Buffer,
     /// Per mesh: how many it listed (zeroed before each pre-pass).
     visible_counts: Buffer,
+    /// `PATTERN_LEVELS`, the effective levels of the hardware patterns.
+    _pattern_levels: Buffer,
     _lights: Buffer,
     _materials: Buffer,
     textures: SceneTextures,
@@ -559,8 +593,15 @@ impl Renderer {
             &polygon_entries,
         )?;
 
+        let pattern_level_buffer = Buffer::with_data(
+            context,
+            "pattern levels",
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            &crate::shading::estimator::PATTERN_LEVELS,
+        )?;
+
         let bindings =
-            std::array::from_fn::<_, 11, _>(|b| shader_binding(b as u32, vk::DescriptorType::STORAGE_BUFFER));
+            std::array::from_fn::<_, 12, _>(|b| shader_binding(b as u32, vk::DescriptorType::STORAGE_BUFFER));
         let push = [vk::PushConstantRange::default()
             .stage_flags(PUSH_STAGES)
             .size(std::mem::size_of::<DrawConstants>() as u32)];
@@ -577,7 +618,7 @@ impl Renderer {
             context,
             "forward descriptors",
             1,
-            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 11 }],
+            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 12 }],
         )?;
         let descriptor_set = pool.allocate(layout.set_layouts[0])?;
         bind_storage_buffers(
@@ -596,6 +637,7 @@ impl Renderer {
                 index_buffer.raw,
                 visible_triangle_buffer.raw,
                 visible_count_buffer.raw,
+                pattern_level_buffer.raw,
             ],
         );
 
@@ -637,6 +679,7 @@ impl Renderer {
             _triangle_neighbours: neighbour_buffer,
             _visible_triangles: visible_triangle_buffer,
             visible_counts: visible_count_buffer,
+            _pattern_levels: pattern_level_buffer,
             _lights: light_buffer,
             _materials: material_buffer,
             _polygon_lights: polygon_buffer,
@@ -728,15 +771,31 @@ impl Renderer {
         view: &View,
         after: AfterPass,
     ) {
+        self.record_timed(variants, cmd, target, view, after, &|_| {});
+    }
+
+    /// `record_with`, calling `stamp(false)` before and `stamp(true)` after the pre-pass
+    /// (both back to back where there is none).
+    fn record_timed(
+        &self,
+        variants: &[Variant],
+        cmd: vk::CommandBuffer,
+        target: &RenderTarget,
+        view: &View,
+        after: AfterPass,
+        stamp: &dyn Fn(bool),
+    ) {
+        stamp(false);
+        if view.mode == Mode::Multirate && view.estimator == Estimator::Compute {
+            self.record_triangle_levels(variants, cmd, view, target.extent());
+        }
+        stamp(true);
         if view.mode == Mode::PixelDeferred {
             let instrumentation = variants.first().map_or(Instrumentation::None, |v| v.instrumentation);
             self.record_deferred(instrumentation, cmd, target, view, after);
             return;
         }
-        if view.mode == Mode::Multirate && view.estimator == Estimator::Compute {
-            self.record_triangle_levels(variants, cmd, view, target.extent());
-        }
-        let pick = |draw: &DrawCall| variants[draw.pipeline].for_view(view).map(|p| p.raw);
+        let pick = |draw: &DrawCall| variants[draw.pipeline].for_view(view);
         self.record_draws(&pick, true, cmd, target, view, self.clear_color, after);
     }
 
@@ -831,7 +890,7 @@ impl Renderer {
     #[allow(clippy::too_many_arguments)]
     fn record_draws(
         &self,
-        pick: &dyn Fn(&DrawCall) -> Option<vk::Pipeline>,
+        pick: &dyn Fn(&DrawCall) -> Option<MeshPipelines>,
         emitters: bool,
         cmd: vk::CommandBuffer,
         target: &RenderTarget,
@@ -852,11 +911,10 @@ impl Renderer {
             for draw in &self.draws {
                 self.set_draw_constants(&mut constants, draw);
                 let cull = if draw.one_sided { vk::CullModeFlags::BACK } else { vk::CullModeFlags::NONE };
-                let Some(pipeline) = pick(draw) else {
+                let Some(pipelines) = pick(draw) else {
                     debug_assert!(false, "render, measure and the viewer prepare the view first");
                     continue;
                 };
-                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
                 device.cmd_set_cull_mode(cmd, cull);
                 self.bind_set(cmd, 1, self.textures.sets[draw.material_index as usize]);
                 let adjacency = view.mode == Mode::Multirate && view.estimator == Estimator::Tcs;
@@ -884,20 +942,26 @@ impl Renderer {
                     device.cmd_bind_index_buffer(cmd, self.patch_indices.raw, 0, vk::IndexType::UINT32);
                 }
                 let chunk = patches.saturating_mul(indices_per_primitive);
-                let mut first = 0;
-                while first < index_count {
-                    let count = chunk.min(index_count - first);
-                    constants.patch_base = draw.first_triangle + first / indices_per_primitive;
-                    device.cmd_push_constants(
-                        cmd,
-                        self.layout.raw,
-                        PUSH_STAGES,
-                        0,
-                        bytemuck::bytes_of(&constants),
-                    );
-                    device.cmd_draw_indexed(cmd, count, 1, first_index + first, 0, 0);
-                    first += count;
+                let mesh_flags = constants.flags & !(FLAG_INTERPOLATED_PATCHES | FLAG_FALLBACK_PATCHES);
+                for (pipeline, flags) in pipelines.draws() {
+                    device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+                    constants.flags = mesh_flags | flags;
+                    let mut first = 0;
+                    while first < index_count {
+                        let count = chunk.min(index_count - first);
+                        constants.patch_base = draw.first_triangle + first / indices_per_primitive;
+                        device.cmd_push_constants(
+                            cmd,
+                            self.layout.raw,
+                            PUSH_STAGES,
+                            0,
+                            bytemuck::bytes_of(&constants),
+                        );
+                        device.cmd_draw_indexed(cmd, count, 1, first_index + first, 0, 0);
+                        first += count;
+                    }
                 }
+                constants.flags = mesh_flags;
                 if adjacency {
                     device.cmd_bind_index_buffer(cmd, self.indices.raw, 0, vk::IndexType::UINT32);
                 }
@@ -949,8 +1013,9 @@ impl Renderer {
 
     /// Renders `warmup` frames, then `frames` measured ones, with up to two frames in flight:
     /// when the forward pass of each measured frame ran on the GPU (timestamps outside the
-    /// pass) and the pipeline statistics of the last one. A frame's queries are read only
-    /// once its slot comes round again, so reading never stalls the frame being recorded.
+    /// pass), when its pre-pass did, and the pipeline statistics of the last one. A frame's
+    /// queries are read only once its slot comes round again, so reading never stalls the
+    /// frame being recorded.
     pub fn measure(
         &self,
         target: &RenderTarget,
@@ -959,14 +1024,20 @@ impl Renderer {
         frames: u32,
     ) -> Result<Measurement> {
         self.prepare(view, target)?;
-        let timer = GpuTimer::new(&self.context, 1, FRAMES_IN_FLIGHT as u32)?;
+        // Pass 0: the whole frame; pass 1: the pre-pass, within it.
+        let timer = GpuTimer::new(&self.context, 2, FRAMES_IN_FLIGHT as u32)?;
+        let pre_pass = view.mode == Mode::Multirate && view.estimator == Estimator::Compute;
         let mut ring = FrameRing::new(&self.context, FRAMES_IN_FLIGHT)?;
         let mut measurement = Measurement::default();
         let mut frame_in_slot = [0u32; FRAMES_IN_FLIGHT];
         let total = warmup + frames;
         let collect = |ring: &mut FrameRing, slot: usize, frame: u32, measurement: &mut Measurement| {
             if ring.wait(slot)? && frame >= warmup {
-                measurement.frames.push(timer.pass_intervals(slot as u32)?[0]);
+                let intervals = timer.pass_intervals(slot as u32)?;
+                measurement.frames.push(intervals[0]);
+                if pre_pass {
+                    measurement.pre_pass.push(intervals[1]);
+                }
                 measurement.statistics = timer.read_statistics(slot as u32)?;
             }
             Ok::<_, crate::Error>(())
@@ -979,7 +1050,8 @@ impl Renderer {
                 timer.reset(cmd, slot);
                 timer.timestamp(cmd, slot, 0, false);
                 timer.statistics(cmd, slot, true);
-                self.record(cmd, target, view, AfterPass::Sampled);
+                let stamp = |end: bool| timer.timestamp(cmd, slot, 1, end);
+                self.record_timed(&self.variants, cmd, target, view, AfterPass::Sampled, &stamp);
                 timer.statistics(cmd, slot, false);
                 timer.timestamp(cmd, slot, 0, true);
             })?;
@@ -1360,27 +1432,36 @@ impl Modules {
         let multirate_tesc = variant_module(context, control, features)?;
         let multirate_tese = variant_module(context, "multirate.tese", features)?;
         let multirate_frag = variant_module(context, "multirate.frag", features)?;
-        let stage = |stage, module| Stage { stage, module, specialization: Some(&specialization) };
-        use vk::ShaderStageFlags as S;
         let name = format!(
             "multirate mode, estimator {}, material kind {}, split {split}, discontinuity {discontinuity}",
             view.estimator, features.material_kind
         );
-        let stages = vec![
-            stage(S::VERTEX, &self.patch_vert),
-            stage(S::TESSELLATION_CONTROL, &multirate_tesc),
-            stage(S::TESSELLATION_EVALUATION, &multirate_tese),
-            stage(S::FRAGMENT, &multirate_frag),
-        ];
-        let draw = Pipeline::graphics(
-            context,
-            &GraphicsPipelineDesc {
-                topology: vk::PrimitiveTopology::PATCH_LIST,
-                patch_control_points: Some(control_points),
-                polygon_mode: variant.polygon_mode,
-                ..scene_pipeline(&name, stages, layout)
-            },
-        )?;
-        Ok(Multirate { draw, pre_pass })
+        let graphics = |name: &str, fragment: &ShaderModule| {
+            let stage = |stage, module| Stage { stage, module, specialization: Some(&specialization) };
+            use vk::ShaderStageFlags as S;
+            let stages = vec![
+                stage(S::VERTEX, &self.patch_vert),
+                stage(S::TESSELLATION_CONTROL, &multirate_tesc),
+                stage(S::TESSELLATION_EVALUATION, &multirate_tese),
+                stage(S::FRAGMENT, fragment),
+            ];
+            Pipeline::graphics(
+                context,
+                &GraphicsPipelineDesc {
+                    topology: vk::PrimitiveTopology::PATCH_LIST,
+                    patch_control_points: Some(control_points),
+                    polygon_mode: variant.polygon_mode,
+                    ..scene_pipeline(name, stages, layout)
+                },
+            )
+        };
+        if pre_pass.is_none() {
+            let draw = graphics(&name, &multirate_frag)?;
+            return Ok(Multirate { draw, fallback: None, pre_pass });
+        }
+        let interpolated_frag = variant_module(context, "multirate_interpolated.frag", features)?;
+        let draw = graphics(&format!("{name}, interpolated patches"), &interpolated_frag)?;
+        let fallback = graphics(&format!("{name}, fallback patches"), &multirate_frag)?;
+        Ok(Multirate { draw, fallback: Some(fallback), pre_pass })
     }
 }

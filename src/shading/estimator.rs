@@ -2026,9 +2026,10 @@ pub fn patch_levels(own: f32, neighbours: [f32; 3], n_max: u32) -> PatchLevels {
 /// [`pattern_level`] of every `(inner, outer)` in `1..=64`, index `(inner − 1)·64 +
 /// (outer − 1)`, in 1/256 (rounded down), two 16-bit entries per word (low half first).
 /// Generated and checked by the tests (`print_pattern_level_table`,
-/// `pattern_level_table_is_current`); `glsl/include/estimator.glsl` holds the same words.
+/// `pattern_level_table_is_current`). The renderer uploads the same words for the shaders
+/// (`pattern_level_words` in `glsl/include/bindings.glsl`).
 #[rustfmt::skip]
-const PATTERN_LEVELS: [u32; 2048] = [
+pub const PATTERN_LEVELS: [u32; 2048] = [
     0x01ff0100, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff,
     0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff,
     0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff, 0x01ff01ff,
@@ -2557,25 +2558,9 @@ mod tests {
         }
     }
 
-    /// `glsl/include/estimator.glsl` holds the same `PATTERN_LEVELS` words as the Rust table.
-    #[test]
-    fn glsl_pattern_table_equals_the_rust_one() {
-        let glsl = include_str!("../../glsl/include/estimator.glsl");
-        let start = glsl.find("PATTERN_LEVELS[2048] = uint[2048](").expect("the GLSL table");
-        let end = start + glsl[start..].find(");").expect("end of the GLSL table");
-        let words: Vec<u32> = glsl[start..end]
-            .split(|c: char| c == ',' || c == '(' || c.is_whitespace())
-            .filter_map(|w| {
-                w.strip_prefix("0x").and_then(|h| u32::from_str_radix(h.trim_end_matches('u'), 16).ok())
-            })
-            .collect();
-        assert_eq!(words.len(), 2048);
-        assert!(words.iter().zip(PATTERN_LEVELS.iter()).all(|(a, b)| a == b), "GLSL and Rust tables differ");
-    }
-
     /// The whole table against the driver's patterns. Every entry is checked when
     /// `MULTIRATE_PATTERN_LEVELS=print` is set, which also prints the packed words for
-    /// `PATTERN_LEVELS` (Rust and GLSL); otherwise every 7th entry (the full table takes a
+    /// `PATTERN_LEVELS`; otherwise every 7th entry (the full table takes a
     /// few seconds in a debug build).
     #[test]
     fn pattern_level_table_is_current() {

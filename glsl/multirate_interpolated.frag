@@ -1,0 +1,27 @@
+#version 460
+// variants: textured
+// `multirate` mode, `--estimator compute`, the draw of the patches shaded on their sub-vertices
+// (FLAG_INTERPOLATED_PATCHES): the interpolated vertex shading, its diffuse part times the
+// albedo map. The fallback patches are drawn by another draw with multirate.frag. Holding no
+// shading code matters where a branch does not skip the code it guards: lavapipe runs both
+// sides of every branch under a mask, so multirate.frag costs a per-pixel shading for every
+// fragment, and a GPU keeps the registers the fallback branch needs.
+#include "texturing.glsl"
+#include "heat.glsl"
+
+layout(location = 0) in vec3 in_diffuse;
+layout(location = 1) in vec3 in_specular;
+layout(location = 4) in vec2 in_uv;
+layout(location = 5) flat in float in_level;
+
+layout(location = 0) out vec4 out_color;
+
+layout(early_fragment_tests) in;
+
+void main() {
+    vec2 duv_dx = dFdx(in_uv);
+    vec2 duv_dy = dFdy(in_uv);
+    vec3 albedo = albedo_at_grad(materials[draw.material_index], in_uv, duv_dx, duv_dy);
+    vec3 color = albedo * in_diffuse + in_specular;
+    out_color = vec4(heat_map_on() ? heat_color(in_level) : color, 1.0);
+}
