@@ -97,7 +97,7 @@ struct BenchArgs {
     #[arg(long, value_parser = parse_discontinuity, default_value = "relaxed")]
     discontinuity: Discontinuity,
     /// multirate: where the estimator runs, each measured: tcs, compute or both
-    /// (tcs,compute); default: tcs.
+    /// (tcs,compute); default: compute.
     #[arg(long, value_delimiter = ',')]
     estimator: Vec<Estimator>,
 }
@@ -185,9 +185,9 @@ struct ShadingArgs {
     /// kink (relaxed) or shade it per pixel (conservative, the paper's choice).
     #[arg(long, value_parser = parse_discontinuity, default_value = "relaxed")]
     discontinuity: Discontinuity,
-    /// multirate: run the estimator in the tessellation control stage (tcs, the default) or in
-    /// a compute pre-pass (compute: faster frames, slower pipeline build); both give the same
-    /// levels.
+    /// multirate: run the estimator in a compute pre-pass (compute, the default: faster frames)
+    /// or in the tessellation control stage (tcs, as the seeds describe it); both give the
+    /// same levels.
     #[arg(long, default_value_t = Estimator::default())]
     estimator: Estimator,
 }

@@ -71,8 +71,14 @@ fn bench_writes_complete_rows_plots_images_and_a_capture() {
     }
     assert!(number(&rows[1], "vertex_evaluations") > 0.0);
     assert!(number(&rows[2], "subvertex_evaluations") > 0.0);
+    for row in &rows[..3] {
+        assert_eq!(row["pre_pass_ms_median"], "NA", "{row:?}");
+    }
     for row in &rows[3..] {
         assert!(number(row, "epsilon") == 0.05 || number(row, "epsilon") == 0.2, "{row:?}");
+        assert_eq!(row["estimator"], "compute", "the default placement");
+        let pre_pass = number(row, "pre_pass_ms_median");
+        assert!(pre_pass > 0.0 && pre_pass <= number(row, "gpu_ms_p90"), "{row:?}");
         assert_eq!(number(row, "n_max"), 8.0);
         let fraction = number(row, "fallback_fraction");
         assert!((0.0..=1.0).contains(&fraction), "{row:?}");
@@ -101,11 +107,26 @@ fn bench_writes_complete_rows_plots_images_and_a_capture() {
     let trace: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&capture).expect("capture")).expect("capture is JSON");
     let events = trace["traceEvents"].as_array().expect("traceEvents");
-    let frames: Vec<&serde_json::Value> = events.iter().filter(|e| e["ph"] == "X").collect();
+    let (frames, pre_passes): (Vec<&serde_json::Value>, Vec<&serde_json::Value>) = events
+        .iter()
+        .filter(|e| e["ph"] == "X")
+        .partition(|e| e["name"].as_str().unwrap().starts_with("forward pass ("));
     assert_eq!(frames.len(), 5 * FRAMES);
-    for event in &frames {
-        assert!(event["name"].as_str().unwrap().starts_with("forward pass ("), "{event}");
+    for event in frames.iter().chain(&pre_passes) {
         assert!(event["dur"].as_f64().unwrap() > 0.0 && event["ts"].as_f64().unwrap() >= 0.0, "{event}");
+    }
+    // The two multirate rows (the compute pre-pass, the default): a pre-pass per frame, within
+    // its frame.
+    assert_eq!(pre_passes.len(), 2 * FRAMES);
+    for event in &pre_passes {
+        assert_eq!(event["name"], "triangle-level pre-pass", "{event}");
+        let (start, end) =
+            (event["ts"].as_f64().unwrap(), event["ts"].as_f64().unwrap() + event["dur"].as_f64().unwrap());
+        let within = frames.iter().any(|f| {
+            let ts = f["ts"].as_f64().unwrap();
+            f["tid"] == event["tid"] && ts <= start && end <= ts + f["dur"].as_f64().unwrap()
+        });
+        assert!(within, "{event} lies within no frame of its row");
     }
     let tracks = events.iter().filter(|e| e["ph"] == "M" && e["name"] == "thread_name").count();
     assert_eq!(tracks, 5);

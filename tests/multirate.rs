@@ -50,7 +50,7 @@ fn control_stage_levels_equal_the_twin() {
         // The twin culls with the scene's camera at the scene's size: the target's.
         (scene.settings.width, scene.settings.height) = (width, height);
         let renderer = Renderer::new(&context, &scene).expect("renderer");
-        // Every setting builds its own pipelines (about 20 s each on lavapipe): the shipped
+        // Every setting builds its own pipelines (a few seconds each on lavapipe): the shipped
         // untextured scenes take all three, the others the default one (Relaxed).
         let untextured = ["scenes/bunny.toml", "scenes/teapot.toml", "scenes/plane_lights.toml"];
         let settings_to_check = if untextured.contains(&relative) { 3 } else { 1 };
@@ -63,16 +63,13 @@ fn control_stage_levels_equal_the_twin() {
         .take(settings_to_check)
         {
             let view = View { epsilon, split, discontinuity, ..View::of_scene(&scene) };
+            assert_eq!(view.estimator, Estimator::Compute, "the default placement");
             let gpu = renderer.record_levels(&target, &view).expect("levels");
-            if epsilon == 0.075 && ["scenes/bunny.toml", "scenes/teapot_fabric.toml"].contains(&relative) {
-                // Both placements run triangle_level.glsl; the compute pre-pass is checked on a
-                // culled and a textured scene only, its pipeline taking ~2 minutes to build on
-                // lavapipe without a shader cache.
-                let compute = View { estimator: Estimator::Compute, ..view.clone() };
-                let compute = renderer.record_levels(&target, &compute).expect("levels");
-                assert!(compute == gpu, "{relative} ε {epsilon}: the placements differ");
-                placements_compared += 1;
-            }
+            // Both placements run triangle_level.glsl and must record the same levels.
+            let tcs = View { estimator: Estimator::Tcs, ..view.clone() };
+            let tcs = renderer.record_levels(&target, &tcs).expect("levels");
+            assert!(tcs == gpu, "{relative} ε {epsilon}: the placements differ");
+            placements_compared += 1;
             let twin = report::analyze(
                 &scene,
                 &settings(&view),
@@ -104,7 +101,7 @@ fn control_stage_levels_equal_the_twin() {
     }
     eprintln!("levels: {different} of {compared} triangles differ; {culled} culled");
     assert!(culled > 0, "no triangle was culled: the culling goes untested");
-    assert_eq!(placements_compared, 2, "the compute pre-pass was compared with the control stage");
+    assert_eq!(placements_compared, 14, "both placements were compared on every scene and setting");
     // The GLSL estimator is bit-identical to the twin (its own elementary functions, precise
     // arithmetic): every level must agree exactly.
     assert_eq!(different, 0, "{different} of {compared} triangles differ from the twin");

@@ -68,14 +68,13 @@ pub(crate) const PUSH_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_
 pub enum Estimator {
     /// In the tessellation control stage, as the seeds describe it: each patch carries its
     /// neighbours' vertices, and its four invocations estimate the triangle and its three
-    /// neighbours, one each. The default: on lavapipe, the only device measured, its pipeline
-    /// compiles in 6 s where the compute pre-pass's takes about 2 minutes (without Mesa's shader
-    /// cache), which outweighs the pre-pass's faster frames for a first render.
-    #[default]
+    /// neighbours, one each.
     Tcs,
     /// In a compute pre-pass, once per visible triangle and frame; the control stage reads its
-    /// own and its neighbours' levels and only combines them. 1.7–2.8× faster frames than `Tcs`
-    /// on lavapipe (docs/speedups.md).
+    /// own and its neighbours' levels and only combines them, and the interpolated and the
+    /// fallback patches are drawn apart. The default: 2–4× faster frames than `Tcs` on
+    /// lavapipe, the only device measured, and its pipelines build as fast (docs/speedups.md).
+    #[default]
     Compute,
 }
 
@@ -350,10 +349,10 @@ impl Variant {
             Mode::PixelDeferred => None,
             Mode::Vertex => Some(one(&self.vertex)),
             Mode::Fixed(_) => Some(one(&self.tessellated)),
-            Mode::Multirate => self.multirate_cell(view).get().map(|m| MeshPipelines {
-                first: m.draw.raw,
-                fallback: m.fallback.as_ref().map(|p| p.raw),
-            }),
+            Mode::Multirate => self
+                .multirate_cell(view)
+                .get()
+                .map(|m| MeshPipelines { first: m.draw.raw, fallback: m.fallback.as_ref().map(|p| p.raw) }),
         }
     }
 

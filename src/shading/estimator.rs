@@ -1642,8 +1642,7 @@ fn light_jets(
             ht[Term::Light as usize] = gd.c(0.5 * K23 * l.w * l.w);
             ht[Term::View as usize] = gd.c(0.5 * K23 * v.w * v.w);
             ht[Term::Half as usize] = gd.c(0.5 * (l.w + v.w) * (l.w + v.w) / st.m_min);
-            let ht_total =
-                ht[Term::Light as usize] + ht[Term::View as usize] + ht[Term::Half as usize];
+            let ht_total = ht[Term::Light as usize] + ht[Term::View as usize] + ht[Term::Half as usize];
             let om = 1.0 - t0;
             let mut spec = [zero; 3];
             for (c, out) in spec.iter_mut().enumerate() {
