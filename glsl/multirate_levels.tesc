@@ -1,10 +1,10 @@
 #version 460
 // variants: textured count_evaluations record_levels
-// `multirate` mode, `--estimator compute`: the compute pre-pass (triangle_levels.comp) has
-// written every triangle's level; the control stage only reads its own and its neighbours'
-// (bindings.glsl, triangle_levels and triangle_neighbours) and combines them
-// (multirate_patch.glsl). The patch is the triangle's three vertices. Each mesh is drawn twice,
-// interpolated patches then fallback patches (multirate_patch.glsl).
+// `multirate` mode, `--estimator compute`: the compute pre-pass has culled the triangles
+// (triangle_levels = CULLED_LEVEL) and written the patch levels of the others
+// (patch_levels.comp); the control stage only reads them (bindings.glsl). The patch is the
+// triangle's three vertices. Each mesh is drawn twice, interpolated patches then fallback
+// patches (multirate_patch.glsl).
 #include "multirate_patch.glsl"
 
 layout(vertices = 3) out;
@@ -24,12 +24,18 @@ void main() {
         // Note: lavapipe (Mesa 22.3) restarts gl_PrimitiveID every 1020 control points within a
         // draw, so draws there are no longer than that.
         uint triangle = draw.patch_base + uint(gl_PrimitiveID);
-        if (COUNT_EVALUATIONS && triangle_levels[triangle] == CULLED_LEVEL && first_draw_of_patches()) {
-            atomicAdd(counters.culled_patches, 1u);
+        if (triangle_levels[triangle] == CULLED_LEVEL) {
+            if (COUNT_EVALUATIONS && first_draw_of_patches()) {
+                atomicAdd(counters.culled_patches, 1u);
+            }
+            set_patch_levels(CULLED_LEVEL, vec3(CULLED_LEVEL), 0.0, triangle);
+            return;
         }
-        uvec4 across = triangle_neighbours[triangle];
-        vec3 neighbours = vec3(triangle_levels[across.x], triangle_levels[across.y], triangle_levels[across.z]);
-        set_patch_levels(triangle_levels[triangle], neighbours,
-                         material_lod_bound(in_uv[0], in_uv[1], in_uv[2]), triangle);
+        vec4 tess = patch_tess_levels[triangle];
+        PatchLevels levels;
+        levels.inner = max(tess.x, 1.0);
+        levels.outer = tess.yzw;
+        levels.fallback = tess.x == 0.0;
+        apply_patch_levels(levels, material_lod_bound(in_uv[0], in_uv[1], in_uv[2]), triangle);
     }
 }

@@ -44,6 +44,9 @@ layout(set = 0, binding = 10, std430) buffer VisibleCounts { uint visible_counts
 // `PATTERN_LEVELS` words. A buffer rather than a constant array: lavapipe copies a shader's
 // array into every invocation's private memory before the first read.
 layout(set = 0, binding = 11, std430) readonly buffer PatternLevels { uint pattern_level_words[]; };
+// The pre-pass's last step (patch_levels.comp): per visible triangle the tessellation levels of
+// its patch, x = the inner level (0: per-pixel fallback), yzw = the outer levels.
+layout(set = 0, binding = 12, std430) buffer PatchTessLevels { vec4 patch_tess_levels[]; };
 
 // One Vertex of scene_vertices (src/gpu_types.rs): position, normal, uv.
 const uint VERTEX_FLOATS = 8u;

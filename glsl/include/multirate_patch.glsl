@@ -40,6 +40,8 @@ void cull_patch() {
     parameter_lod_bound = 0.0;
 }
 
+void apply_patch_levels(PatchLevels levels, float own_lod_bound, uint triangle);
+
 // Sets the patch's levels for the triangle of scene index `triangle` with level `own`, its
 // neighbours' levels across edges 0, 1, 2, and its parameter-map lod bound.
 void set_patch_levels(float own, vec3 neighbours, float own_lod_bound, uint triangle) {
@@ -50,7 +52,12 @@ void set_patch_levels(float own, vec3 neighbours, float own_lod_bound, uint tria
         }
         return;
     }
-    PatchLevels levels = patch_levels(own, neighbours, draw.viewport.w);
+    apply_patch_levels(patch_levels(own, neighbours, draw.viewport.w), own_lod_bound, triangle);
+}
+
+// Sets the patch's levels `levels` (not culled) for the triangle of scene index `triangle`
+// with parameter-map lod bound `own_lod_bound`.
+void apply_patch_levels(PatchLevels levels, float own_lod_bound, uint triangle) {
     if (RECORD_LEVELS && first_draw_of_patches()) {
         level_records[triangle] = vec4(levels.fallback ? 0.0 : ceil(levels.inner), ceil(levels.outer.x),
                                        ceil(levels.outer.y), ceil(levels.outer.z));

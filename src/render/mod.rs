@@ -333,10 +333,11 @@ struct Multirate {
     pre_pass: Option<PrePass>,
 }
 
-/// The two steps of the triangle-level pre-pass (`Estimator::Compute`).
+/// The steps of the triangle-level pre-pass (`Estimator::Compute`).
 struct PrePass {
     cull: Pipeline,
     levels: Pipeline,
+    patches: Pipeline,
 }
 
 impl Variant {
@@ -432,6 +433,8 @@ pub struct Renderer {
     visible_counts: Buffer,
     /// `PATTERN_LEVELS`, the effective levels of the hardware patterns.
     _pattern_levels: Buffer,
+    /// Per triangle: its patch's tessellation levels, written by the pre-pass's last step.
+    _patch_levels: Buffer,
     _lights: Buffer,
     _materials: Buffer,
     textures: SceneTextures,
@@ -592,6 +595,12 @@ impl Renderer {
             &polygon_entries,
         )?;
 
+        let patch_level_buffer = device_words(
+            context,
+            "patch tessellation levels",
+            4 * triangle_count,
+            vk::BufferUsageFlags::empty(),
+        )?;
         let pattern_level_buffer = Buffer::with_data(
             context,
             "pattern levels",
@@ -600,7 +609,7 @@ impl Renderer {
         )?;
 
         let bindings =
-            std::array::from_fn::<_, 12, _>(|b| shader_binding(b as u32, vk::DescriptorType::STORAGE_BUFFER));
+            std::array::from_fn::<_, 13, _>(|b| shader_binding(b as u32, vk::DescriptorType::STORAGE_BUFFER));
         let push = [vk::PushConstantRange::default()
             .stage_flags(PUSH_STAGES)
             .size(std::mem::size_of::<DrawConstants>() as u32)];
@@ -617,7 +626,7 @@ impl Renderer {
             context,
             "forward descriptors",
             1,
-            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 12 }],
+            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 13 }],
         )?;
         let descriptor_set = pool.allocate(layout.set_layouts[0])?;
         bind_storage_buffers(
@@ -637,6 +646,7 @@ impl Renderer {
                 visible_triangle_buffer.raw,
                 visible_count_buffer.raw,
                 pattern_level_buffer.raw,
+                patch_level_buffer.raw,
             ],
         );
 
@@ -679,6 +689,7 @@ impl Renderer {
             _visible_triangles: visible_triangle_buffer,
             visible_counts: visible_count_buffer,
             _pattern_levels: pattern_level_buffer,
+            _patch_levels: patch_level_buffer,
             _lights: light_buffer,
             _materials: material_buffer,
             _polygon_lights: polygon_buffer,
@@ -830,7 +841,7 @@ impl Renderer {
         barrier(S::CLEAR, A::TRANSFER_WRITE, S::COMPUTE_SHADER, storage);
         let mut constants = draw_constants(view, extent);
         self.bind_set_at(cmd, vk::PipelineBindPoint::COMPUTE, 0, self.descriptor_set);
-        for step in [PrePassStep::Cull, PrePassStep::Levels] {
+        for step in [PrePassStep::Cull, PrePassStep::Levels, PrePassStep::Patches] {
             for draw in &self.draws {
                 let cell = variants[draw.pipeline].multirate_cell(view);
                 let Some(pre_pass) = cell.get().and_then(|m| m.pre_pass.as_ref()) else {
@@ -840,6 +851,7 @@ impl Renderer {
                 let pipeline = match step {
                     PrePassStep::Cull => &pre_pass.cull,
                     PrePassStep::Levels => &pre_pass.levels,
+                    PrePassStep::Patches => &pre_pass.patches,
                 };
                 self.set_draw_constants(&mut constants, draw);
                 constants.patch_base = draw.first_triangle;
@@ -857,16 +869,16 @@ impl Renderer {
                         0,
                         bytemuck::bytes_of(&constants),
                     );
-                    // The levels step covers every triangle too; the invocations past the
+                    // The later steps cover every triangle too; the invocations past the
                     // mesh's visible count return at once.
                     device.cmd_dispatch(cmd, constants.triangle_count.div_ceil(TRIANGLE_LEVEL_GROUP), 1, 1);
                 }
             }
             match step {
-                PrePassStep::Cull => {
+                PrePassStep::Cull | PrePassStep::Levels => {
                     barrier(S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE, S::COMPUTE_SHADER, storage)
                 }
-                PrePassStep::Levels => barrier(
+                PrePassStep::Patches => barrier(
                     S::COMPUTE_SHADER,
                     A::SHADER_STORAGE_WRITE,
                     S::TESSELLATION_CONTROL_SHADER,
@@ -1205,11 +1217,13 @@ fn device_words(
     Buffer::new(context, name, size, usage, gpu_allocator::MemoryLocation::GpuOnly)
 }
 
-/// The steps of the triangle-level pre-pass, in order.
+/// The steps of the triangle-level pre-pass, in order: list the visible triangles, estimate
+/// their levels, combine each with its neighbours' into its patch's tessellation levels.
 #[derive(Clone, Copy)]
 enum PrePassStep {
     Cull,
     Levels,
+    Patches,
 }
 
 /// Invocations per work group of the triangle-level pre-pass (`local_size_x` of
@@ -1425,7 +1439,10 @@ impl Modules {
                     shaders::single("cull_triangles.comp"),
                 )?;
                 let cull = Pipeline::compute(context, "triangle culling", layout, &module, None)?;
-                ("multirate_levels.tesc", 3, Some(PrePass { cull, levels }))
+                let module =
+                    ShaderModule::new(context, "patch_levels.comp", shaders::single("patch_levels.comp"))?;
+                let patches = Pipeline::compute(context, "patch levels", layout, &module, None)?;
+                ("multirate_levels.tesc", 3, Some(PrePass { cull, levels, patches }))
             }
         };
         let multirate_tesc = variant_module(context, control, features)?;
