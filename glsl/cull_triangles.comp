@@ -1,4 +1,5 @@
 #version 460
+// variants: count_evaluations record_levels
 // `multirate` mode, `--estimator compute`, first step: one invocation per triangle of a mesh
 // (draw.patch_base to draw.patch_base + draw.triangle_count - 1) gives culled triangles
 // CULLED_LEVEL and lists the others for triangle_levels.comp (bindings.glsl, visible_triangles
@@ -18,8 +19,14 @@ void main() {
     vec3 p2 = scene_vec3(scene_indices[3u * triangle + 2u], 0u);
     if (patch_culled(p0, p1, p2)) {
         triangle_levels[triangle] = CULLED_LEVEL;
+        if (COUNT_EVALUATIONS) {
+            atomicAdd(counters.culled_patches, 1u);
+        }
+        if (VARIANT_RECORD_LEVELS != 0) {
+            level_records[triangle] = CULLED_RECORD;
+        }
     } else {
-        uint slot = atomicAdd(visible_counts[draw.mesh_index], 1u);
+        uint slot = atomicAdd(visible_counts[3u * draw.mesh_index], 1u);
         visible_triangles[draw.patch_base + slot] = triangle;
     }
 }

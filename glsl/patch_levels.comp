@@ -1,16 +1,18 @@
 #version 460
+// variants: record_levels
 // `multirate` mode, `--estimator compute`, third step: one invocation per visible triangle of
 // a mesh combines its level and its neighbours' (triangle_levels, written by
 // triangle_levels.comp) into the tessellation levels of its patch (estimator.glsl,
-// `patch_levels`) and writes them to patch_tess_levels, so that the control stage
-// (multirate_levels.tesc), which both draws of a mesh run for every patch, only reads them.
+// `patch_levels`), writes them to patch_tess_levels, and appends the triangle to the mesh's
+// list of interpolated or of fallback patches and to the indirect draw that covers its slot
+// (bindings.glsl). The control stage (multirate_levels.tesc) only reads the levels.
 #include "triangle_level.glsl"
 
 layout(local_size_x = 64) in;
 
 void main() {
     uint local = gl_GlobalInvocationID.x;
-    if (local >= visible_counts[draw.mesh_index]) {
+    if (local >= visible_counts[3u * draw.mesh_index]) {
         return;
     }
     uint triangle = visible_triangles[draw.patch_base + local];
@@ -18,4 +20,25 @@ void main() {
     vec3 neighbours = vec3(triangle_levels[across.x], triangle_levels[across.y], triangle_levels[across.z]);
     PatchLevels levels = patch_levels(triangle_levels[triangle], neighbours, draw.viewport.w);
     patch_tess_levels[triangle] = vec4(levels.fallback ? 0.0 : levels.inner, levels.outer);
+    if (VARIANT_RECORD_LEVELS != 0) {
+        level_records[triangle] = level_record(levels);
+    }
+    uint slot = atomicAdd(visible_counts[3u * draw.mesh_index + (levels.fallback ? 2u : 1u)], 1u);
+    uint per_draw = max(draw.patches_per_draw, 1u);
+    uint command = draw.patch_base + slot / per_draw;
+    // The first patch of a draw enables it: one instance, from its first vertex.
+    bool opens = slot % per_draw == 0u;
+    if (levels.fallback) {
+        fallback_patches[draw.patch_base + slot] = triangle;
+        atomicAdd(fallback_draws[command].x, 3u);
+        if (opens) {
+            fallback_draws[command].yz = uvec2(1u, 3u * slot);
+        }
+    } else {
+        interpolated_patches[draw.patch_base + slot] = triangle;
+        atomicAdd(interpolated_draws[command].x, 3u);
+        if (opens) {
+            interpolated_draws[command].yz = uvec2(1u, 3u * slot);
+        }
+    }
 }

@@ -11,7 +11,7 @@ layout(local_size_x = 64) in;
 
 void main() {
     uint local = gl_GlobalInvocationID.x;
-    if (local >= visible_counts[draw.mesh_index]) {
+    if (local >= visible_counts[3u * draw.mesh_index]) {
         return;
     }
     uint triangle = visible_triangles[draw.patch_base + local];

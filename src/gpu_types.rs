@@ -61,15 +61,15 @@ pub struct DrawConstants {
     pub patch_base: u32,
     /// Bit 0 ([`FLAG_HEAT_MAP`]): show the level heat map instead of shading; bit 1
     /// ([`FLAG_DERIVATIVE_CHECK`]): see [`crate::render::View::derivative_check`]; bit 2
-    /// ([`FLAG_ONE_SIDED`]): the mesh's back faces are culled; bits 3 and 4
-    /// ([`FLAG_INTERPOLATED_PATCHES`], [`FLAG_FALLBACK_PATCHES`]): which multirate patches
-    /// the draw keeps.
+    /// ([`FLAG_ONE_SIDED`]): the mesh's back faces are culled; bit 4
+    /// ([`FLAG_FALLBACK_PATCHES`]): the multirate draw of the fallback patches.
     pub flags: u32,
     /// Emitter draws: index of the polygonal light drawn.
     pub light_index: u32,
     /// The triangle-level pre-pass: how many triangles the dispatch covers.
     pub triangle_count: u32,
-    pub pad2: u32,
+    /// `--estimator compute`: patches per indirect draw of a patch list (see `PatchDraws`).
+    pub patches_per_draw: u32,
 }
 
 /// `DrawConstants::flags` bit: colour by tessellation level instead of shading.
@@ -79,12 +79,9 @@ pub const FLAG_HEAT_MAP: u32 = 1;
 /// (by the rasteriser, and in multirate mode before their estimate).
 pub const FLAG_ONE_SIDED: u32 = 4;
 
-/// `DrawConstants::flags` bit: a multirate draw that keeps only the patches shaded on their
-/// sub-vertices (the fallback patches get outer level 0 and are drawn by another draw).
-pub const FLAG_INTERPOLATED_PATCHES: u32 = 8;
-
-/// `DrawConstants::flags` bit: a multirate draw that keeps only the fallback patches, shaded
-/// per pixel. Without either bit one draw keeps both.
+/// `DrawConstants::flags` bit: the multirate draw (`--estimator compute`) of a mesh's list of
+/// fallback patches, shaded per pixel; without it, of its list of patches shaded on their
+/// sub-vertices.
 pub const FLAG_FALLBACK_PATCHES: u32 = 16;
 
 /// `DrawConstants::flags` bit: `pixel-deferred` writes the analytic against hardware uv

@@ -167,7 +167,7 @@ fn draw_constants_match_glsl() {
             ("flags", offset_of!(DrawConstants, flags)),
             ("light_index", offset_of!(DrawConstants, light_index)),
             ("triangle_count", offset_of!(DrawConstants, triangle_count)),
-            ("pad2", offset_of!(DrawConstants, pad2)),
+            ("patches_per_draw", offset_of!(DrawConstants, patches_per_draw)),
         ],
         size_of::<DrawConstants>(),
     );

@@ -36,8 +36,9 @@ layout(set = 0, binding = 6, std430) readonly buffer TriangleNeighbours { uvec4 
 layout(set = 0, binding = 7, std430) readonly buffer SceneVertices { float scene_vertices[]; };
 layout(set = 0, binding = 8, std430) readonly buffer SceneIndices { uint scene_indices[]; };
 // The pre-pass's culling step (cull_triangles.comp) lists each mesh's triangles that are not
-// culled, from the mesh's first triangle on, and counts them per mesh (draw.mesh_index), so that
-// the estimator's invocations run side by side on visible triangles only.
+// culled, from the mesh's first triangle on, and counts them in visible_counts[3 mesh] (mesh:
+// draw.mesh_index), so that the estimator's invocations run side by side on visible triangles
+// only.
 layout(set = 0, binding = 9, std430) buffer VisibleTriangles { uint visible_triangles[]; };
 layout(set = 0, binding = 10, std430) buffer VisibleCounts { uint visible_counts[]; };
 // The effective levels of the hardware patterns (estimator.glsl, `pattern_level`): Rust's
@@ -45,8 +46,20 @@ layout(set = 0, binding = 10, std430) buffer VisibleCounts { uint visible_counts
 // array into every invocation's private memory before the first read.
 layout(set = 0, binding = 11, std430) readonly buffer PatternLevels { uint pattern_level_words[]; };
 // The pre-pass's last step (patch_levels.comp): per visible triangle the tessellation levels of
-// its patch, x = the inner level (0: per-pixel fallback), yzw = the outer levels.
+// its patch, x = the inner level (0: per-pixel fallback), yzw = the outer levels; and per mesh,
+// from its first triangle on, two lists of its visible triangles, those shaded on sub-vertices
+// and those shaded per pixel (counted in visible_counts[3 mesh + 1] and [3 mesh + 2]). Each list
+// is drawn by indirect draws of draw.patches_per_draw patches each: the k-th is the
+// VkDrawIndirectCommand at entry (first triangle + k) of the list's draws, with vertexCount = 3
+// per patch; the host zeroes them before each pre-pass (instanceCount 0: nothing drawn), and
+// multirate_pull.vert turns vertices back into list entries.
 layout(set = 0, binding = 12, std430) buffer PatchTessLevels { vec4 patch_tess_levels[]; };
+layout(set = 0, binding = 13, std430) buffer InterpolatedPatches { uint interpolated_patches[]; };
+layout(set = 0, binding = 14, std430) buffer FallbackPatches { uint fallback_patches[]; };
+layout(set = 0, binding = 15, std430) buffer InterpolatedDraws { uvec4 interpolated_draws[]; };
+layout(set = 0, binding = 16, std430) buffer FallbackDraws { uvec4 fallback_draws[]; };
+// DrawConstants.flags bit: this draw is of the fallback list (else of the interpolated one).
+const uint FLAG_FALLBACK_PATCHES = 16u;
 
 // One Vertex of scene_vertices (src/gpu_types.rs): position, normal, uv.
 const uint VERTEX_FLOATS = 8u;

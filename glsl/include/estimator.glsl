@@ -1556,6 +1556,13 @@ struct PatchLevels {
     bool fallback;   // per-pixel shading (patch_level 0)
 };
 
+// What the level-recording variants write per triangle (bindings.glsl, level_records): the
+// level it shades at (0: per-pixel fallback) and its outer levels; CULLED_RECORD if culled.
+vec4 level_record(PatchLevels levels) {
+    return vec4(levels.fallback ? 0.0 : ceil(levels.inner), ceil(levels.outer.x), ceil(levels.outer.y),
+                ceil(levels.outer.z));
+}
+
 // The level-combination rule (`patch_levels` in Rust): edge k gets the larger of the two
 // triangles' uniform levels (a fallback triangle asks for nothing; 1 if both fall back); the
 // inner level is the smallest whose whole pattern, transition strips included, has

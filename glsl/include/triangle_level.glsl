@@ -14,6 +14,7 @@
 // The level of a culled triangle: below every real level, so a culled neighbour asks its
 // neighbours for nothing (uniform_level gives 1).
 const float CULLED_LEVEL = -1.0;
+const vec4 CULLED_RECORD = vec4(CULLED_LEVEL, 0.0, 0.0, 0.0);
 const uint FLAG_ONE_SIDED = 4u;
 // Back faces are culled here only when the eye is more than this sine away from their plane;
 // the rasteriser culls the nearly edge-on rest, so culling never differs from `pixel` mode.

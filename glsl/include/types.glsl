@@ -41,7 +41,7 @@ struct DrawConstants {
                          // bit 2: the mesh is one-sided (back faces are culled)
     uint light_index;    // emitter draws: the polygonal light drawn
     uint triangle_count; // the triangle-level pre-pass: triangles of this dispatch
-    uint pad2;
+    uint patches_per_draw; // the compute placement: patches per indirect draw of a patch list
 };
 
 #endif

@@ -16,7 +16,7 @@ use crate::analysis::tessellator::uniform_vertex_count;
 use crate::error::Result;
 use crate::gpu_types::{
     DrawConstants, GpuLight, GpuMaterial, GpuPolygonLight, Vertex, FLAG_DERIVATIVE_CHECK,
-    FLAG_FALLBACK_PATCHES, FLAG_HEAT_MAP, FLAG_INTERPOLATED_PATCHES, FLAG_ONE_SIDED,
+    FLAG_FALLBACK_PATCHES, FLAG_HEAT_MAP, FLAG_ONE_SIDED,
 };
 use crate::scene::adjacency::{adjacency_patches, neighbours, PATCH_SIZE};
 use crate::scene::{Camera, Light, MaterialKind, PolygonSampling, Scene};
@@ -326,8 +326,8 @@ impl Instrumentation {
 struct Multirate {
     draw: Pipeline,
     /// `Estimator::Compute`: the fallback patches' pipeline, shaded per pixel; `draw` then
-    /// keeps only the patches shaded on their sub-vertices, and its fragment shader holds no
-    /// shading code (multirate_interpolated.frag).
+    /// draws only the patches shaded on their sub-vertices, and its fragment shader holds no
+    /// shading code (multirate_interpolated.frag). Both draw the pre-pass's patch lists.
     fallback: Option<Pipeline>,
     /// `Estimator::Compute`: the pre-pass, culling then the levels of the visible triangles.
     pre_pass: Option<PrePass>,
@@ -384,16 +384,9 @@ fn discontinuity_id(discontinuity: Discontinuity) -> i32 {
 #[derive(Clone, Copy)]
 struct MeshPipelines {
     first: vk::Pipeline,
-    /// Multirate's fallback patches (`Multirate::fallback`): `first` then keeps the others.
+    /// Multirate's fallback patches (`Multirate::fallback`): with it, both draw the pre-pass's
+    /// patch lists, `first` the interpolated one.
     fallback: Option<vk::Pipeline>,
-}
-
-impl MeshPipelines {
-    /// Each draw of the mesh: its pipeline and the `DrawConstants::flags` bits it adds.
-    fn draws(self) -> impl Iterator<Item = (vk::Pipeline, u32)> {
-        let first = if self.fallback.is_some() { FLAG_INTERPOLATED_PATCHES } else { 0 };
-        std::iter::once((self.first, first)).chain(self.fallback.map(|p| (p, FLAG_FALLBACK_PATCHES)))
-    }
 }
 
 struct DrawCall {
@@ -435,6 +428,11 @@ pub struct Renderer {
     _pattern_levels: Buffer,
     /// Per triangle: its patch's tessellation levels, written by the pre-pass's last step.
     _patch_levels: Buffer,
+    /// Per mesh, from its first triangle on: its visible triangles shaded on sub-vertices and
+    /// those shaded per pixel, as the pre-pass's last step lists them.
+    _patch_lists: [Buffer; 2],
+    /// The indirect draws of those two lists (`VkDrawIndirectCommand`, one per triangle).
+    patch_draws: [Buffer; 2],
     _lights: Buffer,
     _materials: Buffer,
     textures: SceneTextures,
@@ -562,10 +560,18 @@ impl Renderer {
             device_words(context, "visible triangles", triangle_count, vk::BufferUsageFlags::empty())?;
         let visible_count_buffer = device_words(
             context,
-            "visible triangle counts",
-            draws.len(),
+            "visible, interpolated and fallback patch counts",
+            3 * draws.len(),
             vk::BufferUsageFlags::TRANSFER_DST,
         )?;
+        let patch_list = |name| device_words(context, name, triangle_count, vk::BufferUsageFlags::empty());
+        let interpolated_patch_buffer = patch_list("interpolated patches")?;
+        let fallback_patch_buffer = patch_list("fallback patches")?;
+        let indirect = vk::BufferUsageFlags::INDIRECT_BUFFER | vk::BufferUsageFlags::TRANSFER_DST;
+        let interpolated_draw_buffer =
+            device_words(context, "interpolated patch draws", 4 * triangle_count, indirect)?;
+        let fallback_draw_buffer =
+            device_words(context, "fallback patch draws", 4 * triangle_count, indirect)?;
         let level_buffer = Buffer::new(
             context,
             "level records",
@@ -609,7 +615,7 @@ impl Renderer {
         )?;
 
         let bindings =
-            std::array::from_fn::<_, 13, _>(|b| shader_binding(b as u32, vk::DescriptorType::STORAGE_BUFFER));
+            std::array::from_fn::<_, 17, _>(|b| shader_binding(b as u32, vk::DescriptorType::STORAGE_BUFFER));
         let push = [vk::PushConstantRange::default()
             .stage_flags(PUSH_STAGES)
             .size(std::mem::size_of::<DrawConstants>() as u32)];
@@ -626,7 +632,7 @@ impl Renderer {
             context,
             "forward descriptors",
             1,
-            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 13 }],
+            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 17 }],
         )?;
         let descriptor_set = pool.allocate(layout.set_layouts[0])?;
         bind_storage_buffers(
@@ -647,6 +653,10 @@ impl Renderer {
                 visible_count_buffer.raw,
                 pattern_level_buffer.raw,
                 patch_level_buffer.raw,
+                interpolated_patch_buffer.raw,
+                fallback_patch_buffer.raw,
+                interpolated_draw_buffer.raw,
+                fallback_draw_buffer.raw,
             ],
         );
 
@@ -690,6 +700,8 @@ impl Renderer {
             visible_counts: visible_count_buffer,
             _pattern_levels: pattern_level_buffer,
             _patch_levels: patch_level_buffer,
+            _patch_lists: [interpolated_patch_buffer, fallback_patch_buffer],
+            patch_draws: [interpolated_draw_buffer, fallback_draw_buffer],
             _lights: light_buffer,
             _materials: material_buffer,
             _polygon_lights: polygon_buffer,
@@ -835,11 +847,15 @@ impl Renderer {
         };
         let storage = A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE;
         // The previous frame's control stages have read the levels.
-        barrier(S::TESSELLATION_CONTROL_SHADER, A::NONE, S::COMPUTE_SHADER | S::CLEAR, A::NONE);
-        // SAFETY: recording outside a render pass; the counts buffer has TRANSFER_DST usage.
-        unsafe { device.cmd_fill_buffer(cmd, self.visible_counts.raw, 0, vk::WHOLE_SIZE, 0) };
+        let readers = S::DRAW_INDIRECT | S::VERTEX_SHADER | S::TESSELLATION_CONTROL_SHADER;
+        barrier(readers, A::NONE, S::COMPUTE_SHADER | S::CLEAR, A::NONE);
+        for buffer in std::iter::once(&self.visible_counts).chain(&self.patch_draws) {
+            // SAFETY: recording outside a render pass; the buffers have TRANSFER_DST usage.
+            unsafe { device.cmd_fill_buffer(cmd, buffer.raw, 0, vk::WHOLE_SIZE, 0) };
+        }
         barrier(S::CLEAR, A::TRANSFER_WRITE, S::COMPUTE_SHADER, storage);
         let mut constants = draw_constants(view, extent);
+        constants.patches_per_draw = self.patches_per_draw(view.n_max);
         self.bind_set_at(cmd, vk::PipelineBindPoint::COMPUTE, 0, self.descriptor_set);
         for step in [PrePassStep::Cull, PrePassStep::Levels, PrePassStep::Patches] {
             for draw in &self.draws {
@@ -881,11 +897,53 @@ impl Renderer {
                 PrePassStep::Patches => barrier(
                     S::COMPUTE_SHADER,
                     A::SHADER_STORAGE_WRITE,
-                    S::TESSELLATION_CONTROL_SHADER,
-                    A::SHADER_STORAGE_READ,
+                    readers,
+                    A::INDIRECT_COMMAND_READ | A::SHADER_STORAGE_READ,
                 ),
             }
         }
+    }
+
+    /// `Estimator::Compute`: draws the mesh's two patch lists of this frame's pre-pass, the
+    /// interpolated patches with `pipelines[0]` and the fallback patches with `pipelines[1]`,
+    /// each by the indirect draws the pre-pass filled (those it did not reach draw nothing).
+    fn record_patch_lists(
+        &self,
+        cmd: vk::CommandBuffer,
+        constants: &mut DrawConstants,
+        draw: &DrawCall,
+        view: &View,
+        pipelines: [vk::Pipeline; 2],
+    ) {
+        let device = &self.context.device;
+        let per_draw = self.patches_per_draw(view.n_max);
+        let commands = (draw.index_count / 3).div_ceil(per_draw);
+        let stride = std::mem::size_of::<vk::DrawIndirectCommand>() as u32;
+        for (list, (pipeline, buffer)) in pipelines.into_iter().zip(&self.patch_draws).enumerate() {
+            constants.flags &= !FLAG_FALLBACK_PATCHES;
+            if list == 1 {
+                constants.flags |= FLAG_FALLBACK_PATCHES;
+            }
+            constants.patch_base = draw.first_triangle;
+            constants.patches_per_draw = per_draw;
+            // SAFETY: recording inside the rendering begun by `record_draws`; the pre-pass wrote
+            // the commands before the barrier it ends with; `buffer` has INDIRECT_BUFFER usage.
+            unsafe {
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+                device.cmd_push_constants(
+                    cmd,
+                    self.layout.raw,
+                    PUSH_STAGES,
+                    0,
+                    bytemuck::bytes_of(&*constants),
+                );
+                for k in 0..commands {
+                    let offset = vk::DeviceSize::from((draw.first_triangle + k) * stride);
+                    device.cmd_draw_indirect(cmd, buffer.raw, offset, 1, stride);
+                }
+            }
+        }
+        constants.flags &= !FLAG_FALLBACK_PATCHES;
     }
 
     /// The per-mesh fields of the push constants.
@@ -928,6 +986,10 @@ impl Renderer {
                 };
                 device.cmd_set_cull_mode(cmd, cull);
                 self.bind_set(cmd, 1, self.textures.sets[draw.material_index as usize]);
+                if let Some(fallback) = pipelines.fallback {
+                    self.record_patch_lists(cmd, &mut constants, draw, view, [pipelines.first, fallback]);
+                    continue;
+                }
                 let adjacency = view.mode == Mode::Multirate && view.estimator == Estimator::Tcs;
                 let (first_index, index_count, patches, indices_per_primitive) = match view.mode {
                     Mode::Pixel | Mode::Vertex | Mode::PixelDeferred => {
@@ -953,26 +1015,21 @@ impl Renderer {
                     device.cmd_bind_index_buffer(cmd, self.patch_indices.raw, 0, vk::IndexType::UINT32);
                 }
                 let chunk = patches.saturating_mul(indices_per_primitive);
-                let mesh_flags = constants.flags & !(FLAG_INTERPOLATED_PATCHES | FLAG_FALLBACK_PATCHES);
-                for (pipeline, flags) in pipelines.draws() {
-                    device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
-                    constants.flags = mesh_flags | flags;
-                    let mut first = 0;
-                    while first < index_count {
-                        let count = chunk.min(index_count - first);
-                        constants.patch_base = draw.first_triangle + first / indices_per_primitive;
-                        device.cmd_push_constants(
-                            cmd,
-                            self.layout.raw,
-                            PUSH_STAGES,
-                            0,
-                            bytemuck::bytes_of(&constants),
-                        );
-                        device.cmd_draw_indexed(cmd, count, 1, first_index + first, 0, 0);
-                        first += count;
-                    }
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipelines.first);
+                let mut first = 0;
+                while first < index_count {
+                    let count = chunk.min(index_count - first);
+                    constants.patch_base = draw.first_triangle + first / indices_per_primitive;
+                    device.cmd_push_constants(
+                        cmd,
+                        self.layout.raw,
+                        PUSH_STAGES,
+                        0,
+                        bytemuck::bytes_of(&constants),
+                    );
+                    device.cmd_draw_indexed(cmd, count, 1, first_index + first, 0, 0);
+                    first += count;
                 }
-                constants.flags = mesh_flags;
                 if adjacency {
                     device.cmd_bind_index_buffer(cmd, self.indices.raw, 0, vk::IndexType::UINT32);
                 }
@@ -1007,7 +1064,10 @@ impl Renderer {
         target.render_and_read(&self.context, |cmd| {
             self.record_with(recording, cmd, target, &view, AfterPass::Readback);
             let barrier = [vk::MemoryBarrier2::default()
-                .src_stage_mask(vk::PipelineStageFlags2::TESSELLATION_CONTROL_SHADER)
+                .src_stage_mask(
+                    vk::PipelineStageFlags2::COMPUTE_SHADER
+                        | vk::PipelineStageFlags2::TESSELLATION_CONTROL_SHADER,
+                )
                 .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
                 .dst_stage_mask(vk::PipelineStageFlags2::HOST)
                 .dst_access_mask(vk::AccessFlags2::HOST_READ)];
@@ -1433,14 +1493,9 @@ impl Modules {
                 let module = variant_module(context, "triangle_levels.comp", features)?;
                 let name = format!("triangle levels, material kind {}", features.material_kind);
                 let levels = Pipeline::compute(context, &name, layout, &module, Some(&specialization))?;
-                let module = ShaderModule::new(
-                    context,
-                    "cull_triangles.comp",
-                    shaders::single("cull_triangles.comp"),
-                )?;
+                let module = variant_module(context, "cull_triangles.comp", features)?;
                 let cull = Pipeline::compute(context, "triangle culling", layout, &module, None)?;
-                let module =
-                    ShaderModule::new(context, "patch_levels.comp", shaders::single("patch_levels.comp"))?;
+                let module = variant_module(context, "patch_levels.comp", features)?;
                 let patches = Pipeline::compute(context, "patch levels", layout, &module, None)?;
                 ("multirate_levels.tesc", 3, Some(PrePass { cull, levels, patches }))
             }
@@ -1452,22 +1507,35 @@ impl Modules {
             "multirate mode, estimator {}, material kind {}, split {split}, discontinuity {discontinuity}",
             view.estimator, features.material_kind
         );
+        // The compute placement pulls the vertices of the pre-pass's patch lists.
+        let pull_vert = match pre_pass {
+            Some(_) => Some(ShaderModule::new(
+                context,
+                "multirate_pull.vert",
+                shaders::single("multirate_pull.vert"),
+            )?),
+            None => None,
+        };
         let graphics = |name: &str, fragment: &ShaderModule| {
             let stage = |stage, module| Stage { stage, module, specialization: Some(&specialization) };
             use vk::ShaderStageFlags as S;
             let stages = vec![
-                stage(S::VERTEX, &self.patch_vert),
+                stage(S::VERTEX, pull_vert.as_ref().unwrap_or(&self.patch_vert)),
                 stage(S::TESSELLATION_CONTROL, &multirate_tesc),
                 stage(S::TESSELLATION_EVALUATION, &multirate_tese),
                 stage(S::FRAGMENT, fragment),
             ];
+            let scene = scene_pipeline(name, stages, layout);
+            let pulled = pull_vert.is_some();
             Pipeline::graphics(
                 context,
                 &GraphicsPipelineDesc {
                     topology: vk::PrimitiveTopology::PATCH_LIST,
                     patch_control_points: Some(control_points),
                     polygon_mode: variant.polygon_mode,
-                    ..scene_pipeline(name, stages, layout)
+                    vertex_bindings: if pulled { &[] } else { scene.vertex_bindings },
+                    vertex_attributes: if pulled { &[] } else { scene.vertex_attributes },
+                    ..scene
                 },
             )
         };
