@@ -340,7 +340,7 @@ fn fig6(
     }
     let _ = writeln!(
         md,
-        "\nCounted by the counting variant: vertex-shader runs (`vertex`), evaluation-shader runs (tessellated modes) and fragments shaded per pixel (`pixel`, multirate's fallback). The estimator's own work in the control stage is not a shading evaluation and is not counted.\n"
+        "\nCounted by the counting variant: vertex-shader runs (`vertex`), evaluation-shader runs (tessellated modes) and fragments shaded per pixel (`pixel`, multirate's fallback). The estimator's own work (in the compute pre-pass, or the control stage) is not a shading evaluation and is not counted.\n"
     );
     Ok(())
 }
@@ -581,7 +581,7 @@ fn comparison(md: &mut String, table: &[Row], grids: &[Row], sweep: &[Row]) {
     };
     let _ = writeln!(
         md,
-        "- Time: {verdict}; Table 1 speedups: {}. The paper's 134–283 % are measured on GPUs, where the estimator runs on shader cores in parallel with the rest of the pipeline and is small next to the per-pixel shading it saves. A CPU rasteriser such as lavapipe runs every stage on the same two cores: the estimator (once per visible triangle, in the compute pre-pass) costs about as much per triangle as a scalar CPU evaluation, since its branches leave little for SIMD lanes to share, and tessellation is done in software, while per-pixel shading is comparatively cheap. The estimator's cost is per triangle and the per-pixel cost per pixel, so the gap narrows as the resolution grows (Fig. 10). What each optimisation gained, step by step, is in [speedups.md](speedups.md).",
+        "- Time: {verdict}; Table 1 speedups: {}. The paper's 134–283 % are measured on GPUs, where the estimator runs on shader cores in parallel with the rest of the pipeline and is small next to the per-pixel shading it saves. A CPU rasteriser such as lavapipe runs every stage on the same two cores and runs its vertex and tessellation stages (sub-vertex shading included) on one of them, while fragments and compute use both; it also runs both sides of every branch under a mask. The estimator pre-pass (once per visible triangle) and the sub-vertex shading cost per triangle and per sub-vertex, the per-pixel shading they save per pixel, so multirate gains as the resolution grows (Fig. 10) and loses on meshes of many small triangles (Fig. 11). What each optimisation gained, step by step, and what it taught about lavapipe, is in [speedups.md](speedups.md).",
         speedups.join(", ")
     );
     let _ = writeln!(
