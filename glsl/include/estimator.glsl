@@ -974,7 +974,7 @@ void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Sc
         P float sg = st.plane_sin;
         att = jet_constant(id2);
         P float a_id2 = gmul(a_id, a_id);
-        P float k = rmax(6.0 * sg * sg - 2.0, 2.0);
+        P float k = rmax(8.0 * sg * sg - 2.0, 2.0);
         P float ha = gmul(k * a_id2, id2);
         if (booked(T_ATTENUATION)) {
             att.h = ha;

@@ -14,7 +14,7 @@
 //!
 //! ```toml
 //! description = "Stanford bunny, Blinn-Phong, two point lights"
-//! source = "free text: where the mesh came from"
+//! source = "free text: where the mesh came from"   # optional
 //! [camera]
 //! eye = [0.0, 0.1, 0.3]
 //! target = [0.0, 0.1, 0.0]
@@ -527,7 +527,8 @@ fn line_text(text: &str, line: usize) -> String {
 #[serde(deny_unknown_fields)]
 struct SceneFile {
     description: String,
-    source: String,
+    /// Optional: where the meshes come from (free text, for the people who read the file).
+    source: Option<String>,
     camera: CameraFile,
     #[serde(default)]
     render: RenderFile,
@@ -832,8 +833,8 @@ use Bound::{Closed, Open};
 
 fn build(path: &Path, file: SceneFile) -> Result<Scene, SceneError> {
     let top = |key: &str| Item { path, item: format!("`{key}`") };
-    if file.source.trim().is_empty() {
-        return Err(top("source").error("must say where the meshes come from"));
+    if file.source.as_deref().is_some_and(|s| s.trim().is_empty()) {
+        return Err(top("source").error("is empty: say where the meshes come from, or leave the key out"));
     }
 
     let settings = check_render(path, &file.render)?;

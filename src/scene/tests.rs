@@ -85,6 +85,17 @@ fn minimal_with(from: &str, to: &str) -> String {
     MINIMAL.replacen(from, to, 1)
 }
 
+/// `source` is optional: a scene without it loads as one with it.
+#[test]
+fn source_is_optional() {
+    let dir = TempDir::new("no_source");
+    let with = load_text(&dir, MINIMAL).1.unwrap();
+    let without = load_text(&dir, &minimal_with("source = \"written by the test\"\n", "")).1.unwrap();
+    assert_eq!(without.description, with.description);
+    assert_eq!(without.meshes.len(), with.meshes.len());
+    assert_eq!(without.materials, with.materials);
+}
+
 #[test]
 fn minimal_scene_loads_with_defaults() {
     let dir = TempDir::new("minimal");
@@ -247,7 +258,10 @@ fn malformed_toml_is_an_error_with_its_line() {
         &["unknown variant `spot`", "line 16"],
     );
     expect_error(&minimal_with("fov_y_degrees = 45\n", ""), &["missing field `fov_y_degrees`"]);
-    expect_error(&minimal_with("source = \"written by the test\"\n", ""), &["missing field `source`"]);
+    expect_error(
+        &minimal_with("source = \"written by the test\"", "source = \" \""),
+        &["`source`", "is empty"],
+    );
     let text = minimal_with("material = \"clay\"", "material = \"clay\"\nscale = \"big\"");
     expect_error(&text, &["scale", "a number or an array of three numbers", "line 15"]);
     let text = minimal_with("material = \"clay\"", "material = \"clay\"\nscale = [1, 2, 3, 4]");
