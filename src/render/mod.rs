@@ -990,7 +990,8 @@ impl Renderer {
                     self.record_patch_lists(cmd, &mut constants, draw, view, [pipelines.first, fallback]);
                     continue;
                 }
-                let adjacency = view.mode == Mode::Multirate && view.estimator == Estimator::Tcs;
+                // Multirate drawn here is `Estimator::Tcs`: 12-point adjacency patches.
+                let adjacency = view.mode == Mode::Multirate;
                 let (first_index, index_count, patches, indices_per_primitive) = match view.mode {
                     Mode::Pixel | Mode::Vertex | Mode::PixelDeferred => {
                         (draw.first_index, draw.index_count, u32::MAX, 3)
@@ -998,17 +999,11 @@ impl Renderer {
                     Mode::Fixed(level) => {
                         (draw.first_index, draw.index_count, self.patches_per_draw(level), 3)
                     }
-                    Mode::Multirate if adjacency => (
+                    Mode::Multirate => (
                         draw.first_patch_index,
                         draw.index_count / 3 * PATCH_SIZE as u32,
-                        self.multirate_patches_per_draw(view.n_max, PATCH_SIZE as u32),
+                        self.multirate_patches_per_draw(view.n_max),
                         PATCH_SIZE as u32,
-                    ),
-                    Mode::Multirate => (
-                        draw.first_index,
-                        draw.index_count,
-                        self.multirate_patches_per_draw(view.n_max, 3),
-                        3,
                     ),
                 };
                 if adjacency {
@@ -1214,14 +1209,14 @@ impl Renderer {
         Ok(cell.get_or_init(|| variants))
     }
 
-    /// Patches of `patch_size` control points per multirate draw: besides the vertex budget,
-    /// lavapipe (Mesa 22.3) restarts `gl_PrimitiveID` in the control stage every 1020 control
-    /// points (85 patches of 12, 340 of 3), which would scramble the triangle indices; other
-    /// drivers get no limit.
-    fn multirate_patches_per_draw(&self, n_max: u32, patch_size: u32) -> u32 {
+    /// Patches per `Estimator::Tcs` multirate draw: besides the vertex budget, lavapipe
+    /// (Mesa 22.3) restarts `gl_PrimitiveID` in the control stage every 1020 control points (85
+    /// patches of 12), which would scramble the triangle indices; other drivers get no limit.
+    /// (`Estimator::Compute` draws need no `gl_PrimitiveID`.)
+    fn multirate_patches_per_draw(&self, n_max: u32) -> u32 {
         let patches = self.patches_per_draw(n_max);
         if self.tessellated_vertex_budget.is_some() {
-            patches.min(1020 / patch_size)
+            patches.min(1020 / PATCH_SIZE as u32)
         } else {
             patches
         }
