@@ -2,18 +2,20 @@
 
 use anyhow::{Context as _, Result};
 use clap::{Args, Parser, Subcommand};
-use multirate::analysis::report;
+use multirate::analysis::{metrics, report};
 use multirate::bench::{self, BenchConfig, BenchScene};
-use multirate::render::{output, render_headless, Estimator, Mode, View, MAX_LEVEL};
+use multirate::render::{output, render_headless, Estimator, Mode, Renderer, View, MAX_LEVEL};
 use multirate::scene::Scene;
 use multirate::shading::estimator::{Discontinuity, EstimatorSettings, Split};
+use multirate::vk::target::RenderTarget;
 use multirate::vk::{Context, ContextOptions};
 use std::path::{Path, PathBuf};
 
 /// Error-bounded multirate shading on the hardware tessellator.
 ///
-/// Without a subcommand: opens a window on the default scene where a display exists,
-/// otherwise renders it headless to a PNG and prints where.
+/// Without a subcommand: opens a window on the default scene in multirate mode where a display
+/// exists; otherwise renders it headless in multirate mode to multirate.png, with its level map,
+/// and prints the time, evaluations and error against per-pixel shading from the same run.
 #[derive(Parser)]
 #[command(version, about)]
 struct Cli {
@@ -284,6 +286,60 @@ fn render(args: &RenderArgs, gpu: &GpuArgs) -> Result<()> {
     Ok(())
 }
 
+/// `multirate` with no command and no display: the default scene in multirate mode, written to
+/// `multirate.png` with its level map (`multirate_levels.png`), and the trade against `pixel`
+/// measured in the same run: GPU time, shading evaluations, the largest error against ε.
+fn first_run(gpu: &GpuArgs) -> Result<()> {
+    const FRAMES: u32 = 10;
+    let scene = Scene::load(&default_scene())?;
+    let (width, height) = (scene.settings.width, scene.settings.height);
+    let context = Context::headless(&options(gpu))?;
+    let renderer = Renderer::new(&context, &scene)?;
+    let target = RenderTarget::new(&context, ash::vk::Extent2D { width, height })?;
+    let multirate = View { mode: Mode::Multirate, ..View::of_scene(&scene) };
+    let pixel = View { mode: Mode::Pixel, ..multirate.clone() };
+    let image = renderer.render(&target, &multirate)?;
+    let reference = renderer.render(&target, &pixel)?;
+    let levels = renderer.render(&target, &View { heat_map: true, ..multirate.clone() })?;
+    let (out, level_map) = (PathBuf::from("multirate.png"), PathBuf::from("multirate_levels.png"));
+    output::write_image(&image, &out, scene.settings.exposure)?;
+    output::write_data_png(&levels, &level_map)?;
+    let median_ms = |view: &View| -> Result<f64> {
+        let measurement = renderer.measure(&target, view, 2, FRAMES)?;
+        Ok(bench::Timing::of(&measurement.gpu_ms()).median)
+    };
+    let (pixel_ms, multirate_ms) = (median_ms(&pixel)?, median_ms(&multirate)?);
+    let evaluations = |view: &View| renderer.count_evaluations(&target, view).map(|c| c.total());
+    let (pixel_evaluations, multirate_evaluations) = (evaluations(&pixel)?, evaluations(&multirate)?);
+    let error = metrics::image_error(&reference, &image, scene.settings.exposure);
+    let over = metrics::pixels_over(&reference, &image, f64::from(multirate.epsilon));
+    println!(
+        "{}: {}, {width}x{height}, {} triangles, multirate ε = {}, n_max = {} on {}",
+        out.display(),
+        scene.description,
+        scene.triangle_count(),
+        multirate.epsilon,
+        multirate.n_max,
+        context.info.name
+    );
+    println!(
+        "  GPU time (median of {FRAMES} frames): multirate {multirate_ms:.2} ms, pixel {pixel_ms:.2} ms ({:.0} %)",
+        100.0 * pixel_ms / multirate_ms
+    );
+    println!(
+        "  shading evaluations: multirate {multirate_evaluations}, pixel {pixel_evaluations} ({:.1} %)",
+        100.0 * multirate_evaluations as f64 / pixel_evaluations.max(1) as f64
+    );
+    println!(
+        "  largest error against pixel: {:.4} inside silhouettes ({:.4} with them; ε = {}), {over} pixels over ε",
+        error.l_inf_interior, error.l_inf, multirate.epsilon
+    );
+    println!("  level map (blue 1 → red n_max, magenta per-pixel): {}", level_map.display());
+    let messages = context.validation().count();
+    anyhow::ensure!(messages == 0, "the validation layer reported {messages} message(s)");
+    Ok(())
+}
+
 fn view(scene: &Path, shading: &ShadingArgs, gpu: &GpuArgs) -> Result<()> {
     let loaded = Scene::load(scene)?;
     let view = shading.view(&loaded)?;
@@ -525,18 +581,10 @@ fn main() -> Result<()> {
         Some(Command::Experiments(args)) => run_experiments(args, &cli.gpu),
         Some(Command::View(args)) => view(&args.scene, &args.shading, &cli.gpu)
             .with_context(|| format!("viewing {}", args.scene.display())),
-        None if has_display() => view(&default_scene(), &ShadingArgs::default(), &cli.gpu)
-            .context("opening the viewer (set no DISPLAY to render headless instead)"),
-        None => {
-            let out = PathBuf::from("multirate.png");
-            let args = RenderArgs {
-                scene: default_scene(),
-                out,
-                width: None,
-                height: None,
-                shading: ShadingArgs::default(),
-            };
-            render(&args, &cli.gpu)
+        None if has_display() => {
+            view(&default_scene(), &ShadingArgs { mode: Mode::Multirate, ..ShadingArgs::default() }, &cli.gpu)
         }
+        .context("opening the viewer (set no DISPLAY to render headless instead)"),
+        None => first_run(&cli.gpu).context("rendering the default scene headless"),
     }
 }

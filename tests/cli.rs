@@ -200,3 +200,45 @@ fn analyze_writes_one_row_per_visible_triangle() {
     assert!(stdout.contains("shading evaluations"), "prints a summary: {stdout}");
     assert!(stdout.contains("exceeds ε: 0"), "no violations on the shipped scene: {stdout}");
 }
+
+/// `multirate` with no command and no display, as a newcomer's `cargo run --release` runs it:
+/// the default scene in multirate mode, its level map, and the trade against `pixel` measured
+/// in the same run.
+#[test]
+fn first_run_shows_multirate_and_the_trade() {
+    let dir = scratch("first_run");
+    let output = Command::new(env!("CARGO_BIN_EXE_multirate"))
+        .arg("--validate")
+        .current_dir(&dir)
+        .env_remove("DISPLAY")
+        .output()
+        .expect("run multirate");
+    let (stdout, stderr) = (String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
+    assert!(output.status.success(), "first run failed:\n{stderr}");
+    assert!(!stderr.contains("vulkan:"), "validation messages:\n{stderr}");
+    for needle in ["multirate ε = 0.075", "GPU time", "ms, pixel", "shading evaluations", "level map"] {
+        assert!(stdout.contains(needle), "{needle:?} missing from:\n{stdout}");
+    }
+    // "shading evaluations: multirate A, pixel B (…)": multirate shades a fraction of pixel's.
+    let counts: Vec<u64> = stdout
+        .lines()
+        .find(|l| l.contains("shading evaluations"))
+        .expect("evaluations line")
+        .split(|c: char| !c.is_ascii_digit())
+        .filter_map(|w| w.parse().ok())
+        .collect();
+    assert!(counts.len() >= 2 && counts[0] > 0 && counts[0] < counts[1], "{stdout}");
+    // "largest error against pixel: X inside silhouettes": within ε.
+    let line = stdout.lines().find(|l| l.contains("largest error against pixel")).expect("error line");
+    let inside: f64 = line
+        .split(": ")
+        .nth(1)
+        .and_then(|r| r.split(' ').next())
+        .and_then(|x| x.parse().ok())
+        .expect("error value");
+    assert!(inside <= 0.075, "{line}");
+    for image in ["multirate.png", "multirate_levels.png"] {
+        let bytes = std::fs::metadata(dir.join(image)).map(|m| m.len()).unwrap_or(0);
+        assert!(bytes > 1000, "{image}: {bytes} bytes");
+    }
+}
