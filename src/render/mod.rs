@@ -821,10 +821,11 @@ impl Renderer {
         self.record_draws(&pick, true, cmd, target, view, self.clear_color, after);
     }
 
-    /// `Estimator::Compute`: the pre-pass that writes every triangle's level for the control
-    /// stage: culling, which lists each mesh's visible triangles, then the estimator over those
-    /// lists; with the barriers that order it after the previous frame's reads and before this
-    /// frame's.
+    /// `Estimator::Compute`: the pre-pass that prepares the multirate draws: culling, which
+    /// lists each mesh's visible triangles, the estimator over those lists, then the patch
+    /// levels, which also sort the visible triangles into the interpolated and fallback patch
+    /// lists and fill their indirect draws; with the barriers that order it after the previous
+    /// frame's reads and before this frame's.
     fn record_triangle_levels(
         &self,
         variants: &[Variant],
