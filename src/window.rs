@@ -2,7 +2,9 @@
 //! the same passes as headless rendering, then tone mapped into the swapchain.
 //! Drag with the left button to orbit, scroll to zoom, Esc to quit. Keys pick the mode: P
 //! pixel, V vertex, F fixed:N, M multirate, + and - change N; H toggles the tessellation-level
-//! heat map, W the wireframe. The title shows the mode and the frame time. A `ViewScript` drives the same loop without a person, for tests.
+//! heat map, W the wireframe; [ and ] halve and double ε. The title shows the mode (with ε and
+//! n_max in multirate) and the frame time. A `ViewScript` drives the same loop without a
+//! person, for tests.
 
 use crate::error::{Error, Result, VkContext as _};
 use crate::render::camera::Orbit;
@@ -282,7 +284,10 @@ impl App {
                     self.scene.path.display(),
                     self.view.mode,
                     if self.view.mode == Mode::Multirate {
-                        format!(", estimator {}", self.view.estimator)
+                        format!(
+                            ", ε {}, n_max {}, estimator {}",
+                            self.view.epsilon, self.view.n_max, self.view.estimator
+                        )
                     } else {
                         String::new()
                     },
@@ -313,8 +318,8 @@ impl App {
     }
 
     /// Mode keys: P pixel, D pixel-deferred, V vertex, F fixed:N, M multirate, + / - change N
-    /// (and switch to fixed:N); E moves multirate's estimator between the control stage and the
-    /// compute pre-pass.
+    /// (and switch to fixed:N); [ / ] halve / double multirate's ε (within 10⁻⁴ to 10); E moves
+    /// multirate's estimator between the control stage and the compute pre-pass.
     fn on_key(&mut self, text: &str) {
         let level = match self.view.mode {
             Mode::Fixed(level) => level,
@@ -328,6 +333,11 @@ impl App {
             "m" => Mode::Multirate,
             "h" => {
                 self.view.heat_map = !self.view.heat_map;
+                return;
+            }
+            "[" | "]" => {
+                let factor = if text == "[" { 0.5 } else { 2.0 };
+                self.view.epsilon = (self.view.epsilon * factor).clamp(1.0e-4, 10.0);
                 return;
             }
             "e" => {

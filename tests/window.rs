@@ -14,11 +14,14 @@ use multirate::window::{view, ViewScript};
 fn window_opens_resizes_and_closes_cleanly() {
     let _display = VirtualDisplay::ensure();
     let scene = common::repo_path("scenes/test/lambert_directional.toml");
-    // Heat map, wireframe, vertex mode, then back to fixed:4 (F, then +).
-    let keys = vec![(2, "h"), (4, "w"), (5, "d"), (6, "v"), (8, "f"), (9, "+")];
+    // Heat map, wireframe, vertex mode, then back to fixed:4 (F, then +); ε halved twice and
+    // doubled once.
+    let keys =
+        vec![(2, "h"), (4, "w"), (5, "d"), (6, "v"), (7, "["), (7, "["), (8, "f"), (9, "+"), (10, "]")];
     let script = ViewScript { keys, resize_at_frame: 3, resize_to: (200, 150), close_at_frame: 12 };
     let scene = Scene::load(&scene).expect("scene loads");
     let start = View { mode: Mode::Fixed(3), ..View::of_scene(&scene) };
+    let epsilon = start.epsilon;
     let report = view(scene, start, &ContextOptions { validate: true, device_name: None }, Some(script))
         .expect("the viewer runs");
     assert!(report.frames_presented >= 12, "{report:?}");
@@ -29,4 +32,5 @@ fn window_opens_resizes_and_closes_cleanly() {
     assert_eq!(last.mode, Mode::Fixed(4), "keys switch modes: {report:?}");
     assert!(last.heat_map, "H toggled the heat map on");
     assert!(last.wireframe, "W toggled the wireframe on (lavapipe has fillModeNonSolid)");
+    assert_eq!(last.epsilon, epsilon * 0.5, "[ halves ε twice, ] doubles it once");
 }
