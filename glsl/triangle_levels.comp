@@ -2,8 +2,8 @@
 // variants: material_kind polygon_lights textured
 // `multirate` mode, `--estimator compute`, second step: one invocation per visible triangle of
 // a mesh (listed by cull_triangles.comp) writes its level (triangle_level.glsl) to
-// triangle_levels, once per frame, before the forward pass; the control stage
-// (multirate_levels.tesc) then only combines levels. Running over the list rather than over all
+// triangle_levels, once per frame, before the forward pass; patch_levels.comp then combines
+// each patch's levels and the control stage only reads them. Running over the list rather than over all
 // triangles keeps culled triangles out of the SIMD lanes that run the estimator.
 #include "triangle_level.glsl"
 

@@ -5,6 +5,7 @@
 
 use super::Row;
 use crate::render::Measurement;
+use crate::vk::timing::GpuInterval;
 use serde_json::{json, Value};
 
 /// The trace of `measurements` (parallel to `rows`), times relative to the earliest frame.
@@ -27,32 +28,33 @@ pub fn chrome_trace(rows: &[Row], measurements: &[Measurement]) -> String {
             json!({ "name": "thread_name", "ph": "M", "pid": 1, "tid": tid, "args": { "name": label } }),
         );
         events.push(json!({ "name": "thread_sort_index", "ph": "M", "pid": 1, "tid": tid, "args": { "sort_index": tid } }));
-        for (frame, interval) in measurement.frames.iter().enumerate() {
-            events.push(json!({
-                "name": format!("forward pass ({})", row.mode),
-                "cat": "gpu",
-                "ph": "X",
-                "pid": 1,
-                "tid": tid,
-                "ts": (interval.start_ns - origin_ns) * 1e-3,
-                "dur": (interval.end_ns - interval.start_ns) * 1e-3,
-                "args": { "frame": frame, "gpu_ms": interval.milliseconds() },
-            }));
-        }
+        let forward = format!("forward pass ({})", row.mode);
+        events.extend(
+            measurement
+                .frames
+                .iter()
+                .enumerate()
+                .map(|(frame, interval)| frame_event(&forward, tid, frame, interval, origin_ns)),
+        );
         // `--estimator compute`: the pre-pass, nested in its frame's event.
-        for (frame, interval) in measurement.pre_pass.iter().enumerate() {
-            events.push(json!({
-                "name": "triangle-level pre-pass",
-                "cat": "gpu",
-                "ph": "X",
-                "pid": 1,
-                "tid": tid,
-                "ts": (interval.start_ns - origin_ns) * 1e-3,
-                "dur": (interval.end_ns - interval.start_ns) * 1e-3,
-                "args": { "frame": frame, "gpu_ms": interval.milliseconds() },
-            }));
-        }
+        events.extend(measurement.pre_pass.iter().enumerate().map(|(frame, interval)| {
+            frame_event("triangle-level pre-pass", tid, frame, interval, origin_ns)
+        }));
     }
     serde_json::to_string(&json!({ "traceEvents": events, "displayTimeUnit": "ms" }))
         .expect("trace serialises")
+}
+
+/// A complete ("X") event named `name` on track `tid`, spanning `interval` of `frame`.
+fn frame_event(name: &str, tid: usize, frame: usize, interval: &GpuInterval, origin_ns: f64) -> Value {
+    json!({
+        "name": name,
+        "cat": "gpu",
+        "ph": "X",
+        "pid": 1,
+        "tid": tid,
+        "ts": (interval.start_ns - origin_ns) * 1e-3,
+        "dur": (interval.end_ns - interval.start_ns) * 1e-3,
+        "args": { "frame": frame, "gpu_ms": interval.milliseconds() },
+    })
 }

@@ -202,8 +202,8 @@ fn polygon_specialization(specialization: Specialization, scene: &Scene, count: 
 pub struct Measurement {
     /// When the forward pass ran in every measured frame, in submission order.
     pub frames: Vec<GpuInterval>,
-    /// `Estimator::Compute`: when the triangle-level pre-pass (culling and estimating, part of
-    /// the frame) ran in every measured frame; empty otherwise.
+    /// `Estimator::Compute`: when the triangle-level pre-pass (culling, triangle levels, patch
+    /// levels and lists; part of the frame) ran in every measured frame; empty otherwise.
     pub pre_pass: Vec<GpuInterval>,
     /// Pipeline statistics of the last frame, where the device has them.
     pub statistics: Option<PipelineStatistics>,
@@ -329,7 +329,8 @@ struct Multirate {
     /// draws only the patches shaded on their sub-vertices, and its fragment shader holds no
     /// shading code (multirate_interpolated.frag). Both draw the pre-pass's patch lists.
     fallback: Option<Pipeline>,
-    /// `Estimator::Compute`: the pre-pass, culling then the levels of the visible triangles.
+    /// `Estimator::Compute`: the pre-pass: culling, the levels of the visible triangles, then
+    /// the patch levels, lists and indirect draws.
     pre_pass: Option<PrePass>,
 }
 
@@ -769,18 +770,8 @@ impl Renderer {
             return Ok(false);
         }
         if self.wireframe_variants.is_none() {
-            let mut lines = Vec::new();
-            for (features, specialization) in &self.specializations {
-                lines.push(self.modules.variant(
-                    &self.context,
-                    &self.layout,
-                    *features,
-                    specialization,
-                    Instrumentation::None,
-                    vk::PolygonMode::LINE,
-                )?);
-            }
-            self.wireframe_variants = Some(lines);
+            self.wireframe_variants =
+                Some(self.build_variants(Instrumentation::None, vk::PolygonMode::LINE)?);
         }
         Ok(true)
     }
@@ -847,7 +838,7 @@ impl Renderer {
             };
         };
         let storage = A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE;
-        // The previous frame's control stages have read the levels.
+        // The previous frame's indirect draws, vertex pulling and control stages have read the lists and levels.
         let readers = S::DRAW_INDIRECT | S::VERTEX_SHADER | S::TESSELLATION_CONTROL_SHADER;
         barrier(readers, A::NONE, S::COMPUTE_SHADER | S::CLEAR, A::NONE);
         for buffer in std::iter::once(&self.visible_counts).chain(&self.patch_draws) {
@@ -1196,18 +1187,29 @@ impl Renderer {
         if let Some(variants) = cell.get() {
             return Ok(variants);
         }
-        let mut variants = Vec::new();
-        for (features, specialization) in &self.specializations {
-            variants.push(self.modules.variant(
-                &self.context,
-                &self.layout,
-                *features,
-                specialization,
-                instrumentation,
-                vk::PolygonMode::FILL,
-            )?);
-        }
+        let variants = self.build_variants(instrumentation, vk::PolygonMode::FILL)?;
         Ok(cell.get_or_init(|| variants))
+    }
+
+    /// One variant per feature set the scene uses, with `instrumentation` and `polygon_mode`.
+    fn build_variants(
+        &self,
+        instrumentation: Instrumentation,
+        polygon_mode: vk::PolygonMode,
+    ) -> Result<Vec<Variant>> {
+        self.specializations
+            .iter()
+            .map(|(features, specialization)| {
+                self.modules.variant(
+                    &self.context,
+                    &self.layout,
+                    *features,
+                    specialization,
+                    instrumentation,
+                    polygon_mode,
+                )
+            })
+            .collect()
     }
 
     /// Patches per `Estimator::Tcs` multirate draw: besides the vertex budget, lavapipe
