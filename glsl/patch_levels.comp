@@ -3,9 +3,10 @@
 // `multirate` mode, `--estimator compute`, third step: one invocation per visible triangle of
 // a mesh combines its level and its neighbours' (triangle_levels, written by
 // triangle_levels.comp) into the tessellation levels of its patch (estimator.glsl,
-// `patch_levels`), writes them to patch_tess_levels, and appends the triangle to the mesh's
-// list of interpolated or of fallback patches and to the indirect draw that covers its slot
-// (bindings.glsl). The control stage (multirate_levels.tesc) only reads the levels.
+// `patch_levels`), writes them to patch_tess_levels, and appends the triangle to one of the
+// mesh's lists (bindings.glsl): the flat patches (all levels 1, drawn without tessellation),
+// or the interpolated or the fallback patches, counting it into the indirect draw that covers
+// its slot. The control stage (multirate_levels.tesc) only reads the levels.
 #include "triangle_level.glsl"
 
 layout(local_size_x = 64) in;
@@ -22,6 +23,15 @@ void main() {
     patch_tess_levels[triangle] = vec4(levels.fallback ? 0.0 : levels.inner, levels.outer);
     if (VARIANT_RECORD_LEVELS != 0) {
         level_records[triangle] = level_record(levels);
+    }
+    // A patch that is its own triangle needs no tessellator: the flat list.
+    if (!levels.fallback && levels.inner <= 1.0 && all(lessThanEqual(levels.outer, vec3(1.0)))) {
+        uint entry = atomicAdd(flat_draws[draw.mesh_index].x, 3u) / 3u;
+        flat_patches[draw.patch_base + entry] = triangle;
+        if (entry == 0u) {
+            flat_draws[draw.mesh_index].y = 1u;
+        }
+        return;
     }
     uint slot = atomicAdd(visible_counts[3u * draw.mesh_index + (levels.fallback ? 2u : 1u)], 1u);
     uint per_draw = max(draw.patches_per_draw, 1u);

@@ -3,7 +3,9 @@
 //!   distinct sub-vertex, ceil(3(n+1)²/4), and the timestamps around the pass are positive;
 //! - the counting variant: the same sub-vertex counts, one fragment evaluation per covered
 //!   pixel in `pixel` mode, three vertex evaluations in `vertex` mode, and a scene that falls
-//!   back everywhere counts exactly the fragments of `pixel` mode.
+//!   back everywhere counts exactly the fragments of `pixel` mode;
+//! - multirate draws patches whose levels are all 1 without the tessellator and shades their
+//!   corners once each.
 
 mod common;
 
@@ -120,5 +122,42 @@ fn a_scene_that_falls_back_everywhere_counts_the_fragments_of_pixel_mode() {
     // includes the helper lanes of every 2×2 quad. `multirate bench --scene
     // scenes/plane_lights.toml --modes pixel --resolution 96x72` shows 69,488 fragment
     // invocations (column fs_invocations) for 4,896 shaded fragments (fragment_evaluations).
+    assert_validation_clean(&context);
+}
+
+#[test]
+fn level_one_patches_skip_the_tessellator_and_shade_their_corners() {
+    // The bunny at its own ε: most visible triangles are patches of level 1 with every edge at
+    // level 1 (the flat list, drawn without tessellation stages); the rest are tessellated or
+    // fall back.
+    let scene = Scene::load(&repo_path("scenes/bunny.toml")).expect("scene");
+    let context = validated_context();
+    let renderer = Renderer::new(&context, &scene).expect("renderer");
+    let target = RenderTarget::new(&context, vk::Extent2D { width: 320, height: 240 }).expect("target");
+    let view = View { mode: Mode::Multirate, ..View::of_scene(&scene) };
+    let levels = renderer.record_levels(&target, &view).expect("levels");
+    let visible: Vec<_> = levels.iter().filter(|l| l[0] != CULLED_LEVEL).collect();
+    let flat = visible.iter().filter(|l| **l == &[1.0; 4]).count() as u64;
+    let tessellated = visible.len() as u64 - flat;
+    assert!(flat > 0 && tessellated > 0, "both kinds of patch: {flat} flat, {tessellated} others");
+
+    let measured = renderer.measure(&target, &view, 0, 1).expect("measure");
+    let stats = measured.statistics.expect("statistics");
+    assert_eq!(stats.tessellation_control_patches, tessellated, "only the other patches are tessellated");
+    // The flat patches' corners are shaded once each, by the vertex shader.
+    let counted = renderer.count_evaluations(&target, &view).expect("count");
+    let flat_only = View { epsilon: 1e3, ..view.clone() };
+    let all_flat = renderer.record_levels(&target, &flat_only).expect("levels at a large ε");
+    let all_visible = all_flat.iter().filter(|l| l[0] != CULLED_LEVEL).count() as u64;
+    assert!(
+        all_flat.iter().all(|l| l[0] == CULLED_LEVEL || *l == [1.0; 4]),
+        "a large ε puts every patch at level 1"
+    );
+    let stats = renderer.measure(&target, &flat_only, 0, 1).expect("measure").statistics.expect("statistics");
+    assert_eq!(stats.tessellation_control_patches, 0, "no patch reaches the tessellator");
+    assert_eq!(stats.vertex_shader_invocations, 3 * all_visible);
+    let counted_flat = renderer.count_evaluations(&target, &flat_only).expect("count");
+    assert_eq!(counted_flat.sub_vertices, 3 * all_visible, "three corners per visible triangle");
+    assert!(counted.sub_vertices > 3 * flat, "{counted:?}");
     assert_validation_clean(&context);
 }

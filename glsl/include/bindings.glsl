@@ -47,8 +47,9 @@ layout(set = 0, binding = 10, std430) buffer VisibleCounts { uint visible_counts
 layout(set = 0, binding = 11, std430) readonly buffer PatternLevels { uint pattern_level_words[]; };
 // The pre-pass's last step (patch_levels.comp): per visible triangle the tessellation levels of
 // its patch, x = the inner level (0: per-pixel fallback), yzw = the outer levels; and per mesh,
-// from its first triangle on, two lists of its visible triangles, those shaded on sub-vertices
-// and those shaded per pixel (counted in visible_counts[3 mesh + 1] and [3 mesh + 2]). Each list
+// from its first triangle on, two lists of its tessellated visible triangles, those shaded on
+// sub-vertices and those shaded per pixel (counted in visible_counts[3 mesh + 1] and
+// [3 mesh + 2]). Each list
 // is drawn by indirect draws of draw.patches_per_draw patches each: the k-th is the
 // VkDrawIndirectCommand at entry (first triangle + k) of the list's draws, with vertexCount = 3
 // per patch; the host zeroes them before each pre-pass (instanceCount 0: nothing drawn), and
@@ -58,6 +59,13 @@ layout(set = 0, binding = 13, std430) buffer InterpolatedPatches { uint interpol
 layout(set = 0, binding = 14, std430) buffer FallbackPatches { uint fallback_patches[]; };
 layout(set = 0, binding = 15, std430) buffer InterpolatedDraws { uvec4 interpolated_draws[]; };
 layout(set = 0, binding = 16, std430) buffer FallbackDraws { uvec4 fallback_draws[]; };
+// Per mesh, from its first triangle on, a third list: the visible triangles whose patch is the
+// triangle itself (inner and outer levels all 1), drawn without tessellation by one indirect
+// draw, flat_draws[mesh] (vertexCount = 3 per triangle, counted as they are listed; the host
+// zeroes it, and the first entry sets instanceCount to 1). multirate_flat.vert shades their
+// corners as the evaluation stage would.
+layout(set = 0, binding = 17, std430) buffer FlatPatches { uint flat_patches[]; };
+layout(set = 0, binding = 18, std430) buffer FlatDraws { uvec4 flat_draws[]; };
 // DrawConstants.flags bit: this draw is of the fallback list (else of the interpolated one).
 const uint FLAG_FALLBACK_PATCHES = 16u;
 

@@ -174,9 +174,8 @@ impl Renderer {
     /// Records the id pass into the visibility buffer, leaving it ready to be `after`.
     fn record_ids(&self, cmd: vk::CommandBuffer, ids: &RenderTarget, view: &View, after: AfterPass) {
         let deferred = self.deferred.get().expect("prepared");
-        let pick = |_: &super::DrawCall| {
-            Some(super::MeshPipelines { first: deferred.visibility.raw, fallback: None })
-        };
+        let pick =
+            |_: &super::DrawCall| Some(super::MeshPipelines { first: deferred.visibility.raw, lists: None });
         self.record_draws(&pick, false, cmd, ids, view, [0.0; 4], after);
     }
 

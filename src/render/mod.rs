@@ -325,13 +325,23 @@ impl Instrumentation {
 /// The pipelines of `multirate` mode for one estimator placement.
 struct Multirate {
     draw: Pipeline,
-    /// `Estimator::Compute`: the fallback patches' pipeline, shaded per pixel; `draw` then
-    /// draws only the patches shaded on their sub-vertices, and its fragment shader holds no
-    /// shading code (multirate_interpolated.frag). Both draw the pre-pass's patch lists.
-    fallback: Option<Pipeline>,
+    /// `Estimator::Compute`: the pipelines of the other patch lists; `draw` then draws only
+    /// the tessellated patches shaded on their sub-vertices, and its fragment shader holds no
+    /// shading code (multirate_interpolated.frag).
+    lists: Option<ListPipelines<Pipeline>>,
     /// `Estimator::Compute`: the pre-pass: culling, the levels of the visible triangles, then
     /// the patch levels, lists and indirect draws.
     pre_pass: Option<PrePass>,
+}
+
+/// `Estimator::Compute`: the pipelines of the pre-pass's fallback and flat patch lists.
+#[derive(Clone, Copy)]
+struct ListPipelines<P> {
+    /// The fallback patches, shaded per pixel (multirate.frag).
+    fallback: P,
+    /// The flat patches (all levels 1), without tessellation stages: multirate_flat.vert shades
+    /// their corners.
+    flat: P,
 }
 
 /// The steps of the triangle-level pre-pass (`Estimator::Compute`).
@@ -344,17 +354,17 @@ struct PrePass {
 impl Variant {
     /// The pipeline of `view` (None: a multirate pipeline not yet prepared).
     fn for_view(&self, view: &View) -> Option<MeshPipelines> {
-        let one = |pipeline: &Pipeline| MeshPipelines { first: pipeline.raw, fallback: None };
+        let one = |pipeline: &Pipeline| MeshPipelines { first: pipeline.raw, lists: None };
         match view.mode {
             Mode::Pixel => Some(one(&self.pixel)),
             // Drawn by `record_deferred`, with its own pipelines.
             Mode::PixelDeferred => None,
             Mode::Vertex => Some(one(&self.vertex)),
             Mode::Fixed(_) => Some(one(&self.tessellated)),
-            Mode::Multirate => self
-                .multirate_cell(view)
-                .get()
-                .map(|m| MeshPipelines { first: m.draw.raw, fallback: m.fallback.as_ref().map(|p| p.raw) }),
+            Mode::Multirate => self.multirate_cell(view).get().map(|m| MeshPipelines {
+                first: m.draw.raw,
+                lists: m.lists.as_ref().map(|l| ListPipelines { fallback: l.fallback.raw, flat: l.flat.raw }),
+            }),
         }
     }
 
@@ -385,9 +395,9 @@ fn discontinuity_id(discontinuity: Discontinuity) -> i32 {
 #[derive(Clone, Copy)]
 struct MeshPipelines {
     first: vk::Pipeline,
-    /// Multirate's fallback patches (`Multirate::fallback`): with it, both draw the pre-pass's
-    /// patch lists, `first` the interpolated one.
-    fallback: Option<vk::Pipeline>,
+    /// Multirate's other patch lists (`Multirate::lists`): with them, all three draw the
+    /// pre-pass's patch lists, `first` the interpolated one.
+    lists: Option<ListPipelines<vk::Pipeline>>,
 }
 
 struct DrawCall {
@@ -429,11 +439,14 @@ pub struct Renderer {
     _pattern_levels: Buffer,
     /// Per triangle: its patch's tessellation levels, written by the pre-pass's last step.
     _patch_levels: Buffer,
-    /// Per mesh, from its first triangle on: its visible triangles shaded on sub-vertices and
-    /// those shaded per pixel, as the pre-pass's last step lists them.
-    _patch_lists: [Buffer; 2],
-    /// The indirect draws of those two lists (`VkDrawIndirectCommand`, one per triangle).
+    /// Per mesh, from its first triangle on: its visible triangles shaded on sub-vertices,
+    /// those shaded per pixel, and those whose patch is the triangle itself (flat), as the
+    /// pre-pass's last step lists them.
+    _patch_lists: [Buffer; 3],
+    /// The indirect draws of the first two lists (`VkDrawIndirectCommand`, one per triangle).
     patch_draws: [Buffer; 2],
+    /// The indirect draw of each mesh's flat list (`VkDrawIndirectCommand`, one per mesh).
+    flat_draws: Buffer,
     _lights: Buffer,
     _materials: Buffer,
     textures: SceneTextures,
@@ -568,11 +581,13 @@ impl Renderer {
         let patch_list = |name| device_words(context, name, triangle_count, vk::BufferUsageFlags::empty());
         let interpolated_patch_buffer = patch_list("interpolated patches")?;
         let fallback_patch_buffer = patch_list("fallback patches")?;
+        let flat_patch_buffer = patch_list("flat patches")?;
         let indirect = vk::BufferUsageFlags::INDIRECT_BUFFER | vk::BufferUsageFlags::TRANSFER_DST;
         let interpolated_draw_buffer =
             device_words(context, "interpolated patch draws", 4 * triangle_count, indirect)?;
         let fallback_draw_buffer =
             device_words(context, "fallback patch draws", 4 * triangle_count, indirect)?;
+        let flat_draw_buffer = device_words(context, "flat patch draws", 4 * draws.len(), indirect)?;
         let level_buffer = Buffer::new(
             context,
             "level records",
@@ -616,7 +631,7 @@ impl Renderer {
         )?;
 
         let bindings =
-            std::array::from_fn::<_, 17, _>(|b| shader_binding(b as u32, vk::DescriptorType::STORAGE_BUFFER));
+            std::array::from_fn::<_, 19, _>(|b| shader_binding(b as u32, vk::DescriptorType::STORAGE_BUFFER));
         let push = [vk::PushConstantRange::default()
             .stage_flags(PUSH_STAGES)
             .size(std::mem::size_of::<DrawConstants>() as u32)];
@@ -633,7 +648,7 @@ impl Renderer {
             context,
             "forward descriptors",
             1,
-            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 17 }],
+            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 19 }],
         )?;
         let descriptor_set = pool.allocate(layout.set_layouts[0])?;
         bind_storage_buffers(
@@ -658,6 +673,8 @@ impl Renderer {
                 fallback_patch_buffer.raw,
                 interpolated_draw_buffer.raw,
                 fallback_draw_buffer.raw,
+                flat_patch_buffer.raw,
+                flat_draw_buffer.raw,
             ],
         );
 
@@ -701,8 +718,9 @@ impl Renderer {
             visible_counts: visible_count_buffer,
             _pattern_levels: pattern_level_buffer,
             _patch_levels: patch_level_buffer,
-            _patch_lists: [interpolated_patch_buffer, fallback_patch_buffer],
+            _patch_lists: [interpolated_patch_buffer, fallback_patch_buffer, flat_patch_buffer],
             patch_draws: [interpolated_draw_buffer, fallback_draw_buffer],
+            flat_draws: flat_draw_buffer,
             _lights: light_buffer,
             _materials: material_buffer,
             _polygon_lights: polygon_buffer,
@@ -814,9 +832,9 @@ impl Renderer {
 
     /// `Estimator::Compute`: the pre-pass that prepares the multirate draws: culling, which
     /// lists each mesh's visible triangles, the estimator over those lists, then the patch
-    /// levels, which also sort the visible triangles into the interpolated and fallback patch
-    /// lists and fill their indirect draws; with the barriers that order it after the previous
-    /// frame's reads and before this frame's.
+    /// levels, which also sort the visible triangles into the flat, interpolated and fallback
+    /// patch lists and fill their indirect draws; with the barriers that order it after the
+    /// previous frame's reads and before this frame's.
     fn record_triangle_levels(
         &self,
         variants: &[Variant],
@@ -841,7 +859,7 @@ impl Renderer {
         // The previous frame's indirect draws, vertex pulling and control stages have read the lists and levels.
         let readers = S::DRAW_INDIRECT | S::VERTEX_SHADER | S::TESSELLATION_CONTROL_SHADER;
         barrier(readers, A::NONE, S::COMPUTE_SHADER | S::CLEAR, A::NONE);
-        for buffer in std::iter::once(&self.visible_counts).chain(&self.patch_draws) {
+        for buffer in [&self.visible_counts, &self.flat_draws].into_iter().chain(&self.patch_draws) {
             // SAFETY: recording outside a render pass; the buffers have TRANSFER_DST usage.
             unsafe { device.cmd_fill_buffer(cmd, buffer.raw, 0, vk::WHOLE_SIZE, 0) };
         }
@@ -896,39 +914,46 @@ impl Renderer {
         }
     }
 
-    /// `Estimator::Compute`: draws the mesh's two patch lists of this frame's pre-pass, the
-    /// interpolated patches with `pipelines[0]` and the fallback patches with `pipelines[1]`,
-    /// each by the indirect draws the pre-pass filled (those it did not reach draw nothing).
+    /// `Estimator::Compute`: draws the mesh's three patch lists of this frame's pre-pass, the
+    /// interpolated patches with `interpolated`, the others with `lists`, each by the indirect
+    /// draws the pre-pass filled (those it did not reach draw nothing).
     fn record_patch_lists(
         &self,
         cmd: vk::CommandBuffer,
         constants: &mut DrawConstants,
         draw: &DrawCall,
         view: &View,
-        pipelines: [vk::Pipeline; 2],
+        interpolated: vk::Pipeline,
+        lists: ListPipelines<vk::Pipeline>,
     ) {
         let device = &self.context.device;
         let per_draw = self.patches_per_draw(view.n_max);
         let commands = (draw.index_count / 3).div_ceil(per_draw);
         let stride = std::mem::size_of::<vk::DrawIndirectCommand>() as u32;
-        for (list, (pipeline, buffer)) in pipelines.into_iter().zip(&self.patch_draws).enumerate() {
-            constants.flags &= !FLAG_FALLBACK_PATCHES;
-            if list == 1 {
-                constants.flags |= FLAG_FALLBACK_PATCHES;
-            }
-            constants.patch_base = draw.first_triangle;
-            constants.patches_per_draw = per_draw;
-            // SAFETY: recording inside the rendering begun by `record_draws`; the pre-pass wrote
-            // the commands before the barrier it ends with; `buffer` has INDIRECT_BUFFER usage.
+        constants.patch_base = draw.first_triangle;
+        constants.patches_per_draw = per_draw;
+        // The flat patches first and the per-pixel fallback last, so that the early depth test
+        // spares the fallback's shading wherever the other lists cover it.
+        constants.flags &= !FLAG_FALLBACK_PATCHES;
+        // SAFETY: recording inside the rendering begun by `record_draws`; the pre-pass wrote
+        // the commands before the barrier it ends with; the draw buffers have INDIRECT_BUFFER
+        // usage. The flat list is one draw per mesh: no tessellated-vertex limit applies.
+        unsafe {
+            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, lists.flat);
+            self.push_draw_constants(cmd, constants);
+            let offset = vk::DeviceSize::from(draw.mesh_index * stride);
+            device.cmd_draw_indirect(cmd, self.flat_draws.raw, offset, 1, stride);
+        }
+        let tessellated = [
+            (interpolated, &self.patch_draws[0], 0),
+            (lists.fallback, &self.patch_draws[1], FLAG_FALLBACK_PATCHES),
+        ];
+        for (pipeline, buffer, flag) in tessellated {
+            constants.flags = (constants.flags & !FLAG_FALLBACK_PATCHES) | flag;
+            // SAFETY: as above.
             unsafe {
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
-                device.cmd_push_constants(
-                    cmd,
-                    self.layout.raw,
-                    PUSH_STAGES,
-                    0,
-                    bytemuck::bytes_of(&*constants),
-                );
+                self.push_draw_constants(cmd, constants);
                 for k in 0..commands {
                     let offset = vk::DeviceSize::from((draw.first_triangle + k) * stride);
                     device.cmd_draw_indirect(cmd, buffer.raw, offset, 1, stride);
@@ -936,6 +961,19 @@ impl Renderer {
             }
         }
         constants.flags &= !FLAG_FALLBACK_PATCHES;
+    }
+
+    fn push_draw_constants(&self, cmd: vk::CommandBuffer, constants: &DrawConstants) {
+        // SAFETY: `cmd` is recording; the layout's push range covers `DrawConstants`.
+        unsafe {
+            self.context.device.cmd_push_constants(
+                cmd,
+                self.layout.raw,
+                PUSH_STAGES,
+                0,
+                bytemuck::bytes_of(constants),
+            )
+        };
     }
 
     /// The per-mesh fields of the push constants.
@@ -978,8 +1016,8 @@ impl Renderer {
                 };
                 device.cmd_set_cull_mode(cmd, cull);
                 self.bind_set(cmd, 1, self.textures.sets[draw.material_index as usize]);
-                if let Some(fallback) = pipelines.fallback {
-                    self.record_patch_lists(cmd, &mut constants, draw, view, [pipelines.first, fallback]);
+                if let Some(lists) = pipelines.lists {
+                    self.record_patch_lists(cmd, &mut constants, draw, view, pipelines.first, lists);
                     continue;
                 }
                 // Multirate drawn here is `Estimator::Tcs`: 12-point adjacency patches.
@@ -1539,11 +1577,35 @@ impl Modules {
         };
         if pre_pass.is_none() {
             let draw = graphics(&name, &multirate_frag)?;
-            return Ok(Multirate { draw, fallback: None, pre_pass });
+            return Ok(Multirate { draw, lists: None, pre_pass });
         }
         let interpolated_frag = variant_module(context, "multirate_interpolated.frag", features)?;
         let draw = graphics(&format!("{name}, interpolated patches"), &interpolated_frag)?;
         let fallback = graphics(&format!("{name}, fallback patches"), &multirate_frag)?;
-        Ok(Multirate { draw, fallback: Some(fallback), pre_pass })
+        let flat_vert = variant_module(context, "multirate_flat.vert", features)?;
+        let stages = vec![
+            Stage {
+                stage: vk::ShaderStageFlags::VERTEX,
+                module: &flat_vert,
+                specialization: Some(&specialization),
+            },
+            Stage {
+                stage: vk::ShaderStageFlags::FRAGMENT,
+                module: &interpolated_frag,
+                specialization: Some(&specialization),
+            },
+        ];
+        let flat_name = format!("{name}, flat patches");
+        let scene = scene_pipeline(&flat_name, stages, layout);
+        let flat = Pipeline::graphics(
+            context,
+            &GraphicsPipelineDesc {
+                polygon_mode: variant.polygon_mode,
+                vertex_bindings: &[],
+                vertex_attributes: &[],
+                ..scene
+            },
+        )?;
+        Ok(Multirate { draw, lists: Some(ListPipelines { fallback, flat }), pre_pass })
     }
 }

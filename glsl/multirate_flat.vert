@@ -1,0 +1,45 @@
+#version 460
+// variants: material_kind polygon_lights textured count_evaluations
+// `multirate` mode, `--estimator compute`: the flat patches (bindings.glsl), whose inner and
+// outer levels are all 1, drawn without the tessellation stages. Vertex 3k + c is corner c of
+// the list's k-th triangle; it is shaded as multirate.tese shades that corner at level 1 (same
+// position, normal, parameter level of detail and precise clip position), so the image, the
+// evaluation count and the edges shared with tessellated neighbours are those of the
+// tessellated draw.
+#include "triangle_level.glsl"
+#include "texturing.glsl"
+
+layout(location = 0) out vec3 out_diffuse;
+layout(location = 1) out vec3 out_specular;
+layout(location = 4) out vec2 out_uv;
+layout(location = 5) flat out float out_level;
+
+precise gl_Position;
+
+void main() {
+    uint triangle = flat_patches[draw.patch_base + uint(gl_VertexIndex) / 3u];
+    uint corner = uint(gl_VertexIndex) % 3u;
+    uint vertex = scene_indices[3u * triangle + corner];
+    vec3 position = scene_vec3(vertex, 0u);
+    vec2 uv = scene_uv(vertex);
+    GpuMaterial m = materials[draw.material_index];
+    float parameter = m.params.x;
+    if (has_parameter_map(m)) {
+        uvec3 corners = uvec3(scene_indices[3u * triangle], scene_indices[3u * triangle + 1u],
+                              scene_indices[3u * triangle + 2u]);
+        vec3 p[3] = vec3[3](scene_vec3(corners.x, 0u), scene_vec3(corners.y, 0u), scene_vec3(corners.z, 0u));
+        vec2 t[3] = vec2[3](scene_uv(corners.x), scene_uv(corners.y), scene_uv(corners.z));
+        // multirate_patch.glsl's `parameter_lod_bound` of the patch.
+        float lod_bound = material_lod_bound(t[0], t[1], t[2]) - 0.02;
+        parameter = parameter_at_lod(m, uv, subvertex_lod(m, p, t, position, 1.0, lod_bound));
+    }
+    Shading s = shade(position, scene_vec3(vertex, 3u), draw.eye.xyz, draw.material_index, parameter);
+    out_diffuse = s.diffuse;
+    out_specular = s.specular;
+    if (COUNT_EVALUATIONS) {
+        atomicAdd(counters.subvertex_evaluations, 1u);
+    }
+    out_uv = uv;
+    out_level = 1.0;
+    gl_Position = draw.view_proj * vec4(position, 1.0);
+}
