@@ -4,12 +4,14 @@
 //!   with the estimator in the control stage and in the compute pre-pass;
 //! - every pixel of a tessellated triangle is within ε of `pixel` mode;
 //! - no cracks: coverage inside the reference silhouette is complete;
-//! - extreme inputs render with the coverage of `pixel` mode and no NaN.
+//! - extreme inputs render with the coverage of `pixel` mode and no NaN;
+//! - a scene at 10⁶ is recentred at load time and renders as at the origin, multirate within ε.
 
 mod common;
 
 use ash::vk;
 use common::{assert_validation_clean, cracks, interior_tessellated, repo_path, validated_context};
+use glam::DVec3;
 use multirate::analysis::report;
 use multirate::render::cull::CULLED_LEVEL;
 use multirate::render::{Estimator, Mode, Renderer, View};
@@ -267,5 +269,90 @@ fn extremes_keep_coverage_and_stay_finite() {
             }
         }
     }
+    assert_validation_clean(&context);
+}
+
+/// The shipped icosphere (Blinn-Phong, one point light) with everything moved by `offset` along
+/// each axis.
+fn offset_sphere_scene(name: &str, offset: f64) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("offsets");
+    std::fs::create_dir_all(&dir).expect("scratch folder");
+    let at = |p: [f64; 3]| format!("[{:.3}, {:.3}, {:.3}]", p[0] + offset, p[1] + offset, p[2] + offset);
+    let toml = format!(
+        r#"
+description = "the icosphere moved by {offset} along each axis"
+[camera]
+eye = {}
+target = {}
+fov_y_degrees = 50.0
+[[materials]]
+name = "m"
+type = "blinn_phong"
+kd = [0.3, 0.3, 0.3]
+ks = [0.7, 0.7, 0.7]
+shininess = 64.0
+[[meshes]]
+obj = "{}"
+material = "m"
+translate = {}
+[[lights]]
+type = "point"
+position = {}
+color = [1.0, 1.0, 1.0]
+intensity = 4.0
+"#,
+        at([0.0, 0.5, 3.0]),
+        at([0.0, 0.0, 0.0]),
+        repo_path("scenes/test/icosphere.obj").display(),
+        at([0.0, 0.0, 0.0]),
+        at([1.0, 2.0, 2.0]),
+    );
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, toml).expect("write scene");
+    path
+}
+
+#[test]
+fn a_scene_far_from_the_origin_renders_as_at_the_origin() {
+    // At 10⁶ f32 world positions are 0.0625 apart: the loader recentres the scene in f64, so
+    // it renders as the same scene at the origin, and multirate stays within ε of `pixel`.
+    let near = Scene::load(&offset_sphere_scene("near", 0.0)).expect("scene at the origin");
+    let far = Scene::load(&offset_sphere_scene("far", 1.0e6)).expect("scene at 10⁶");
+    assert_eq!(near.origin, DVec3::ZERO, "a scene around the origin stays where it is");
+    assert!((far.origin - DVec3::splat(1.0e6)).length() < 1e-3, "recentred on its mesh: {}", far.origin);
+    let context = validated_context();
+    let target = RenderTarget::new(&context, vk::Extent2D { width: 160, height: 120 }).expect("target");
+    let near_image =
+        render(&Renderer::new(&context, &near).expect("renderer"), &target, &View::of_scene(&near));
+    let renderer = Renderer::new(&context, &far).expect("renderer");
+    let reference = render(&renderer, &target, &View::of_scene(&far));
+    let covered = reference.pixels.iter().filter(|p| p[3] == 1.0).count();
+    assert!(covered > 1000, "the sphere is in view ({covered} pixels)");
+    let worst = near_image
+        .pixels
+        .iter()
+        .zip(&reference.pixels)
+        .map(|(a, b)| (0..4).map(|c| (a[c] - b[c]).abs()).fold(0.0f32, f32::max))
+        .fold(0.0f32, f32::max);
+    assert!(worst < 1e-3, "pixel mode at 10⁶ differs from the origin by {worst}");
+
+    let epsilon = 0.075;
+    let view = View { mode: Mode::Multirate, epsilon, ..View::of_scene(&far) };
+    let image = render(&renderer, &target, &view);
+    let coverage = reference.pixels.iter().zip(&image.pixels).filter(|(a, b)| a[3] != b[3]).count();
+    assert_eq!(coverage, 0, "multirate covers other pixels than pixel mode");
+    assert_eq!(cracks(&reference, &image), 0, "cracks");
+    let mask = interior_tessellated(&render(&renderer, &target, &View { heat_map: true, ..view.clone() }));
+    let mut checked = 0;
+    for (&inside, (m, r)) in mask.iter().zip(image.pixels.iter().zip(&reference.pixels)) {
+        if inside {
+            checked += 1;
+            for c in 0..3 {
+                let error = (m[c] - r[c]).abs();
+                assert!(error <= epsilon + 1e-3 * r[c].abs().max(1.0), "multirate {m:?} vs pixel {r:?}");
+            }
+        }
+    }
+    assert!(checked > 100, "{checked} tessellated interior pixels compared");
     assert_validation_clean(&context);
 }

@@ -18,12 +18,13 @@ use glam::{DVec3, Mat3, Vec2, Vec3};
 pub(crate) struct Transform {
     pub scale: Vec3,
     pub rotate_degrees: Vec3,
-    pub translate: Vec3,
+    /// In f64, so that a mesh placed far from the world origin keeps its precision.
+    pub translate: DVec3,
 }
 
 impl Default for Transform {
     fn default() -> Self {
-        Transform { scale: Vec3::ONE, rotate_degrees: Vec3::ZERO, translate: Vec3::ZERO }
+        Transform { scale: Vec3::ONE, rotate_degrees: Vec3::ZERO, translate: DVec3::ZERO }
     }
 }
 
@@ -42,7 +43,73 @@ impl Transform {
     }
 }
 
-/// Geometry of one OBJ file in world space, ready for [`super::Mesh`].
+/// Where geometry with bounds `lo..=hi` (f64) is measured from: its centre where that lies
+/// farther from zero than the bounds' diagonal, so that f32 coordinates relative to it keep the
+/// precision of geometry near zero (a floating origin); zero otherwise, which keeps geometry
+/// already around zero exactly as written.
+pub(crate) fn recentring_origin(lo: DVec3, hi: DVec3) -> DVec3 {
+    let centre = (lo + hi) * 0.5;
+    if lo.cmple(hi).all() && centre.length() > (hi - lo).length() {
+        centre
+    } else {
+        DVec3::ZERO
+    }
+}
+
+/// An OBJ file's geometry with the mesh transform applied, before it is placed relative to
+/// the scene's origin: positions in f32 relative to `anchor`, a world point in f64, so that a
+/// mesh far from the world origin keeps its precision until the scene's origin is known.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct TransformedMesh {
+    local: Vec<Vec3>,
+    anchor: DVec3,
+    /// Per position: the file's normal, transformed, where it gives a non-zero one.
+    given_normals: Vec<Option<Vec3>>,
+    indices: Vec<u32>,
+    uvs: Vec<Vec2>,
+}
+
+impl TransformedMesh {
+    /// World-space bounds, f64.
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        let (lo, hi) = self
+            .local
+            .iter()
+            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+        (self.anchor + lo.as_dvec3(), self.anchor + hi.as_dvec3())
+    }
+
+    /// The geometry with positions relative to `origin` (world, f64), in f32, and a unit normal
+    /// per position: the file's where it gives one, else smooth normals of the placed positions.
+    pub fn place(self, origin: DVec3) -> Result<LoadedMesh, ObjProblem> {
+        let offset = self.anchor - origin;
+        let mut positions = Vec::with_capacity(self.local.len());
+        for (i, p) in self.local.iter().enumerate() {
+            let placed = (p.as_dvec3() + offset).as_vec3();
+            if !placed.is_finite() {
+                return Err(ObjProblem::new(format!(
+                    "vertex {} is too far from the scene's origin for f32 coordinates",
+                    i + 1
+                )));
+            }
+            positions.push(placed);
+        }
+        let computed = if self.given_normals.iter().any(Option::is_none) {
+            smooth_normals(&positions, &self.indices)
+        } else {
+            Vec::new()
+        };
+        let normals = self
+            .given_normals
+            .into_iter()
+            .enumerate()
+            .map(|(i, n)| n.unwrap_or_else(|| computed[i]))
+            .collect();
+        Ok(LoadedMesh { positions, normals, indices: self.indices, uvs: self.uvs })
+    }
+}
+
+/// Geometry of one OBJ file relative to the scene's origin, ready for [`super::Mesh`].
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct LoadedMesh {
     pub positions: Vec<Vec3>,
@@ -72,13 +139,13 @@ impl ObjProblem {
 }
 
 /// Reads, checks, triangulates and transforms the OBJ file at `path`.
-pub(crate) fn load_obj(path: &Path, transform: &Transform) -> Result<LoadedMesh, ObjProblem> {
+pub(crate) fn load_obj(path: &Path, transform: &Transform) -> Result<TransformedMesh, ObjProblem> {
     let bytes = std::fs::read(path).map_err(|e| ObjProblem::new(format!("cannot read file: {e}")))?;
     load_obj_bytes(&bytes, transform)
 }
 
 /// [`load_obj`] on the contents of a file.
-pub(crate) fn load_obj_bytes(bytes: &[u8], transform: &Transform) -> Result<LoadedMesh, ObjProblem> {
+pub(crate) fn load_obj_bytes(bytes: &[u8], transform: &Transform) -> Result<TransformedMesh, ObjProblem> {
     let text = std::str::from_utf8(bytes).map_err(|e| {
         let line = 1 + bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count();
         ObjProblem::at(line, "is not valid UTF-8 text")
@@ -120,10 +187,11 @@ pub(crate) fn load_obj_bytes(bytes: &[u8], transform: &Transform) -> Result<Load
         let has_uvs = m.texcoords.len() == 2 * count;
         all_have_uvs &= has_uvs;
         for v in 0..count {
-            positions.push(Vec3::from_slice(&m.positions[3 * v..3 * v + 3]));
-            given_normals.push(has_normals.then(|| Vec3::from_slice(&m.normals[3 * v..3 * v + 3])));
+            positions.push(DVec3::from_slice(&m.positions[3 * v..3 * v + 3]));
+            given_normals
+                .push(has_normals.then(|| DVec3::from_slice(&m.normals[3 * v..3 * v + 3]).as_vec3()));
             if has_uvs {
-                let uv = Vec2::new(m.texcoords[2 * v], 1.0 - m.texcoords[2 * v + 1]);
+                let uv = Vec2::new(m.texcoords[2 * v] as f32, 1.0 - m.texcoords[2 * v + 1] as f32);
                 if !uv.is_finite() {
                     return Err(ObjProblem::new(format!(
                         "object \"{}\" has a texture coordinate that is not finite",
@@ -154,31 +222,43 @@ pub(crate) fn load_obj_bytes(bytes: &[u8], transform: &Transform) -> Result<Load
     if !all_have_uvs {
         uvs.clear();
     }
-    let loaded = LoadedMesh { positions, normals: Vec::new(), indices, uvs };
-    finish(loaded, &given_normals, transform)
+    // Coordinates far from the file's zero are kept relative to its centre (f64) from here on.
+    let (lo, hi) =
+        positions.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+    let centre = recentring_origin(lo, hi);
+    let relative = positions.iter().map(|p| (*p - centre).as_vec3()).collect();
+    finish(relative, centre, indices, uvs, &given_normals, transform)
 }
 
-/// Applies `transform` to positions and given normals, keeps triangles front-facing under a
-/// mirroring transform, and fills in every normal that the file did not give (or gave as zero).
+/// Applies `transform` to the positions (relative to the file's point `centre`) and the given
+/// normals, and keeps triangles front-facing under a mirroring transform.
 fn finish(
-    mut mesh: LoadedMesh,
+    relative: Vec<Vec3>,
+    centre: DVec3,
+    mut indices: Vec<u32>,
+    uvs: Vec<Vec2>,
     given_normals: &[Option<Vec3>],
     transform: &Transform,
-) -> Result<LoadedMesh, ObjProblem> {
+) -> Result<TransformedMesh, ObjProblem> {
     let rotation = transform.rotation();
-    for (i, p) in mesh.positions.iter_mut().enumerate() {
-        let world = rotation * (*p * transform.scale) + transform.translate;
-        if !world.is_finite() {
+    let mut local = Vec::with_capacity(relative.len());
+    for (i, p) in relative.iter().enumerate() {
+        let moved = rotation * (*p * transform.scale);
+        if !moved.is_finite() {
             return Err(ObjProblem::new(format!(
                 "vertex {} ({}) is not finite after the mesh transform",
                 i + 1,
                 fmt_vec(*p)
             )));
         }
-        *p = world;
+        local.push(moved);
+    }
+    let anchor = transform.translate + rotation.as_dmat3() * (centre * transform.scale.as_dvec3());
+    if !anchor.is_finite() {
+        return Err(ObjProblem::new("is not finite after the mesh transform"));
     }
     if transform.mirrors() {
-        for tri in mesh.indices.chunks_exact_mut(3) {
+        for tri in indices.chunks_exact_mut(3) {
             tri.swap(1, 2);
         }
     }
@@ -194,14 +274,8 @@ fn finish(
             })
         })
         .collect();
-    normals.resize(mesh.positions.len(), None);
-    let computed = if normals.iter().any(Option::is_none) {
-        smooth_normals(&mesh.positions, &mesh.indices)
-    } else {
-        Vec::new()
-    };
-    mesh.normals = normals.into_iter().enumerate().map(|(i, n)| n.unwrap_or_else(|| computed[i])).collect();
-    Ok(mesh)
+    normals.resize(local.len(), None);
+    Ok(TransformedMesh { local, anchor, given_normals: normals, indices, uvs })
 }
 
 /// Smooth, area-weighted vertex normals. Vertices at exactly the same position are welded first,
@@ -535,7 +609,12 @@ mod tests {
     use super::*;
 
     fn load(text: &str) -> Result<LoadedMesh, ObjProblem> {
-        load_obj_bytes(text.as_bytes(), &Transform::default())
+        placed(text.as_bytes(), &Transform::default())
+    }
+
+    /// Loaded and placed at the world origin.
+    fn placed(bytes: &[u8], transform: &Transform) -> Result<LoadedMesh, ObjProblem> {
+        load_obj_bytes(bytes, transform)?.place(DVec3::ZERO)
     }
 
     fn assert_unit(n: Vec3) {
@@ -606,7 +685,7 @@ f 1 4 3 2\nf 5 8 7 6\nf 9 12 11 10\n";
         // shallower, so the normal tilts towards +Y: (-1/2, 1, 0) normalised.
         let obj = "v 0 0 0\nv 1 1 0\nv 0 1 1\nvn -1 1 0\nf 1//1 2//1 3//1\n";
         let t = Transform { scale: Vec3::new(2.0, 1.0, 1.0), ..Default::default() };
-        let mesh = load_obj_bytes(obj.as_bytes(), &t).unwrap();
+        let mesh = placed(obj.as_bytes(), &t).unwrap();
         let expected = Vec3::new(-0.5, 1.0, 0.0).normalize();
         for n in &mesh.normals {
             assert!((*n - expected).length() < 1e-6, "{n}");
@@ -619,14 +698,14 @@ f 1 4 3 2\nf 5 8 7 6\nf 9 12 11 10\n";
         let t = Transform {
             scale: Vec3::splat(2.0),
             rotate_degrees: Vec3::new(0.0, 0.0, 90.0),
-            translate: Vec3::new(10.0, 0.0, 0.0),
+            translate: DVec3::new(10.0, 0.0, 0.0),
         };
-        let mesh = load_obj_bytes(b"v 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n", &t).unwrap();
+        let mesh = placed(b"v 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n", &t).unwrap();
         // (1,0,0) → scaled (2,0,0) → rotated 90° about Z (0,2,0) → translated (10,2,0).
         assert!((mesh.positions[0] - Vec3::new(10.0, 2.0, 0.0)).length() < 1e-5);
         // X then Y: (1,0,0) → Rx keeps it → Ry(90°) sends it to (0,0,-1).
         let t = Transform { rotate_degrees: Vec3::new(90.0, 90.0, 0.0), ..Default::default() };
-        let mesh = load_obj_bytes(b"v 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n", &t).unwrap();
+        let mesh = placed(b"v 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n", &t).unwrap();
         assert!((mesh.positions[0] - Vec3::new(0.0, 0.0, -1.0)).length() < 1e-6);
         // (0,1,0) → Rx(90°) → (0,0,1) → Ry(90°) → (1,0,0).
         assert!((mesh.positions[1] - Vec3::new(1.0, 0.0, 0.0)).length() < 1e-6);
@@ -636,13 +715,37 @@ f 1 4 3 2\nf 5 8 7 6\nf 9 12 11 10\n";
     fn mirroring_keeps_computed_normals_outward() {
         let quad = b"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
         let t = Transform { scale: Vec3::new(-1.0, 1.0, 1.0), ..Default::default() };
-        let mesh = load_obj_bytes(quad, &t).unwrap();
+        let mesh = placed(quad, &t).unwrap();
         for n in &mesh.normals {
             assert_eq!(*n, Vec3::Z);
         }
         // And the winding seen from +Z is still counter-clockwise.
         let [a, b, c] = [0, 1, 2].map(|k| mesh.positions[mesh.indices[k] as usize]);
         assert!((b - a).cross(c - a).z > 0.0);
+    }
+
+    #[test]
+    fn coordinates_far_from_zero_keep_their_precision() {
+        // f32 spacing at 10⁶ is 0.0625: read and transformed in f32, these millimetre offsets
+        // would vanish. Kept relative to the file's centre (f64) and placed at the scene's
+        // origin, they survive to within f32 rounding near zero.
+        let obj = b"v 1000000.001 1000000 1000000\nv 1000000 1000000.002 1000000\nv 1000000 1000000 1000000.003\nf 1 2 3\n";
+        let t = Transform { translate: DVec3::new(-2.0e6, 0.0, 0.0), ..Default::default() };
+        let transformed = load_obj_bytes(obj, &t).unwrap();
+        let (lo, hi) = transformed.bounds();
+        assert!((lo - DVec3::new(-1.0e6, 1.0e6, 1.0e6)).length() < 1e-6, "{lo}");
+        assert!((hi - lo - DVec3::new(0.001, 0.002, 0.003)).length() < 1e-9, "{hi} - {lo}");
+        let origin = recentring_origin(lo, hi);
+        assert_eq!(origin, (lo + hi) * 0.5);
+        let mesh = transformed.place(origin).unwrap();
+        let p = &mesh.positions;
+        assert!((p[1] - p[0] - Vec3::new(-0.001, 0.002, 0.0)).length() < 1e-8, "{:?}", p);
+        assert!((p[2] - p[0] - Vec3::new(-0.001, 0.0, 0.003)).length() < 1e-8, "{:?}", p);
+        // The smooth normals come from the placed positions: the triangle's own, (1/2, 1/3, 1/6)·k.
+        let expected = Vec3::new(6.0, 3.0, 2.0).normalize();
+        assert!(mesh.normals.iter().all(|n| (*n - expected).length() < 1e-5), "{:?}", mesh.normals);
+        // Geometry around zero is never moved.
+        assert_eq!(recentring_origin(DVec3::new(-1.0, 0.5, -1.0), DVec3::new(1.0, 2.0, 1.0)), DVec3::ZERO);
     }
 
     #[test]

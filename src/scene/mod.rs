@@ -52,6 +52,9 @@
 //! intensity = 5.0
 //! ```
 //!
+//! Positions are read and placed in f64: a scene far from the world origin is recentred on its
+//! meshes ([`Scene::origin`]), so that its f32 coordinates keep their precision.
+//!
 //! # Errors
 //!
 //! [`Scene::load`] never panics. Every [`SceneError`] displays as the path of the file at fault
@@ -69,7 +72,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use glam::{Vec2, Vec3};
+use glam::{DVec3, Vec2, Vec3};
 use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use serde::Deserialize;
 
@@ -85,6 +88,11 @@ pub struct Scene {
     pub lights: Vec<Light>,
     /// At least one after [`Scene::load`].
     pub meshes: Vec<Mesh>,
+    /// The world point (f64) that every position here is relative to: a scene whose meshes
+    /// lie farther from zero than their own size is recentred on them at load time (a floating
+    /// origin: meshes, camera and lights move together), so that its f32 coordinates keep
+    /// their precision; zero for a scene around the origin, which stays as written.
+    pub origin: DVec3,
 }
 
 /// A perspective camera. `near` and `far` are always set after loading (derived from the
@@ -543,8 +551,8 @@ struct SceneFile {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct CameraFile {
-    eye: [f32; 3],
-    target: [f32; 3],
+    eye: [f64; 3],
+    target: [f64; 3],
     up: Option<[f32; 3]>,
     fov_y_degrees: f32,
     near: Option<f32>,
@@ -635,9 +643,9 @@ enum LightType {
 struct LightFile {
     #[serde(rename = "type")]
     kind: LightType,
-    position: Option<[f32; 3]>,
+    position: Option<[f64; 3]>,
     direction: Option<[f32; 3]>,
-    vertices: Option<Vec<[f32; 3]>>,
+    vertices: Option<Vec<[f64; 3]>>,
     color: [f32; 3],
     intensity: f32,
 }
@@ -648,7 +656,7 @@ struct MeshFile {
     obj: PathBuf,
     material: String,
     name: Option<String>,
-    translate: Option<[f32; 3]>,
+    translate: Option<[f64; 3]>,
     rotate_degrees: Option<[f32; 3]>,
     scale: Option<Scale>,
     uv_projection: Option<UvProjection>,
@@ -741,6 +749,28 @@ impl Item<'_> {
         }
     }
 
+    /// A world position (f64 in the file) relative to the scene's `origin`, in f32.
+    fn point(&self, key: &str, v: [f64; 3], origin: DVec3) -> Result<Vec3, SceneError> {
+        let world = self.dvec3(key, v)?;
+        let placed = (world - origin).as_vec3();
+        if placed.is_finite() {
+            Ok(placed)
+        } else {
+            Err(self.error(format!(
+                "`{key}` = {} is too far from the scene's meshes: not a finite number in f32",
+                fmt_array(v)
+            )))
+        }
+    }
+
+    fn dvec3(&self, key: &str, v: [f64; 3]) -> Result<DVec3, SceneError> {
+        if v.iter().all(|c| c.is_finite()) {
+            Ok(DVec3::from_array(v))
+        } else {
+            Err(self.error(format!("`{key}` = {} has a component that is not a finite number", fmt_array(v))))
+        }
+    }
+
     fn vec3(&self, key: &str, v: [f32; 3]) -> Result<Vec3, SceneError> {
         if v.iter().all(|c| c.is_finite()) {
             Ok(Vec3::from_array(v))
@@ -825,7 +855,7 @@ fn fmt_interval(lo: Bound, hi: Bound) -> String {
     format!("{lo}, {hi}")
 }
 
-fn fmt_array(v: [f32; 3]) -> String {
+fn fmt_array<T: std::fmt::Display>(v: [T; 3]) -> String {
     format!("[{}, {}, {}]", v[0], v[1], v[2])
 }
 
@@ -853,24 +883,41 @@ fn build(path: &Path, file: SceneFile) -> Result<Scene, SceneError> {
     if file.lights.is_empty() {
         return Err(top("lights").error("the scene has no lights; add at least one [[lights]] table"));
     }
-    let lights = file
-        .lights
-        .iter()
-        .enumerate()
-        .map(|(i, l)| check_light(path, i, l, settings.light_sampling))
-        .collect::<Result<Vec<_>, _>>()?;
+    let check_lights = |origin| {
+        file.lights
+            .iter()
+            .enumerate()
+            .map(|(i, l)| check_light(path, i, l, settings.light_sampling, origin))
+            .collect::<Result<Vec<_>, _>>()
+    };
+    let mut lights = check_lights(DVec3::ZERO)?;
 
     // The camera checks that do not need the meshes come first, so that a mistake there is
     // reported without reading any OBJ file.
     let camera_item = Item { path, item: "[camera]".to_string() };
-    let camera = check_camera(&camera_item, &file.camera)?;
+    let mut camera = check_camera(&camera_item, &file.camera, DVec3::ZERO)?;
 
     if file.meshes.is_empty() {
         return Err(top("meshes").error("the scene has no meshes; add at least one [[meshes]] table"));
     }
-    let mut meshes = Vec::with_capacity(file.meshes.len());
+    let mut geometry = Vec::with_capacity(file.meshes.len());
     for (i, m) in file.meshes.iter().enumerate() {
-        meshes.push(load_mesh(path, folder, i, m, &materials)?);
+        geometry.push(read_mesh(path, folder, i, m, &materials)?);
+    }
+    // The floating origin: lights and camera were checked at the world origin above, so that
+    // their mistakes are reported before any OBJ file is read; far from it they are placed again.
+    let (lo, hi) = geometry
+        .iter()
+        .map(|g| g.2.bounds())
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), (l, h)| (lo.min(l), hi.max(h)));
+    let origin = mesh::recentring_origin(lo, hi);
+    if origin != DVec3::ZERO {
+        lights = check_lights(origin)?;
+        camera = check_camera(&camera_item, &file.camera, origin)?;
+    }
+    let mut meshes = Vec::with_capacity(geometry.len());
+    for (i, (name, source, transformed)) in geometry.into_iter().enumerate() {
+        meshes.push(finish_mesh(path, i, &file.meshes[i], &materials, name, source, transformed, origin)?);
     }
 
     // Emitters are drawn too, so the default far plane must reach them.
@@ -889,6 +936,7 @@ fn build(path: &Path, file: SceneFile) -> Result<Scene, SceneError> {
         materials,
         lights,
         meshes,
+        origin,
     })
 }
 
@@ -1081,6 +1129,7 @@ fn check_light(
     index: usize,
     l: &LightFile,
     sampling: LightSampling,
+    origin: DVec3,
 ) -> Result<Light, SceneError> {
     let kind = match l.kind {
         LightType::Point => "point",
@@ -1094,7 +1143,7 @@ fn check_light(
     let why_not = format!("to type \"{kind}\"");
     Ok(match l.kind {
         LightType::Point => {
-            let position = item.vec3("position", item.required("position", l.position, &why)?)?;
+            let position = item.point("position", item.required("position", l.position, &why)?, origin)?;
             item.forbidden("direction", &l.direction, &why_not)?;
             item.forbidden("vertices", &l.vertices, &why_not)?;
             Light::Point { position, color, intensity }
@@ -1103,7 +1152,8 @@ fn check_light(
             let raw = item.required("vertices", l.vertices.as_ref(), &why)?;
             item.forbidden("position", &l.position, &why_not)?;
             item.forbidden("direction", &l.direction, &why_not)?;
-            let vertices = raw.iter().map(|v| item.vec3("vertices", *v)).collect::<Result<Vec<_>, _>>()?;
+            let vertices =
+                raw.iter().map(|v| item.point("vertices", *v, origin)).collect::<Result<Vec<_>, _>>()?;
             let light = PolygonLight::new(&vertices, color, intensity)
                 .map_err(|problem| item.error(format!("`vertices`: {problem}")))?;
             Light::Polygon(PolygonLight { sampling, ..light })
@@ -1122,13 +1172,14 @@ fn check_light(
 }
 
 /// Checks everything about the camera except `near`/`far`, which may need the scene bounds.
-fn check_camera(item: &Item, c: &CameraFile) -> Result<Camera, SceneError> {
-    let eye = item.vec3("eye", c.eye)?;
-    let target = item.vec3("target", c.target)?;
+fn check_camera(item: &Item, c: &CameraFile, origin: DVec3) -> Result<Camera, SceneError> {
+    let eye = item.point("eye", c.eye, origin)?;
+    let target = item.point("target", c.target, origin)?;
     let raw_up = c.up.unwrap_or([0.0, 1.0, 0.0]);
     let up = item.vec3("up", raw_up)?;
     let fov_y_degrees = item.range("fov_y_degrees", c.fov_y_degrees, Open(0.0), Open(180.0))?;
-    let view = (target - eye).normalize_or_zero();
+    // In f64: two points far from zero can differ by less than f32's spacing there.
+    let view = (item.dvec3("target", c.target)? - item.dvec3("eye", c.eye)?).normalize_or_zero().as_vec3();
     if view == Vec3::ZERO || !view.is_finite() {
         return Err(item.error(format!("`eye` and `target` are the same point {}", fmt_array(c.eye))));
     }
@@ -1188,18 +1239,19 @@ fn finish_camera(
     Ok(camera)
 }
 
-fn load_mesh(
+/// Reads the OBJ file of `[[meshes]]` entry `index` and applies its transform: its name, its
+/// path and its geometry, not yet placed relative to the scene's origin.
+fn read_mesh(
     path: &Path,
     folder: &Path,
     index: usize,
     m: &MeshFile,
     materials: &[Material],
-) -> Result<Mesh, SceneError> {
-    let item = Item { path, item: format!("[[meshes]] #{} (\"{}\")", index + 1, m.obj.display()) };
-    let material = materials
-        .iter()
-        .position(|mat| mat.name == m.material)
-        .ok_or_else(|| item.error(format!("material \"{}\" is not defined", m.material)))?;
+) -> Result<(String, PathBuf, mesh::TransformedMesh), SceneError> {
+    let item = mesh_item(path, index, m);
+    if !materials.iter().any(|mat| mat.name == m.material) {
+        return Err(item.error(format!("material \"{}\" is not defined", m.material)));
+    }
     let scale = item.vec3("scale", m.scale.unwrap_or(Scale([1.0; 3])).0)?;
     if scale.to_array().contains(&0.0) {
         return Err(item.error(format!("`scale` = {} has a zero component", fmt_array(scale.to_array()))));
@@ -1207,20 +1259,47 @@ fn load_mesh(
     let transform = mesh::Transform {
         scale,
         rotate_degrees: item.vec3("rotate_degrees", m.rotate_degrees.unwrap_or([0.0; 3]))?,
-        translate: item.vec3("translate", m.translate.unwrap_or([0.0; 3]))?,
+        translate: item.dvec3("translate", m.translate.unwrap_or([0.0; 3]))?,
     };
     let source = folder.join(&m.obj);
     let name = match &m.name {
         Some(name) => name.clone(),
         None => m.obj.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(),
     };
-    let loaded = mesh::load_obj(&source, &transform).map_err(|p| SceneError::Obj {
-        path: source.clone(),
-        line: p.line,
-        problem: p.message,
+    let transformed = mesh::load_obj(&source, &transform).map_err(|p| obj_error(path, &source, index, p))?;
+    Ok((name, source, transformed))
+}
+
+/// `problem` with the OBJ file `source` of `[[meshes]]` entry `index` of the scene at `path`.
+fn obj_error(path: &Path, source: &Path, index: usize, problem: mesh::ObjProblem) -> SceneError {
+    SceneError::Obj {
+        path: source.to_path_buf(),
+        line: problem.line,
+        problem: problem.message,
         scene: path.to_path_buf(),
         mesh: index + 1,
-    })?;
+    }
+}
+
+fn mesh_item<'a>(path: &'a Path, index: usize, m: &MeshFile) -> Item<'a> {
+    Item { path, item: format!("[[meshes]] #{} (\"{}\")", index + 1, m.obj.display()) }
+}
+
+/// The [`Mesh`] of `[[meshes]]` entry `index`, its geometry placed relative to `origin`.
+#[allow(clippy::too_many_arguments)]
+fn finish_mesh(
+    path: &Path,
+    index: usize,
+    m: &MeshFile,
+    materials: &[Material],
+    name: String,
+    source: PathBuf,
+    transformed: mesh::TransformedMesh,
+    origin: DVec3,
+) -> Result<Mesh, SceneError> {
+    let item = mesh_item(path, index, m);
+    let material = materials.iter().position(|mat| mat.name == m.material).unwrap_or_default();
+    let loaded = transformed.place(origin).map_err(|p| obj_error(path, &source, index, p))?;
     let mut mesh = Mesh {
         name,
         source,
