@@ -3,8 +3,9 @@
 //! Drag with the left button to orbit, scroll to zoom, Esc to quit. Keys pick the mode: P
 //! pixel, V vertex, F fixed:N, M multirate, + and - change N; H toggles the tessellation-level
 //! heat map, W the wireframe; [ and ] halve and double ε. The title shows the mode (with ε and
-//! n_max in multirate) and the frame time. A `ViewScript` drives the same loop without a
-//! person, for tests.
+//! n_max in multirate), the GPU time of the render from timestamps, and the shading
+//! evaluations as a share of `pixel` mode's (counted at most every `RECOUNT_EVERY`, and when
+//! the mode or ε changes). A `ViewScript` drives the same loop without a person, for tests.
 
 use crate::error::{Error, Result, VkContext as _};
 use crate::render::camera::Orbit;
@@ -13,6 +14,7 @@ use crate::render::{Estimator, Mode, Renderer, View, MAX_LEVEL};
 use crate::scene::Scene;
 use crate::vk::swapchain::{Acquired, Swapchain};
 use crate::vk::target::{AfterPass, RenderTarget};
+use crate::vk::timing::GpuTimer;
 use crate::vk::{Context, ContextOptions};
 use ash::vk;
 use std::sync::Arc;
@@ -43,7 +45,12 @@ pub struct ViewReport {
     pub swapchain_recreations: u32,
     pub final_extent: (u32, u32),
     pub validation_messages: usize,
+    /// The window title when it closed.
+    pub final_title: String,
 }
+
+/// How often the viewer counts shading evaluations while the view only moves.
+const RECOUNT_EVERY: Duration = Duration::from_secs(2);
 
 /// Opens a window on `scene`, starting with `view`, and runs until it is closed.
 pub fn view(
@@ -66,8 +73,8 @@ pub fn view(
         error: None,
         drag: None,
         fixed_level: if let Mode::Fixed(level) = mode { level } else { 4 },
-        last_frame: Instant::now(),
-        smoothed_frame: Duration::ZERO,
+        gpu_ms: None,
+        share: None,
     };
     event_loop.run_app(&mut app).map_err(|e| Error::Window(format!("event loop: {e}")))?;
     if let Some(error) = app.error {
@@ -93,6 +100,10 @@ fn new_event_loop() -> Result<EventLoop<()>> {
 /// Per-window GPU state. Field order is drop order: GPU objects go before the window.
 struct WindowState {
     frame: FrameSync,
+    /// Timestamps around the render of the frame in flight.
+    timer: GpuTimer,
+    /// Whether the frame in flight wrote them.
+    timed: bool,
     present: PresentPass,
     target: RenderTarget,
     renderer: Renderer,
@@ -163,8 +174,18 @@ struct App {
     drag: Option<(f64, f64)>,
     /// The level `F` returns to after visiting other modes.
     fixed_level: u32,
-    last_frame: Instant,
-    smoothed_frame: Duration,
+    /// GPU milliseconds of the render (pre-pass included, tone mapping not), smoothed.
+    gpu_ms: Option<f64>,
+    /// The last evaluation count: when, for which view, and its share of `pixel` mode's.
+    share: Option<EvaluationShare>,
+}
+
+/// Shading evaluations of a view as a share of `pixel` mode's at the same camera.
+struct EvaluationShare {
+    at: Instant,
+    view: View,
+    /// None where the device cannot count (no stores from the vertex stages).
+    percent: Option<f64>,
 }
 
 fn extent_of(size: PhysicalSize<u32>) -> vk::Extent2D {
@@ -190,8 +211,11 @@ impl App {
         let present = PresentPass::new(&context, swapchain.format.format, !swapchain.is_srgb())?;
         present.bind_target(&target);
         let frame = FrameSync::new(&context)?;
+        let timer = GpuTimer::new(&context, 1, 1)?;
         Ok(WindowState {
             frame,
+            timer,
+            timed: false,
             present,
             target,
             renderer,
@@ -224,6 +248,21 @@ impl App {
         // acquire semaphore of the previous frame reusable.
         unsafe { device.wait_for_fences(&[frame.in_flight], true, u64::MAX) }
             .while_("waiting for the last frame")?;
+        if state.timed {
+            let ms = state.timer.pass_intervals(0)?[0].milliseconds();
+            self.gpu_ms = Some(self.gpu_ms.map_or(ms, |smoothed| 0.9 * smoothed + 0.1 * ms));
+        }
+        let mut view = self.view.clone();
+        view.camera = self.orbit.apply(&self.scene.camera);
+        let settings_changed = self.share.as_ref().is_none_or(|s| {
+            (s.view.mode, s.view.epsilon, s.view.n_max, s.view.estimator)
+                != (view.mode, view.epsilon, view.n_max, view.estimator)
+        });
+        if settings_changed || self.share.as_ref().is_some_and(|s| s.at.elapsed() >= RECOUNT_EVERY) {
+            // The last frame has finished (fence above), so the target is free to count in.
+            let percent = evaluation_percent(&state.renderer, &state.target, &view)?;
+            self.share = Some(EvaluationShare { at: Instant::now(), view: view.clone(), percent });
+        }
         let index = match state.swapchain.acquire(frame.image_available)? {
             Acquired::Image(index) => index,
             Acquired::OutOfDate => {
@@ -241,10 +280,12 @@ impl App {
                 .begin_command_buffer(frame.cmd, &vk::CommandBufferBeginInfo::default())
                 .while_("beginning the frame commands")?;
         }
-        let mut view = self.view.clone();
-        view.camera = self.orbit.apply(&self.scene.camera);
         state.renderer.prepare(&view, &state.target)?;
+        state.timer.reset(frame.cmd, 0);
+        state.timer.timestamp(frame.cmd, 0, 0, false);
         state.renderer.record(frame.cmd, &state.target, &view, AfterPass::Sampled);
+        state.timer.timestamp(frame.cmd, 0, 0, true);
+        state.timed = true;
         state.present.record(
             frame.cmd,
             state.swapchain.images[index as usize],
@@ -273,27 +314,23 @@ impl App {
     }
 
     fn update_title(&mut self) {
-        let now = Instant::now();
-        let frame = now - self.last_frame;
-        self.last_frame = now;
-        self.smoothed_frame = self.smoothed_frame.mul_f64(0.9) + frame.mul_f64(0.1);
-        if let Some(state) = &self.state {
-            if self.report.frames_presented % 10 == 0 {
-                state.window.set_title(&format!(
-                    "multirate: {} ({}{}) {:.2} ms",
-                    self.scene.path.display(),
-                    self.view.mode,
-                    if self.view.mode == Mode::Multirate {
-                        format!(
-                            ", ε {}, n_max {}, estimator {}",
-                            self.view.epsilon, self.view.n_max, self.view.estimator
-                        )
-                    } else {
-                        String::new()
-                    },
-                    self.smoothed_frame.as_secs_f64() * 1e3
-                ));
-            }
+        let Some(state) = &self.state else { return };
+        let mut title = format!("multirate: {} — {}", self.scene.path.display(), self.view.mode);
+        if self.view.mode == Mode::Multirate {
+            title += &format!(
+                " ε {} n_max {} ({} estimator)",
+                self.view.epsilon, self.view.n_max, self.view.estimator
+            );
+        }
+        if let Some(ms) = self.gpu_ms {
+            title += &format!(" — GPU {ms:.2} ms");
+        }
+        if let Some(percent) = self.share.as_ref().and_then(|s| s.percent) {
+            title += &format!(" — evaluations {percent:.1} % of pixel");
+        }
+        if title != self.report.final_title {
+            state.window.set_title(&title);
+            self.report.final_title = title;
         }
     }
 
@@ -463,4 +500,19 @@ impl ExtentExt for vk::Extent2D {
     fn max_one(self) -> Self {
         vk::Extent2D { width: self.width.max(1), height: self.height.max(1) }
     }
+}
+
+/// `view`'s shading evaluations as a percentage of `pixel` mode's at the same camera; None
+/// where the device cannot count them.
+fn evaluation_percent(renderer: &Renderer, target: &RenderTarget, view: &View) -> Result<Option<f64>> {
+    let count = |view: &View| match renderer.count_evaluations(target, view) {
+        Ok(counts) => Ok(Some(counts)),
+        Err(Error::Unsupported { .. }) => Ok(None),
+        Err(error) => Err(error),
+    };
+    // What the view shades, not what its heat map or wireframe show.
+    let shaded = View { heat_map: false, wireframe: false, ..view.clone() };
+    let pixel = View { mode: Mode::Pixel, ..shaded.clone() };
+    let (Some(counts), Some(reference)) = (count(&shaded)?, count(&pixel)?) else { return Ok(None) };
+    Ok(Some(100.0 * counts.total() as f64 / reference.total().max(1) as f64))
 }

@@ -1,6 +1,7 @@
 //! The viewer opens a window (in a tessellated mode), switches modes, heat map and wireframe
 //! by key, renders, survives a resize (swapchain recreation) and closes
-//! cleanly with the validation layer on. Uses the display in `DISPLAY`, or starts Xvfb.
+//! cleanly with the validation layer on; its title shows the GPU time and the evaluations.
+//! Uses the display in `DISPLAY`, or starts Xvfb.
 
 mod common;
 
@@ -33,4 +34,15 @@ fn window_opens_resizes_and_closes_cleanly() {
     assert!(last.heat_map, "H toggled the heat map on");
     assert!(last.wireframe, "W toggled the wireframe on (lavapipe has fillModeNonSolid)");
     assert_eq!(last.epsilon, epsilon * 0.5, "[ halves ε twice, ] doubles it once");
+    // The title: mode, GPU time from timestamps, evaluations against `pixel` (fixed:4 shades
+    // sub-vertices only, a fraction of the covered pixels here).
+    let title = &report.final_title;
+    assert!(title.contains("fixed:4"), "{title}");
+    let number_before = |unit: &str| -> f64 {
+        let head = &title[..title.find(unit).unwrap_or_else(|| panic!("no `{unit}` in {title}"))];
+        head.split_whitespace().last().and_then(|w| w.parse().ok()).unwrap_or_else(|| panic!("{title}"))
+    };
+    assert!(number_before(" ms") > 0.0, "{title}");
+    let percent = number_before(" % of pixel");
+    assert!(percent > 0.0 && percent < 100.0, "{title}");
 }
