@@ -281,6 +281,11 @@ fn render(args: &RenderArgs, gpu: &GpuArgs) -> Result<()> {
         view.mode,
         context.info.name
     );
+    if matches!(view.mode, Mode::Fixed(_) | Mode::Multirate) {
+        if let Some(note) = multirate::render::draw_splitting_note(&context.info) {
+            println!("{note}");
+        }
+    }
     let messages = context.validation().count();
     anyhow::ensure!(messages == 0, "the validation layer reported {messages} message(s)");
     Ok(())
@@ -505,6 +510,9 @@ fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
             .with_context(|| format!("{}: cannot write the capture", path.display()))?;
     }
     println!("{} on {} ({})", args.out.display(), context.info.name, context.info.driver);
+    if let Some(note) = multirate::render::draw_splitting_note(&context.info) {
+        println!("{note}");
+    }
     println!(
         "{:<44} {:>10} {:>9} {:>8} {:>10} {:>9} {:>10} {:>8}",
         "configuration", "GPU ms", "pre-pass", "speedup", "evals", "L∞", "mean L2", "FLIP"

@@ -1343,6 +1343,19 @@ fn draw_constants(view: &View, extent: vk::Extent2D) -> DrawConstants {
     }
 }
 
+/// What this device's draws are split for, where that splitting exists only for lavapipe's
+/// limits (None elsewhere): for the tools to print beside their timings.
+pub fn draw_splitting_note(info: &crate::vk::context::DeviceInfo) -> Option<String> {
+    tessellated_vertex_budget(info).map(|budget| {
+        format!(
+            "note: on lavapipe only, tessellated draws are split to emit at most {budget} vertices each \
+             (Mesa 22.3 loses patches past about 2^16), and `--estimator tcs` multirate draws to 85 \
+             patches (it restarts gl_PrimitiveID every 1020 control points); other devices draw \
+             each mesh whole"
+        )
+    })
+}
+
 /// Lavapipe's draw module (Mesa 22.3) loses tessellated patches when one draw emits more than
 /// about 2^16 vertices in one of its internal batches (measured: the 8192-patch plane renders
 /// whole at fixed:15 and loses rows of patches from fixed:16 on). Splitting draws so that each
