@@ -60,7 +60,7 @@ struct ExperimentArgs {
 
 #[derive(Args)]
 struct BenchArgs {
-    /// Scene file (TOML); repeat for several scenes.
+    /// Scene file (TOML), or an OBJ model (camera and lights added); repeat for several scenes.
     #[arg(long, required = true)]
     scene: Vec<PathBuf>,
     /// Modes to measure besides the pixel reference (which always runs).
@@ -114,7 +114,7 @@ fn parse_resolution(text: &str) -> Result<(u32, u32), String> {
 
 #[derive(Args)]
 struct AnalyzeArgs {
-    /// Scene file (TOML).
+    /// Scene file (TOML), or an OBJ model with its MTL materials (camera and lights added).
     #[arg(long)]
     scene: PathBuf,
     /// Output CSV.
@@ -152,7 +152,7 @@ struct GpuArgs {
 
 #[derive(Args)]
 struct RenderArgs {
-    /// Scene file (TOML).
+    /// Scene file (TOML), or an OBJ model with its MTL materials (camera and lights added).
     #[arg(long)]
     scene: PathBuf,
     /// Output image: .png or .exr.
@@ -238,7 +238,7 @@ impl ShadingArgs {
 
 #[derive(Args)]
 struct ViewArgs {
-    /// Scene file (TOML).
+    /// Scene file (TOML), or an OBJ model with its MTL materials (camera and lights added).
     #[arg(long, default_value_os_t = default_scene())]
     scene: PathBuf,
     /// Initial shading (keys P, V, F, M, + and - change the mode in the window).
@@ -256,12 +256,25 @@ fn default_scene() -> PathBuf {
     }
 }
 
+/// [`Scene::load`], with what loading stood in for printed as warnings.
+fn load_scene(path: &Path) -> Result<Scene> {
+    let scene = Scene::load(path)?;
+    print_warnings(&scene);
+    Ok(scene)
+}
+
+fn print_warnings(scene: &Scene) {
+    for warning in &scene.warnings {
+        eprintln!("warning: {warning}");
+    }
+}
+
 fn options(gpu: &GpuArgs) -> ContextOptions {
     ContextOptions { validate: gpu.validate, device_name: gpu.device.clone() }
 }
 
 fn render(args: &RenderArgs, gpu: &GpuArgs) -> Result<()> {
-    let scene = Scene::load(&args.scene)?;
+    let scene = load_scene(&args.scene)?;
     let width = args.width.unwrap_or(scene.settings.width);
     let height = args.height.unwrap_or(scene.settings.height);
     anyhow::ensure!(
@@ -296,7 +309,7 @@ fn render(args: &RenderArgs, gpu: &GpuArgs) -> Result<()> {
 /// measured in the same run: GPU time, shading evaluations, the largest error against ε.
 fn first_run(gpu: &GpuArgs) -> Result<()> {
     const FRAMES: u32 = 10;
-    let scene = Scene::load(&default_scene())?;
+    let scene = load_scene(&default_scene())?;
     let (width, height) = (scene.settings.width, scene.settings.height);
     let context = Context::headless(&options(gpu))?;
     let renderer = Renderer::new(&context, &scene)?;
@@ -346,7 +359,7 @@ fn first_run(gpu: &GpuArgs) -> Result<()> {
 }
 
 fn view(scene: &Path, shading: &ShadingArgs, gpu: &GpuArgs) -> Result<()> {
-    let loaded = Scene::load(scene)?;
+    let loaded = load_scene(scene)?;
     let view = shading.view(&loaded)?;
     multirate::window::view(loaded, view, &options(gpu), None)?;
     Ok(())
@@ -366,7 +379,7 @@ impl Default for ShadingArgs {
 }
 
 fn analyze(args: &AnalyzeArgs, gpu: &GpuArgs) -> Result<()> {
-    let scene = Scene::load(&args.scene)?;
+    let scene = load_scene(&args.scene)?;
     let view = args.shading.view(&scene)?;
     let settings = EstimatorSettings {
         epsilon: view.epsilon,
@@ -466,6 +479,7 @@ fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
     }
     anyhow::ensure!(args.frames >= 1, "--frames must be at least 1");
     let scenes = args.scene.iter().map(|path| BenchScene::load(path)).collect::<Result<Vec<_>, _>>()?;
+    scenes.iter().for_each(|s| print_warnings(&s.scene));
     let context = Context::headless(&options(gpu))?;
     let config = BenchConfig {
         modes: args.modes.clone(),

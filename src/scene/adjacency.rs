@@ -8,8 +8,9 @@
 //! each triangle's `neighbours`.
 //!
 //! Vertices are matched by position (welded), so seams that duplicate vertices still connect.
-//! An edge with no neighbour, or shared by more than two triangles (non-manifold), gets the
-//! triangle itself as its "neighbour"; at a non-manifold edge levels can then disagree.
+//! Triangles with two corners at one position are nobody's neighbour. An edge with no
+//! neighbour, or shared by more than two triangles (non-manifold), gets the triangle itself as
+//! its "neighbour"; at a non-manifold edge levels can then disagree.
 
 use super::Mesh;
 use std::collections::HashMap;
@@ -25,7 +26,7 @@ pub fn neighbours(mesh: &Mesh) -> Vec<[u32; 3]> {
         .iter()
         .enumerate()
         .map(|(index, triangle)| {
-            [0, 1, 2].map(|k| match edges[&edge_key(triangle, k)].as_slice() {
+            [0, 1, 2].map(|k| match edges.get(&edge_key(triangle, k)).map_or(&[][..], Vec::as_slice) {
                 [a, b] if *a == index => *b as u32,
                 [a, b] if *b == index => *a as u32,
                 _ => index as u32,
@@ -66,6 +67,11 @@ fn edge_map(
     };
     let mut edges: HashMap<EdgeKey, Vec<usize>> = HashMap::new();
     for (index, triangle) in triangles.iter().enumerate() {
+        // Two corners at one position (the fans at a UV sphere's poles): no pixel of its own,
+        // and counted it would make the edges of the real triangles beside it non-manifold.
+        if (0..3).any(|k| edge_key(triangle, k).0 == edge_key(triangle, k).1) {
+            continue;
+        }
         for k in 0..3 {
             edges.entry(edge_key(triangle, k)).or_default().push(index);
         }
@@ -125,6 +131,19 @@ mod tests {
         // Triangle 1: edge 2 (opposite vertex 3) is 0-4, shared with triangle 0.
         assert_eq!(&patches[12 + 9..12 + 12], &[0, 1, 2]);
         assert_eq!(&patches[12 + 3..12 + 6], &[0, 4, 3]);
+    }
+
+    #[test]
+    fn triangles_with_coincident_corners_are_nobodys_neighbour() {
+        // A pole fan: the quad 0-1-2-3 with corners 0 and 3 at one point, triangulated as a
+        // real triangle (0, 1, 2) and a degenerate one (0, 2, 3); (4, 2, 1) is across 1-2.
+        // Without the rule, edge 0-2 would be shared by three triangles.
+        let positions = vec![Vec3::Y, Vec3::X, Vec3::Z, Vec3::Y, Vec3::new(1.0, 0.0, 1.0)];
+        let the_mesh = mesh(positions, vec![0, 1, 2, 0, 2, 3, 4, 2, 1, 0, 2, 4]);
+        let across = neighbours(&the_mesh);
+        assert_eq!(across[0], [2, 3, 0], "real triangles pair up across 1-2 and 2-0");
+        assert_eq!(across[1], [1, 1, 1], "the degenerate triangle has no neighbour");
+        assert_eq!(across[3][2], 0);
     }
 
     #[test]

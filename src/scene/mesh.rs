@@ -129,11 +129,11 @@ pub(crate) struct ObjProblem {
 }
 
 impl ObjProblem {
-    fn new(message: impl Into<String>) -> Self {
+    pub(crate) fn new(message: impl Into<String>) -> Self {
         ObjProblem { line: None, message: message.into() }
     }
 
-    fn at(line: usize, message: impl Into<String>) -> Self {
+    pub(crate) fn at(line: usize, message: impl Into<String>) -> Self {
         ObjProblem { line: Some(line), message: message.into() }
     }
 }
@@ -144,8 +144,22 @@ pub(crate) fn load_obj(path: &Path, transform: &Transform) -> Result<Transformed
     load_obj_bytes(&bytes, transform)
 }
 
-/// [`load_obj`] on the contents of a file.
+/// [`load_obj`] on the contents of a file. Material libraries are never opened.
 pub(crate) fn load_obj_bytes(bytes: &[u8], transform: &Transform) -> Result<TransformedMesh, ObjProblem> {
+    let (models, _materials) = parse_obj(bytes, &|_| Err(tobj::LoadError::OpenFileFailed))?;
+    assemble(&models.iter().collect::<Vec<_>>(), transform)
+}
+
+/// An OBJ file's objects and the materials of its libraries (or why none could be read).
+pub(crate) type ParsedObj = (Vec<tobj::Model>, Result<Vec<tobj::Material>, tobj::LoadError>);
+
+/// The objects of an OBJ file as `tobj` reads them (one per object and material, triangulated,
+/// one index per corner), after the pre-scan, and what `material_loader` made of the file's
+/// `mtllib` lines.
+pub(crate) fn parse_obj(
+    bytes: &[u8],
+    material_loader: &dyn Fn(&Path) -> tobj::MTLLoadResult,
+) -> Result<ParsedObj, ObjProblem> {
     let text = std::str::from_utf8(bytes).map_err(|e| {
         let line = 1 + bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count();
         ObjProblem::at(line, "is not valid UTF-8 text")
@@ -163,23 +177,30 @@ pub(crate) fn load_obj_bytes(bytes: &[u8], transform: &Transform) -> Result<Tran
     };
     let mut reader = LineCountingReader::new(bytes);
     // The pre-scan keeps out the inputs known to make `tobj` panic; this is a second guard so
-    // that no file can take the program down. Material libraries are never opened.
+    // that no file can take the program down.
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        tobj::load_obj_buf(&mut reader, &options, |_| Err(tobj::LoadError::OpenFileFailed))
+        tobj::load_obj_buf(&mut reader, &options, material_loader)
     }));
-    let models = match result {
-        Ok(Ok((models, _materials))) => models,
-        Ok(Err(e)) => return Err(describe_tobj_error(e, reader.current_line())),
-        Err(_) => return Err(ObjProblem::new("the OBJ parser failed on this file")),
-    };
+    match result {
+        Ok(Ok(parsed)) => Ok(parsed),
+        Ok(Err(e)) => Err(describe_tobj_error(e, reader.current_line())),
+        Err(_) => Err(ObjProblem::new("the OBJ parser failed on this file")),
+    }
+}
 
+/// One mesh of `models` (objects of one file), with `transform` applied. Texture coordinates
+/// are kept where every one of `models` has them.
+pub(crate) fn assemble(
+    models: &[&tobj::Model],
+    transform: &Transform,
+) -> Result<TransformedMesh, ObjProblem> {
     let mut positions = Vec::new();
     // Per vertex: the file's normal for it, where the file gives every vertex of its object one.
     let mut given_normals: Vec<Option<Vec3>> = Vec::new();
     let mut indices = Vec::new();
     let mut uvs = Vec::new();
     let mut all_have_uvs = true;
-    for model in &models {
+    for model in models {
         let m = &model.mesh;
         let base = positions.len();
         let count = m.positions.len() / 3;

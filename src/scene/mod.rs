@@ -63,6 +63,7 @@
 
 pub mod adjacency;
 mod mesh;
+pub mod obj_scene;
 pub mod texture;
 
 use crate::shading::polygon::MAX_POLYGON_VERTICES;
@@ -79,7 +80,7 @@ use serde::Deserialize;
 /// A loaded, checked scene. Everything is in world space; meshes have their transforms applied.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scene {
-    /// The TOML file the scene was loaded from, as given to [`Scene::load`].
+    /// The TOML (or OBJ) file the scene was loaded from, as given to [`Scene::load`].
     pub path: PathBuf,
     pub description: String,
     pub camera: Camera,
@@ -93,6 +94,9 @@ pub struct Scene {
     /// origin: meshes, camera and lights move together), so that its f32 coordinates keep
     /// their precision; zero for a scene around the origin, which stays as written.
     pub origin: DVec3,
+    /// What loading could not use and how it stood in for it (an OBJ file given as the scene
+    /// whose texture is missing, say), for the user to read; empty for a TOML scene.
+    pub warnings: Vec<String>,
 }
 
 /// A perspective camera. `near` and `far` are always set after loading (derived from the
@@ -446,6 +450,9 @@ pub enum SceneError {
         scene.display()
     )]
     Obj { path: PathBuf, line: Option<usize>, problem: String, scene: PathBuf, mesh: usize },
+    /// An OBJ file given as the scene, or one of its MTL files, could not be used.
+    #[error("{}: {}{problem}", path.display(), fmt_line(*line))]
+    Model { path: PathBuf, line: Option<usize>, problem: String },
 }
 
 fn fmt_location(line: Option<usize>, column: Option<usize>, text: &str) -> String {
@@ -462,8 +469,13 @@ fn fmt_line(line: Option<usize>) -> String {
 }
 
 impl Scene {
-    /// Reads, parses and checks the scene file at `path` and every OBJ file it names.
+    /// Reads, parses and checks the scene file at `path` and every OBJ file it names. A path
+    /// ending in `.obj` is a model rather than a scene file: its materials come from its MTL
+    /// files, and it gets a camera framed on it and default lights (see [`obj_scene`]).
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
+        if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("obj")) {
+            return obj_scene::load(path);
+        }
         let text = std::fs::read_to_string(path)
             .map_err(|error| SceneError::Io { path: path.to_path_buf(), error })?;
         let file: SceneFile = toml::from_str(&text).map_err(|e| {
@@ -937,6 +949,7 @@ fn build(path: &Path, file: SceneFile) -> Result<Scene, SceneError> {
         lights,
         meshes,
         origin,
+        warnings: Vec::new(),
     })
 }
 

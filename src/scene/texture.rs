@@ -102,8 +102,8 @@ pub enum TextureError {
     /// The file could not be read.
     #[error("{}: cannot read file: {error}", path.display())]
     Io { path: PathBuf, error: std::io::Error },
-    /// The file is not a PNG image the `image` crate can decode.
-    #[error("{}: cannot decode as PNG: {error}", path.display())]
+    /// The file is not a PNG, JPEG or TGA image the `image` crate can decode.
+    #[error("{}: cannot decode as PNG, JPEG or TGA: {error}", path.display())]
     Decode { path: PathBuf, error: image::ImageError },
     /// A parameter texture whose width or height is not a power of two.
     #[error(
@@ -123,13 +123,17 @@ pub enum TextureError {
 }
 
 impl Texture {
-    /// Reads the PNG file at `path` (any colour type and bit depth) as a texture of `usage`:
+    /// Reads the PNG, JPEG or TGA file at `path` (any colour type and bit depth) as a texture of `usage`:
     /// albedo takes the image as RGBA8, a parameter takes its luma as 8 bits. Builds the chain.
     pub fn load(path: &Path, usage: TextureUsage) -> Result<Texture, TextureError> {
         let bytes =
             std::fs::read(path).map_err(|error| TextureError::Io { path: path.to_path_buf(), error })?;
-        let image = image::load_from_memory_with_format(&bytes, image::ImageFormat::Png)
-            .map_err(|error| TextureError::Decode { path: path.to_path_buf(), error })?;
+        let decode_error = |error| TextureError::Decode { path: path.to_path_buf(), error };
+        // The contents name the format where they can (TGA has no signature: its extension does).
+        let format = image::guess_format(&bytes)
+            .or_else(|e| image::ImageFormat::from_path(path).map_err(|_| e))
+            .map_err(decode_error)?;
+        let image = image::load_from_memory_with_format(&bytes, format).map_err(decode_error)?;
         let (width, height) = (image.width(), image.height());
         let texels = match usage {
             TextureUsage::Albedo => image.to_rgba8().into_raw(),
