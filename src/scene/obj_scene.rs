@@ -377,7 +377,16 @@ fn material_of(
 
 /// All of `meshes` as one, for questions about the model as a whole.
 fn joined(meshes: &[Mesh]) -> Mesh {
-    let mut all = Mesh { indices: Vec::new(), positions: Vec::new(), ..meshes[0].clone() };
+    let mut all = Mesh {
+        name: String::new(),
+        source: PathBuf::new(),
+        material: 0,
+        positions: Vec::new(),
+        normals: Vec::new(),
+        indices: Vec::new(),
+        uvs: Vec::new(),
+        two_sided: true,
+    };
     for mesh in meshes {
         let base = all.positions.len() as u32;
         all.positions.extend_from_slice(&mesh.positions);

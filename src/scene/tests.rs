@@ -3,11 +3,12 @@
 use super::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// A fresh folder under the system temporary folder, removed when dropped.
-struct TempDir(PathBuf);
+/// A fresh folder under the system temporary folder, removed when dropped (also used by the
+/// tests of OBJ files as scenes).
+pub(in crate::scene) struct TempDir(pub(in crate::scene) PathBuf);
 
 impl TempDir {
-    fn new(name: &str) -> TempDir {
+    pub(in crate::scene) fn new(name: &str) -> TempDir {
         static COUNTER: AtomicUsize = AtomicUsize::new(0);
         let n = COUNTER.fetch_add(1, Ordering::Relaxed);
         let dir = std::env::temp_dir().join(format!("multirate-scene-{}-{name}-{n}", std::process::id()));
@@ -16,9 +17,11 @@ impl TempDir {
         TempDir(dir)
     }
 
-    fn write(&self, name: &str, text: &str) -> PathBuf {
+    /// Writes `bytes` to `name` in the folder (creating its subfolders) and returns its path.
+    pub(in crate::scene) fn write(&self, name: &str, bytes: impl AsRef<[u8]>) -> PathBuf {
         let path = self.0.join(name);
-        std::fs::write(&path, text).unwrap();
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(&path, bytes).unwrap();
         path
     }
 }
