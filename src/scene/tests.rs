@@ -284,7 +284,7 @@ fn missing_scene_file_is_an_error() {
 #[test]
 fn missing_obj_is_an_error_naming_it() {
     let dir = TempDir::new("noobj");
-    let path = dir.write("scene.toml", &MINIMAL.replace("quad.obj", "nothing.obj"));
+    let path = dir.write("scene.toml", MINIMAL.replace("quad.obj", "nothing.obj"));
     let message = Scene::load(&path).unwrap_err().to_string();
     let obj = dir.0.join("nothing.obj");
     assert!(message.starts_with(&obj.display().to_string()), "{message}");
@@ -541,7 +541,7 @@ fn texture_problems_are_errors_naming_the_material_and_the_file() {
     let dir = TempDir::new("garbage");
     dir.write("quad.obj", QUAD_OBJ);
     dir.write("garbage.png", "not a png");
-    let path = dir.write("scene.toml", &with_uv(textured("kd_map = \"garbage.png\"")));
+    let path = dir.write("scene.toml", with_uv(textured("kd_map = \"garbage.png\"")));
     let message = Scene::load(&path).expect_err("garbage texture").to_string();
     assert!(message.contains("garbage.png") && message.contains("decode"), "{message}");
     // Maps and ranges come together and only on their own material type.
@@ -565,7 +565,7 @@ fn texture_problems_are_errors_naming_the_material_and_the_file() {
     let dir = TempDir::new("npot");
     dir.write("quad.obj", QUAD_OBJ);
     image::GrayImage::from_pixel(3, 2, image::Luma([9])).save(dir.0.join("odd.png")).unwrap();
-    let path = dir.write("scene.toml", &shiny("shininess_map = \"odd.png\"\nshininess_range = [2.0, 50.0]"));
+    let path = dir.write("scene.toml", shiny("shininess_map = \"odd.png\"\nshininess_range = [2.0, 50.0]"));
     let message = Scene::load(&path).expect_err("3×2 parameter map").to_string();
     assert!(message.contains("odd.png") && message.contains("power of two"), "{message}");
     // A textured material on a mesh without texture coordinates.
