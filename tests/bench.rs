@@ -130,4 +130,14 @@ fn bench_writes_complete_rows_plots_images_and_a_capture() {
     }
     let tracks = events.iter().filter(|e| e["ph"] == "M" && e["name"] == "thread_name").count();
     assert_eq!(tracks, 5);
+    // The rows take turns (FRAMES = 3 makes two turns): every row's first frame starts before
+    // every row's last frame, so a slow spell of the machine cannot fall on one row alone.
+    let starts = |tid: usize| -> Vec<f64> {
+        frames.iter().filter(|f| f["tid"] == tid).map(|f| f["ts"].as_f64().unwrap()).collect()
+    };
+    let firsts = (1..=5).map(|tid| starts(tid).into_iter().fold(f64::INFINITY, f64::min));
+    let lasts = (1..=5).map(|tid| starts(tid).into_iter().fold(f64::NEG_INFINITY, f64::max));
+    let latest_first = firsts.fold(f64::NEG_INFINITY, f64::max);
+    let earliest_last = lasts.fold(f64::INFINITY, f64::min);
+    assert!(latest_first < earliest_last, "rows measured one after another, not in turns");
 }

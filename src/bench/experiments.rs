@@ -249,7 +249,7 @@ fn header(md: &mut String, context: &Context, options: &ExperimentOptions) {
     let _ = writeln!(md, "| threads | {threads} |");
     let _ = writeln!(
         md,
-        "| timing | GPU timestamps around the forward pass, median (p10–p90) of {} frames after {} warm-up frames, two frames in flight |",
+        "| timing | GPU timestamps around the forward pass, median (p10–p90) of {} frames after {} warm-up frames, two frames in flight, the configurations of a scene and resolution taking turns of two frames |",
         options.frames, options.warmup
     );
     let _ = writeln!(

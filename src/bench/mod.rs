@@ -1,7 +1,8 @@
 //! Benchmarks: the speed/accuracy trade, measured. For every scene and resolution the `pixel`
 //! reference is rendered first; then every mode (multirate for every ε × n_max) is
 //! - timed: warm-up frames, then N measured frames with frames in flight; median, p10, p90 of
-//!   the forward pass's GPU time,
+//!   the forward pass's GPU time; the configurations of one scene and resolution take turns
+//!   of a few frames each, so that a slow spell of the machine slows them all alike,
 //! - counted: runs of the full shading function with the counting variant (never timed),
 //! - compared with the reference image: L∞, mean L2, PSNR, FLIP (`analysis::metrics`).
 //!
@@ -221,7 +222,9 @@ struct Reference {
     evaluations: u64,
 }
 
-/// Runs every configuration of `config` on `scenes`, calling `progress` before each row.
+/// Runs every configuration of `config` on `scenes`, calling `progress` before each row and
+/// before each timing turn. The configurations of one scene and resolution are timed in
+/// turns ([`measure_in_turns`]), after their images and counts.
 pub fn run(
     context: &Arc<Context>,
     scenes: &[BenchScene],
@@ -229,82 +232,155 @@ pub fn run(
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<BenchResult> {
     let jobs = jobs(scenes, config);
+    let turns = config.frames.div_ceil(FRAMES_PER_TURN) as usize;
+    let groups: Vec<&[Job]> =
+        jobs.chunk_by(|a, b| a.scene == b.scene && a.resolution == b.resolution).collect();
+    let total = jobs.len() + groups.len() * turns;
+    let mut done = 0;
     let mut result = BenchResult { rows: Vec::new(), measurements: Vec::new() };
     let mut renderer: Option<(usize, Renderer)> = None;
     let mut target: Option<RenderTarget> = None;
-    let mut reference: Option<Reference> = None;
-    for (done, job) in jobs.iter().enumerate() {
-        let label = job.label(scenes);
-        progress(Progress { done, total: jobs.len(), label: &label });
-        let bench_scene = &scenes[job.scene];
+    for group in groups {
+        let bench_scene = &scenes[group[0].scene];
         let scene = &bench_scene.scene;
-        if renderer.as_ref().is_none_or(|(index, _)| *index != job.scene) {
+        if renderer.as_ref().is_none_or(|(index, _)| *index != group[0].scene) {
             drop(renderer.take()); // free the previous scene's GPU memory first
-            renderer = Some((job.scene, Renderer::new(context, scene)?));
+            renderer = Some((group[0].scene, Renderer::new(context, scene)?));
         }
         let (_, renderer) = renderer.as_ref().expect("created above");
-        let extent = vk::Extent2D { width: job.resolution.0, height: job.resolution.1 };
+        let extent = vk::Extent2D { width: group[0].resolution.0, height: group[0].resolution.1 };
         if target.as_ref().is_none_or(|t| t.extent() != extent) {
             drop(target.take());
             target = Some(RenderTarget::new(context, extent)?);
         }
         let target = target.as_ref().expect("created above");
-        let view = View {
-            mode: job.mode,
-            epsilon: job.epsilon,
-            n_max: job.n_max,
-            split: config.split,
-            discontinuity: config.discontinuity,
-            estimator: job.estimator,
-            ..View::of_scene(scene)
-        };
-        let image = renderer.render(target, &view)?;
-        let measurement = renderer.measure(target, &view, config.warmup, config.frames)?;
-        let timing = Timing::of(&measurement.gpu_ms());
-        let evaluations = renderer.count_evaluations(target, &view)?;
-        if job.mode == Mode::Pixel {
-            reference = Some(Reference {
-                image: image.clone(),
-                gpu_ms: timing.median,
-                evaluations: evaluations.total(),
-            });
+        let views: Vec<View> = group
+            .iter()
+            .map(|job| View {
+                mode: job.mode,
+                epsilon: job.epsilon,
+                n_max: job.n_max,
+                split: config.split,
+                discontinuity: config.discontinuity,
+                estimator: job.estimator,
+                ..View::of_scene(scene)
+            })
+            .collect();
+        let mut images = Vec::with_capacity(group.len());
+        for (job, view) in group.iter().zip(&views) {
+            let label = job.label(scenes);
+            progress(Progress { done, total, label: &label });
+            done += 1;
+            images.push(UntimedResults::of(renderer, target, view)?);
         }
-        let reference = reference.as_ref().expect("each scene and resolution starts with pixel mode");
-        let error = metrics::image_error(&reference.image, &image, scene.settings.exposure);
-        let pixels_over_epsilon = (job.mode == Mode::Multirate)
-            .then(|| metrics::pixels_over(&reference.image, &image, f64::from(job.epsilon)));
-        let heat_and_mask = if job.mode == Mode::Multirate {
+        let label = format!("{} {}x{}: timing in turns", bench_scene.name, extent.width, extent.height);
+        let measurements = measure_in_turns(renderer, target, &views, config, &mut |turn| {
+            progress(Progress { done: done + turn, total, label: &label })
+        })?;
+        done += turns;
+        let reference = group
+            .iter()
+            .zip(&images)
+            .zip(&measurements)
+            .find(|((job, _), _)| job.mode == Mode::Pixel)
+            .map(|((_, untimed), measurement)| Reference {
+                image: untimed.image.clone(),
+                gpu_ms: Timing::of(&measurement.gpu_ms()).median,
+                evaluations: untimed.evaluations.total(),
+            })
+            .expect("each scene and resolution starts with pixel mode");
+        for ((job, untimed), measurement) in group.iter().zip(images).zip(measurements) {
+            let timing = Timing::of(&measurement.gpu_ms());
+            let error = metrics::image_error(&reference.image, &untimed.image, scene.settings.exposure);
+            let pixels_over_epsilon = (job.mode == Mode::Multirate)
+                .then(|| metrics::pixels_over(&reference.image, &untimed.image, f64::from(job.epsilon)));
+            let fallback_fraction = untimed.heat_and_mask.as_ref().map(|(heat, mask)| {
+                let covered = heat.pixels.iter().filter(|p| p[3] > 0.0).count().max(1);
+                fallback_pixels(mask) as f64 / covered as f64
+            });
+            if let Some(dir) = &config.images {
+                let stem = file_stem(bench_scene, job);
+                let heat_and_mask = untimed.heat_and_mask.as_ref();
+                write_row_images(dir, &stem, &reference.image, &untimed.image, heat_and_mask, scene)?;
+            }
+            result.rows.push(row(
+                context,
+                bench_scene,
+                job,
+                config,
+                timing,
+                &reference,
+                untimed.evaluations,
+                error,
+                fallback_fraction,
+                pixels_over_epsilon,
+                &measurement,
+            ));
+            result.measurements.push(measurement);
+        }
+    }
+    progress(Progress { done: total, total, label: "done" });
+    Ok(result)
+}
+
+/// Measured frames per configuration and turn in [`measure_in_turns`].
+const FRAMES_PER_TURN: u32 = 2;
+
+/// What a configuration gives besides its time: its image, its shading evaluations and, in
+/// multirate, its level heat map and fallback mask.
+struct UntimedResults {
+    image: FloatImage,
+    evaluations: EvaluationCounts,
+    heat_and_mask: Option<(FloatImage, FloatImage)>,
+}
+
+impl UntimedResults {
+    fn of(renderer: &Renderer, target: &RenderTarget, view: &View) -> Result<UntimedResults> {
+        let image = renderer.render(target, view)?;
+        let evaluations = renderer.count_evaluations(target, view)?;
+        let heat_and_mask = if view.mode == Mode::Multirate {
             let heat = renderer.render(target, &View { heat_map: true, ..view.clone() })?;
             let mask = fallback_mask(&heat);
             Some((heat, mask))
         } else {
             None
         };
-        let fallback_fraction = heat_and_mask.as_ref().map(|(heat, mask)| {
-            let covered = heat.pixels.iter().filter(|p| p[3] > 0.0).count().max(1);
-            fallback_pixels(mask) as f64 / covered as f64
-        });
-        if let Some(dir) = &config.images {
-            let stem = file_stem(bench_scene, job);
-            write_row_images(dir, &stem, &reference.image, &image, heat_and_mask.as_ref(), scene)?;
-        }
-        result.rows.push(row(
-            context,
-            bench_scene,
-            job,
-            config,
-            timing,
-            reference,
-            evaluations,
-            error,
-            fallback_fraction,
-            pixels_over_epsilon,
-            &measurement,
-        ));
-        result.measurements.push(measurement);
+        Ok(UntimedResults { image, evaluations, heat_and_mask })
     }
-    progress(Progress { done: jobs.len(), total: jobs.len(), label: "done" });
-    Ok(result)
+}
+
+/// Times `views` (one scene at one resolution) in turns: each configuration in order renders
+/// its warm-up frames and [`FRAMES_PER_TURN`] measured frames, then the next; turns repeat
+/// until each has `config.frames` measured frames. A slow spell of the machine (lavapipe
+/// shares the CPU with everything else on it) then slows every configuration alike instead
+/// of one whole row, so ratios within a run hold up. The first turn warms up for
+/// `config.warmup` frames, later turns for one (at most `config.warmup`): the pipelines and
+/// buffers stay ready between turns, only caches have cooled. `turn_done(k)` is called after
+/// turn `k + 1`.
+fn measure_in_turns(
+    renderer: &Renderer,
+    target: &RenderTarget,
+    views: &[View],
+    config: &BenchConfig,
+    turn_done: &mut dyn FnMut(usize),
+) -> Result<Vec<Measurement>> {
+    let mut measurements: Vec<Measurement> = views.iter().map(|_| Measurement::default()).collect();
+    let mut measured = 0;
+    let mut turn = 0;
+    while measured < config.frames {
+        let frames = FRAMES_PER_TURN.min(config.frames - measured);
+        let warmup = if turn == 0 { config.warmup } else { config.warmup.min(1) };
+        for (view, measurement) in views.iter().zip(&mut measurements) {
+            let part = renderer.measure(target, view, warmup, frames)?;
+            measurement.frames.extend(part.frames);
+            measurement.pre_pass.extend(part.pre_pass);
+            measurement.statistics = part.statistics.or(measurement.statistics);
+        }
+        measured += frames;
+        turn += 1;
+        turn_done(turn);
+    }
+    Ok(measurements)
 }
 
 #[allow(clippy::too_many_arguments)]
