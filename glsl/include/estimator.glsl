@@ -86,8 +86,13 @@ bool is_nan(float x) {
 float rmax(float a, float b) {
     return (b > a || is_nan(a)) ? b : a;
 }
+
 float rmin(float a, float b) {
     return (b < a || is_nan(a)) ? b : a;
+}
+
+vec3 rmin3(vec3 a, vec3 b) {
+    return vec3(rmin(a.x, b.x), rmin(a.y, b.y), rmin(a.z, b.z));
 }
 
 float infinity() {
@@ -741,6 +746,13 @@ vec3 sum_jumps;
 vec3 sum_jumps1;
 vec3 sum_range;
 vec3 sum_one;
+// Heuristic split: the bound at the uniform levels of GRID_LEVELS, each light's parts at the
+// smaller of their interpolation bound and their range there (see `GRID_LEVELS` in Rust).
+const int GRID_LEVEL_COUNT = 8;
+const uint GRID_LEVELS[GRID_LEVEL_COUNT] = uint[](2u, 3u, 4u, 6u, 8u, 12u, 16u, 32u);
+vec3 sum_grid[GRID_LEVEL_COUNT];
+// The effective levels of the GRID_LEVELS uniform patterns (up to n_max), read once per triangle.
+float grid_level[GRID_LEVEL_COUNT];
 
 // The range of the angle between n and w from the range q of n.w over the triangle and bounds
 // on |w| (see `cosine_range_of`); the sign of n.w goes to `sign_out`.
@@ -1275,7 +1287,7 @@ P vec3 terminator_jump(vec3 spec_w, vec3 spec_sup, vec2 param, LightSetup st, fl
 // `radiance` unused); else `point`: a point light at `position`, or a directional light whose
 // travel direction is `position`.
 int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 position,
-              vec3 radiance, int polygon, float top, float eps) {
+              vec3 radiance, int polygon, float top, uint n_max, float eps) {
     bool area = polygon >= 0;
     AreaGeometry geometry;
     GpuPolygonLight light;
@@ -1422,20 +1434,27 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
         }
     }
 
-    // This light's bounds at level 1 (index 0) and levels >= 2 (index 1): all terms in one
-    // pass, and for the Uniform split one more pass per term (terms that are zero for every
-    // light of this material are skipped: they add nothing).
-    vec3 h[2][TERM_COUNT];
-    P vec3 tot[2];
+    // This light's bounds, its diffuse (_d) and specular (_s) part apart, at level 1 (1) and
+    // levels >= 2 (n): all terms in one pass, and for the Uniform split one more pass per term
+    // (terms that are zero for every light of this material are skipped: they add nothing).
+    vec3 h_d[2][TERM_COUNT];
+    vec3 h_s[2][TERM_COUNT];
     if (SPLIT == 0) {
         for (int t = 0; t < TERM_COUNT; ++t) {
-            h[0][t] = vec3(0.0);
-            h[1][t] = vec3(0.0);
+            h_d[0][t] = vec3(0.0);
+            h_d[1][t] = vec3(0.0);
+            h_s[0][t] = vec3(0.0);
+            h_s[1][t] = vec3(0.0);
         }
     }
+    P vec3 tot_d1 = vec3(0.0);
+    P vec3 tot_dn = vec3(0.0);
+    P vec3 tot_s1 = vec3(0.0);
+    P vec3 tot_sn = vec3(0.0);
     P vec3 lin1 = vec3(0.0);
     P vec3 linn = vec3(0.0);
-    P vec3 range = vec3(0.0);
+    P vec3 range_d = vec3(0.0);
+    P vec3 range_s = vec3(0.0);
     P vec3 spec_sup = vec3(0.0);
     // Relaxed: how far n.l can be from 0 on a crossed sub-triangle, at level 1 and per 1/L.
     P float band1 = 0.0;
@@ -1453,19 +1472,26 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
                 est_term = active_term(pass);
                 light_jets(frame, material, param, setup, s, diff, spec);
                 P vec3 spec_h = vec3(spec[0].h, spec[1].h, spec[2].h);
-                P vec3 ht = (diff_w * diff.h + spec_w * spec_h) * (0.5 * SAFETY);
-                h[level][est_term] = ht;
+                h_d[level][est_term] = diff_w * (diff.h * (0.5 * SAFETY));
+                h_s[level][est_term] = spec_w * spec_h * (0.5 * SAFETY);
             }
         }
         est_term = T_ALL;
         light_jets(frame, material, param, setup, s, diff, spec);
         P vec3 spec_t = vec3(spec[0].h, spec[1].h, spec[2].h);
-        tot[level] = (diff_w * diff.h + spec_w * spec_t) * (0.5 * SAFETY);
+        if (level == 0) {
+            tot_d1 = diff_w * (diff.h * (0.5 * SAFETY));
+            tot_s1 = spec_w * spec_t * (0.5 * SAFETY);
+        } else {
+            tot_dn = diff_w * (diff.h * (0.5 * SAFETY));
+            tot_sn = spec_w * spec_t * (0.5 * SAFETY);
+        }
         // (The sups m do not depend on the pass.)
         P vec3 spec_m = vec3(spec[0].m, spec[1].m, spec[2].m);
         spec_sup = spec_m;
-        // The contribution lies in [0, sup] and so does its interpolant.
-        range = (diff_w * diff.m + spec_w * spec_m) * SAFETY;
+        // Each part lies in [0, sup] and so does its interpolant.
+        range_d = diff_w * (diff.m * SAFETY);
+        range_s = spec_w * spec_m * SAFETY;
         if (setup.straddle && level == 1) {
             // Relaxed: the diffuse kink adds 1/4 sup E' osc(n.l) (see Rust).
             P float att = setup.inv_d > 0.0 ? setup.inv_d * setup.inv_d : 1.0;
@@ -1477,48 +1503,61 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     if (area) {
         // The sampled specular part: no interpolation bound, its range.
         other = polygon_specular_bound(material, param, setup, light) * SAFETY;
-        range = range + other;
+        range_s = range_s + other;
     } else {
         // A textured parameter: its variation over the range, an n-independent term.
         other = spec_w * parameter_variation(param, setup, spec_sup);
     }
-    P vec3 tot1 = tot[0];
-    P vec3 totn = tot[1];
     P vec3 zero1 = terminator_jump(spec_w, spec_sup, param, setup, band1) + other;
     P vec3 zero_top = terminator_jump(spec_w, spec_sup, param, setup, bandn / top) + other;
-    // Per channel: the smaller of the light's interpolation bound and its range.
-    bool interpolated[3];
-    for (int c = 0; c < 3; ++c) {
-        P float at_n_max = totn[c] / (top * top) + linn[c] / top + zero_top[c];
-        interpolated[c] = !(range[c] <= at_n_max);
-    }
+    // Per part and channel: the smaller of the part's interpolation bound and its range
+    // (`!(range <= bound)`, true for NaN, as in Rust).
+    bvec3 interp_d = not(lessThanEqual(range_d, tot_dn / (top * top) + linn / top));
+    bvec3 interp_s = not(lessThanEqual(range_s, tot_sn / (top * top) + zero_top));
     // The jump at levels >= 2 at a lower bound of the final level (see Rust).
     P vec3 zero_inf = terminator_jump(spec_w, spec_sup, param, setup, 0.0) + other;
+    const vec3 none = vec3(0.0);
+    P vec3 a = mix(none, tot_dn, interp_d) + mix(none, tot_sn, interp_s);
+    P vec3 b = mix(none, linn, interp_d);
+    P vec3 z = mix(none, zero_inf, interp_s);
     P float low = 1.0;
     for (int c = 0; c < 3; ++c) {
-        if (interpolated[c]) {
-            low = rmax(low, level_for(totn[c], linn[c], zero_inf[c], eps));
+        if (interp_d[c] || interp_s[c]) {
+            low = rmax(low, level_for(a[c], b[c], z[c], eps));
         }
     }
     P vec3 zeron = terminator_jump(spec_w, spec_sup, param, setup, bandn / low) + other;
-    for (int c = 0; c < 3; ++c) {
-        P float one = rmin(tot1[c] + lin1[c] + zero1[c], range[c]);
-        sum_one[c] = sum_one[c] + one;
-        if (interpolated[c]) {
-            if (SPLIT == 0) {
-                for (int pass = 0; pass < active_term_count(); ++pass) {
-                    int t = active_term(pass);
-                    sum_h1[t][c] = sum_h1[t][c] + h[0][t][c];
-                    sum_hn[t][c] = sum_hn[t][c] + h[1][t][c];
-                }
+    if (SPLIT == 1) {
+        P vec3 whole_lobe = setup.straddle && !setup.area ? spec_w * spec_sup * SAFETY : vec3(0.0);
+        for (int k = 0; k < GRID_LEVEL_COUNT; ++k) {
+            if (GRID_LEVELS[k] > n_max) {
+                break;
             }
-            sum_tn[c] = sum_tn[c] + totn[c];
-            sum_lin1[c] = sum_lin1[c] + lin1[c];
-            sum_linn[c] = sum_linn[c] + linn[c];
-            sum_jumps1[c] = sum_jumps1[c] + zero1[c];
-            sum_jumps[c] = sum_jumps[c] + zeron[c];
-        } else {
-            sum_range[c] = sum_range[c] + range[c];
+            P float l = grid_level[k];
+            // The jump at l: the one at `low` where l >= low, else the whole lobe (see Rust).
+            P vec3 zero_l = l >= low ? zeron : whole_lobe + other;
+            P vec3 part_d = rmin3(tot_dn / (l * l) + linn / l, range_d);
+            P vec3 part_s = rmin3(tot_sn / (l * l) + zero_l, range_s);
+            sum_grid[k] = sum_grid[k] + (part_d + part_s);
+        }
+    }
+    sum_one = sum_one + (rmin3(tot_d1 + lin1, range_d) + rmin3(tot_s1 + zero1, range_s));
+    // Each part adds its interpolation bound or its range (diffuse first, as in Rust).
+    sum_range = sum_range + mix(range_d, none, interp_d);
+    sum_range = sum_range + mix(range_s, none, interp_s);
+    sum_tn = sum_tn + mix(none, tot_dn, interp_d);
+    sum_tn = sum_tn + mix(none, tot_sn, interp_s);
+    sum_lin1 = sum_lin1 + mix(none, lin1, interp_d);
+    sum_linn = sum_linn + mix(none, linn, interp_d);
+    sum_jumps1 = sum_jumps1 + mix(none, zero1, interp_s);
+    sum_jumps = sum_jumps + mix(none, zeron, interp_s);
+    if (SPLIT == 0) {
+        for (int pass = 0; pass < active_term_count(); ++pass) {
+            int t = active_term(pass);
+            sum_h1[t] = sum_h1[t] + mix(none, h_d[0][t], interp_d);
+            sum_h1[t] = sum_h1[t] + mix(none, h_s[0][t], interp_s);
+            sum_hn[t] = sum_hn[t] + mix(none, h_d[1][t], interp_d);
+            sum_hn[t] = sum_hn[t] + mix(none, h_s[1][t], interp_s);
         }
     }
     return REASON_NONE;
@@ -1622,15 +1661,21 @@ float required_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 
     sum_jumps1 = vec3(0.0);
     sum_range = vec3(0.0);
     sum_one = vec3(0.0);
+    if (SPLIT == 1) {
+        for (int k = 0; k < GRID_LEVEL_COUNT; ++k) {
+            sum_grid[k] = vec3(0.0);
+            grid_level[k] = GRID_LEVELS[k] <= n_max ? pattern_level(GRID_LEVELS[k], GRID_LEVELS[k]) : 0.0;
+        }
+    }
     int reason = REASON_NONE;
     // Point lights first, then directional ones (the buffer's order, and the twin's).
     for (int i = 0; i < POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT; ++i) {
         GpuLight light = lights[i];
         reason = worse(reason, add_light(frame, material, param, i < POINT_LIGHT_COUNT,
-                                         light.position.xyz, light.radiance.rgb, -1, top, eps));
+                                         light.position.xyz, light.radiance.rgb, -1, top, n_max, eps));
     }
     for (int i = 0; i < POLYGON_LIGHT_COUNT; ++i) {
-        reason = worse(reason, add_light(frame, material, param, false, vec3(0.0), vec3(0.0), i, top, eps));
+        reason = worse(reason, add_light(frame, material, param, false, vec3(0.0), vec3(0.0), i, top, n_max, eps));
     }
     if (est_bad) {
         reason = worse(reason, REASON_SINGULAR);
@@ -1684,6 +1729,19 @@ float required_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 
         }
     }
     P float level = one_ok ? 1.0 : rmax(need, 1.0);
+    // Heuristic: the lowest grid level whose bound holds (see `decide` in Rust).
+    if (SPLIT == 1 && !one_ok) {
+        for (int k = 0; k < GRID_LEVEL_COUNT; ++k) {
+            uint n = GRID_LEVELS[k];
+            if (n > n_max) {
+                break;
+            }
+            if (max_el(sum_grid[k]) <= eps) {
+                level = rmin(level, grid_level[k]);
+                break;
+            }
+        }
+    }
     // false for NaN and infinity
     if (!(level <= top)) {
         return FALLBACK_LEVEL;

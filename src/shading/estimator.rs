@@ -145,8 +145,9 @@ pub enum Term {
     Cross = 10,
     /// `Relaxed` only: the first- and zero-order terms at the terminator `n·l = 0`.
     Terminator = 11,
-    /// Lights whose whole contribution range `[0, sup]` bounds their error better than the
-    /// interpolation bound does even at `n_max` (dim or very spiky lights): a constant term.
+    /// Lights' diffuse or specular parts whose whole range `[0, sup]` bounds their error
+    /// better than the interpolation bound does even at `n_max` (dim or very spiky lights, a
+    /// faint lobe): a constant term.
     Range = 12,
 }
 
@@ -1029,11 +1030,20 @@ struct Sums {
     jumps: Vec3,
     /// ...the same at level 1...
     jumps1: Vec3,
-    /// ...and the lights bounded by their range, reported as [`Term::Range`].
+    /// ...and the light parts bounded by their range, reported as [`Term::Range`].
     range: Vec3,
-    /// The level-1 bound, per light the smaller of its interpolation bound and its range.
+    /// The level-1 bound, per light and part the smaller of its interpolation bound and its
+    /// range.
     one: Vec3,
+    /// The same at the uniform levels of [`GRID_LEVELS`] (the effective level of each).
+    grid: [Vec3; GRID_LEVELS.len()],
 }
+
+/// Uniform levels at which the estimator also bounds each light's parts by the smaller of
+/// their interpolation bound and their range at that very level (the rule of `add_light`
+/// decides once, at `n_max`). A level found on this grid replaces the solved one where it is
+/// lower; levels above `n_max` are skipped.
+const GRID_LEVELS: [u32; 8] = [2, 3, 4, 6, 8, 12, 16, 32];
 
 /// Sign of a cosine over the whole triangle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -1310,12 +1320,13 @@ fn add_light(
         }
     }
 
-    // This light's bounds: second order per term at level 1 and at levels ≥ 2, the Relaxed
-    // diffuse first-order parts, and the range of its contribution.
-    let mut h = [[Vec3::ZERO; TERM_COUNT]; 2];
-    let mut tot = [Vec3::ZERO; 2];
+    // This light's bounds, for its diffuse and its specular part apart: second order per
+    // term at level 1 and at levels ≥ 2, the Relaxed diffuse first-order parts, and the range
+    // of each part's contribution.
+    let mut h = [[[Vec3::ZERO; TERM_COUNT]; 2]; 2];
+    let mut tot = [[Vec3::ZERO; 2]; 2];
     let (mut lin1, mut linn) = (Vec3::ZERO, Vec3::ZERO);
-    let mut range = Vec3::ZERO;
+    let mut range = [Vec3::ZERO; 2];
     let mut spec_sup = Vec3::ZERO;
     // Relaxed: how far n·l can be from 0 on a sub-triangle the terminator crosses, at level 1
     // (the patch's diameters) and per 1/L at levels L ≥ 2 (see `terminator_band`).
@@ -1324,19 +1335,21 @@ fn add_light(
     } else {
         (0.0, 0.0)
     };
-    for (level, hl) in h.iter_mut().enumerate() {
+    for level in 0..2 {
         let s = if level == 0 { frame.s1 } else { frame.sn };
         let (diff, spec) = light_jets(frame, material, parameter, &setup, s, gd);
-        for (t, ht) in hl.iter_mut().enumerate() {
+        for t in 0..TERM_COUNT {
             let spec_h = Vec3::new(spec[0].h[t], spec[1].h[t], spec[2].h[t]);
-            *ht = (diff_w * diff.h[t] + spec_w * spec_h) * (0.5 * SAFETY);
+            h[DIFFUSE][level][t] = diff_w * (diff.h[t] * (0.5 * SAFETY));
+            h[SPECULAR][level][t] = spec_w * spec_h * (0.5 * SAFETY);
         }
         let spec_t = Vec3::new(spec[0].t, spec[1].t, spec[2].t);
-        tot[level] = (diff_w * diff.t + spec_w * spec_t) * (0.5 * SAFETY);
+        tot[DIFFUSE][level] = diff_w * (diff.t * (0.5 * SAFETY));
+        tot[SPECULAR][level] = spec_w * spec_t * (0.5 * SAFETY);
         let spec_m = Vec3::new(spec[0].m, spec[1].m, spec[2].m);
         spec_sup = spec_m;
-        // The contribution lies in [0, sup] and so does its interpolant.
-        range = (diff_w * diff.m + spec_w * spec_m) * SAFETY;
+        // Each part lies in [0, sup] and so does its interpolant.
+        range = [diff_w * (diff.m * SAFETY), spec_w * spec_m * SAFETY];
         if setup.straddle && level == 1 {
             // Relaxed: with f = E'·c and g = max(f, 0), Lg − g ≤ E_f + ¼·sup E'·osc(c) on a
             // sub-triangle the terminator crosses (docs/estimator.md §4), and
@@ -1346,13 +1359,13 @@ fn add_light(
             linn = diff_w * (TERMINATOR_KINK * SAFETY * gd.mul(att, bandn));
         }
     }
-    // The n-independent parts: a textured parameter's variation sup|f(α) − f(α')| over the
-    // range (Eq. 37), or a polygon's sampled specular part, bounded by its range (which also
-    // covers a textured parameter).
+    // The n-independent parts of the specular part: a textured parameter's variation
+    // sup|f(α) − f(α')| over the range (Eq. 37), or a polygon's sampled specular part, bounded
+    // by its range (which also covers a textured parameter).
     let other = match light {
         Light::Polygon(polygon) => {
             let bound = polygon_specular_bound(material, parameter, &setup, polygon, gd) * SAFETY;
-            range += bound;
+            range[SPECULAR] += bound;
             bound
         }
         _ => spec_w * parameter_variation(material, parameter, &setup, spec_sup),
@@ -1366,17 +1379,15 @@ fn add_light(
             Vec3::ZERO
         }
     };
-    let [tot1, totn] = tot;
     let top = pattern_level(n_max, n_max);
     let zero1 = jump(band1) + other;
     let zero_top = jump(bandn / top) + other;
-    // Per channel: the smaller of the light's interpolation bound and its range. The range
-    // wins for good if it is below the bound even at n_max (dim or spiky lights).
-    let mut interpolated = [false; 3];
-    for c in 0..3 {
-        let at_n_max = totn[c] / (top * top) + linn[c] / top + zero_top[c];
-        interpolated[c] = !(range[c] <= at_n_max);
-    }
+    // Per part and channel: the smaller of the part's interpolation bound and its range. The
+    // range wins for good if it is below the bound even at n_max (dim or spiky lights, a
+    // faint specular lobe on a diffuse surface): at every level up to n_max it is then the
+    // better bound. (The error of the sum is at most the sum of the parts' errors.)
+    let at_top = [tot[DIFFUSE][1] / (top * top) + linn / top, tot[SPECULAR][1] / (top * top) + zero_top];
+    let interpolated = [0, 1].map(|part| [0, 1, 2].map(|c| !(range[part][c] <= at_top[part][c])));
     // The jump at levels ≥ 2 is taken at a lower bound of the final level: the level this
     // light alone needs with the jump at its infimum (the band's width 0). Every level the
     // solver returns is at least that (it adds the other lights' non-negative bounds), and
@@ -1384,29 +1395,61 @@ fn add_light(
     let zero_inf = jump(0.0) + other;
     let mut low = 1.0f32;
     for c in 0..3 {
-        if interpolated[c] {
-            low = low.max(level_for(totn[c], linn[c], zero_inf[c], eps));
+        let (d, sp) = (interpolated[DIFFUSE][c], interpolated[SPECULAR][c]);
+        if d || sp {
+            let a = if d { tot[DIFFUSE][1][c] } else { 0.0 } + if sp { tot[SPECULAR][1][c] } else { 0.0 };
+            let b = if d { linn[c] } else { 0.0 };
+            let z = if sp { zero_inf[c] } else { 0.0 };
+            low = low.max(level_for(a, b, z, eps));
         }
     }
     let zeron = jump(bandn / low) + other;
+    let whole_lobe =
+        if setup.straddle && setup.area.is_none() { spec_w * spec_sup * SAFETY } else { Vec3::ZERO };
+    for (k, &n) in GRID_LEVELS.iter().enumerate() {
+        if n > n_max {
+            break;
+        }
+        let l = pattern_level(n, n);
+        // The jump at `l`: at or above `low` the one taken there bounds it (the band only
+        // narrows), below it the whole lobe does (cheap, and then the range is no larger).
+        let zero_l = if l >= low { zeron } else { whole_lobe + other };
+        for c in 0..3 {
+            let d = (tot[DIFFUSE][1][c] / (l * l) + linn[c] / l).min(range[DIFFUSE][c]);
+            let sp = (tot[SPECULAR][1][c] / (l * l) + zero_l[c]).min(range[SPECULAR][c]);
+            sum.grid[k][c] += d + sp;
+        }
+    }
     for c in 0..3 {
-        sum.one[c] += (tot1[c] + lin1[c] + zero1[c]).min(range[c]);
-        if interpolated[c] {
-            for t in 0..TERM_COUNT {
-                sum.h1[t][c] += h[0][t][c];
-                sum.hn[t][c] += h[1][t][c];
+        let one_d = (tot[DIFFUSE][0][c] + lin1[c]).min(range[DIFFUSE][c]);
+        let one_s = (tot[SPECULAR][0][c] + zero1[c]).min(range[SPECULAR][c]);
+        sum.one[c] += one_d + one_s;
+        for part in [DIFFUSE, SPECULAR] {
+            if !interpolated[part][c] {
+                sum.range[c] += range[part][c];
+                continue;
             }
-            sum.tn[c] += totn[c];
-            sum.lin1[c] += lin1[c];
-            sum.linn[c] += linn[c];
-            sum.jumps1[c] += zero1[c];
-            sum.jumps[c] += zeron[c];
-        } else {
-            sum.range[c] += range[c];
+            for t in 0..TERM_COUNT {
+                sum.h1[t][c] += h[part][0][t][c];
+                sum.hn[t][c] += h[part][1][t][c];
+            }
+            sum.tn[c] += tot[part][1][c];
+            if part == DIFFUSE {
+                sum.lin1[c] += lin1[c];
+                sum.linn[c] += linn[c];
+            } else {
+                sum.jumps1[c] += zero1[c];
+                sum.jumps[c] += zeron[c];
+            }
         }
     }
     Ok(())
 }
+
+/// The two parts of a light's contribution, bounded apart: index of the diffuse part...
+const DIFFUSE: usize = 0;
+/// ...and of the specular part.
+const SPECULAR: usize = 1;
 
 /// Relaxed: a bound on `|n̂·l̂|` over a sub-triangle that the terminator crosses, whose
 /// diameters (positions, normals) are `d`: it has a zero of `c = n̂·l̂`, so every point is
@@ -1838,6 +1881,9 @@ fn bound_at(sum: &Sums, an: Vec3, n: u32) -> f32 {
     if n <= 1 {
         e = e.min(sum.one);
     }
+    if let Some(k) = GRID_LEVELS.iter().position(|&g| g == n) {
+        e = e.min(sum.grid[k]);
+    }
     let m = e.max_element();
     if m.is_nan() {
         f32::MAX
@@ -1926,7 +1972,20 @@ fn decide(sum: &Sums, eps: f32, n_max: u32, split: Split, reason: Reason) -> Est
             (one_ok, n)
         }
     };
-    let level = if one_ok { 1.0 } else { need.max(1.0) };
+    let mut level = if one_ok { 1.0 } else { need.max(1.0) };
+    // Heuristic: the lowest grid level whose bound, each part at its better bound there,
+    // holds (it holds at every higher effective level too: both bounds only fall).
+    if split == Split::Heuristic && !one_ok {
+        for (k, &n) in GRID_LEVELS.iter().enumerate() {
+            if n > n_max {
+                break;
+            }
+            if sum.grid[k].max_element() <= eps {
+                level = level.min(pattern_level(n, n));
+                break;
+            }
+        }
+    }
 
     let mut reason = reason;
     // false for NaN and ∞
@@ -3304,5 +3363,54 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A glazed teapot triangle next to the lid's rim: its normals turn by 45°, so the curved
+    /// diffuse part and a GGX lobe whose bound is loose both ask for a high level when bounded
+    /// together. Bounding each part by the better of its interpolation bound and its range *at
+    /// each grid level* gives a lower level than the solved one, and the true error there
+    /// stays below ε.
+    #[test]
+    fn parts_bounded_apart_at_grid_levels_lower_the_level_and_hold() {
+        use crate::analysis::oracle::{true_error_sampled, SAMPLES_PER_EDGE};
+        let tri = TriangleInput {
+            positions: [
+                Vec3::new(-3.917371, 4.494141, 6.684522),
+                Vec3::new(-1.070312, 4.494141, 7.246094),
+                Vec3::new(-1.070312, 4.617188, 7.015625),
+            ],
+            normals: [
+                Vec3::new(-0.29425466, 0.6970452, 0.65386707),
+                Vec3::new(-0.024959099, 0.69927245, 0.71441936),
+                Vec3::new(-0.047243647, 0.9988657, 0.005941045),
+            ],
+            eye: Vec3::new(12.0, 15.0, 30.0),
+        };
+        let glaze =
+            MaterialKind::Ggx { albedo: Vec3::new(0.4, 0.14, 0.06), f0: Vec3::splat(0.06), roughness: 0.3 };
+        let lights = [
+            Light::Point {
+                position: Vec3::new(-8.0, 32.0, 36.0),
+                color: Vec3::new(1.0, 0.96, 0.9),
+                intensity: 3400.0,
+            },
+            Light::Point {
+                position: Vec3::new(40.0, 10.0, 10.0),
+                color: Vec3::new(0.8, 0.9, 1.0),
+                intensity: 500.0,
+            },
+        ];
+        let settings = EstimatorSettings::default();
+        let est = estimate(&tri, &glaze, &lights, &settings);
+        assert!(!est.fallback, "{est:?}");
+        // The level the terms alone solve for (Heuristic: n² = Σ nₜ²).
+        let solved = est.terms.iter().map(|t| t * t).sum::<f32>().sqrt();
+        let on_grid = GRID_LEVELS.iter().any(|&n| est.level == pattern_level(n, n));
+        assert!(on_grid && est.level + 1.0 < solved, "level {} (solved {solved})", est.level);
+        let pattern = triangle_pattern(est.n as f32, [est.n as f32; 3]);
+        let error = true_error_sampled(&tri, &glaze, &lights, &pattern, SAMPLES_PER_EDGE, f64::INFINITY);
+        let worst = error.into_iter().fold(0.0, f64::max);
+        assert!(worst <= f64::from(settings.epsilon), "true error {worst} at n = {}", est.n);
+        assert!(f64::from(est.predicted_error) >= worst, "{est:?}, true {worst}");
     }
 }
