@@ -215,9 +215,8 @@ pub struct Progress<'a> {
     pub label: &'a str,
 }
 
-/// The `pixel` reference of one scene at one resolution.
+/// The `pixel` reference's time and evaluations, for one scene at one resolution.
 struct Reference {
-    image: FloatImage,
     gpu_ms: f64,
     evaluations: u64,
 }
@@ -266,54 +265,51 @@ pub fn run(
                 ..View::of_scene(scene)
             })
             .collect();
-        let mut images = Vec::with_capacity(group.len());
+        // Images are compared with the reference as they come (it is the group's first), so
+        // that only its image is held, whatever the number of configurations.
+        assert!(group[0].mode == Mode::Pixel, "each scene and resolution starts with pixel mode");
+        let mut reference_image: Option<FloatImage> = None;
+        let mut untimed = Vec::with_capacity(group.len());
         for (job, view) in group.iter().zip(&views) {
             let label = job.label(scenes);
             progress(Progress { done, total, label: &label });
             done += 1;
-            images.push(UntimedResults::of(renderer, target, view)?);
+            let (image, evaluations, heat_and_mask) = render_and_count(renderer, target, view)?;
+            let reference = reference_image.get_or_insert_with(|| image.clone());
+            if let Some(dir) = &config.images {
+                let stem = file_stem(bench_scene, job);
+                write_row_images(dir, &stem, reference, &image, heat_and_mask.as_ref(), scene)?;
+            }
+            untimed.push(Untimed {
+                evaluations,
+                error: metrics::image_error(reference, &image, scene.settings.exposure),
+                pixels_over_epsilon: (job.mode == Mode::Multirate)
+                    .then(|| metrics::pixels_over(reference, &image, f64::from(job.epsilon))),
+                fallback_fraction: heat_and_mask.as_ref().map(|(heat, mask)| {
+                    let covered = heat.pixels.iter().filter(|p| p[3] > 0.0).count().max(1);
+                    fallback_pixels(mask) as f64 / covered as f64
+                }),
+            });
         }
+        drop(reference_image);
         let label = format!("{} {}x{}: timing in turns", bench_scene.name, extent.width, extent.height);
         let measurements = measure_in_turns(renderer, target, &views, config, &mut |turn| {
             progress(Progress { done: done + turn, total, label: &label })
         })?;
         done += turns;
-        let reference = group
-            .iter()
-            .zip(&images)
-            .zip(&measurements)
-            .find(|((job, _), _)| job.mode == Mode::Pixel)
-            .map(|((_, untimed), measurement)| Reference {
-                image: untimed.image.clone(),
-                gpu_ms: Timing::of(&measurement.gpu_ms()).median,
-                evaluations: untimed.evaluations.total(),
-            })
-            .expect("each scene and resolution starts with pixel mode");
-        for ((job, untimed), measurement) in group.iter().zip(images).zip(measurements) {
-            let timing = Timing::of(&measurement.gpu_ms());
-            let error = metrics::image_error(&reference.image, &untimed.image, scene.settings.exposure);
-            let pixels_over_epsilon = (job.mode == Mode::Multirate)
-                .then(|| metrics::pixels_over(&reference.image, &untimed.image, f64::from(job.epsilon)));
-            let fallback_fraction = untimed.heat_and_mask.as_ref().map(|(heat, mask)| {
-                let covered = heat.pixels.iter().filter(|p| p[3] > 0.0).count().max(1);
-                fallback_pixels(mask) as f64 / covered as f64
-            });
-            if let Some(dir) = &config.images {
-                let stem = file_stem(bench_scene, job);
-                let heat_and_mask = untimed.heat_and_mask.as_ref();
-                write_row_images(dir, &stem, &reference.image, &untimed.image, heat_and_mask, scene)?;
-            }
+        let reference = Reference {
+            gpu_ms: Timing::of(&measurements[0].gpu_ms()).median,
+            evaluations: untimed[0].evaluations.total(),
+        };
+        for ((job, untimed), measurement) in group.iter().zip(untimed).zip(measurements) {
             result.rows.push(row(
                 context,
                 bench_scene,
                 job,
                 config,
-                timing,
+                Timing::of(&measurement.gpu_ms()),
                 &reference,
-                untimed.evaluations,
-                error,
-                fallback_fraction,
-                pixels_over_epsilon,
+                untimed,
                 &measurement,
             ));
             result.measurements.push(measurement);
@@ -326,27 +322,34 @@ pub fn run(
 /// Measured frames per configuration and turn in [`measure_in_turns`].
 const FRAMES_PER_TURN: u32 = 2;
 
-/// What a configuration gives besides its time: its image, its shading evaluations and, in
-/// multirate, its level heat map and fallback mask.
-struct UntimedResults {
-    image: FloatImage,
+/// What a configuration gives besides its time, measured against the reference image.
+struct Untimed {
     evaluations: EvaluationCounts,
-    heat_and_mask: Option<(FloatImage, FloatImage)>,
+    error: ImageError,
+    /// multirate only.
+    pixels_over_epsilon: Option<usize>,
+    /// multirate only.
+    fallback_fraction: Option<f64>,
 }
 
-impl UntimedResults {
-    fn of(renderer: &Renderer, target: &RenderTarget, view: &View) -> Result<UntimedResults> {
-        let image = renderer.render(target, view)?;
-        let evaluations = renderer.count_evaluations(target, view)?;
-        let heat_and_mask = if view.mode == Mode::Multirate {
-            let heat = renderer.render(target, &View { heat_map: true, ..view.clone() })?;
-            let mask = fallback_mask(&heat);
-            Some((heat, mask))
-        } else {
-            None
-        };
-        Ok(UntimedResults { image, evaluations, heat_and_mask })
-    }
+/// A configuration's image, its shading evaluations and, in multirate, its level heat map
+/// and fallback mask.
+#[allow(clippy::type_complexity)]
+fn render_and_count(
+    renderer: &Renderer,
+    target: &RenderTarget,
+    view: &View,
+) -> Result<(FloatImage, EvaluationCounts, Option<(FloatImage, FloatImage)>)> {
+    let image = renderer.render(target, view)?;
+    let evaluations = renderer.count_evaluations(target, view)?;
+    let heat_and_mask = if view.mode == Mode::Multirate {
+        let heat = renderer.render(target, &View { heat_map: true, ..view.clone() })?;
+        let mask = fallback_mask(&heat);
+        Some((heat, mask))
+    } else {
+        None
+    };
+    Ok((image, evaluations, heat_and_mask))
 }
 
 /// Times `views` (one scene at one resolution) in turns: each configuration in order renders
@@ -391,13 +394,11 @@ fn row(
     config: &BenchConfig,
     gpu_ms: Timing,
     reference: &Reference,
-    evaluations: EvaluationCounts,
-    error: ImageError,
-    fallback_fraction: Option<f64>,
-    pixels_over_epsilon: Option<usize>,
+    untimed: Untimed,
     measurement: &Measurement,
 ) -> Row {
     let multirate = job.mode == Mode::Multirate;
+    let Untimed { evaluations, error, pixels_over_epsilon, fallback_fraction } = untimed;
     Row {
         scene: bench_scene.name.clone(),
         triangles: bench_scene.scene.triangle_count(),
