@@ -6,6 +6,7 @@
 // coordinates and the texture level of detail, with no help from the rasteriser. One full-screen
 // pass per mesh shades that mesh's pixels.
 #include "texturing.glsl"
+#include "triangle_id.glsl"
 
 // The triangles' vertices come from bindings.glsl's scene_vertices and scene_indices.
 layout(set = 2, binding = 0) uniform sampler2D visibility;
@@ -67,4 +68,7 @@ void main() {
         atomicAdd(counters.pixel_evaluations, 1u);
     }
     out_color = vec4(albedo_at_grad(m, uv, duv_dx, duv_dy) * s.diffuse + s.specular, 1.0);
+#if TRIANGLE_IDS
+    write_triangle_id(triangle);
+#endif
 }

@@ -1,7 +1,8 @@
 #version 460
+// variants: count_evaluations
 // The emissive geometry of a polygonal light: its radiance on the emitting side, black behind
 // (a one-sided emitter). `draw.light_index` names the light.
-#include "bindings.glsl"
+#include "triangle_id.glsl"
 
 layout(location = 0) in vec3 in_position;
 
@@ -11,4 +12,7 @@ void main() {
     GpuPolygonLight light = polygon_lights[draw.light_index];
     bool front = dot(light.normal.xyz, draw.eye.xyz - in_position) > 0.0;
     out_color = vec4(front ? light.radiance.rgb : vec3(0.0), 1.0);
+#if TRIANGLE_IDS
+    out_triangle_id = EMITTER_ID_BIT | draw.light_index;
+#endif
 }

@@ -4,6 +4,7 @@
 // full per-pixel shading where the triangle fell back (level 0).
 #include "texturing.glsl"
 #include "heat.glsl"
+#include "triangle_id.glsl"
 
 layout(location = 0) in vec3 in_diffuse;
 layout(location = 1) in vec3 in_specular;
@@ -11,6 +12,9 @@ layout(location = 2) in vec3 in_position;
 layout(location = 3) in vec3 in_normal;
 layout(location = 4) in vec2 in_uv;
 layout(location = 5) flat in float in_level;
+#if TRIANGLE_IDS
+layout(location = TRIANGLE_ID_LOCATION) flat in uint in_triangle;
+#endif
 
 layout(location = 0) out vec4 out_color;
 
@@ -32,4 +36,7 @@ void main() {
     }
     vec3 color = albedo_at_grad(m, in_uv, duv_dx, duv_dy) * s.diffuse + s.specular;
     out_color = vec4(heat_map_on() ? heat_color(in_level) : color, 1.0);
+#if TRIANGLE_IDS
+    write_triangle_id(in_triangle);
+#endif
 }

@@ -14,6 +14,9 @@ layout(location = 1) in vec3 in_normal[];
 layout(location = 2) in vec2 in_uv[];
 layout(location = 3) patch in float patch_level;
 layout(location = 4) patch in float parameter_lod_bound;
+#if TRIANGLE_IDS
+layout(location = 6) patch in uint patch_triangle;
+#endif
 
 layout(location = 0) out vec3 out_diffuse;
 layout(location = 1) out vec3 out_specular;
@@ -21,6 +24,9 @@ layout(location = 2) out vec3 out_position;
 layout(location = 3) out vec3 out_normal;
 layout(location = 4) out vec2 out_uv;
 layout(location = 5) flat out float out_level;
+#if TRIANGLE_IDS
+layout(location = TRIANGLE_ID_LOCATION) flat out uint out_triangle;
+#endif
 
 // See shade.tese: no fused multiply-adds, so shared edge vertices match bit for bit.
 precise gl_Position;
@@ -52,5 +58,8 @@ void main() {
     out_normal = normal;
     out_uv = uv;
     out_level = patch_level;
+#if TRIANGLE_IDS
+    out_triangle = patch_triangle;
+#endif
     gl_Position = draw.view_proj * vec4(position, 1.0);
 }

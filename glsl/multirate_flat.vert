@@ -13,6 +13,9 @@ layout(location = 0) out vec3 out_diffuse;
 layout(location = 1) out vec3 out_specular;
 layout(location = 4) out vec2 out_uv;
 layout(location = 5) flat out float out_level;
+#if TRIANGLE_IDS
+layout(location = TRIANGLE_ID_LOCATION) flat out uint out_triangle;
+#endif
 
 precise gl_Position;
 
@@ -41,5 +44,8 @@ void main() {
     }
     out_uv = uv;
     out_level = 1.0;
+#if TRIANGLE_IDS
+    out_triangle = triangle;
+#endif
     gl_Position = draw.view_proj * vec4(position, 1.0);
 }

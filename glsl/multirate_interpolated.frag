@@ -1,5 +1,5 @@
 #version 460
-// variants: textured
+// variants: textured count_evaluations
 // `multirate` mode, `--estimator compute`, the draw of the patches shaded on their sub-vertices
 // (FLAG_INTERPOLATED_PATCHES): the interpolated vertex shading, its diffuse part times the
 // albedo map. The fallback patches are drawn by another draw with multirate.frag. Holding no
@@ -8,11 +8,15 @@
 // fragment, and a GPU keeps the registers the fallback branch needs.
 #include "texturing.glsl"
 #include "heat.glsl"
+#include "triangle_id.glsl"
 
 layout(location = 0) in vec3 in_diffuse;
 layout(location = 1) in vec3 in_specular;
 layout(location = 4) in vec2 in_uv;
 layout(location = 5) flat in float in_level;
+#if TRIANGLE_IDS
+layout(location = TRIANGLE_ID_LOCATION) flat in uint in_triangle;
+#endif
 
 layout(location = 0) out vec4 out_color;
 
@@ -24,4 +28,7 @@ void main() {
     vec3 albedo = albedo_at_grad(materials[draw.material_index], in_uv, duv_dx, duv_dy);
     vec3 color = albedo * in_diffuse + in_specular;
     out_color = vec4(heat_map_on() ? heat_color(in_level) : color, 1.0);
+#if TRIANGLE_IDS
+    write_triangle_id(in_triangle);
+#endif
 }

@@ -1,5 +1,5 @@
 #version 460
-// variants: textured
+// variants: textured count_evaluations
 // `multirate` mode, `--estimator compute`: the compute pre-pass has written the patch levels of
 // every visible triangle (patch_levels.comp) and listed it for one of the mesh's two draws
 // (multirate_pull.vert); the control stage only reads its levels. The patch is the triangle's
@@ -27,5 +27,8 @@ void main() {
         levels.outer = tess.yzw;
         levels.fallback = tess.x == 0.0;
         write_patch_levels(levels, material_lod_bound(in_uv[0], in_uv[1], in_uv[2]));
+#if TRIANGLE_IDS
+        patch_triangle = in_triangle[0];
+#endif
     }
 }

@@ -4,6 +4,7 @@
 // Alpha is geometric coverage (the clear value is 0).
 #include "texturing.glsl"
 #include "heat.glsl"
+#include "triangle_id.glsl"
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
@@ -28,4 +29,7 @@ void main() {
         }
     }
     out_color = vec4(color, 1.0);
+#if TRIANGLE_IDS
+    write_triangle_id(ID_FROM_PRIMITIVE);
+#endif
 }

@@ -16,6 +16,9 @@ layout(location = 2) in vec2 in_uv[];
 layout(location = 0) out vec3 out_diffuse;
 layout(location = 1) out vec3 out_specular;
 layout(location = 2) out vec2 out_uv;
+#if TRIANGLE_IDS
+layout(location = TRIANGLE_ID_LOCATION) flat out uint out_triangle;
+#endif
 
 // `precise` forbids fused multiply-adds here: a vertex on an edge shared by two patches is then
 // computed bit-identically from both sides (one weight is exactly 0, and the sum of the other two
@@ -42,5 +45,8 @@ void main() {
     if (COUNT_EVALUATIONS) {
         atomicAdd(counters.subvertex_evaluations, 1u);
     }
+#if TRIANGLE_IDS
+    out_triangle = draw.patch_base + uint(gl_PrimitiveID);
+#endif
     gl_Position = draw.view_proj * vec4(position, 1.0);
 }

@@ -317,7 +317,6 @@ fn first_run(gpu: &GpuArgs) -> Result<()> {
     let multirate = View { mode: Mode::Multirate, ..View::of_scene(&scene) };
     let pixel = View { mode: Mode::Pixel, ..multirate.clone() };
     let image = renderer.render(&target, &multirate)?;
-    let reference = renderer.render(&target, &pixel)?;
     let levels = renderer.render(&target, &View { heat_map: true, ..multirate.clone() })?;
     let (out, level_map) = (PathBuf::from("multirate.png"), PathBuf::from("multirate_levels.png"));
     output::write_image(&image, &out, scene.settings.exposure)?;
@@ -327,10 +326,13 @@ fn first_run(gpu: &GpuArgs) -> Result<()> {
         Ok(bench::Timing::of(&measurement.gpu_ms()).median)
     };
     let (pixel_ms, multirate_ms) = (median_ms(&pixel)?, median_ms(&multirate)?);
-    let evaluations = |view: &View| renderer.count_evaluations(&target, view).map(|c| c.total());
-    let (pixel_evaluations, multirate_evaluations) = (evaluations(&pixel)?, evaluations(&multirate)?);
-    let error = metrics::image_error(&reference, &image, scene.settings.exposure);
-    let over = metrics::pixels_over(&reference, &image, f64::from(multirate.epsilon));
+    let (pixel_frame, multirate_frame) =
+        (renderer.analyze(&target, &pixel)?, renderer.analyze(&target, &multirate)?);
+    let (pixel_evaluations, multirate_evaluations) =
+        (pixel_frame.evaluations.total(), multirate_frame.evaluations.total());
+    let (reference, test) = (pixel_frame.frame(), multirate_frame.frame());
+    let error = metrics::image_error(reference, test, scene.settings.exposure);
+    let over = metrics::pixels_over(reference, test, f64::from(multirate.epsilon));
     println!(
         "{}: {}, {width}x{height}, {} triangles, multirate ε = {}, n_max = {} on {}",
         out.display(),
@@ -349,8 +351,9 @@ fn first_run(gpu: &GpuArgs) -> Result<()> {
         100.0 * multirate_evaluations as f64 / pixel_evaluations.max(1) as f64
     );
     println!(
-        "  largest error against pixel: {:.4} inside silhouettes ({:.4} with them; ε = {}), {over} pixels over ε",
-        error.l_inf_interior, error.l_inf, multirate.epsilon
+        "  largest error against pixel: {:.4} where both show the same triangle (ε = {}), {over} pixels over ε; \
+         {:.4} over all pixels, {} of which show another triangle",
+        error.l_inf_same_triangle, multirate.epsilon, error.l_inf, error.other_triangle_pixels
     );
     println!("  level map (blue 1 → red n_max, magenta per-pixel): {}", level_map.display());
     let messages = context.validation().count();
@@ -528,18 +531,19 @@ fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
         println!("{note}");
     }
     println!(
-        "{:<44} {:>10} {:>9} {:>8} {:>10} {:>9} {:>10} {:>8}",
-        "configuration", "GPU ms", "pre-pass", "speedup", "evals", "L∞", "mean L2", "FLIP"
+        "{:<44} {:>10} {:>9} {:>8} {:>10} {:>9} {:>9} {:>10} {:>8}",
+        "configuration", "GPU ms", "pre-pass", "speedup", "evals", "L∞ same", "other px", "mean L2", "FLIP"
     );
     for row in &result.rows {
         let name = format!("{} {}x{} {}", row.scene, row.width, row.height, bench::plot::row_label(row));
         let pre_pass = row.pre_pass_ms.map_or_else(|| "-".to_string(), |t| format!("{:.3}", t.median));
         println!(
-            "{name:<44} {:>10.3} {pre_pass:>9} {:>7.0}% {:>9.1}% {:>9.5} {:>10.2e} {:>8.5}",
+            "{name:<44} {:>10.3} {pre_pass:>9} {:>7.0}% {:>9.1}% {:>9.5} {:>9} {:>10.2e} {:>8.5}",
             row.gpu_ms.median,
             row.speedup * 100.0,
             row.evaluation_ratio * 100.0,
-            row.l_inf_interior,
+            row.l_inf_same_triangle,
+            row.other_triangle_pixels,
             row.mean_l2,
             row.flip
         );

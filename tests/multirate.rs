@@ -2,7 +2,8 @@
 //! - the levels the control stage chooses (recorded by its analysis variant) equal the Rust
 //!   twin's (`analysis::report`), shared edges and culled triangles included, and are the same
 //!   with the estimator in the control stage and in the compute pre-pass;
-//! - every pixel of a tessellated triangle is within ε of `pixel` mode;
+//! - on every shipped scene, with either terminator rule, every pixel that shows the same
+//!   triangle as in `pixel` mode is within ε of it (triangle ids of the analysis render);
 //! - no cracks: coverage inside the reference silhouette is complete;
 //! - extreme inputs render with the coverage of `pixel` mode and no NaN;
 //! - a scene at 10⁶ is recentred at load time and renders as at the origin, multirate within ε;
@@ -11,11 +12,11 @@
 mod common;
 
 use ash::vk;
-use common::{assert_validation_clean, cracks, interior_tessellated, repo_path, validated_context};
+use common::{assert_validation_clean, cracks, repo_path, validated_context};
 use glam::DVec3;
-use multirate::analysis::report;
+use multirate::analysis::{metrics, report};
 use multirate::render::cull::CULLED_LEVEL;
-use multirate::render::{Estimator, Mode, Renderer, View};
+use multirate::render::{Analysis, Estimator, Mode, Renderer, View};
 use multirate::scene::Scene;
 use multirate::shading::estimator::{Discontinuity, EstimatorSettings, Split};
 use multirate::vk::target::{FloatImage, RenderTarget};
@@ -117,56 +118,52 @@ fn render(renderer: &Renderer, target: &RenderTarget, view: &View) -> FloatImage
     image
 }
 
+/// Every scene under `scenes/` (the shipped ones).
+fn shipped_scenes() -> Vec<PathBuf> {
+    let mut scenes: Vec<PathBuf> = std::fs::read_dir(repo_path("scenes"))
+        .expect("scenes folder")
+        .map(|entry| entry.expect("folder entry").path())
+        .filter(|path| path.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    scenes.sort();
+    scenes
+}
+
 #[test]
-fn tessellated_pixels_are_within_epsilon_of_pixel_mode_without_cracks() {
+fn every_pixel_showing_the_same_triangle_is_within_epsilon_of_pixel_mode_without_cracks() {
     let context = validated_context();
     let target = RenderTarget::new(&context, vk::Extent2D { width: WIDTH, height: HEIGHT }).expect("target");
-    for relative in [
-        "scenes/bunny.toml",
-        "scenes/teapot.toml",
-        "scenes/plane_lights.toml",
-        "scenes/bunny_spots.toml",
-        "scenes/teapot_fabric.toml",
-        // (teapot_polygons is left out: its glossy triangles all shade per pixel, as the level
-        // test shows, so no tessellated pixel would be compared.)
-        "scenes/plane_polygons.toml",
-    ] {
-        let scene = Scene::load(&repo_path(relative)).expect("scene");
+    let scenes = shipped_scenes();
+    assert!(scenes.len() >= 10, "the shipped scenes: {scenes:?}");
+    for path in scenes {
+        let name = path.file_stem().expect("file name").to_string_lossy().into_owned();
+        let scene = Scene::load(&path).expect("scene");
         let renderer = Renderer::new(&context, &scene).expect("renderer");
-        let reference = render(&renderer, &target, &View::of_scene(&scene));
-        for epsilon in [0.02, 0.075, 0.3] {
-            let view = View { mode: Mode::Multirate, epsilon, ..View::of_scene(&scene) };
-            let image = render(&renderer, &target, &view);
-            assert_eq!(cracks(&reference, &image), 0, "{relative} ε {epsilon}: cracks");
-            let heat = render(&renderer, &target, &View { heat_map: true, ..view.clone() });
-            let mask = interior_tessellated(&heat);
-            let (mut checked, mut worst) = (0usize, 0.0f32);
-            for (i, (&inside, (m, r))) in
-                mask.iter().zip(image.pixels.iter().zip(&reference.pixels)).enumerate()
-            {
-                if !inside {
-                    continue;
-                }
-                checked += 1;
-                for c in 0..3 {
-                    // ε bounds the interpolation in the triangle's own domain; the rasteriser
-                    // adds fp32 rounding and 1/256-pixel vertex snapping on top: 10⁻³ relative.
-                    let allowed = epsilon + 1e-3 * r[c].abs().max(1.0);
-                    let error = (m[c] - r[c]).abs();
-                    worst = worst.max(error / epsilon);
-                    assert!(
-                        error <= allowed,
-                        "{relative} ε {epsilon}: pixel {} channel {c}: multirate {} vs pixel {} (error {error})",
-                        i,
-                        m[c],
-                        r[c]
-                    );
-                }
+        let reference = renderer.analyze(&target, &View::of_scene(&scene)).expect("analyze pixel");
+        let covered = reference.triangles.iter().filter(|&&id| id != 0).count();
+        for discontinuity in [Discontinuity::Relaxed, Discontinuity::Conservative] {
+            for epsilon in [0.02, 0.075, 0.3] {
+                let view = View { mode: Mode::Multirate, epsilon, discontinuity, ..View::of_scene(&scene) };
+                let what = format!("{name} {discontinuity:?} ε {epsilon}");
+                let analysis = renderer.analyze(&target, &view).expect("analyze multirate");
+                assert!(analysis.image.pixels.iter().flatten().all(|v| v.is_finite()), "{what}: not finite");
+                assert_eq!(cracks(&reference.image, &analysis.image), 0, "{what}: cracks");
+                let (expected, image) = (reference.frame(), analysis.frame());
+                let error = metrics::image_error(expected, image, scene.settings.exposure);
+                let over = metrics::pixels_over(expected, image, f64::from(epsilon));
+                eprintln!(
+                    "{what}: L∞ {:.4} ({:.2} ε) on pixels of the same triangle, {} pixels show another",
+                    error.l_inf_same_triangle,
+                    error.l_inf_same_triangle / f64::from(epsilon),
+                    error.other_triangle_pixels
+                );
+                assert_eq!(over, 0, "{what}: {over} pixels of the same triangle over ε ({error:?})");
+                assert!(
+                    error.other_triangle_pixels * 50 < covered,
+                    "{what}: {} of {covered} pixels show another triangle",
+                    error.other_triangle_pixels
+                );
             }
-            eprintln!(
-                "{relative} ε {epsilon}: {checked} tessellated interior pixels, worst error {worst:.3} ε"
-            );
-            assert!(checked > 0, "{relative} ε {epsilon}: no tessellated pixel to compare");
         }
     }
     assert_validation_clean(&context);
@@ -326,13 +323,13 @@ fn a_scene_far_from_the_origin_renders_as_at_the_origin() {
     let near_image =
         render(&Renderer::new(&context, &near).expect("renderer"), &target, &View::of_scene(&near));
     let renderer = Renderer::new(&context, &far).expect("renderer");
-    let reference = render(&renderer, &target, &View::of_scene(&far));
-    let covered = reference.pixels.iter().filter(|p| p[3] == 1.0).count();
+    let reference = renderer.analyze(&target, &View::of_scene(&far)).expect("analyze pixel");
+    let covered = reference.image.pixels.iter().filter(|p| p[3] == 1.0).count();
     assert!(covered > 1000, "the sphere is in view ({covered} pixels)");
     let worst = near_image
         .pixels
         .iter()
-        .zip(&reference.pixels)
+        .zip(&reference.image.pixels)
         .map(|(a, b)| (0..4).map(|c| (a[c] - b[c]).abs()).fold(0.0f32, f32::max))
         .fold(0.0f32, f32::max);
     assert!(worst < 1e-3, "pixel mode at 10⁶ differs from the origin by {worst}");
@@ -343,8 +340,8 @@ fn a_scene_far_from_the_origin_renders_as_at_the_origin() {
 }
 
 /// Multirate `view` covers the pixels of `reference` (pixel mode) but for at most
-/// `silhouette_flips` pixels on its silhouettes, without cracks, and every tessellated interior
-/// pixel is within its ε.
+/// `silhouette_flips` pixels on its silhouettes, without cracks, and every pixel that shows
+/// the same triangle as in `reference` is within ε.
 ///
 /// A silhouette pixel may flip: the tessellator's vertices along an edge are snapped to the
 /// rasteriser's sub-pixel grid (1/256 pixel on lavapipe) on either side of the straight edge
@@ -354,39 +351,33 @@ fn assert_multirate_matches(
     renderer: &Renderer,
     target: &RenderTarget,
     view: &View,
-    reference: &FloatImage,
+    reference: &Analysis,
     silhouette_flips: usize,
 ) {
-    let image = render(renderer, target, view);
-    let (width, height) = (reference.width as usize, reference.height as usize);
+    let analysis = renderer.analyze(target, view).expect("analyze multirate");
+    let (expected, image) = (&reference.image, &analysis.image);
+    let (width, height) = (expected.width as usize, expected.height as usize);
     let on_silhouette = |i: usize| {
         let (x, y) = (i % width, i / width);
-        let covered = reference.pixels[i][3];
+        let covered = expected.pixels[i][3];
         (x.saturating_sub(1)..(x + 2).min(width)).any(|nx| {
             (y.saturating_sub(1)..(y + 2).min(height))
-                .any(|ny| reference.pixels[ny * width + nx][3] != covered)
+                .any(|ny| expected.pixels[ny * width + nx][3] != covered)
         })
     };
     let flips: Vec<usize> =
-        (0..reference.pixels.len()).filter(|&i| reference.pixels[i][3] != image.pixels[i][3]).collect();
+        (0..expected.pixels.len()).filter(|&i| expected.pixels[i][3] != image.pixels[i][3]).collect();
     assert!(
         flips.iter().all(|&i| on_silhouette(i)),
         "multirate covers other pixels than pixel mode: {flips:?}"
     );
     assert!(flips.len() <= silhouette_flips, "{} silhouette pixels flip: {flips:?}", flips.len());
-    assert_eq!(cracks(reference, &image), 0, "cracks");
-    let mask = interior_tessellated(&render(renderer, target, &View { heat_map: true, ..view.clone() }));
-    let mut checked = 0;
-    for (&inside, (m, r)) in mask.iter().zip(image.pixels.iter().zip(&reference.pixels)) {
-        if inside {
-            checked += 1;
-            for c in 0..3 {
-                let error = (m[c] - r[c]).abs();
-                assert!(error <= view.epsilon + 1e-3 * r[c].abs().max(1.0), "multirate {m:?} vs pixel {r:?}");
-            }
-        }
-    }
-    assert!(checked > 100, "{checked} tessellated interior pixels compared");
+    assert_eq!(cracks(expected, image), 0, "cracks");
+    let compared =
+        reference.triangles.iter().zip(&analysis.triangles).filter(|(a, b)| a == b && **a != 0).count();
+    assert!(compared > 100, "{compared} pixels of the same triangle compared");
+    let over = metrics::pixels_over(reference.frame(), analysis.frame(), f64::from(view.epsilon));
+    assert_eq!(over, 0, "{over} pixels of the same triangle over ε");
 }
 
 /// A UV sphere of radius 1 in three bands of 12 × 4 quads, each band its own MTL material:
@@ -436,13 +427,13 @@ fn an_obj_model_of_three_materials_renders_within_epsilon() {
     let context = validated_context();
     let target = RenderTarget::new(&context, vk::Extent2D { width: WIDTH, height: HEIGHT }).expect("target");
     let renderer = Renderer::new(&context, &scene).expect("renderer");
-    let reference = render(&renderer, &target, &View::of_scene(&scene));
-    let covered = reference.pixels.iter().filter(|p| p[3] == 1.0).count();
+    let reference = renderer.analyze(&target, &View::of_scene(&scene)).expect("analyze pixel");
+    let covered = reference.image.pixels.iter().filter(|p| p[3] == 1.0).count();
     assert!(covered > 3000, "the model fills the view ({covered} pixels)");
     // Each band is lit: the framing and the default lights show every material.
     for band in 0..3 {
         let rows = HEIGHT as usize * (2 * band + 1) / 6;
-        let lit = reference.pixels[rows * WIDTH as usize..(rows + 1) * WIDTH as usize]
+        let lit = reference.image.pixels[rows * WIDTH as usize..(rows + 1) * WIDTH as usize]
             .iter()
             .filter(|p| p[3] == 1.0 && p[0] + p[1] + p[2] > 0.05)
             .count();

@@ -20,6 +20,16 @@ layout(set = 0, binding = 4, std430) readonly buffer PolygonLights { GpuPolygonL
 // The counting variant (COUNT_EVALUATIONS) adds one to these for every run of the full shading
 // function, by where it ran. The timed variants contain no counting.
 const bool COUNT_EVALUATIONS = VARIANT_COUNT_EVALUATIONS != 0;
+// The same variant also writes which triangle each pixel shows (triangle_id.glsl), for error
+// metrics that compare only pixels where two images show the same triangle
+// (src/analysis/metrics.rs). The stage before the fragment stage passes the triangle's scene
+// index on at TRIANGLE_ID_LOCATION where it knows it (tessellated and vertex-pulled draws); an
+// indexed draw of shared vertices cannot, so its vertex stage passes ID_FROM_PRIMITIVE and the
+// fragment stage takes draw.patch_base + gl_PrimitiveID instead.
+#define TRIANGLE_IDS (VARIANT_COUNT_EVALUATIONS != 0)
+#define TRIANGLE_ID_LOCATION 6
+const uint ID_FROM_PRIMITIVE = 0xffffffffu;
+const uint EMITTER_ID_BIT = 0x80000000u;
 layout(set = 0, binding = 3, std430) buffer EvaluationCounters {
     uint vertex_evaluations;    // vertex mode: triangle vertices (vertex shader)
     uint subvertex_evaluations; // tessellated modes: sub-vertices (evaluation shader)

@@ -1,5 +1,6 @@
 //! Image error against the per-pixel reference, at the same camera and resolution:
-//! - L∞ and mean L2 on linear radiance (the paper's two; ε bounds the first per channel),
+//! - L∞ and mean L2 on linear radiance (the paper's two; ε bounds the first per channel, on
+//!   the pixels where both images show the same triangle),
 //! - PSNR and FLIP on the tone-mapped 8-bit sRGB images a viewer sees (FLIP via `nv-flip`).
 //!
 //! Also the images that show where errors are: the difference scaled (×30 in the paper) and
@@ -8,16 +9,41 @@
 use crate::shading::tonemap::display_value;
 use crate::vk::target::FloatImage;
 
+/// An image and which triangle each of its pixels shows, as the analysis variant draws them
+/// (`Renderer::analyze`: the triangle's scene index + 1, 0 where nothing is drawn).
+#[derive(Clone, Copy, Debug)]
+pub struct Frame<'a> {
+    pub image: &'a FloatImage,
+    pub triangles: &'a [u32],
+}
+
+impl Frame<'_> {
+    /// Per pixel: whether `self` and `other` show the same triangle there (or both nothing).
+    fn same_triangle<'b>(&'b self, other: &'b Frame<'_>) -> impl Iterator<Item = bool> + 'b {
+        assert_same_size(self.image, other.image);
+        let pixels = self.image.pixels.len();
+        assert!(
+            self.triangles.len() == pixels && other.triangles.len() == pixels,
+            "one triangle id per pixel"
+        );
+        self.triangles.iter().zip(other.triangles).map(|(a, b)| a == b)
+    }
+}
+
 /// Error of one image against the reference.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ImageError {
     /// Largest absolute difference of any RGB channel of any pixel (linear radiance); infinite
     /// when a value is not finite.
     pub l_inf: f64,
-    /// L∞ over interior pixels only: those whose 3×3 neighbourhood both images cover. It
-    /// leaves out silhouette pixels, where a sub-triangle's rounded edge vertex can move a pixel
-    /// centre to the other side of the edge: a coverage difference, not a shading error.
-    pub l_inf_interior: f64,
+    /// L∞ over the pixels where both images show the same triangle: what ε bounds. It leaves
+    /// out the pixels whose visible triangle differs (`other_triangle_pixels`), where two
+    /// renders of the same scene may disagree without any shading error: on silhouettes a
+    /// sub-triangle's rounded edge vertex can move a pixel centre to the other side of the
+    /// edge, and where two surfaces meet at equal depth either may win.
+    pub l_inf_same_triangle: f64,
+    /// Pixels where the two images show different triangles (or only one shows any).
+    pub other_triangle_pixels: usize,
     /// Mean over all pixels of the Euclidean distance of the RGB triples (linear radiance).
     pub mean_l2: f64,
     /// 10·log10(1 / MSE) of the display values in [0, 1]; infinite for identical images.
@@ -26,16 +52,18 @@ pub struct ImageError {
     pub flip: f64,
 }
 
-/// All four metrics of `test` against `reference` (equal sizes), tone-mapped with `exposure`.
-pub fn image_error(reference: &FloatImage, test: &FloatImage, exposure: f32) -> ImageError {
-    let reference_display = display_rgb(reference, exposure);
-    let test_display = display_rgb(test, exposure);
+/// All metrics of `test` against `reference` (equal sizes), tone-mapped with `exposure`.
+pub fn image_error(reference: Frame<'_>, test: Frame<'_>, exposure: f32) -> ImageError {
+    let reference_display = display_rgb(reference.image, exposure);
+    let test_display = display_rgb(test.image, exposure);
+    let (image, other) = (reference.image, test.image);
     ImageError {
-        l_inf: l_inf(reference, test),
-        l_inf_interior: l_inf_interior(reference, test),
-        mean_l2: mean_l2(reference, test),
+        l_inf: l_inf(image, other),
+        l_inf_same_triangle: l_inf_same_triangle(reference, test),
+        other_triangle_pixels: reference.same_triangle(&test).filter(|same| !same).count(),
+        mean_l2: mean_l2(image, other),
         psnr_db: psnr(&reference_display, &test_display),
-        flip: flip(reference.width, reference.height, &reference_display, &test_display),
+        flip: flip(image.width, image.height, &reference_display, &test_display),
     }
 }
 
@@ -57,46 +85,34 @@ fn channel_difference(a: f32, b: f32) -> f64 {
     }
 }
 
+/// The largest RGB channel difference of two pixels.
+fn pixel_difference(r: &[f32; 4], t: &[f32; 4]) -> f64 {
+    (0..3).map(|c| channel_difference(r[c], t[c])).fold(0.0, f64::max)
+}
+
 /// Largest per-channel RGB difference.
 pub fn l_inf(reference: &FloatImage, test: &FloatImage) -> f64 {
     assert_same_size(reference, test);
+    reference.pixels.iter().zip(&test.pixels).map(|(r, t)| pixel_difference(r, t)).fold(0.0, f64::max)
+}
+
+/// Largest per-channel RGB difference over the pixels where both show the same triangle.
+pub fn l_inf_same_triangle(reference: Frame<'_>, test: Frame<'_>) -> f64 {
     reference
-        .pixels
-        .iter()
-        .zip(&test.pixels)
-        .flat_map(|(r, t)| (0..3).map(move |c| channel_difference(r[c], t[c])))
+        .same_triangle(&test)
+        .zip(reference.image.pixels.iter().zip(&test.image.pixels))
+        .filter(|(same, _)| *same)
+        .map(|(_, (r, t))| pixel_difference(r, t))
         .fold(0.0, f64::max)
 }
 
-/// Largest per-channel RGB difference over pixels whose 3×3 neighbourhood both images cover
-/// (alpha 1); 0 when there are none.
-pub fn l_inf_interior(reference: &FloatImage, test: &FloatImage) -> f64 {
-    assert_same_size(reference, test);
-    let (width, height) = (reference.width as usize, reference.height as usize);
-    let covered = |x: usize, y: usize| {
-        let index = y * width + x;
-        reference.pixels[index][3] == 1.0 && test.pixels[index][3] == 1.0
-    };
-    let mut largest = 0.0f64;
-    for y in 1..height.saturating_sub(1) {
-        for x in 1..width.saturating_sub(1) {
-            if (y - 1..=y + 1).all(|yy| (x - 1..=x + 1).all(|xx| covered(xx, yy))) {
-                let (r, t) = (reference.pixels[y * width + x], test.pixels[y * width + x]);
-                largest = (0..3).map(|c| channel_difference(r[c], t[c])).fold(largest, f64::max);
-            }
-        }
-    }
-    largest
-}
-
-/// Pixels where some RGB channel differs by more than `bound`.
-pub fn pixels_over(reference: &FloatImage, test: &FloatImage, bound: f64) -> usize {
-    assert_same_size(reference, test);
+/// Pixels showing the same triangle in both where some RGB channel differs by more than
+/// `bound`.
+pub fn pixels_over(reference: Frame<'_>, test: Frame<'_>, bound: f64) -> usize {
     reference
-        .pixels
-        .iter()
-        .zip(&test.pixels)
-        .filter(|(r, t)| (0..3).any(|c| channel_difference(r[c], t[c]) > bound))
+        .same_triangle(&test)
+        .zip(reference.image.pixels.iter().zip(&test.image.pixels))
+        .filter(|(same, (r, t))| *same && pixel_difference(r, t) > bound)
         .count()
 }
 
@@ -183,13 +199,24 @@ mod tests {
         FloatImage { width, height, pixels: vec![value; (width * height) as usize] }
     }
 
+    /// `image` showing triangle 1 on its covered pixels.
+    fn ids(image: &FloatImage) -> Vec<u32> {
+        image.pixels.iter().map(|p| u32::from(p[3] > 0.0)).collect()
+    }
+
+    fn frame<'a>(image: &'a FloatImage, triangles: &'a [u32]) -> Frame<'a> {
+        Frame { image, triangles }
+    }
+
     #[test]
     fn identical_images_have_no_error() {
         let mut image = constant(32, 24, [0.2, 0.5, 0.8, 1.0]);
         image.pixels[100] = [3.0, 0.0, 0.01, 1.0];
-        let error = image_error(&image, &image.clone(), 1.0);
+        let triangles = ids(&image);
+        let error = image_error(frame(&image, &triangles), frame(&image, &triangles), 1.0);
         assert_eq!(error.l_inf, 0.0);
-        assert_eq!(error.l_inf_interior, 0.0);
+        assert_eq!(error.l_inf_same_triangle, 0.0);
+        assert_eq!(error.other_triangle_pixels, 0);
         assert_eq!(error.mean_l2, 0.0);
         assert_eq!(error.psnr_db, f64::INFINITY);
         assert_eq!(error.flip, 0.0);
@@ -201,12 +228,14 @@ mod tests {
         let reference = constant(width, height, [0.25, 0.25, 0.25, 1.0]);
         let mut test = reference.clone();
         test.pixels[7 * width as usize + 11] = [0.25, 0.75, 0.25, 1.0];
-        let error = image_error(&reference, &test, 1.0);
+        let triangles = ids(&reference);
+        let (reference, test) = (frame(&reference, &triangles), frame(&test, &triangles));
+        let error = image_error(reference, test, 1.0);
         let count = f64::from(width * height);
         assert!((error.l_inf - 0.5).abs() < 1e-7, "{error:?}");
-        assert_eq!(error.l_inf_interior, error.l_inf, "the pixel is interior");
-        assert_eq!(pixels_over(&reference, &test, 0.49), 1);
-        assert_eq!(pixels_over(&reference, &test, 0.5), 0);
+        assert_eq!(error.l_inf_same_triangle, error.l_inf, "the pixel shows the same triangle in both");
+        assert_eq!(pixels_over(reference, test, 0.49), 1);
+        assert_eq!(pixels_over(reference, test, 0.5), 0);
         assert!((error.mean_l2 - 0.5 / count).abs() < 1e-9, "{error:?}");
         let step = f64::from(display_value(0.75, 1.0)) - f64::from(display_value(0.25, 1.0));
         let expected_psnr = 10.0 * (255.0f64.powi(2) * 3.0 * count / step.powi(2)).log10();
@@ -220,7 +249,8 @@ mod tests {
         let reference = constant(16, 16, [0.1, 0.2, 0.3, 1.0]);
         let offset = 0.05;
         let test = constant(16, 16, [0.1 + offset, 0.2 + offset, 0.3 + offset, 1.0]);
-        let error = image_error(&reference, &test, 1.0);
+        let triangles = ids(&reference);
+        let error = image_error(frame(&reference, &triangles), frame(&test, &triangles), 1.0);
         assert!((error.l_inf - f64::from(offset)).abs() < 1e-6, "{error:?}");
         assert!((error.mean_l2 - f64::from(offset) * 3f64.sqrt()).abs() < 1e-6, "{error:?}");
         let mse: f64 = [0.1f32, 0.2, 0.3]
@@ -233,21 +263,34 @@ mod tests {
     }
 
     #[test]
-    fn interior_l_inf_leaves_out_silhouette_pixels() {
-        // A covered 6×6 square on an uncovered background; the test image differs by 0.9 on
-        // the square's border (a silhouette pixel) and by 0.1 inside.
+    fn only_pixels_showing_the_same_triangle_are_compared() {
+        // Triangle 1 covers a 6×6 square on an empty background, triangle 2 its right half in
+        // the test image only. The test image differs by 0.9 on a pixel of the square's border
+        // that it leaves uncovered, by 0.7 on a pixel of the right half, by 0.1 inside.
         let mut reference = constant(10, 10, [0.0, 0.0, 0.0, 0.0]);
+        let mut reference_ids = vec![0u32; 100];
         for y in 2..8 {
             for x in 2..8 {
                 reference.pixels[y * 10 + x] = [0.5, 0.5, 0.5, 1.0];
+                reference_ids[y * 10 + x] = 1;
             }
         }
-        let mut test = reference.clone();
-        test.pixels[2 * 10 + 4][0] = 1.4;
-        test.pixels[4 * 10 + 4][0] = 0.6;
-        let error = image_error(&reference, &test, 1.0);
+        let (mut test, mut test_ids) = (reference.clone(), reference_ids.clone());
+        test.pixels[2 * 10 + 4] = [1.4, 0.5, 0.5, 0.0];
+        test_ids[2 * 10 + 4] = 0;
+        for y in 2..8 {
+            for x in 5..8 {
+                test_ids[y * 10 + x] = 2;
+            }
+        }
+        test.pixels[6 * 10 + 6][1] = 1.2;
+        test.pixels[4 * 10 + 3][0] = 0.6;
+        let (reference, test) = (frame(&reference, &reference_ids), frame(&test, &test_ids));
+        let error = image_error(reference, test, 1.0);
         assert!((error.l_inf - 0.9).abs() < 1e-6, "{error:?}");
-        assert!((error.l_inf_interior - 0.1).abs() < 1e-6, "{error:?}");
+        assert!((error.l_inf_same_triangle - 0.1).abs() < 1e-6, "{error:?}");
+        assert_eq!(error.other_triangle_pixels, 1 + 18, "{error:?}");
+        assert_eq!(pixels_over(reference, test, 0.05), 1, "only the pixel inside counts");
     }
 
     #[test]

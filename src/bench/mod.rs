@@ -15,7 +15,7 @@ pub mod trace;
 
 use crate::analysis::metrics::{self, fallback_mask, fallback_pixels, scaled_difference, ImageError};
 use crate::error::Result;
-use crate::render::{output, Estimator, EvaluationCounts, Measurement, Mode, Renderer, View};
+use crate::render::{output, Analysis, Estimator, EvaluationCounts, Measurement, Mode, Renderer, View};
 use crate::scene::Scene;
 use crate::shading::estimator::{Discontinuity, Split};
 use crate::vk::target::{FloatImage, RenderTarget};
@@ -119,9 +119,12 @@ pub struct Row {
     /// Evaluations as a fraction of `pixel` mode's.
     pub evaluation_ratio: f64,
     pub l_inf: f64,
-    /// L∞ over pixels whose 3×3 neighbourhood both images cover (no silhouettes).
-    pub l_inf_interior: f64,
-    /// multirate only: pixels where some channel differs from `pixel` by more than ε.
+    /// L∞ over the pixels where this image and `pixel`'s show the same triangle: what ε bounds.
+    pub l_inf_same_triangle: f64,
+    /// Pixels where this image and `pixel`'s show different triangles (silhouettes, depth ties).
+    pub other_triangle_pixels: usize,
+    /// multirate only: pixels showing the same triangle as in `pixel`'s image where some
+    /// channel differs from it by more than ε.
     pub pixels_over_epsilon: Option<usize>,
     pub mean_l2: f64,
     pub psnr_db: f64,
@@ -268,30 +271,38 @@ pub fn run(
         // Images are compared with the reference as they come (it is the group's first), so
         // that only its image is held, whatever the number of configurations.
         assert!(group[0].mode == Mode::Pixel, "each scene and resolution starts with pixel mode");
-        let mut reference_image: Option<FloatImage> = None;
+        let mut reference_frame: Option<Analysis> = None;
         let mut untimed = Vec::with_capacity(group.len());
         for (job, view) in group.iter().zip(&views) {
             let label = job.label(scenes);
             progress(Progress { done, total, label: &label });
             done += 1;
-            let (image, evaluations, heat_and_mask) = render_and_count(renderer, target, view)?;
-            let reference = reference_image.get_or_insert_with(|| image.clone());
+            let (analysis, heat_and_mask) = analyze_with_heat(renderer, target, view)?;
+            let reference = reference_frame.get_or_insert_with(|| analysis.clone());
             if let Some(dir) = &config.images {
                 let stem = file_stem(bench_scene, job);
-                write_row_images(dir, &stem, reference, &image, heat_and_mask.as_ref(), scene)?;
+                write_row_images(
+                    dir,
+                    &stem,
+                    &reference.image,
+                    &analysis.image,
+                    heat_and_mask.as_ref(),
+                    scene,
+                )?;
             }
+            let (reference, test) = (reference.frame(), analysis.frame());
             untimed.push(Untimed {
-                evaluations,
-                error: metrics::image_error(reference, &image, scene.settings.exposure),
+                evaluations: analysis.evaluations,
+                error: metrics::image_error(reference, test, scene.settings.exposure),
                 pixels_over_epsilon: (job.mode == Mode::Multirate)
-                    .then(|| metrics::pixels_over(reference, &image, f64::from(job.epsilon))),
+                    .then(|| metrics::pixels_over(reference, test, f64::from(job.epsilon))),
                 fallback_fraction: heat_and_mask.as_ref().map(|(heat, mask)| {
                     let covered = heat.pixels.iter().filter(|p| p[3] > 0.0).count().max(1);
                     fallback_pixels(mask) as f64 / covered as f64
                 }),
             });
         }
-        drop(reference_image);
+        drop(reference_frame);
         let label = format!("{} {}x{}: timing in turns", bench_scene.name, extent.width, extent.height);
         let measurements = measure_in_turns(renderer, target, &views, config, &mut |turn| {
             progress(Progress { done: done + turn, total, label: &label })
@@ -332,16 +343,14 @@ struct Untimed {
     fallback_fraction: Option<f64>,
 }
 
-/// A configuration's image, its shading evaluations and, in multirate, its level heat map
-/// and fallback mask.
-#[allow(clippy::type_complexity)]
-fn render_and_count(
+/// A configuration's analysis frame (image, triangle ids, shading evaluations) and, in
+/// multirate, its level heat map and fallback mask.
+fn analyze_with_heat(
     renderer: &Renderer,
     target: &RenderTarget,
     view: &View,
-) -> Result<(FloatImage, EvaluationCounts, Option<(FloatImage, FloatImage)>)> {
-    let image = renderer.render(target, view)?;
-    let evaluations = renderer.count_evaluations(target, view)?;
+) -> Result<(Analysis, Option<(FloatImage, FloatImage)>)> {
+    let analysis = renderer.analyze(target, view)?;
     let heat_and_mask = if view.mode == Mode::Multirate {
         let heat = renderer.render(target, &View { heat_map: true, ..view.clone() })?;
         let mask = fallback_mask(&heat);
@@ -349,7 +358,7 @@ fn render_and_count(
     } else {
         None
     };
-    Ok((image, evaluations, heat_and_mask))
+    Ok((analysis, heat_and_mask))
 }
 
 /// Times `views` (one scene at one resolution) in turns: each configuration in order renders
@@ -415,7 +424,8 @@ fn row(
         evaluations,
         evaluation_ratio: evaluations.total() as f64 / reference.evaluations.max(1) as f64,
         l_inf: error.l_inf,
-        l_inf_interior: error.l_inf_interior,
+        l_inf_same_triangle: error.l_inf_same_triangle,
+        other_triangle_pixels: error.other_triangle_pixels,
         pixels_over_epsilon,
         mean_l2: error.mean_l2,
         psnr_db: error.psnr_db,
@@ -465,7 +475,7 @@ fn write_row_images(
 /// The CSV header; `csv_line` writes the fields in this order.
 pub const CSV_HEADER: &str = "scene,triangles,mode,epsilon,n_max,estimator,width,height,frames,\
 gpu_ms_median,gpu_ms_p10,gpu_ms_p90,pre_pass_ms_median,speedup,evaluations,vertex_evaluations,subvertex_evaluations,\
-fragment_evaluations,culled_patches,evaluation_ratio,l_inf,l_inf_interior,pixels_over_epsilon,mean_l2,psnr_db,flip,fallback_fraction,\
+fragment_evaluations,culled_patches,evaluation_ratio,l_inf,l_inf_same_triangle,other_triangle_pixels,pixels_over_epsilon,mean_l2,psnr_db,flip,fallback_fraction,\
 vs_invocations,tcs_patches,tes_invocations,clipping_primitives,fs_invocations,device,driver";
 
 /// "NA" marks a value that does not apply to the row (ε of `pixel` mode, statistics on a
@@ -509,7 +519,8 @@ pub fn csv_line(row: &Row) -> String {
         optional((row.mode == "multirate").then_some(row.evaluations.culled_patches)),
         format!("{:.5}", row.evaluation_ratio),
         format!("{:.6}", row.l_inf),
-        format!("{:.6}", row.l_inf_interior),
+        format!("{:.6}", row.l_inf_same_triangle),
+        row.other_triangle_pixels.to_string(),
         optional(row.pixels_over_epsilon),
         format!("{:.3e}", row.mean_l2),
         format!("{:.3}", row.psnr_db),
@@ -562,6 +573,6 @@ mod tests {
         assert_eq!(quoted("a,b"), "\"a,b\"");
         assert_eq!(quoted("say \"x\", y"), "\"say \"\"x\"\", y\"");
         assert_eq!(quoted("plain"), "plain");
-        assert_eq!(CSV_HEADER.split(',').count(), 34);
+        assert_eq!(CSV_HEADER.split(',').count(), 35);
     }
 }

@@ -111,7 +111,7 @@ impl TessellationCapture {
                 polygon_mode: vk::PolygonMode::FILL,
                 cull_mode: vk::CullModeFlags::NONE,
                 front_face: vk::FrontFace::COUNTER_CLOCKWISE,
-                color_format: None,
+                color_formats: &[],
                 depth_format: None,
                 rasterizer_discard: true,
                 dynamic_cull_mode: false,

@@ -12,7 +12,7 @@ use crate::vk::pipeline::{
     bind_sampled_images, shader_binding, DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout,
     ShaderModule, Specialization, Stage,
 };
-use crate::vk::target::{AfterPass, FloatImage, RenderTarget};
+use crate::vk::target::{AfterPass, Attachments, FloatImage, RenderTarget};
 use crate::vk::texture::Sampler;
 use crate::vk::Context;
 use ash::vk;
@@ -64,13 +64,14 @@ impl Deferred {
             stages: Vec<Stage<'a>>,
             layout: &'a PipelineLayout,
             vertex_input: bool,
+            instrumentation: Instrumentation,
         ) -> GraphicsPipelineDesc<'a> {
             GraphicsPipelineDesc {
                 vertex_bindings: if vertex_input { &super::VERTEX_BINDINGS } else { &[] },
                 vertex_attributes: if vertex_input { &super::VERTEX_ATTRIBUTES[..1] } else { &[] },
                 // The id pass culls as the forward passes do; the full-screen passes need not.
                 dynamic_cull_mode: vertex_input,
-                ..super::scene_pipeline(name, stages, layout)
+                ..super::scene_pipeline(name, stages, layout, instrumentation)
             }
         }
         use vk::ShaderStageFlags as S;
@@ -84,6 +85,7 @@ impl Deferred {
                 ],
                 layout,
                 true,
+                Instrumentation::None,
             ),
         )?;
         // One shading pipeline per material kind, and per kind a counting one where the device
@@ -113,6 +115,7 @@ impl Deferred {
                         ],
                         layout,
                         false,
+                        instrumentation,
                     ),
                 )?);
             }
@@ -176,7 +179,7 @@ impl Renderer {
         let deferred = self.deferred.get().expect("prepared");
         let pick =
             |_: &super::DrawCall| Some(super::MeshPipelines { first: deferred.visibility.raw, lists: None });
-        self.record_draws(&pick, false, cmd, ids, view, [0.0; 4], after);
+        self.record_draws(&pick, false, cmd, ids, Attachments::Color, view, [0.0; 4], after);
     }
 
     /// `pixel-deferred`: the id pass, then one full-screen shading pass per mesh into `target`,
@@ -203,7 +206,8 @@ impl Renderer {
         self.record_ids(cmd, ids, view, AfterPass::Sampled);
         let device = &self.context.device;
         let extent = target.extent();
-        target.begin(device, cmd, self.clear_color);
+        let attachments = instrumentation.attachments();
+        target.begin(device, cmd, self.clear_color, attachments);
         let mut constants = draw_constants(view, extent);
         // SAFETY: recording inside the rendering begun above; every object is owned by `self`
         // and outlives the submission.
@@ -225,7 +229,7 @@ impl Renderer {
                 device.cmd_draw(cmd, 3, 1, 0, 0);
             }
         }
-        target.end(device, cmd, after);
+        target.end(device, cmd, after, attachments);
     }
 
     /// The visibility buffer of `view` at `target`'s size: per pixel (rows from the top),

@@ -28,7 +28,9 @@ use crate::vk::pipeline::{
     bind_storage_buffers, shader_binding, DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout,
     ShaderModule, Specialization, Stage,
 };
-use crate::vk::target::{AfterPass, FloatImage, RenderTarget, COLOR_FORMAT, DEPTH_FORMAT};
+use crate::vk::target::{
+    AfterPass, Attachments, FloatImage, RenderTarget, COLOR_FORMAT, DEPTH_FORMAT, ID_FORMAT,
+};
 use crate::vk::timing::{GpuInterval, GpuTimer, PipelineStatistics};
 use crate::vk::Context;
 use ash::vk;
@@ -307,11 +309,29 @@ enum Instrumentation {
     None,
     /// multirate.tesc writes each triangle's levels (RECORD_LEVELS).
     RecordLevels,
-    /// Every shading run adds to the evaluation counters (COUNT_EVALUATIONS).
+    /// Every shading run adds to the evaluation counters (COUNT_EVALUATIONS), and the fragment
+    /// stages write which triangle each pixel shows (`Attachments::ColorAndIds`,
+    /// glsl/include/triangle_id.glsl).
     CountEvaluations,
 }
 
 impl Instrumentation {
+    /// The attachments the variant's forward passes draw into.
+    fn attachments(self) -> Attachments {
+        match self {
+            Instrumentation::CountEvaluations => Attachments::ColorAndIds,
+            Instrumentation::None | Instrumentation::RecordLevels => Attachments::Color,
+        }
+    }
+
+    /// The formats of [`Instrumentation::attachments`].
+    fn color_formats(self) -> &'static [vk::Format] {
+        match self.attachments() {
+            Attachments::Color => &[COLOR_FORMAT],
+            Attachments::ColorAndIds => &[COLOR_FORMAT, ID_FORMAT],
+        }
+    }
+
     /// The scene's `features` with this instrumentation compiled in.
     fn features(self, features: Features) -> Features {
         Features {
@@ -421,6 +441,22 @@ struct EmitterDraw {
     light_index: u32,
 }
 
+/// One frame drawn by the analysis variant ([`Renderer::analyze`]).
+#[derive(Clone, Debug)]
+pub struct Analysis {
+    pub image: FloatImage,
+    /// Per pixel, rows from the top: the id of the triangle it shows (glsl/include/triangle_id.glsl; 0: nothing).
+    pub triangles: Vec<u32>,
+    pub evaluations: EvaluationCounts,
+}
+
+impl Analysis {
+    /// The image and its triangle ids, for the error metrics.
+    pub fn frame(&self) -> crate::analysis::metrics::Frame<'_> {
+        crate::analysis::metrics::Frame { image: &self.image, triangles: &self.triangles }
+    }
+}
+
 /// A scene uploaded to the GPU with its specialised pipelines.
 pub struct Renderer {
     context: Arc<Context>,
@@ -457,6 +493,8 @@ pub struct Renderer {
     /// The polygonal lights' emissive geometry and the pipeline that draws it (None without).
     emitters: Vec<EmitterDraw>,
     emitter: Option<Pipeline>,
+    /// The same for the analysis pipelines (ids), built with the counting variants.
+    analysis_emitter: OnceCell<Pipeline>,
     variants: Vec<Variant>,
     /// The same pipelines drawing edges only, built by `enable_wireframe`.
     wireframe_variants: Option<Vec<Variant>>,
@@ -683,7 +721,11 @@ impl Renderer {
             patch_vert: ShaderModule::new(context, "patch.vert", shaders::single("patch.vert"))?,
             fixed_tesc: ShaderModule::new(context, "fixed.tesc", shaders::single("fixed.tesc"))?,
         };
-        let emitter = if emitters.is_empty() { None } else { Some(modules.emitter(context, &layout)?) };
+        let emitter = if emitters.is_empty() {
+            None
+        } else {
+            Some(modules.emitter(context, &layout, Instrumentation::None)?)
+        };
         let mut variants = Vec::new();
         let mut specializations = Vec::new();
         for &kind in &kinds {
@@ -726,6 +768,7 @@ impl Renderer {
             _polygon_lights: polygon_buffer,
             emitters,
             emitter,
+            analysis_emitter: OnceCell::new(),
             textures,
             layout,
             _pool: pool,
@@ -827,7 +870,8 @@ impl Renderer {
             return;
         }
         let pick = |draw: &DrawCall| variants[draw.pipeline].for_view(view);
-        self.record_draws(&pick, true, cmd, target, view, self.clear_color, after);
+        let attachments = variants.first().map_or(Attachments::Color, |v| v.instrumentation.attachments());
+        self.record_draws(&pick, true, cmd, target, attachments, view, self.clear_color, after);
     }
 
     /// `Estimator::Compute`: the pre-pass that prepares the multirate draws: culling, which
@@ -984,8 +1028,8 @@ impl Renderer {
             (constants.flags & !FLAG_ONE_SIDED) | if draw.one_sided { FLAG_ONE_SIDED } else { 0 };
     }
 
-    /// The forward draws of every mesh with the pipeline `pick` gives, into `target`, and with
-    /// `emitters` the polygonal lights' emissive geometry.
+    /// The forward draws of every mesh with the pipeline `pick` gives, into `target`'s
+    /// `attachments`, and with `emitters` the polygonal lights' emissive geometry.
     #[allow(clippy::too_many_arguments)]
     fn record_draws(
         &self,
@@ -993,13 +1037,14 @@ impl Renderer {
         emitters: bool,
         cmd: vk::CommandBuffer,
         target: &RenderTarget,
+        attachments: Attachments,
         view: &View,
         clear: [f32; 4],
         after: AfterPass,
     ) {
         let device = &self.context.device;
         let extent = target.extent();
-        target.begin(device, cmd, clear);
+        target.begin(device, cmd, clear, attachments);
         let mut constants = draw_constants(view, extent);
         // SAFETY: `cmd` is recording inside the rendering begun above; every bound object is
         // owned by `self` and outlives the submission (callers wait before dropping).
@@ -1026,9 +1071,12 @@ impl Renderer {
                     Mode::Pixel | Mode::Vertex | Mode::PixelDeferred => {
                         (draw.first_index, draw.index_count, u32::MAX, 3)
                     }
-                    Mode::Fixed(level) => {
-                        (draw.first_index, draw.index_count, self.patches_per_draw(level), 3)
-                    }
+                    Mode::Fixed(level) => (
+                        draw.first_index,
+                        draw.index_count,
+                        self.fixed_patches_per_draw(level, attachments),
+                        3,
+                    ),
                     Mode::Multirate => (
                         draw.first_patch_index,
                         draw.index_count / 3 * PATCH_SIZE as u32,
@@ -1059,7 +1107,11 @@ impl Renderer {
                     device.cmd_bind_index_buffer(cmd, self.indices.raw, 0, vk::IndexType::UINT32);
                 }
             }
-            if let (Some(emitter), true) = (&self.emitter, emitters) {
+            let emitter = match attachments {
+                Attachments::Color => self.emitter.as_ref(),
+                Attachments::ColorAndIds => self.analysis_emitter.get(),
+            };
+            if let (Some(emitter), true) = (emitter, emitters) {
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, emitter.raw);
                 device.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
                 for draw in &self.emitters {
@@ -1075,7 +1127,7 @@ impl Renderer {
                 }
             }
         }
-        target.end(device, cmd, after);
+        target.end(device, cmd, after, attachments);
     }
 
     /// Renders `view` in `multirate` mode with the level-recording variant and returns, per
@@ -1163,57 +1215,94 @@ impl Renderer {
     /// Renders one frame of `view` with the counting variant (never the timed one) and
     /// returns how many times the full shading function ran, by stage. Needs storage writes
     /// in the vertex pipeline and fragment stages (`vertexPipelineStoresAndAtomics`,
-    /// `fragmentStoresAndAtomics`).
+    /// `fragmentStoresAndAtomics`) and primitive ids in the fragment stage (`geometryShader`).
     pub fn count_evaluations(&self, target: &RenderTarget, view: &View) -> Result<EvaluationCounts> {
+        let analysis = self.analysis_variants(target, view)?;
+        self.context.run_once(|cmd| self.record_analysis(analysis, cmd, target, view, AfterPass::Sampled))?;
+        Ok(self.read_counters())
+    }
+
+    /// One frame of `view` drawn by the analysis variant, the counting one: its image, which
+    /// triangle each pixel shows, and how many times the full shading function ran. Its
+    /// rasterisation and shading are the timed variant's (tests/counts.rs compares the two).
+    pub fn analyze(&self, target: &RenderTarget, view: &View) -> Result<Analysis> {
+        let analysis = self.analysis_variants(target, view)?;
+        let (image, triangles) =
+            target.render_and_read_with(&self.context, Attachments::ColorAndIds, |cmd| {
+                self.record_analysis(analysis, cmd, target, view, AfterPass::Readback)
+            })?;
+        let triangles = triangles.expect("ColorAndIds reads the ids back");
+        Ok(Analysis { image, triangles, evaluations: self.read_counters() })
+    }
+
+    /// The analysis variants, built on first use and prepared for `view`.
+    fn analysis_variants(&self, target: &RenderTarget, view: &View) -> Result<&[Variant]> {
         let features = &self.context.features;
-        if !(features.vertex_pipeline_stores && features.fragment_stores) {
+        if !(features.vertex_pipeline_stores && features.fragment_stores && features.geometry_shader) {
             return Err(crate::Error::Unsupported {
                 device: self.context.info.name.clone(),
-                what: "count shading evaluations",
-                missing: "vertexPipelineStoresAndAtomics and fragmentStoresAndAtomics",
+                what: "count shading evaluations and read triangle ids",
+                missing: "vertexPipelineStoresAndAtomics, fragmentStoresAndAtomics and geometryShader",
             });
         }
-        let counting =
+        let analysis =
             self.instrumented_variants(&self.counting_variants, Instrumentation::CountEvaluations)?;
+        if !self.emitters.is_empty() && self.analysis_emitter.get().is_none() {
+            let emitter =
+                self.modules.emitter(&self.context, &self.layout, Instrumentation::CountEvaluations)?;
+            let _ = self.analysis_emitter.set(emitter);
+        }
         self.prepare(view, target)?;
         if view.mode == Mode::Multirate {
-            self.prepare_variants(counting, view)?;
+            self.prepare_variants(analysis, view)?;
         }
+        Ok(analysis)
+    }
+
+    /// Records one analysis frame: the counters zeroed, the frame, the counters made visible
+    /// to the host.
+    fn record_analysis(
+        &self,
+        analysis: &[Variant],
+        cmd: vk::CommandBuffer,
+        target: &RenderTarget,
+        view: &View,
+        after: AfterPass,
+    ) {
         let device = &self.context.device;
-        self.context.run_once(|cmd| {
-            let to_shaders = [vk::MemoryBarrier2::default()
-                .src_stage_mask(vk::PipelineStageFlags2::CLEAR)
-                .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-                .dst_stage_mask(vk::PipelineStageFlags2::ALL_GRAPHICS)
-                .dst_access_mask(
-                    vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-                )];
-            let to_host = [vk::MemoryBarrier2::default()
-                .src_stage_mask(vk::PipelineStageFlags2::ALL_GRAPHICS)
-                .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
-                .dst_stage_mask(vk::PipelineStageFlags2::HOST)
-                .dst_access_mask(vk::AccessFlags2::HOST_READ)];
-            // SAFETY: recording outside a render pass; the counter buffer has TRANSFER_DST usage
-            // and is 16 bytes long.
-            unsafe {
-                device.cmd_fill_buffer(cmd, self.counters.raw, 0, 16, 0);
-                device
-                    .cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&to_shaders));
-            }
-            self.record_with(counting, cmd, target, view, AfterPass::Sampled);
-            // SAFETY: recording outside a render pass.
-            unsafe {
-                device.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&to_host))
-            };
-        })?;
+        let to_shaders = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::CLEAR)
+            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::ALL_GRAPHICS)
+            .dst_access_mask(vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE)];
+        let to_host = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::ALL_GRAPHICS)
+            .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+            .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+        // SAFETY: recording outside a render pass; the counter buffer has TRANSFER_DST usage
+        // and is 16 bytes long.
+        unsafe {
+            device.cmd_fill_buffer(cmd, self.counters.raw, 0, 16, 0);
+            device.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&to_shaders));
+        }
+        self.record_with(analysis, cmd, target, view, after);
+        // SAFETY: recording outside a render pass.
+        unsafe {
+            device.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&to_host))
+        };
+    }
+
+    /// The counters of the last analysis frame (after its submission has finished).
+    fn read_counters(&self) -> EvaluationCounts {
         let bytes = self.counters.mapped().expect("GpuToCpu memory is mapped");
         let values: [u32; 4] = bytemuck::pod_read_unaligned(&bytes[..16]);
-        Ok(EvaluationCounts {
+        EvaluationCounts {
             vertices: u64::from(values[0]),
             sub_vertices: u64::from(values[1]),
             fragments: u64::from(values[2]),
             culled_patches: u64::from(values[3]),
-        })
+        }
     }
 
     /// The variants with `instrumentation`, built into `cell` on first use.
@@ -1258,6 +1347,18 @@ impl Renderer {
         let patches = self.patches_per_draw(n_max);
         if self.tessellated_vertex_budget.is_some() {
             patches.min(1020 / PATCH_SIZE as u32)
+        } else {
+            patches
+        }
+    }
+
+    /// Patches per `fixed:N` draw: besides the vertex budget, where the evaluation stage
+    /// passes triangle ids on (`gl_PrimitiveID`), lavapipe's restart every 1020 control points
+    /// (see `multirate_patches_per_draw`) limits a draw to 340 patches of 3.
+    fn fixed_patches_per_draw(&self, level: u32, attachments: Attachments) -> u32 {
+        let patches = self.patches_per_draw(level);
+        if self.tessellated_vertex_budget.is_some() && attachments == Attachments::ColorAndIds {
+            patches.min(1020 / 3)
         } else {
             patches
         }
@@ -1424,6 +1525,7 @@ fn scene_pipeline<'a>(
     name: &'a str,
     stages: Vec<Stage<'a>>,
     layout: &'a PipelineLayout,
+    instrumentation: Instrumentation,
 ) -> GraphicsPipelineDesc<'a> {
     GraphicsPipelineDesc {
         name,
@@ -1437,7 +1539,7 @@ fn scene_pipeline<'a>(
         cull_mode: vk::CullModeFlags::NONE,
         front_face: vk::FrontFace::COUNTER_CLOCKWISE,
         dynamic_cull_mode: true,
-        color_format: Some(COLOR_FORMAT),
+        color_formats: instrumentation.color_formats(),
         depth_format: Some(DEPTH_FORMAT),
         rasterizer_discard: false,
     }
@@ -1477,7 +1579,7 @@ impl Modules {
                     topology,
                     patch_control_points: control_points,
                     polygon_mode,
-                    ..scene_pipeline(&name, stages, layout)
+                    ..scene_pipeline(&name, stages, layout, instrumentation)
                 },
             )
         };
@@ -1512,15 +1614,22 @@ impl Modules {
 }
 
 impl Modules {
-    /// The pipeline that draws the polygonal lights' emissive geometry.
-    fn emitter(&self, context: &Arc<Context>, layout: &PipelineLayout) -> Result<Pipeline> {
-        let emitter_frag = ShaderModule::new(context, "emitter.frag", shaders::single("emitter.frag"))?;
+    /// The pipeline that draws the polygonal lights' emissive geometry with `instrumentation`'s
+    /// attachments.
+    fn emitter(
+        &self,
+        context: &Arc<Context>,
+        layout: &PipelineLayout,
+        instrumentation: Instrumentation,
+    ) -> Result<Pipeline> {
+        let features = instrumentation.features(Features::default());
+        let emitter_frag = variant_module(context, "emitter.frag", features)?;
         use vk::ShaderStageFlags as S;
         let stages = vec![
             Stage { stage: S::VERTEX, module: &self.forward_vert, specialization: None },
             Stage { stage: S::FRAGMENT, module: &emitter_frag, specialization: None },
         ];
-        Pipeline::graphics(context, &scene_pipeline("emissive geometry", stages, layout))
+        Pipeline::graphics(context, &scene_pipeline("emissive geometry", stages, layout, instrumentation))
     }
 
     /// The multirate pipelines of `variant` for `view`'s estimator placement, split and
@@ -1574,7 +1683,7 @@ impl Modules {
                 stage(S::TESSELLATION_EVALUATION, &multirate_tese),
                 stage(S::FRAGMENT, fragment),
             ];
-            let scene = scene_pipeline(name, stages, layout);
+            let scene = scene_pipeline(name, stages, layout, variant.instrumentation);
             let pulled = pull_vert.is_some();
             Pipeline::graphics(
                 context,
@@ -1609,7 +1718,7 @@ impl Modules {
             },
         ];
         let flat_name = format!("{name}, flat patches");
-        let scene = scene_pipeline(&flat_name, stages, layout);
+        let scene = scene_pipeline(&flat_name, stages, layout, variant.instrumentation);
         let flat = Pipeline::graphics(
             context,
             &GraphicsPipelineDesc {

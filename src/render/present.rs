@@ -68,7 +68,7 @@ impl PresentPass {
                 polygon_mode: vk::PolygonMode::FILL,
                 cull_mode: vk::CullModeFlags::NONE,
                 front_face: vk::FrontFace::COUNTER_CLOCKWISE,
-                color_format: Some(format),
+                color_formats: &[format],
                 depth_format: None,
                 rasterizer_discard: false,
                 dynamic_cull_mode: false,

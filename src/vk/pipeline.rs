@@ -146,8 +146,9 @@ pub struct GraphicsPipelineDesc<'a> {
     pub front_face: vk::FrontFace,
     /// The cull mode is set per draw (`vkCmdSetCullMode`) instead of `cull_mode`.
     pub dynamic_cull_mode: bool,
-    /// No attachment at all (for example a capture pipeline that discards rasterisation).
-    pub color_format: Option<vk::Format>,
+    /// The colour attachments' formats, in location order; none at all for a capture
+    /// pipeline that discards rasterisation.
+    pub color_formats: &'a [vk::Format],
     pub depth_format: Option<vk::Format>,
     /// Stop after the last pre-rasterisation stage (captures that only write buffers).
     pub rasterizer_discard: bool,
@@ -201,20 +202,22 @@ impl Pipeline {
             .depth_test_enable(desc.depth_format.is_some())
             .depth_write_enable(desc.depth_format.is_some())
             .depth_compare_op(vk::CompareOp::LESS);
-        let blend_attachment =
-            [vk::PipelineColorBlendAttachmentState::default()
-                .color_write_mask(vk::ColorComponentFlags::RGBA)];
-        let attachment_count = usize::from(desc.color_format.is_some());
-        let blend = vk::PipelineColorBlendStateCreateInfo::default()
-            .attachments(&blend_attachment[..attachment_count]);
+        let blend_attachments: Vec<vk::PipelineColorBlendAttachmentState> = desc
+            .color_formats
+            .iter()
+            .map(|_| {
+                vk::PipelineColorBlendAttachmentState::default()
+                    .color_write_mask(vk::ColorComponentFlags::RGBA)
+            })
+            .collect();
+        let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
         let dynamic_states =
             [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR, vk::DynamicState::CULL_MODE];
         let dynamic_count = if desc.dynamic_cull_mode { 3 } else { 2 };
         let dynamic =
             vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states[..dynamic_count]);
-        let color_formats: Vec<vk::Format> = desc.color_format.into_iter().collect();
         let mut rendering = vk::PipelineRenderingCreateInfo::default()
-            .color_attachment_formats(&color_formats)
+            .color_attachment_formats(desc.color_formats)
             .depth_attachment_format(desc.depth_format.unwrap_or(vk::Format::UNDEFINED));
         let mut info = vk::GraphicsPipelineCreateInfo::default()
             .stages(&stages)

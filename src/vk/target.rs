@@ -1,5 +1,6 @@
-//! Offscreen render targets: a linear float colour image (alpha = coverage) and a depth image,
-//! with dynamic-rendering begin/end helpers and a readback into host memory.
+//! Offscreen render targets: a linear float colour image (alpha = coverage), a triangle-id
+//! image that the analysis pipelines write beside it, and a depth image, with
+//! dynamic-rendering begin/end helpers and a readback into host memory.
 
 use super::context::Context;
 use super::memory::{transition, Buffer, Image};
@@ -10,6 +11,13 @@ use std::sync::Arc;
 
 pub const COLOR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+/// Colour attachment 1 of the analysis pipelines: per pixel the id of the triangle it shows
+/// (`glsl/include/triangle_id.glsl`; 0: nothing).
+pub const ID_FORMAT: vk::Format = vk::Format::R32_UINT;
+
+/// The id a pixel holds where a polygonal light's emitter is drawn: this bit with the light's
+/// index (scene triangles hold their scene index + 1, below it).
+pub const EMITTER_ID_BIT: u32 = 0x8000_0000;
 
 /// A float RGBA image in host memory, rows top to bottom.
 #[derive(Clone, Debug, PartialEq)]
@@ -61,9 +69,19 @@ pub enum AfterPass {
     Sampled,
 }
 
-/// Colour and depth attachments of one size.
+/// Which attachments a pass draws into.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Attachments {
+    /// Colour and depth: every timed pass.
+    Color,
+    /// Colour, triangle ids and depth: the analysis pipelines.
+    ColorAndIds,
+}
+
+/// Colour, triangle-id and depth attachments of one size.
 pub struct RenderTarget {
     pub color: Image,
+    pub ids: Image,
     pub depth: Image,
 }
 
@@ -79,6 +97,14 @@ impl RenderTarget {
                 | vk::ImageUsageFlags::SAMPLED,
             vk::ImageAspectFlags::COLOR,
         )?;
+        let ids = Image::new(
+            context,
+            "render target triangle ids",
+            extent,
+            ID_FORMAT,
+            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+            vk::ImageAspectFlags::COLOR,
+        )?;
         let depth = Image::new(
             context,
             "render target depth",
@@ -87,28 +113,45 @@ impl RenderTarget {
             vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
             vk::ImageAspectFlags::DEPTH,
         )?;
-        Ok(RenderTarget { color, depth })
+        Ok(RenderTarget { color, ids, depth })
     }
 
     pub fn extent(&self) -> vk::Extent2D {
         self.color.extent
     }
 
-    /// Transitions both attachments (contents discarded) and begins dynamic rendering with a
-    /// clear to `clear` (alpha 0 = no coverage) and depth 1.
-    pub fn begin(&self, device: &ash::Device, cmd: vk::CommandBuffer, clear: [f32; 4]) {
-        transition(
-            device,
-            cmd,
-            self.color.raw,
-            vk::ImageAspectFlags::COLOR,
-            (vk::ImageLayout::UNDEFINED, vk::PipelineStageFlags2::ALL_COMMANDS, vk::AccessFlags2::NONE),
-            (
-                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-            ),
-        );
+    /// The colour images `attachments` draws into, in location order.
+    fn color_images(&self, attachments: Attachments) -> Vec<&Image> {
+        match attachments {
+            Attachments::Color => vec![&self.color],
+            Attachments::ColorAndIds => vec![&self.color, &self.ids],
+        }
+    }
+
+    /// Transitions the attachments (contents discarded) and begins dynamic rendering with a
+    /// clear to `clear` (alpha 0 = no coverage), ids 0 and depth 1.
+    pub fn begin(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        clear: [f32; 4],
+        attachments: Attachments,
+    ) {
+        let images = self.color_images(attachments);
+        for image in &images {
+            transition(
+                device,
+                cmd,
+                image.raw,
+                vk::ImageAspectFlags::COLOR,
+                (vk::ImageLayout::UNDEFINED, vk::PipelineStageFlags2::ALL_COMMANDS, vk::AccessFlags2::NONE),
+                (
+                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+                ),
+            );
+        }
         transition(
             device,
             cmd,
@@ -127,12 +170,19 @@ impl RenderTarget {
                     | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ,
             ),
         );
-        let color_attachment = [vk::RenderingAttachmentInfo::default()
-            .image_view(self.color.view)
-            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: clear } })];
+        let clears = [vk::ClearColorValue { float32: clear }, vk::ClearColorValue { uint32: [0; 4] }];
+        let color_attachments: Vec<vk::RenderingAttachmentInfo<'_>> = images
+            .iter()
+            .zip(clears)
+            .map(|(image, clear)| {
+                vk::RenderingAttachmentInfo::default()
+                    .image_view(image.view)
+                    .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                    .load_op(vk::AttachmentLoadOp::CLEAR)
+                    .store_op(vk::AttachmentStoreOp::STORE)
+                    .clear_value(vk::ClearValue { color: clear })
+            })
+            .collect();
         let depth_attachment = vk::RenderingAttachmentInfo::default()
             .image_view(self.depth.view)
             .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
@@ -142,57 +192,81 @@ impl RenderTarget {
                 depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 },
             });
         let rendering = vk::RenderingInfo::default()
-            .color_attachments(&color_attachment)
+            .color_attachments(&color_attachments)
             .depth_attachment(&depth_attachment);
         begin_rendering(device, cmd, self.extent(), rendering);
     }
 
-    /// Ends dynamic rendering and makes the colour image ready for `after`.
-    pub fn end(&self, device: &ash::Device, cmd: vk::CommandBuffer, after: AfterPass) {
+    /// Ends dynamic rendering and makes the colour image ready for `after`; the id image, when
+    /// drawn, is made ready to be copied to the host.
+    pub fn end(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        after: AfterPass,
+        attachments: Attachments,
+    ) {
         // SAFETY: rendering was begun by `begin` on this command buffer.
         unsafe { device.cmd_end_rendering(cmd) };
+        let readback = (
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            vk::PipelineStageFlags2::COPY,
+            vk::AccessFlags2::TRANSFER_READ,
+        );
         let next = match after {
-            AfterPass::Readback => (
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                vk::PipelineStageFlags2::COPY,
-                vk::AccessFlags2::TRANSFER_READ,
-            ),
+            AfterPass::Readback => readback,
             AfterPass::Sampled => (
                 vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
                 vk::PipelineStageFlags2::FRAGMENT_SHADER,
                 vk::AccessFlags2::SHADER_SAMPLED_READ,
             ),
         };
-        transition(
-            device,
-            cmd,
-            self.color.raw,
-            vk::ImageAspectFlags::COLOR,
-            (
-                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-            ),
-            next,
+        let written = (
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+            vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
         );
+        transition(device, cmd, self.color.raw, vk::ImageAspectFlags::COLOR, written, next);
+        if attachments == Attachments::ColorAndIds {
+            transition(device, cmd, self.ids.raw, vk::ImageAspectFlags::COLOR, written, readback);
+        }
     }
 
     /// Records `record` (which must leave the colour image in TRANSFER_SRC_OPTIMAL, as
-    /// `end(.., AfterPass::Readback)` does), runs it, and copies the colour image to the host.
+    /// `end(.., AfterPass::Readback, ..)` does), runs it, and copies the colour image to the host.
     pub fn render_and_read(
         &self,
         context: &Arc<Context>,
         record: impl FnOnce(vk::CommandBuffer),
     ) -> Result<FloatImage> {
+        Ok(self.render_and_read_with(context, Attachments::Color, record)?.0)
+    }
+
+    /// `render_and_read`, and with `Attachments::ColorAndIds` the triangle ids too (rows top to
+    /// bottom; `record` then draws them and leaves them as `end` does).
+    pub fn render_and_read_with(
+        &self,
+        context: &Arc<Context>,
+        attachments: Attachments,
+        record: impl FnOnce(vk::CommandBuffer),
+    ) -> Result<(FloatImage, Option<Vec<u32>>)> {
         let extent = self.extent();
         let pixel_count = extent.width as usize * extent.height as usize;
-        let readback = Buffer::new(
-            context,
-            "render target readback",
-            (pixel_count * 16) as vk::DeviceSize,
-            vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuToCpu,
-        )?;
+        let images = self.color_images(attachments);
+        let texel_bytes = [16, 4];
+        let readbacks = images
+            .iter()
+            .zip(texel_bytes)
+            .map(|(_, bytes)| {
+                Buffer::new(
+                    context,
+                    "render target readback",
+                    (pixel_count * bytes) as vk::DeviceSize,
+                    vk::BufferUsageFlags::TRANSFER_DST,
+                    MemoryLocation::GpuToCpu,
+                )
+            })
+            .collect::<Result<Vec<Buffer>>>()?;
         context.run_once(|cmd| {
             record(cmd);
             let region = [vk::BufferImageCopy::default()
@@ -202,16 +276,18 @@ impl RenderTarget {
                         .layer_count(1),
                 )
                 .image_extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 })];
-            // SAFETY: the image is in TRANSFER_SRC_OPTIMAL (see above) and the buffer is large
-            // enough for a tightly packed copy.
-            unsafe {
-                context.device.cmd_copy_image_to_buffer(
-                    cmd,
-                    self.color.raw,
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    readback.raw,
-                    &region,
-                );
+            for (image, readback) in images.iter().zip(&readbacks) {
+                // SAFETY: the image is in TRANSFER_SRC_OPTIMAL (see above) and the buffer is
+                // large enough for a tightly packed copy.
+                unsafe {
+                    context.device.cmd_copy_image_to_buffer(
+                        cmd,
+                        image.raw,
+                        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                        readback.raw,
+                        &region,
+                    );
+                }
             }
             let barrier = [vk::MemoryBarrier2::default()
                 .src_stage_mask(vk::PipelineStageFlags2::COPY)
@@ -222,8 +298,12 @@ impl RenderTarget {
             // SAFETY: recording command buffer.
             unsafe { context.device.cmd_pipeline_barrier2(cmd, &dependency) };
         })?;
-        let bytes = readback.mapped().expect("GpuToCpu memory is mapped");
+        let bytes = readbacks[0].mapped().expect("GpuToCpu memory is mapped");
         let pixels: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec::<u8, [f32; 4]>(&bytes[..pixel_count * 16]);
-        Ok(FloatImage { width: extent.width, height: extent.height, pixels })
+        let ids = readbacks.get(1).map(|readback| {
+            let bytes = readback.mapped().expect("GpuToCpu memory is mapped");
+            bytemuck::pod_collect_to_vec::<u8, u32>(&bytes[..pixel_count * 4])
+        });
+        Ok((FloatImage { width: extent.width, height: extent.height, pixels }, ids))
     }
 }
