@@ -7,6 +7,9 @@
 //! the hardware pattern (`triangle_pattern(n, [n; 3])`) at the estimator's level must be
 //! `≤ ε` in every channel: zero violations, for all three BRDFs.
 //!
+//! The extended distribution ([`extended_case`]) adds lights down to 1/50 of the triangle's
+//! size away, lights exactly in its plane, and `n_max` from 1 to 32.
+//!
 //! The same for polygonal lights (`polygon_lights_never_exceed_epsilon`, random polygons of 3
 //! to 8 vertices; see [`random_polygon_case`]).
 //!
@@ -34,6 +37,8 @@ use std::time::Instant;
 const TRIANGLES: usize = 10_000;
 /// Largest level (the scenes' default).
 const N_MAX: u32 = 16;
+/// The largest `n_max` of the extended distribution ([`extended_case`]).
+const N_MAX_EXTENDED: u32 = 32;
 
 type Rng = SplitMix64;
 
@@ -86,6 +91,7 @@ struct Case {
     material: MaterialKind,
     lights: Vec<Light>,
     epsilon: f32,
+    n_max: u32,
 }
 
 fn random_case(rng: &mut Rng, brdf: Brdf) -> Case {
@@ -160,7 +166,7 @@ fn random_case(rng: &mut Rng, brdf: Brdf) -> Case {
         },
     };
     let epsilon = [0.01, 0.03, 0.075, 0.2][(rng.next_u64() % 4) as usize];
-    Case { tri: TriangleInput { positions: corners, normals, eye }, material, lights, epsilon }
+    Case { tri: TriangleInput { positions: corners, normals, eye }, material, lights, epsilon, n_max: N_MAX }
 }
 
 fn hardware(n: u32) -> Pattern {
@@ -186,7 +192,7 @@ struct Stats {
     evals_oracle: u64,
     compared: usize,
     unneeded_fallbacks: usize,
-    level_histogram: [usize; N_MAX as usize + 1],
+    level_histogram: Vec<usize>,
     /// The same estimate without the product-rule cross terms (what the paper's error
     /// propagation, Eq. 31–33, keeps): triangles where that gives a lower level, and how
     /// many of those then exceed eps.
@@ -362,19 +368,19 @@ fn run(
     settings_of: impl Fn(f32) -> EstimatorSettings,
 ) -> Stats {
     let patterns: Vec<Pattern> =
-        (0..=N_MAX).map(|n| if n == 0 { Pattern::default() } else { hardware(n) }).collect();
+        (0..=N_MAX_EXTENDED).map(|n| if n == 0 { Pattern::default() } else { hardware(n) }).collect();
     let pattern_of = |n: u32| patterns[n as usize].clone();
     let mut rng = SplitMix64(seed);
     let mut s = Stats::default();
     for index in 0..count {
         let case = case_of(&mut rng, brdf);
-        let settings = settings_of(case.epsilon);
+        let settings = EstimatorSettings { n_max: case.n_max, ..settings_of(case.epsilon) };
         let est = estimate(&case.tri, &case.material, &case.lights, &settings);
-        assert!(est.n >= 1 && est.n <= N_MAX);
+        assert!(est.n >= 1 && est.n <= case.n_max);
         assert!(est.predicted_error.is_finite() && est.predicted_error >= 0.0);
         s.triangles += 1;
         let eps = f64::from(case.epsilon);
-        let oracle = oracle_level(&case.tri, &case.material, &case.lights, eps, N_MAX, pattern_of);
+        let oracle = oracle_level(&case.tri, &case.material, &case.lights, eps, case.n_max, pattern_of);
         if oracle.is_none() {
             s.oracle_none += 1;
         }
@@ -388,6 +394,9 @@ fn run(
                 s.unneeded_fallbacks += 1;
             }
             continue;
+        }
+        if s.level_histogram.len() <= est.n as usize {
+            s.level_histogram.resize(est.n as usize + 1, 0);
         }
         s.level_histogram[est.n as usize] += 1;
         let pattern = &patterns[est.n as usize];
@@ -506,7 +515,8 @@ fn report(name: &str, mut s: Stats, seconds: f64) -> String {
         s.evals_oracle,
         s.evals_estimator as f64 / s.evals_oracle.max(1) as f64
     );
-    let _ = writeln!(out, "   estimator levels 1..=16: {:?}", &s.level_histogram[1..]);
+    let levels = s.level_histogram.get(1..).unwrap_or_default();
+    let _ = writeln!(out, "   estimator levels 1..={}: {levels:?}", levels.len());
     if s.terminator > 0 {
         let _ = writeln!(
             out,
@@ -583,6 +593,59 @@ fn check_terminator(brdf: Brdf, seed: u64) {
     println!("{text}");
     assert_eq!(violations, 0, "{text}");
     assert!(!few, "too few crossed triangles tessellated at n >= 2: {text}");
+}
+
+/// The extended distribution: [`random_case`] with `n_max` from 1 to 32 instead of 16, and
+/// point lights moved closer (down to 1/50 of the triangle's size from its centre) or exactly
+/// into the triangle's plane (grazing), their intensity scaled with the squared distance.
+fn extended_case(rng: &mut Rng, brdf: Brdf) -> Case {
+    let mut case = random_case(rng, brdf);
+    case.n_max = [1, 2, 3, 4, 8, 16, 32][(rng.next_u64() % 7) as usize];
+    let [a, b, c] = case.tri.positions;
+    let centre = (a + b + c) / 3.0;
+    let size = (b - a).length().max((c - a).length()).max(1e-6);
+    let plane = (b - a).cross(c - a).normalize_or_zero();
+    for light in &mut case.lights {
+        let Light::Point { position, intensity, .. } = light else { continue };
+        let offset = *position - centre;
+        let distance = offset.length();
+        let mut direction = offset / distance.max(1e-30);
+        let mut new_distance = distance;
+        if rng.chance(0.3) {
+            new_distance = size * rng.log(0.02, 0.3);
+        }
+        if plane != Vec3::ZERO && rng.chance(0.15) {
+            direction = (direction - plane * direction.dot(plane)).normalize_or(direction);
+        }
+        *position = centre + direction * new_distance;
+        *intensity *= (new_distance / distance.max(1e-30)).powi(2);
+    }
+    case
+}
+
+/// Random triangles per BRDF of the extended distribution.
+const EXTENDED_TRIANGLES: usize = 3_000;
+
+/// [`extended_case`]: zero violations for every BRDF, Conservative and Relaxed.
+#[test]
+fn extended_distribution_never_exceeds_epsilon() {
+    let mut text = String::new();
+    let mut violations = 0;
+    type Config = (&'static str, fn(f32) -> EstimatorSettings);
+    let configs: [Config; 2] = [("Conservative, Heuristic", conservative), ("Relaxed, Heuristic", relaxed)];
+    for (brdf, seed) in
+        [(Brdf::Lambert, 0x3e1a_0001), (Brdf::BlinnPhong, 0x3e1a_0002), (Brdf::Ggx, 0x3e1a_0003)]
+    {
+        for (name, settings_of) in configs {
+            let start = Instant::now();
+            let stats = run(brdf, seed, EXTENDED_TRIANGLES, extended_case, settings_of);
+            violations += stats.violations;
+            let title = format!("{brdf:?}, extended (close and grazing lights, n_max 1 to 32), {name}");
+            text += &report(&title, stats, start.elapsed().as_secs_f64());
+        }
+    }
+    println!("{text}");
+    assert_eq!(violations, 0, "{text}");
 }
 
 /// Random triangles per BRDF with the lights at the terminator.

@@ -1652,23 +1652,8 @@ fn light_jets(
             }
             // A shininess anywhere in [s₀, s₁] (s₀ ≥ 1): every factor s, s − 1 grows with s
             // and every power of t = cos ψ ≤ 1 shrinks, so s₁ and s₀ bound them separately.
-            let (s0, s1) = (parameter.lo, parameter.hi);
             let c_nh = cosine(&n, &h, (h0, h1), gd);
-            // T = t^s, t = cos ψ: |DT| ≤ s cos^(s−1)ψ sin ψ·w, jointly maximised over ψ;
-            // |D²T| ≤ s(s−1) cos^(s−2)ψ sin²ψ·w² + s t^(s−1)|D²t|.
-            let chi = est_cos(h0);
-            let g = gd.c(s1 * max_cos_sin(s0 - 1.0, 1.0, h0, h1) * w_nh);
-            let slope = s1 * est_pow(chi, s0 - 1.0);
-            let mut hh = scaled(&c_nh.h, slope, gd);
-            let mut ht = gd.mul(c_nh.t, slope);
-            if s1 > 1.0 {
-                let k = s1 * (s1 - 1.0) * max_cos_sin(s0 - 2.0, 2.0, h0, h1);
-                let w2 = gd.mul(w_nh, w_nh);
-                let hp = gd.mul(k, w2);
-                hh[Term::Power as usize] = gd.c(hh[Term::Power as usize] + hp);
-                ht = gd.c(ht + hp);
-            }
-            let t = gd.jet(Jet { m: est_pow(chi, s0), g, h: hh, t: ht });
+            let t = power_jet(&c_nh, (parameter.lo, parameter.hi), (h0, h1), w_nh, gd);
             let spec = product([att, t], gd);
             (diffuse, [spec; 3])
         }
@@ -1695,29 +1680,10 @@ fn light_jets(
             }
             let [gjet, vjet, djet] = factors;
 
-            // v·h = |l̂ + v̂|/2 = cos(∠(l,v)/2): |D| ≤ (wₗ + wᵥ)/2,
-            // |D²| ≤ ((wₗ + wᵥ)²/|l̂+v̂| + (2/√3)(wₗ² + wᵥ²))/2.
-            let t0 = est_cos(0.5 * st.psi_lv.1).clamp(0.0, 1.0);
-            let gt = gd.c(0.5 * (l.w + v.w));
-            let mut ht = NO_H;
-            ht[Term::Light as usize] = gd.c(0.5 * K23 * l.w * l.w);
-            ht[Term::View as usize] = gd.c(0.5 * K23 * v.w * v.w);
-            ht[Term::Half as usize] = gd.c(0.5 * (l.w + v.w) * (l.w + v.w) / st.m_min);
-            let ht_total = ht[Term::Light as usize] + ht[Term::View as usize] + ht[Term::Half as usize];
-            let om = 1.0 - t0;
+            let vh = half_cosine_jet(&l, &v, st.psi_lv.1, st.m_min, gd);
             let mut spec = [zero; 3];
             for (c, out) in spec.iter_mut().enumerate() {
-                let f0c = f0[c];
-                let fm = f0c + (1.0 - f0c) * om.powi(5);
-                let f1 = 5.0 * (1.0 - f0c) * om.powi(4);
-                let f2 = 20.0 * (1.0 - f0c) * om.powi(3);
-                let mut fh = scaled(&ht, f1, gd);
-                let mut ft = gd.mul(ht_total, f1);
-                let gt2 = gd.mul(gt, gt);
-                let hf = gd.mul(f2, gt2);
-                fh[Term::F as usize] = gd.c(fh[Term::F as usize] + hf);
-                ft = gd.c(ft + hf);
-                let fjet = gd.jet(Jet { m: fm, g: gd.mul(f1, gt), h: fh, t: ft });
+                let fjet = fresnel_jet(f0[c], &vh, gd);
                 let p = product([att, djet, fjet, gjet, vjet], gd);
                 *out = Jet { m: 0.25 * p.m, g: 0.25 * p.g, h: scaled(&p.h, 0.25, gd), t: gd.mul(p.t, 0.25) };
             }
@@ -1747,18 +1713,7 @@ fn ggx_factor_jets(
     // G = c/(c(1−k)+k) with c = n·l ≥ 0 (the gate keeps c ≥ 0 where G is used).
     let nl = (st.psi_nl.0, st.psi_nl.1.min(FRAC_PI_2));
     let c_g = cosine(&n, &l, nl, gd);
-    let (c0, c1) = (est_cos(nl.1).max(0.0), est_cos(nl.0));
-    let q0 = c0 * (1.0 - k) + k;
-    let q1 = c1 * (1.0 - k) + k;
-    let g1 = k / (q0 * q0);
-    let g2 = 2.0 * k * (1.0 - k) / (q0 * q0 * q0);
-    let mut gh = scaled(&c_g.h, g1, gd);
-    let mut gt = gd.mul(c_g.t, g1);
-    let cg2 = gd.mul(c_g.g, c_g.g);
-    let hg = gd.mul(g2, cg2);
-    gh[Term::V as usize] = gd.c(gh[Term::V as usize] + hg);
-    gt = gd.c(gt + hg);
-    let gjet = gd.jet(Jet { m: c1 / q1, g: gd.mul(g1, c_g.g), h: gh, t: gt });
+    let gjet = smith_g_jet(&c_g, nl, k, gd);
 
     // V_v = 1/(max(n·v, 0)(1−k)+k): constant 1/k where n·v ≤ 0 throughout.
     let vjet = if st.nv_sign == Sign::NonPositive {
@@ -1766,16 +1721,7 @@ fn ggx_factor_jets(
     } else {
         let nv = (st.psi_nv.0, st.psi_nv.1.min(FRAC_PI_2));
         let c_v = cosine(&n, &v, nv, gd);
-        let q = est_cos(nv.1).max(0.0) * (1.0 - k) + k;
-        let v1 = (1.0 - k) / (q * q);
-        let v2 = 2.0 * (1.0 - k) * (1.0 - k) / (q * q * q);
-        let mut vh = scaled(&c_v.h, v1, gd);
-        let mut vt = gd.mul(c_v.t, v1);
-        let cv2 = gd.mul(c_v.g, c_v.g);
-        let hv = gd.mul(v2, cv2);
-        vh[Term::V as usize] = gd.c(vh[Term::V as usize] + hv);
-        vt = gd.c(vt + hv);
-        gd.jet(Jet { m: 1.0 / q, g: gd.mul(v1, c_v.g), h: vh, t: vt })
+        smith_v_jet(&c_v, nv, k, gd)
     };
 
     // D(t), t = n·h = cos ψ, with s2 = sin²ψ and u = α² + (1−α²)s2:
@@ -1787,6 +1733,90 @@ fn ggx_factor_jets(
         ggx_d_jet(&c_nh, h0, h1, w_nh, alpha, gd)
     };
     [gjet, vjet, djet]
+}
+
+/// Jet of the Blinn-Phong lobe `T = t^s`, `t = cos ψ = n·h` with jet `c` and angle in
+/// `[ψ₀, ψ₁] ⊂ [0, π/2]` moving at most `w` (`|Dn̂| + |Dĥ|`), for any shininess `s` in
+/// `[s₀, s₁]` (`s₀ ≥ 1`): `|DT| ≤ s cos^(s−1)ψ sin ψ·w`, jointly maximised over ψ;
+/// `|D²T| ≤ s(s−1) cos^(s−2)ψ sin²ψ·w² + s t^(s−1)|D²t|`. Every factor `s`, `s − 1` grows
+/// with `s` and every power of `t ≤ 1` shrinks, so `s₁` and `s₀` bound them separately.
+fn power_jet(c: &Jet, (s0, s1): (f32, f32), (h0, h1): (f32, f32), w: f32, gd: &Guard) -> Jet {
+    let chi = est_cos(h0);
+    let g = gd.c(s1 * max_cos_sin(s0 - 1.0, 1.0, h0, h1) * w);
+    let slope = s1 * est_pow(chi, s0 - 1.0);
+    let mut hh = scaled(&c.h, slope, gd);
+    let mut ht = gd.mul(c.t, slope);
+    if s1 > 1.0 {
+        let k = s1 * (s1 - 1.0) * max_cos_sin(s0 - 2.0, 2.0, h0, h1);
+        let w2 = gd.mul(w, w);
+        let hp = gd.mul(k, w2);
+        hh[Term::Power as usize] = gd.c(hh[Term::Power as usize] + hp);
+        ht = gd.c(ht + hp);
+    }
+    gd.jet(Jet { m: est_pow(chi, s0), g, h: hh, t: ht })
+}
+
+/// Jet of `v·h = |l̂ + v̂|/2 = cos(∠(l,v)/2)` where the angle between `l̂` and `v̂` is at most
+/// `psi_lv_max` and `|l̂ + v̂| ≥ m_min`: its `m` is the *smallest* value (what Fresnel needs),
+/// `|D| ≤ (wₗ + wᵥ)/2`, `|D²| ≤ ((wₗ + wᵥ)²/|l̂+v̂| + (2/√3)(wₗ² + wᵥ²))/2`.
+fn half_cosine_jet(l: &Field, v: &Field, psi_lv_max: f32, m_min: f32, gd: &Guard) -> Jet {
+    let t0 = est_cos(0.5 * psi_lv_max).clamp(0.0, 1.0);
+    let gt = gd.c(0.5 * (l.w + v.w));
+    let mut ht = NO_H;
+    ht[Term::Light as usize] = gd.c(0.5 * K23 * l.w * l.w);
+    ht[Term::View as usize] = gd.c(0.5 * K23 * v.w * v.w);
+    ht[Term::Half as usize] = gd.c(0.5 * (l.w + v.w) * (l.w + v.w) / m_min);
+    let ht_total = ht[Term::Light as usize] + ht[Term::View as usize] + ht[Term::Half as usize];
+    Jet { m: t0, g: gt, h: ht, t: ht_total }
+}
+
+/// Jet of Schlick's Fresnel `F = f₀ + (1 − f₀)(1 − u)⁵` of `u = v·h` with jet `vh` (its `m`
+/// the smallest `u`, in `[0, 1]`): `|F'| ≤ 5(1 − f₀)(1 − u₀)⁴`, `|F''| ≤ 20(1 − f₀)(1 − u₀)³`.
+fn fresnel_jet(f0: f32, vh: &Jet, gd: &Guard) -> Jet {
+    let om = 1.0 - vh.m;
+    let fm = f0 + (1.0 - f0) * om.powi(5);
+    let f1 = 5.0 * (1.0 - f0) * om.powi(4);
+    let f2 = 20.0 * (1.0 - f0) * om.powi(3);
+    let mut fh = scaled(&vh.h, f1, gd);
+    let mut ft = gd.mul(vh.t, f1);
+    let gt2 = gd.mul(vh.g, vh.g);
+    let hf = gd.mul(f2, gt2);
+    fh[Term::F as usize] = gd.c(fh[Term::F as usize] + hf);
+    ft = gd.c(ft + hf);
+    gd.jet(Jet { m: fm, g: gd.mul(f1, vh.g), h: fh, t: ft })
+}
+
+/// Jet of the Smith light half with its cosine, `G = c/(c(1 − k) + k)`, of `c = n·l` with jet
+/// `c_g` and angle in `nl ⊂ [0, π/2]`: `G' = k/q²`, `G'' = −2k(1 − k)/q³`, `q = c(1 − k) + k`
+/// smallest at the largest angle.
+fn smith_g_jet(c_g: &Jet, nl: (f32, f32), k: f32, gd: &Guard) -> Jet {
+    let (c0, c1) = (est_cos(nl.1).max(0.0), est_cos(nl.0));
+    let q0 = c0 * (1.0 - k) + k;
+    let q1 = c1 * (1.0 - k) + k;
+    let g1 = k / (q0 * q0);
+    let g2 = 2.0 * k * (1.0 - k) / (q0 * q0 * q0);
+    let mut gh = scaled(&c_g.h, g1, gd);
+    let mut gt = gd.mul(c_g.t, g1);
+    let cg2 = gd.mul(c_g.g, c_g.g);
+    let hg = gd.mul(g2, cg2);
+    gh[Term::V as usize] = gd.c(gh[Term::V as usize] + hg);
+    gt = gd.c(gt + hg);
+    gd.jet(Jet { m: c1 / q1, g: gd.mul(g1, c_g.g), h: gh, t: gt })
+}
+
+/// Jet of the Smith view half `V = 1/(c(1 − k) + k)` of `c = n·v` with jet `c_v` and angle in
+/// `nv ⊂ [0, π/2]`: `V' = −(1 − k)/q²`, `V'' = 2(1 − k)²/q³`.
+fn smith_v_jet(c_v: &Jet, nv: (f32, f32), k: f32, gd: &Guard) -> Jet {
+    let q = est_cos(nv.1).max(0.0) * (1.0 - k) + k;
+    let v1 = (1.0 - k) / (q * q);
+    let v2 = 2.0 * (1.0 - k) * (1.0 - k) / (q * q * q);
+    let mut vh = scaled(&c_v.h, v1, gd);
+    let mut vt = gd.mul(c_v.t, v1);
+    let cv2 = gd.mul(c_v.g, c_v.g);
+    let hv = gd.mul(v2, cv2);
+    vh[Term::V as usize] = gd.c(vh[Term::V as usize] + hv);
+    vt = gd.c(vt + hv);
+    gd.jet(Jet { m: 1.0 / q, g: gd.mul(v1, c_v.g), h: vh, t: vt })
 }
 
 /// Elementwise larger bounds of two jets.
@@ -3060,6 +3090,228 @@ mod tests {
     /// central differences in f64 at points of random triangles and along random in-plane
     /// directions: lights far away, closer than the triangle's size and grazing (in the
     /// triangle's plane, where `D²(1/d²)` reaches `6/d⁴`).
+    /// A unit vector field `normalize(m₀ + t·dm)` along `t ∈ [0, 1]` (an affine `m`, as the
+    /// estimator's normal and light fields are), with the speed bound the estimator uses:
+    /// `|dû/dt| ≤ |dm|/min|m|`.
+    struct UnitField {
+        m0: DVec3,
+        dm: DVec3,
+    }
+
+    impl UnitField {
+        fn random(rng: &mut crate::test_rng::Rng, speed: f64) -> UnitField {
+            let mut v = || rng.point(Vec3::splat(-1.0), Vec3::ONE).as_dvec3();
+            let (m0, dm) = (v().normalize_or(DVec3::Z), v().normalize_or(DVec3::X));
+            let m0 = m0 * (0.2 + 1.8 * f64::from(rng.f()));
+            let dm = dm * speed * m0.length() * f64::from(rng.f());
+            UnitField { m0, dm }
+        }
+
+        fn at(&self, t: f64) -> DVec3 {
+            (self.m0 + self.dm * t).normalize()
+        }
+
+        fn min_length(&self) -> f64 {
+            let t = (-self.m0.dot(self.dm) / self.dm.length_squared().max(1e-300)).clamp(0.0, 1.0);
+            (self.m0 + self.dm * t).length()
+        }
+
+        fn field(&self, term: Term) -> Field {
+            Field { w: (self.dm.length() / self.min_length()) as f32, x: 0.0, term }
+        }
+    }
+
+    /// `f`, `f'` and `f''` at `t` by central differences of step `h`.
+    fn differences(f: &dyn Fn(f64) -> f64, t: f64, h: f64) -> [f64; 3] {
+        let (fm, f0, fp) = (f(t - h), f(t), f(t + h));
+        [f0, (fp - fm) / (2.0 * h), (fp - 2.0 * f0 + fm) / (h * h)]
+    }
+
+    /// The range of `angle(t)` over `t ∈ [0, 1]`, sampled densely and widened by 10⁻³.
+    fn angle_range(angle: &dyn Fn(f64) -> f64) -> (f32, f32) {
+        let samples = (0..=4000).map(|i| angle(f64::from(i) / 4000.0));
+        let (lo, hi) = samples.fold((f64::INFINITY, 0.0f64), |(lo, hi), a| (lo.min(a), hi.max(a)));
+        ((lo - 1e-3).max(0.0) as f32, (hi + 1e-3).min(std::f64::consts::PI) as f32)
+    }
+
+    /// Checks a jet against `f` at 60 points of `[0, 1]` (away from the ends by `h`): `|f| ≤ m`
+    /// (or `f ≥ m` with `m_is_min`), `|f'| ≤ g`, `|f''| ≤ t`, and returns the largest `|f''|/t`
+    /// (the differences' rounding allowed for: 10⁻³ relative, 10⁻⁶ absolute).
+    fn check_jet(jet: &Jet, f: &dyn Fn(f64) -> f64, h: f64, m_is_min: bool, what: &str) -> f64 {
+        let mut tightest = 0.0f64;
+        for i in 0..60 {
+            let t = h + (1.0 - 2.0 * h) * f64::from(i) / 59.0;
+            let [value, first, second] = differences(f, t, h);
+            let slack = |bound: f32| f64::from(bound) * 1.001 + 1e-6;
+            if m_is_min {
+                assert!(value >= f64::from(jet.m) - 1e-6, "{what}, t {t}: value {value} < {}", jet.m);
+            } else {
+                assert!(value.abs() <= slack(jet.m), "{what}, t {t}: value {value} > {}", jet.m);
+            }
+            assert!(first.abs() <= slack(jet.g), "{what}, t {t}: first {first} > {}", jet.g);
+            assert!(second.abs() <= slack(jet.t), "{what}, t {t}: second {second} > {}", jet.t);
+            tightest = tightest.max(second.abs() / (f64::from(jet.t) + 1e-6));
+        }
+        tightest
+    }
+
+    /// Two random unit fields whose angle stays within `max_angle`, with their jets' inputs.
+    /// Every other pair turns in one plane in opposite senses, starting across its `m`: there
+    /// the angle between them changes at the full `w_a + w_b` (at `t = 0`), where the bounds
+    /// are reached.
+    fn field_pair(
+        rng: &mut crate::test_rng::Rng,
+        max_angle: f64,
+    ) -> Option<(UnitField, UnitField, (f32, f32))> {
+        let speed = [0.1, 1.0, 4.0][rng.below(3) as usize];
+        let (a, b) = if rng.below(2) == 0 {
+            (UnitField::random(rng, speed), UnitField::random(rng, speed))
+        } else {
+            let planar = |angle: f64, sense: f64, rng: &mut crate::test_rng::Rng| {
+                let m0 = DVec3::new(angle.cos(), angle.sin(), 0.0) * (0.2 + 1.8 * f64::from(rng.f()));
+                let dm = DVec3::Z.cross(m0) * sense * speed * f64::from(rng.f());
+                UnitField { m0, dm }
+            };
+            let start = f64::from(rng.range(0.0, max_angle.min(3.0) as f32));
+            (planar(start, 1.0, rng), planar(0.0, -1.0, rng))
+        };
+        let psi = angle_range(&|t| a.at(t).angle_between(b.at(t)));
+        (f64::from(psi.1) <= max_angle).then_some((a, b, psi))
+    }
+
+    #[test]
+    fn cosine_jet_bounds_the_exact_derivatives() {
+        let mut rng = crate::test_rng::Rng(0xc051_e7e7);
+        let (mut checked, mut tightest) = (0, 0.0f64);
+        while checked < 2000 {
+            let Some((a, b, psi)) = field_pair(&mut rng, std::f64::consts::PI) else { continue };
+            let jet = cosine(&a.field(Term::Normal), &b.field(Term::Light), psi, &Guard::default());
+            let what = format!("case {checked}: ψ {psi:?}");
+            tightest = tightest.max(check_jet(&jet, &|t| a.at(t).dot(b.at(t)), 1e-4, false, &what));
+            checked += 1;
+        }
+        eprintln!("cosine: largest |c''| reaches {tightest:.3} of the bound");
+        assert!(tightest > 0.9, "the cosine bound is never approached: {tightest}");
+    }
+
+    #[test]
+    fn power_jet_bounds_the_exact_derivatives() {
+        let mut rng = crate::test_rng::Rng(0x90e7_b10b);
+        let (mut checked, mut tightest) = (0, 0.0f64);
+        while checked < 2000 {
+            let Some((n, h, psi)) = field_pair(&mut rng, std::f64::consts::FRAC_PI_2) else { continue };
+            let gd = Guard::default();
+            let (fn_, fh) = (n.field(Term::Normal), h.field(Term::Half));
+            let c = cosine(&fn_, &fh, psi, &gd);
+            // Shininess log-uniform in [1, 10⁴], a single value or a textured range.
+            let s0 = 10f32.powf(4.0 * rng.f());
+            let s1 = if rng.below(2) == 0 { s0 } else { (s0 * 10f32.powf(rng.f())).min(1.0e4) };
+            let jet = power_jet(&c, (s0, s1), psi, fn_.w + fh.w, &gd);
+            assert!(!gd.bad.get(), "saturated");
+            for s in [s0, (s0 * s1).sqrt(), s1] {
+                let what = format!("case {checked}: ψ {psi:?}, s {s} in [{s0}, {s1}]");
+                let step = 1e-4 / f64::from(s).sqrt();
+                let lobe = |t: f64| n.at(t).dot(h.at(t)).max(0.0).powf(f64::from(s));
+                tightest = tightest.max(check_jet(&jet, &lobe, step, false, &what));
+            }
+            checked += 1;
+        }
+        eprintln!("power: largest |T''| reaches {tightest:.3} of the bound");
+        assert!(tightest > 0.9, "the power bound is never approached: {tightest}");
+    }
+
+    #[test]
+    fn ggx_d_jet_bounds_the_exact_derivatives() {
+        let mut rng = crate::test_rng::Rng(0xd15_7d15);
+        let (mut checked, mut tightest) = (0, 0.0f64);
+        while checked < 2000 {
+            let Some((n, h, psi)) = field_pair(&mut rng, std::f64::consts::FRAC_PI_2) else { continue };
+            let gd = Guard::default();
+            let (fn_, fh) = (n.field(Term::Normal), h.field(Term::Half));
+            let c = cosine(&fn_, &fh, psi, &gd);
+            // Roughness 0 (α at its floor) up to 1.
+            let roughness = if checked % 10 == 0 { 0.0 } else { rng.range(0.05, 1.0) };
+            let alpha = crate::shading::brdf::ggx_alpha(roughness);
+            let jet = ggx_d_jet(&c, psi.0, psi.1, fn_.w + fh.w, alpha, &gd);
+            if gd.bad.get() {
+                continue;
+            }
+            let a2 = f64::from(alpha).powi(2);
+            let d = |t: f64| {
+                let c = n.at(t).dot(h.at(t));
+                a2 / (std::f64::consts::PI * (c * c * (a2 - 1.0) + 1.0).powi(2))
+            };
+            let what = format!("case {checked}: ψ {psi:?}, α {alpha}");
+            // The step follows D's width in t: about max(α, sin ψ) in angle, over the speed.
+            let width = f64::from(alpha).max(f64::from(psi.0).sin()) / f64::from(fn_.w + fh.w).max(1.0);
+            tightest = tightest.max(check_jet(&jet, &d, 1e-3 * width.min(0.1), false, &what));
+            checked += 1;
+        }
+        eprintln!("GGX D: largest |D''| reaches {tightest:.3} of the bound");
+        assert!(tightest > 0.9, "the D bound is never approached: {tightest}");
+    }
+
+    #[test]
+    fn half_cosine_and_fresnel_jets_bound_the_exact_derivatives() {
+        let mut rng = crate::test_rng::Rng(0xf7e5_11e1);
+        let (mut checked, mut tightest_vh, mut tightest_f) = (0, 0.0f64, 0.0f64);
+        while checked < 2000 {
+            let Some((l, v, psi)) = field_pair(&mut rng, 3.0) else { continue };
+            let gd = Guard::default();
+            let m_min = (0..=4000)
+                .map(|i| (l.at(f64::from(i) / 4000.0) + v.at(f64::from(i) / 4000.0)).length())
+                .fold(f64::INFINITY, f64::min)
+                * 0.99;
+            let vh = half_cosine_jet(&l.field(Term::Light), &v.field(Term::View), psi.1, m_min as f32, &gd);
+            let u = |t: f64| 0.5 * (l.at(t) + v.at(t)).length();
+            let what = format!("case {checked}: ∠(l, v) {psi:?}");
+            tightest_vh = tightest_vh.max(check_jet(&vh, &u, 1e-4, true, &what));
+            // Fresnel's own rule, on the exact range and derivatives of u (a little widened),
+            // so that the looser v·h jet does not hide a loose Fresnel bound.
+            let samples: Vec<[f64; 3]> =
+                (0..=2000).map(|i| differences(&u, 1e-4 + 0.9998 * f64::from(i) / 2000.0, 1e-4)).collect();
+            let sup = |k: usize| samples.iter().map(|d| d[k].abs()).fold(0.0, f64::max) as f32 * 1.002 + 1e-6;
+            let u_min = samples.iter().map(|d| d[0]).fold(f64::INFINITY, f64::min) as f32 - 1e-6;
+            let exact = Jet { m: u_min, g: sup(1), h: NO_H, t: sup(2) };
+            let f0 = [0.02, 0.04, 0.5, 0.95][checked % 4];
+            let f = |t: f64| f64::from(f0) + (1.0 - f64::from(f0)) * (1.0 - u(t)).powi(5);
+            for (input, name) in [(&vh, "v·h jet"), (&exact, "exact u")] {
+                let fresnel = fresnel_jet(f0, input, &gd);
+                let tight = check_jet(&fresnel, &f, 1e-4, false, &format!("{what}, f₀ {f0}, {name}"));
+                if name == "exact u" {
+                    tightest_f = tightest_f.max(tight);
+                }
+            }
+            checked += 1;
+        }
+        eprintln!("v·h: largest second derivative {tightest_vh:.3} of the bound; Fresnel {tightest_f:.3}");
+        assert!(tightest_vh > 0.75 && tightest_f > 0.9, "never approached: {tightest_vh}, {tightest_f}");
+    }
+
+    #[test]
+    fn smith_jets_bound_the_exact_derivatives() {
+        let mut rng = crate::test_rng::Rng(0x5317_4a1f);
+        let (mut checked, mut tightest_g, mut tightest_v) = (0, 0.0f64, 0.0f64);
+        while checked < 2000 {
+            let Some((n, l, psi)) = field_pair(&mut rng, std::f64::consts::FRAC_PI_2) else { continue };
+            let gd = Guard::default();
+            let c = cosine(&n.field(Term::Normal), &l.field(Term::Light), psi, &gd);
+            let roughness = if checked % 10 == 0 { 0.0 } else { rng.range(0.05, 1.0) };
+            let k = 0.5 * crate::shading::brdf::ggx_alpha(roughness);
+            let (kk, cos) = (f64::from(k), |t: f64| n.at(t).dot(l.at(t)).max(0.0));
+            let what = format!("case {checked}: ψ {psi:?}, k {k}");
+            let g = smith_g_jet(&c, psi, k, &gd);
+            let g_exact = |t: f64| cos(t) / (cos(t) * (1.0 - kk) + kk);
+            tightest_g = tightest_g.max(check_jet(&g, &g_exact, 1e-4, false, &what));
+            let v = smith_v_jet(&c, psi, k, &gd);
+            let v_exact = |t: f64| 1.0 / (cos(t) * (1.0 - kk) + kk);
+            tightest_v = tightest_v.max(check_jet(&v, &v_exact, 1e-4, false, &what));
+            checked += 1;
+        }
+        eprintln!("Smith: largest second derivative G {tightest_g:.3}, V {tightest_v:.3} of the bound");
+        assert!(tightest_g > 0.9 && tightest_v > 0.9, "never approached: {tightest_g}, {tightest_v}");
+    }
+
     #[test]
     fn attenuation_jet_bounds_the_exact_derivatives() {
         let mut rng = crate::test_rng::Rng(0x5eed_a77e);
