@@ -28,6 +28,12 @@ pub enum Error {
     Window(String),
     #[error("the device {device} cannot {what}: it lacks {missing}")]
     Unsupported { device: String, what: &'static str, missing: &'static str },
+    #[error(
+        "the device {device} tessellates inner level {inner}, outer levels {outer:?} otherwise than the \
+         tessellator model that multirate's effective-level table comes from (src/analysis/tessellator.rs), \
+         so multirate cannot bound its error on it; the pixel, vertex and fixed:N modes still work"
+    )]
+    Patterns { device: String, inner: f32, outer: [f32; 3] },
 }
 
 /// Shorthand for results of this crate.

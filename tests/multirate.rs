@@ -129,15 +129,16 @@ fn shipped_scenes() -> Vec<PathBuf> {
     scenes
 }
 
-#[test]
-fn every_pixel_showing_the_same_triangle_is_within_epsilon_of_pixel_mode_without_cracks() {
+/// On each scene of `scenes`, with either terminator rule and ε 0.02, 0.075 and 0.3, every
+/// pixel that shows the same triangle as in `pixel` mode is within ε of it, there are no
+/// cracks, and fewer than 2 % of the covered pixels show another triangle.
+fn assert_same_triangle_pixels_within_epsilon(scenes: &[PathBuf]) {
     let context = validated_context();
     let target = RenderTarget::new(&context, vk::Extent2D { width: WIDTH, height: HEIGHT }).expect("target");
-    let scenes = shipped_scenes();
-    assert!(scenes.len() >= 10, "the shipped scenes: {scenes:?}");
     for path in scenes {
         let name = path.file_stem().expect("file name").to_string_lossy().into_owned();
-        let scene = Scene::load(&path).expect("scene");
+        let start = std::time::Instant::now();
+        let scene = Scene::load(path).expect("scene");
         let renderer = Renderer::new(&context, &scene).expect("renderer");
         let reference = renderer.analyze(&target, &View::of_scene(&scene)).expect("analyze pixel");
         let covered = reference.triangles.iter().filter(|&&id| id != 0).count();
@@ -165,8 +166,28 @@ fn every_pixel_showing_the_same_triangle_is_within_epsilon_of_pixel_mode_without
                 );
             }
         }
+        eprintln!("{name}: {:.1} s", start.elapsed().as_secs_f64());
     }
     assert_validation_clean(&context);
+}
+
+/// The room's pipelines take most of the time under validation: it runs beside the others.
+fn is_room(path: &Path) -> bool {
+    path.file_stem().is_some_and(|name| name == "room")
+}
+
+#[test]
+fn every_pixel_showing_the_same_triangle_is_within_epsilon_of_pixel_mode_without_cracks() {
+    let scenes: Vec<PathBuf> = shipped_scenes().into_iter().filter(|path| !is_room(path)).collect();
+    assert!(scenes.len() >= 9, "the shipped scenes: {scenes:?}");
+    assert_same_triangle_pixels_within_epsilon(&scenes);
+}
+
+#[test]
+fn every_pixel_of_the_room_showing_the_same_triangle_is_within_epsilon_of_pixel_mode() {
+    let room: Vec<PathBuf> = shipped_scenes().into_iter().filter(|path| is_room(path)).collect();
+    assert_eq!(room.len(), 1, "scenes/room.toml");
+    assert_same_triangle_pixels_within_epsilon(&room);
 }
 
 /// A scene around the shipped icosphere, with `material` and `lights` and the mesh scaled

@@ -1,25 +1,16 @@
 //! The tessellator model (`analysis::tessellator`) reproduces what the driver emits: the
 //! distinct `gl_TessCoord` values and the triangles (with winding), for uniform levels
-//! n = 1…16 and for mixed outer levels. Captured on the GPU with the validation layer on.
+//! n = 1…16 and for mixed outer levels; the check the renderer runs before multirate's first
+//! draw (`check_patterns`) passes here and tells patterns apart. Captured on the GPU with the
+//! validation layer on.
 
 mod common;
 
 use common::{assert_validation_clean, validated_context};
-use multirate::render::capture::{CapturedPattern, TessellationCapture};
+use multirate::render::capture::TessellationCapture;
 
 /// Driver coordinates are fixed point converted to float: equal within this.
 const COORD_TOLERANCE: f32 = 1e-5;
-
-fn key(c: [f32; 3]) -> [i64; 3] {
-    c.map(|x| (x as f64 * 65536.0).round() as i64)
-}
-
-fn distinct(captured: &CapturedPattern) -> Vec<[i64; 3]> {
-    let mut keys: Vec<_> = captured.tess_coords.iter().map(|&c| key(c)).collect();
-    keys.sort();
-    keys.dedup();
-    keys
-}
 
 #[test]
 fn uniform_levels_emit_the_ring_pattern_counts() {
@@ -27,7 +18,7 @@ fn uniform_levels_emit_the_ring_pattern_counts() {
     let capture = TessellationCapture::new(&context).expect("capture pipeline");
     for n in 1..=16u32 {
         let captured = capture.capture(n as f32, [n as f32; 3]).expect("capture");
-        let vertices = distinct(&captured).len();
+        let vertices = captured.distinct_vertices().len();
         let expected_vertices = (3 * (n as usize + 1).pow(2)).div_ceil(4);
         let expected_triangles = if n == 1 { 1 } else { 3 * (n as usize).pow(2) / 2 };
         eprintln!(
@@ -44,39 +35,8 @@ fn uniform_levels_emit_the_ring_pattern_counts() {
     assert_validation_clean(&context);
 }
 
-use multirate::analysis::tessellator::{triangle_pattern, Pattern};
-
-type Corner = [i64; 3];
-
-/// A triangle with its corners rotated so the smallest comes first (winding kept).
-fn canonical(mut t: [Corner; 3]) -> [Corner; 3] {
-    let first = (0..3).min_by_key(|&k| t[k]).expect("three corners");
-    t.rotate_left(first);
-    t
-}
-
-/// The model's triangles as the capture sees them. The model lists corners in D3D's
-/// clockwise order; the capture's evaluation shader declares `ccw` with Vulkan's upper-left
-/// domain origin, which emits the same triangles with the last two corners swapped.
-fn model_triangles(pattern: &Pattern) -> Vec<[Corner; 3]> {
-    let corner = |i: u32| pattern.vertices[i as usize].map(|x| (x * 65536.0).round() as i64);
-    let mut triangles: Vec<_> =
-        pattern.triangles.iter().map(|t| canonical([corner(t[0]), corner(t[2]), corner(t[1])])).collect();
-    triangles.sort();
-    triangles
-}
-
-fn captured_triangles(captured: &CapturedPattern) -> Vec<[Corner; 3]> {
-    let mut triangles: Vec<_> = captured.triangles.iter().map(|t| canonical(t.map(key))).collect();
-    triangles.sort();
-    triangles
-}
-
-fn model_vertices(pattern: &Pattern) -> Vec<Corner> {
-    let mut keys: Vec<_> = pattern.vertices.iter().map(|v| v.map(|x| (x * 65536.0).round() as i64)).collect();
-    keys.sort();
-    keys
-}
+use multirate::analysis::tessellator::triangle_pattern;
+use multirate::render::capture::{check_patterns, pattern_check_levels};
 
 #[test]
 fn model_reproduces_the_driver() {
@@ -101,15 +61,29 @@ fn model_reproduces_the_driver() {
         let captured = capture.capture(inner, outer).expect("capture");
         let pattern = triangle_pattern(inner, outer);
         assert_eq!(
-            distinct(&captured),
-            model_vertices(&pattern),
+            captured.distinct_vertices().len(),
+            pattern.vertices.len(),
             "vertices at inner {inner}, outer {outer:?}"
         );
-        assert_eq!(
-            captured_triangles(&captured),
-            model_triangles(&pattern),
-            "triangles at inner {inner}, outer {outer:?}"
-        );
+        assert!(captured.is(&pattern), "vertices or triangles differ at inner {inner}, outer {outer:?}");
     }
+    assert_validation_clean(&context);
+}
+
+#[test]
+fn the_pattern_check_passes_here_and_sees_a_different_pattern() {
+    let context = validated_context();
+    let capture = TessellationCapture::new(&context).expect("capture pipeline");
+    // A pattern is not another's: one outer level apart, or the winding reversed.
+    let captured = capture.capture(3.0, [3.0, 2.0, 3.0]).expect("capture");
+    assert!(captured.is(&triangle_pattern(3.0, [3.0, 2.0, 3.0])));
+    assert!(!captured.is(&triangle_pattern(3.0, [3.0, 3.0, 3.0])), "one outer level apart");
+    let mut mirrored = triangle_pattern(3.0, [3.0, 2.0, 3.0]);
+    mirrored.triangles.iter_mut().for_each(|t| t.swap(1, 2));
+    assert!(!captured.is(&mirrored), "winding reversed");
+    // Every level up to 16 (what the renderer checks before multirate's first draw).
+    let levels = pattern_check_levels(16);
+    assert_eq!(levels.len(), 16 * 16 + 16 * 3);
+    check_patterns(&context, 16).expect("lavapipe tessellates as the model");
     assert_validation_clean(&context);
 }

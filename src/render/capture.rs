@@ -2,8 +2,11 @@
 //! `gl_TessCoord` of every TES invocation and every emitted triangle (as its three
 //! `gl_TessCoord` values, in arrival order), written to storage buffers by the TES and a
 //! geometry shader with rasterisation discarded. The tessellator model in
-//! `analysis::tessellator` is tested against these captures.
+//! `analysis::tessellator` is tested against these captures, and [`check_patterns`] checks,
+//! before multirate first draws on a device, that the device tessellates as the model does:
+//! the effective-level table (`estimator::PATTERN_LEVELS`) is computed from the model.
 
+use crate::analysis::tessellator::{triangle_pattern, Pattern};
 use crate::error::{Error, Result};
 use crate::shaders;
 use crate::vk::memory::Buffer;
@@ -28,6 +31,90 @@ pub struct CapturedPattern {
     pub tess_coords: Vec<[f32; 3]>,
     /// Every triangle as the three `gl_TessCoord` values of its corners, in winding order.
     pub triangles: Vec<[[f32; 3]; 3]>,
+}
+
+/// A domain coordinate to 2⁻¹⁶ (the reference tessellator's fixed point), for comparisons.
+type Corner = [i64; 3];
+
+fn corner(c: [f64; 3]) -> Corner {
+    c.map(|x| (x * 65536.0).round() as i64)
+}
+
+/// A triangle with its corners rotated so that the smallest comes first (winding kept).
+fn canonical(mut t: [Corner; 3]) -> [Corner; 3] {
+    let first = (0..3).min_by_key(|&k| t[k]).expect("three corners");
+    t.rotate_left(first);
+    t
+}
+
+impl CapturedPattern {
+    /// Its distinct domain coordinates, sorted.
+    pub fn distinct_vertices(&self) -> Vec<Corner> {
+        let mut keys: Vec<Corner> = self.tess_coords.iter().map(|c| corner(c.map(f64::from))).collect();
+        keys.sort();
+        keys.dedup();
+        keys
+    }
+
+    /// Its triangles (corners rotated to start at the smallest, winding kept), sorted.
+    pub fn canonical_triangles(&self) -> Vec<[Corner; 3]> {
+        let mut triangles: Vec<_> =
+            self.triangles.iter().map(|t| canonical(t.map(|c| corner(c.map(f64::from))))).collect();
+        triangles.sort();
+        triangles
+    }
+
+    /// Whether it is `model`'s pattern: the same vertices and the same triangles with the same
+    /// winding. The model lists corners in D3D's clockwise order; the capture's evaluation
+    /// shader declares `ccw` with Vulkan's upper-left domain origin, which emits the same
+    /// triangles with the last two corners swapped.
+    pub fn is(&self, model: &Pattern) -> bool {
+        let mut vertices: Vec<Corner> = model.vertices.iter().map(|&v| corner(v)).collect();
+        vertices.sort();
+        let at = |i: u32| corner(model.vertices[i as usize]);
+        let mut triangles: Vec<_> =
+            model.triangles.iter().map(|t| canonical([at(t[0]), at(t[2]), at(t[1])])).collect();
+        triangles.sort();
+        self.distinct_vertices() == vertices && self.canonical_triangles() == triangles
+    }
+}
+
+/// The levels [`check_patterns`] captures for `n_max`: every inner level with every outer
+/// level on all three edges (each edge's transition strip), and per inner level three patches
+/// of mixed outer levels (the strips side by side, and the corners where they meet).
+pub fn pattern_check_levels(n_max: u32) -> Vec<(f32, [f32; 3])> {
+    let n_max = n_max.clamp(1, 64);
+    let mut levels = Vec::new();
+    for inner in 1..=n_max {
+        for outer in 1..=n_max {
+            levels.push((inner as f32, [outer as f32; 3]));
+        }
+        let mixed = [[1, inner, n_max], [inner, 1, (inner + 1).min(n_max)], [n_max, (inner / 2).max(1), 1]];
+        levels.extend(mixed.map(|outer| (inner as f32, outer.map(|o| o as f32))));
+    }
+    levels
+}
+
+/// Checks, once per device and `n_max` (the context remembers the largest checked), that
+/// the device tessellates every level multirate may set up to `n_max` as the model does
+/// ([`pattern_check_levels`]): multirate's effective-level table is computed from the model,
+/// and a table that was not checked on the device is never used. Fails with
+/// [`Error::Patterns`] at the first difference, and with [`Error::NoDevice`] where the device
+/// cannot capture (no geometryShader or vertexPipelineStoresAndAtomics).
+pub fn check_patterns(context: &Arc<Context>, n_max: u32) -> Result<()> {
+    use std::sync::atomic::Ordering;
+    let n_max = n_max.clamp(1, 64);
+    if context.patterns_checked_up_to.load(Ordering::Acquire) >= n_max {
+        return Ok(());
+    }
+    let capture = TessellationCapture::new(context)?;
+    for (inner, outer) in pattern_check_levels(n_max) {
+        if !capture.capture(inner, outer)?.is(&triangle_pattern(inner, outer)) {
+            return Err(Error::Patterns { device: context.info.name.clone(), inner, outer });
+        }
+    }
+    context.patterns_checked_up_to.fetch_max(n_max, Ordering::AcqRel);
+    Ok(())
 }
 
 /// A pipeline that tessellates one patch and records the result.

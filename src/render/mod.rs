@@ -804,6 +804,8 @@ impl Renderer {
             self.prepare_deferred(target.extent())?;
         }
         if view.mode == Mode::Multirate {
+            // The effective-level table holds only for the tessellator it was computed from.
+            capture::check_patterns(&self.context, view.n_max)?;
             let wireframe = self.wireframe_variants.as_ref().filter(|_| view.wireframe);
             for variants in std::iter::once(&self.variants).chain(wireframe) {
                 self.prepare_variants(variants, view)?;

@@ -77,6 +77,9 @@ pub struct Context {
     pub surface_instance: Option<ash::khr::surface::Instance>,
     debug_instance: Option<ash::ext::debug_utils::Instance>,
     debug_device: Option<ash::ext::debug_utils::Device>,
+    /// The largest `n_max` up to which this device's tessellation patterns were found to be
+    /// the model's (`render::capture::check_patterns`; 0: not checked).
+    pub(crate) patterns_checked_up_to: std::sync::atomic::AtomicU32,
     messenger: vk::DebugUtilsMessengerEXT,
     validation: Arc<ValidationLog>,
     one_shot_pool: Mutex<vk::CommandPool>,
@@ -312,6 +315,7 @@ impl Context {
             surface_instance,
             debug_instance,
             debug_device,
+            patterns_checked_up_to: std::sync::atomic::AtomicU32::new(0),
             messenger,
             validation,
             one_shot_pool: Mutex::new(one_shot_pool),
