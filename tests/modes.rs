@@ -6,7 +6,7 @@
 mod common;
 
 use ash::vk;
-use common::{assert_validation_clean, cracks, repo_path, validated_context};
+use common::{assert_validation_clean, cracks, on_an_edge, repo_path, validated_context};
 use multirate::render::{Estimator, Mode, Renderer, View};
 use multirate::scene::Scene;
 use multirate::vk::target::{FloatImage, RenderTarget, EMITTER_ID_BIT};
@@ -92,19 +92,6 @@ fn error_against_pixel_shrinks_with_the_level() {
         assert!(pair[1].1 < pair[0].1, "mean error must shrink as the level doubles: {errors:?}");
     }
     assert!(errors[0].0 > 0.05, "fixed:1 must visibly miss the sharp highlights: {errors:?}");
-}
-
-/// Per pixel: whether a pixel of its 3×3 neighbourhood shows another triangle in `ids`, that
-/// is whether it lies on an edge of what `ids` shows.
-fn on_an_edge(ids: &[u32], width: usize) -> Vec<bool> {
-    let height = ids.len() / width;
-    (0..ids.len())
-        .map(|i| {
-            let (x, y) = (i % width, i / width);
-            (y.saturating_sub(1)..(y + 2).min(height))
-                .any(|ny| (x.saturating_sub(1)..(x + 2).min(width)).any(|nx| ids[ny * width + nx] != ids[i]))
-        })
-        .collect()
 }
 
 #[test]

@@ -12,7 +12,7 @@
 mod common;
 
 use ash::vk;
-use common::{assert_validation_clean, cracks, repo_path, validated_context};
+use common::{assert_validation_clean, cracks, on_an_edge, repo_path, validated_context};
 use glam::DVec3;
 use multirate::analysis::{metrics, report};
 use multirate::render::cull::CULLED_LEVEL;
@@ -377,19 +377,12 @@ fn assert_multirate_matches(
 ) {
     let analysis = renderer.analyze(target, view).expect("analyze multirate");
     let (expected, image) = (&reference.image, &analysis.image);
-    let (width, height) = (expected.width as usize, expected.height as usize);
-    let on_silhouette = |i: usize| {
-        let (x, y) = (i % width, i / width);
-        let covered = expected.pixels[i][3];
-        (x.saturating_sub(1)..(x + 2).min(width)).any(|nx| {
-            (y.saturating_sub(1)..(y + 2).min(height))
-                .any(|ny| expected.pixels[ny * width + nx][3] != covered)
-        })
-    };
+    let coverage: Vec<f32> = expected.pixels.iter().map(|p| p[3]).collect();
+    let on_silhouette = on_an_edge(&coverage, expected.width as usize);
     let flips: Vec<usize> =
         (0..expected.pixels.len()).filter(|&i| expected.pixels[i][3] != image.pixels[i][3]).collect();
     assert!(
-        flips.iter().all(|&i| on_silhouette(i)),
+        flips.iter().all(|&i| on_silhouette[i]),
         "multirate covers other pixels than pixel mode: {flips:?}"
     );
     assert!(flips.len() <= silhouette_flips, "{} silhouette pixels flip: {flips:?}", flips.len());

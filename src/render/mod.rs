@@ -1249,6 +1249,7 @@ impl Renderer {
         }
         let analysis =
             self.instrumented_variants(&self.counting_variants, Instrumentation::CountEvaluations)?;
+        target.prepare_ids(&self.context)?;
         if !self.emitters.is_empty() && self.analysis_emitter.get().is_none() {
             let emitter =
                 self.modules.emitter(&self.context, &self.layout, Instrumentation::CountEvaluations)?;
@@ -1348,19 +1349,19 @@ impl Renderer {
     fn multirate_patches_per_draw(&self, n_max: u32) -> u32 {
         let patches = self.patches_per_draw(n_max);
         if self.tessellated_vertex_budget.is_some() {
-            patches.min(1020 / PATCH_SIZE as u32)
+            patches.min(LAVAPIPE_PRIMITIVE_ID_CONTROL_POINTS / PATCH_SIZE as u32)
         } else {
             patches
         }
     }
 
     /// Patches per `fixed:N` draw: besides the vertex budget, where the evaluation stage
-    /// passes triangle ids on (`gl_PrimitiveID`), lavapipe's restart every 1020 control points
-    /// (see `multirate_patches_per_draw`) limits a draw to 340 patches of 3.
+    /// passes triangle ids on (`gl_PrimitiveID`), lavapipe's restart (see
+    /// `multirate_patches_per_draw`) limits a draw to 340 patches of 3.
     fn fixed_patches_per_draw(&self, level: u32, attachments: Attachments) -> u32 {
         let patches = self.patches_per_draw(level);
         if self.tessellated_vertex_budget.is_some() && attachments == Attachments::ColorAndIds {
-            patches.min(1020 / 3)
+            patches.min(LAVAPIPE_PRIMITIVE_ID_CONTROL_POINTS / 3)
         } else {
             patches
         }
@@ -1424,6 +1425,10 @@ enum PrePassStep {
     Levels,
     Patches,
 }
+
+/// Lavapipe (Mesa 22.3) restarts `gl_PrimitiveID` in the tessellation stages every this many
+/// control points within a draw: draws that read it there hold no more.
+const LAVAPIPE_PRIMITIVE_ID_CONTROL_POINTS: u32 = 1020;
 
 /// Invocations per work group of the triangle-level pre-pass (`local_size_x` of
 /// glsl/triangle_levels.comp).

@@ -3351,10 +3351,7 @@ mod tests {
                 let e1 = (tri[1] - tri[0]).normalize();
                 let e2 = normal.cross(e1);
                 let u = e1 * angle.cos() + e2 * angle.sin();
-                let h = 1e-4 * d_min;
-                let (f0, fp, fm) = (falloff(*p), falloff(*p + u * h), falloff(*p - u * h));
-                let first = (fp - fm) / (2.0 * h);
-                let second = (fp - 2.0 * f0 + fm) / (h * h);
+                let [f0, first, second] = differences(&|s| falloff(*p + u * s), 0.0, 1e-4 * d_min);
                 let what = format!("case {case}: light {light:?}, point {p:?}");
                 assert!(f0 <= f64::from(jet.m) * 1.0001, "{what}: value {f0} > {}", jet.m);
                 assert!(first.abs() <= f64::from(jet.g) * 1.0001, "{what}: first {first} > {}", jet.g);

@@ -7,6 +7,7 @@ use super::memory::{transition, Buffer, Image};
 use crate::error::Result;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
+use std::cell::OnceCell;
 use std::sync::Arc;
 
 pub const COLOR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
@@ -78,10 +79,12 @@ pub enum Attachments {
     ColorAndIds,
 }
 
-/// Colour, triangle-id and depth attachments of one size.
+/// Colour, triangle-id and depth attachments of one size. The id image is created by the
+/// first pass that draws ids ([`RenderTarget::prepare_ids`]): timed, viewer and
+/// visibility-buffer targets never hold one.
 pub struct RenderTarget {
     pub color: Image,
-    pub ids: Image,
+    ids: OnceCell<Image>,
     pub depth: Image,
 }
 
@@ -97,14 +100,6 @@ impl RenderTarget {
                 | vk::ImageUsageFlags::SAMPLED,
             vk::ImageAspectFlags::COLOR,
         )?;
-        let ids = Image::new(
-            context,
-            "render target triangle ids",
-            extent,
-            ID_FORMAT,
-            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
-            vk::ImageAspectFlags::COLOR,
-        )?;
         let depth = Image::new(
             context,
             "render target depth",
@@ -113,18 +108,35 @@ impl RenderTarget {
             vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
             vk::ImageAspectFlags::DEPTH,
         )?;
-        Ok(RenderTarget { color, ids, depth })
+        Ok(RenderTarget { color, ids: OnceCell::new(), depth })
     }
 
     pub fn extent(&self) -> vk::Extent2D {
         self.color.extent
     }
 
+    /// Creates the triangle-id image (once); `Attachments::ColorAndIds` needs it.
+    pub fn prepare_ids(&self, context: &Arc<Context>) -> Result<()> {
+        if self.ids.get().is_none() {
+            let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
+            let name = "render target triangle ids";
+            let ids =
+                Image::new(context, name, self.extent(), ID_FORMAT, usage, vk::ImageAspectFlags::COLOR)?;
+            let _ = self.ids.set(ids);
+        }
+        Ok(())
+    }
+
+    /// The id image; `prepare_ids` must have run.
+    fn ids(&self) -> &Image {
+        self.ids.get().expect("passes that draw ids prepare the id image first")
+    }
+
     /// The colour images `attachments` draws into, in location order.
-    fn color_images(&self, attachments: Attachments) -> Vec<&Image> {
+    fn color_images(&self, attachments: Attachments) -> ([&Image; 2], usize) {
         match attachments {
-            Attachments::Color => vec![&self.color],
-            Attachments::ColorAndIds => vec![&self.color, &self.ids],
+            Attachments::Color => ([&self.color; 2], 1),
+            Attachments::ColorAndIds => ([&self.color, self.ids()], 2),
         }
     }
 
@@ -137,8 +149,9 @@ impl RenderTarget {
         clear: [f32; 4],
         attachments: Attachments,
     ) {
-        let images = self.color_images(attachments);
-        for image in &images {
+        let (images, count) = self.color_images(attachments);
+        let images = &images[..count];
+        for image in images {
             transition(
                 device,
                 cmd,
@@ -171,18 +184,14 @@ impl RenderTarget {
             ),
         );
         let clears = [vk::ClearColorValue { float32: clear }, vk::ClearColorValue { uint32: [0; 4] }];
-        let color_attachments: Vec<vk::RenderingAttachmentInfo<'_>> = images
-            .iter()
-            .zip(clears)
-            .map(|(image, clear)| {
-                vk::RenderingAttachmentInfo::default()
-                    .image_view(image.view)
-                    .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-                    .load_op(vk::AttachmentLoadOp::CLEAR)
-                    .store_op(vk::AttachmentStoreOp::STORE)
-                    .clear_value(vk::ClearValue { color: clear })
-            })
-            .collect();
+        let color_attachments = [0, 1].map(|k| {
+            vk::RenderingAttachmentInfo::default()
+                .image_view(images.get(k).map_or(vk::ImageView::null(), |image| image.view))
+                .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .clear_value(vk::ClearValue { color: clears[k] })
+        });
         let depth_attachment = vk::RenderingAttachmentInfo::default()
             .image_view(self.depth.view)
             .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
@@ -192,7 +201,7 @@ impl RenderTarget {
                 depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 },
             });
         let rendering = vk::RenderingInfo::default()
-            .color_attachments(&color_attachments)
+            .color_attachments(&color_attachments[..count])
             .depth_attachment(&depth_attachment);
         begin_rendering(device, cmd, self.extent(), rendering);
     }
@@ -228,7 +237,7 @@ impl RenderTarget {
         );
         transition(device, cmd, self.color.raw, vk::ImageAspectFlags::COLOR, written, next);
         if attachments == Attachments::ColorAndIds {
-            transition(device, cmd, self.ids.raw, vk::ImageAspectFlags::COLOR, written, readback);
+            transition(device, cmd, self.ids().raw, vk::ImageAspectFlags::COLOR, written, readback);
         }
     }
 
@@ -252,7 +261,8 @@ impl RenderTarget {
     ) -> Result<(FloatImage, Option<Vec<u32>>)> {
         let extent = self.extent();
         let pixel_count = extent.width as usize * extent.height as usize;
-        let images = self.color_images(attachments);
+        let (images, count) = self.color_images(attachments);
+        let images = &images[..count];
         let texel_bytes = [16, 4];
         let readbacks = images
             .iter()

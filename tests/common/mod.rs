@@ -109,6 +109,20 @@ pub fn cracks(reference: &FloatImage, image: &FloatImage) -> usize {
     count
 }
 
+/// Per pixel of an image `width` wide: whether a pixel of its 3×3 neighbourhood holds
+/// another value in `values` (a triangle id, a coverage), that is whether it lies on an edge.
+pub fn on_an_edge<T: PartialEq>(values: &[T], width: usize) -> Vec<bool> {
+    let height = values.len() / width;
+    (0..values.len())
+        .map(|i| {
+            let (x, y) = (i % width, i / width);
+            (y.saturating_sub(1)..(y + 2).min(height)).any(|ny| {
+                (x.saturating_sub(1)..(x + 2).min(width)).any(|nx| values[ny * width + nx] != values[i])
+            })
+        })
+        .collect()
+}
+
 /// Per pixel: whether multirate shades it by interpolation (its heat-map colour is not the
 /// fallback's magenta) — and the same for all 8 neighbours, so that edges between tessellated
 /// and fallback triangles, and silhouettes, are left out.
