@@ -52,6 +52,8 @@ const float BIG = 1.0e18;
 const float UNIFORM_TINY = 9.536743e-7;   // 1.0 / 1048576.0
 const float SAFETY = 1.01;
 const float ANGLE_PAD = 2.0e-6;
+// Relative rounding allowance of the normal's radial scale (see `RADIAL_PAD` in Rust).
+const float RADIAL_PAD = 2.0e-6;
 // Relaxed: Lg - g <= E_f + TERMINATOR_KINK osc(f) where g = max(f, 0) has its kink (see Rust).
 const float TERMINATOR_KINK = 0.25;
 const float HALF_PI = 1.5707964;          // std::f32::consts::FRAC_PI_2
@@ -376,9 +378,11 @@ Jet product2(Jet a, Jet b) {
     return product(f, 2);
 }
 
-// A unit vector field: w >= |Du|, x >= |P m''|/|m|, and the term its curvature is booked under.
+// A unit vector field u = m/|m|: w >= |Dm|/|m|, radial >= |u.Dm|/|m|, x >= |P m''|/|m|, and
+// the term its curvature is booked under.
 struct Field {
     float w;
+    float radial;
     float x;
     int term;
 };
@@ -422,14 +426,35 @@ P float max_cos_sin(float p, float q, float a, float b) {
     return r;
 }
 
+// What the jets need of an angle range between two unit fields (see `Angles` in Rust).
+struct Angles {
+    float s_max;
+    float c_max;
+    float phi;
+};
+
+Angles angles_of(vec2 psi) {
+    return Angles(max_sin(psi.x, psi.y), rmax(abs(est_cos(psi.x)), abs(est_cos(psi.y))),
+                  max_phi(psi.x, psi.y));
+}
+
+// >= |D^2 u . b| for the field f and a unit b at an angle in the range (`Angles::seen`).
+P float seen(Angles an, Field f) {
+    P float w2 = gmul(f.w, f.w);
+    P float turning = gmul(an.phi, w2);
+    P float radial = gc(an.c_max * w2 + 2.0 * an.s_max * gmul(f.w, f.radial));
+    P float r = gc(rmin(turning, radial) + an.s_max * f.x);
+    return r;
+}
+
 // Jet of c = a.b where the angle between them stays in psi (neither a nor b books under
 // T_DOT; they may share a term, as a polygon's emitter cosine does).
 Jet cosine(Field a, Field b, vec2 psi) {
-    P float s_max = max_sin(psi.x, psi.y);
-    P float phi = max_phi(psi.x, psi.y);
-    Jet j = jet_constant(rmax(abs(est_cos(psi.x)), abs(est_cos(psi.y))));
-    P float ha = gc(phi * a.w * a.w + s_max * a.x);
-    P float hb = gc(phi * b.w * b.w + s_max * b.x);
+    Angles an = angles_of(psi);
+    P float s_max = an.s_max;
+    Jet j = jet_constant(an.c_max);
+    P float ha = seen(an, a);
+    P float hb = seen(an, b);
     P float hd = gc(2.0 * a.w * b.w);
     if (booked(a.term)) {
         j.h = ha;
@@ -656,10 +681,11 @@ PatternConstants pattern_constants(vec3 e1, vec3 e2) {
 // Per-triangle and per-light geometry
 // ---------------------------------------------------------------------------------------------
 
-// Pattern scales: what |X delta| and |N delta| are replaced by.
+// Pattern scales: what |X delta|, |N delta| and |G delta| are replaced by (see `Scale`).
 struct Scale {
     float a;
     float b;
+    float g;
 };
 
 // See `Frame` in Rust.
@@ -678,10 +704,23 @@ struct Frame {
     vec3 normals[3];
     vec3 unit_normals[3];
     vec3 plane;
+    float plane_tilt;
+    float v_plane_sin;
+    float n_plane_sin;
     Cone v_cone;
     float e_min;
     vec3 v_center;
 };
+
+// max |sin| of the angle between a direction of the cone and the plane normal, 1 without a
+// plane (see `plane_sin` in Rust).
+P float plane_sin(Cone cone, vec3 plane) {
+    if (is_zero(plane)) {
+        return 1.0;
+    }
+    P vec2 g = psi_range(cone, Cone(plane, 0.0));
+    return max_sin(g.x, g.y);
+}
 
 Frame make_frame(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye) {
     Frame f;
@@ -694,6 +733,11 @@ Frame make_frame(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye)
     PatternConstants pn = pattern_constants(n1 - n0, n2 - n0);
     f.n_cone = cone_of(n0, n1, n2);
     P float longest = rmax(rmax(len(n0), len(n1)), len(n2));
+    P vec3 e1 = n1 - n0;
+    P vec3 e2 = n2 - n0;
+    PatternConstants pg = pattern_constants(vec3(dot3(n0, e1), dot3(n1, e1), dot3(n2, e1)),
+                                            vec3(dot3(n0, e2), dot3(n1, e2), dot3(n2, e2)));
+    P float g_pad = RADIAL_PAD * longest;
     P float r_n = min_length(n0, n1, n2, f.n_cone);
     if (!(r_n > 1.0e-6 * longest)) {
         r_n = 0.0;
@@ -704,16 +748,24 @@ Frame make_frame(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye)
     P vec3 to_eye2 = eye - p2;
     f.v_cone = cone_of(to_eye0, to_eye1, to_eye2);
     f.e_min = min_length(to_eye0, to_eye1, to_eye2, f.v_cone);
-    f.s1 = Scale(px.sqrt_k1, pn.sqrt_k1);
-    f.sn = Scale(px.sqrt_k, pn.sqrt_k);
-    f.d1 = Scale(px.diam1, pn.diam1);
-    f.dn = Scale(px.diam, pn.diam);
+    f.s1 = Scale(px.sqrt_k1, pn.sqrt_k1, pg.sqrt_k1 + g_pad * pn.sqrt_k1);
+    f.sn = Scale(px.sqrt_k, pn.sqrt_k, pg.sqrt_k + g_pad * pn.sqrt_k);
+    f.d1 = Scale(px.diam1, pn.diam1, 0.0);
+    f.dn = Scale(px.diam, pn.diam, 0.0);
     f.n_max_len = longest;
     f.normals = vec3[3](n0, n1, n2);
     f.unit_normals = vec3[3](unit(n0), unit(n1), unit(n2));
     P vec3 c = cross3(p1 - p0, p2 - p0);
     P float plane_scale = len(p1 - p0) * len(p2 - p0);
-    f.plane = len(c) > 1.0e-6 * plane_scale ? unit(c) : vec3(0.0);
+    if (len(c) > 1.0e-6 * plane_scale) {
+        f.plane = unit(c);
+        f.plane_tilt = 4.0e-7 * plane_scale / len(c) + 1.0e-6;
+    } else {
+        f.plane = vec3(0.0);
+        f.plane_tilt = 0.0;
+    }
+    f.v_plane_sin = plane_sin(f.v_cone, f.plane);
+    f.n_plane_sin = plane_sin(f.n_cone, f.plane);
     f.v_center = unit(eye - center);
     return f;
 }
@@ -721,6 +773,7 @@ Frame make_frame(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye)
 // See `LightSetup` in Rust.
 struct LightSetup {
     float plane_sin;
+    float near_sin;
     float inv_d;
     vec2 psi_nl;
     bool straddle;
@@ -973,11 +1026,51 @@ Jet jet_max(Jet a, Jet b) {
     return Jet(rmax(a.m, b.m), rmax(a.g, b.g), rmax(a.h, b.h));
 }
 
+// A point light's diffuse factor n.I with the irradiance field I = r/|r|^3 bounded as one
+// field (see `irradiance_jet` in Rust).
+Jet irradiance_jet(Frame frame, LightSetup st, Field n, float a) {
+    Angles an = angles_of(st.psi_nl);
+    P float sg = st.plane_sin;
+    P float nu = frame.n_plane_sin;
+    P float c = an.c_max;
+    P float id2 = gmul(st.inv_d, st.inv_d);
+    P float a_id = gmul(a, st.inv_d);
+    P float a_id2 = gmul(a_id, a_id);
+    P float sg2 = sg * sg;
+    P float near2 = st.near_sin * st.near_sin;
+    P float speed = sqrt(1.0 + 3.0 * near2);
+    P float along_normal = rmin(rmin(speed, nu + 3.0 * c * sg), 2.0 * sg * c + an.s_max);
+    P float whole = sqrt(rmax(45.0 * near2 * near2 - 18.0 * near2 + 9.0, 9.0));
+    P float projected = 6.0 * sg * nu + rmax(abs(15.0 * sg2 - 3.0), 3.0) * c;
+    P float product_rule = rmax(8.0 * sg2 - 2.0, 2.0) * c + 4.0 * sg * an.s_max
+                           + rmin(an.phi, c + 2.0 * an.s_max * sg);
+    P float light_k = rmin(rmin(whole, projected), product_rule);
+    P float cross_k = rmin(speed, 2.0 * sg * an.s_max + 1.0);
+    P float hn = gmul(seen(an, n), id2);
+    P float hd = gmul(gmul(2.0 * cross_k * n.w, a_id), id2);
+    P float hl = gmul(light_k * a_id2, id2);
+    Jet j = jet_constant(gmul(c, id2));
+    if (booked(T_NORMAL)) {
+        j.h = hn;
+    }
+    if (booked(T_DOT)) {
+        j.h = j.h + hd;
+    }
+    if (booked(T_LIGHT)) {
+        j.h = j.h + hl;
+    }
+    j.h = gc(j.h);
+    j.g = gc(gmul(an.s_max * n.w, id2) + gmul(along_normal * a_id, id2));
+    return j;
+}
+
 // The jets of one light's diffuse part and (per channel) specular part at pattern scale s.
 void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Scale s,
                 out Jet diffuse, out Jet spec[3]) {
-    Field n = Field(gc(s.b / frame.r_n), 0.0, T_NORMAL);
-    Field l = Field(gmul(s.a, st.inv_d), 0.0, T_LIGHT);
+    P float n_w = gc(s.b / frame.r_n);
+    Field n = Field(n_w, rmin(n_w, gc(s.g / frame.r_n)), 0.0, T_NORMAL);
+    P float l_w = gmul(s.a, st.inv_d);
+    Field l = Field(l_w, gmul(l_w, st.plane_sin), 0.0, T_LIGHT);
     Jet att;
     if (st.inv_d > 0.0) {
         P float id = st.inv_d;
@@ -997,11 +1090,14 @@ void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Sc
     }
     if (st.area) {
         // Each point of the polygon: a point light with the emitter's cosine.
-        Field fixed_direction = Field(0.0, 0.0, T_LIGHT);
+        Field fixed_direction = Field(0.0, 0.0, 0.0, T_LIGHT);
         att = product2(att, cosine(fixed_direction, l, st.emitter));
     }
-    Jet c_nl = cosine(n, l, st.psi_nl);
-    diffuse = product2(att, c_nl);
+    if (st.inv_d > 0.0 && !st.area) {
+        diffuse = irradiance_jet(frame, st, n, s.a);
+    } else {
+        diffuse = product2(att, cosine(n, l, st.psi_nl));
+    }
     Jet zero = jet_constant(0.0);
     spec[0] = zero;
     spec[1] = zero;
@@ -1010,8 +1106,10 @@ void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Sc
         return;
     }
 
-    Field v = Field(gc(s.a / frame.e_min), 0.0, T_VIEW);
-    Field h = Field(gc((l.w + v.w) / st.m_min), gc(K23 * (l.w * l.w + v.w * v.w) / st.m_min), T_HALF);
+    P float v_w = gc(s.a / frame.e_min);
+    Field v = Field(v_w, gmul(v_w, frame.v_plane_sin), 0.0, T_VIEW);
+    P float h_w = gc((l.w + v.w) / st.m_min);
+    Field h = Field(h_w, h_w, gc(K23 * (l.w * l.w + v.w * v.w) / st.m_min), T_HALF);
     P float h0 = st.psi_nh.x;
     P float h1 = rmin(st.psi_nh.y, HALF_PI);
     P float w_nh = gc(n.w + h.w);
@@ -1362,6 +1460,7 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     }
     LightSetup setup;
     setup.plane_sin = 1.0;
+    setup.near_sin = 1.0;
     setup.inv_d = inv_d;
     setup.psi_nl = psi_nl;
     setup.straddle = straddle;
@@ -1373,9 +1472,16 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     setup.psi_lv = vec2(0.0, PI);
     setup.area = area;
     setup.emitter = area ? geometry.emitter : vec2(0.0);
-    if (!is_zero(frame.plane) && inv_d > 0.0) {
-        P vec2 g = psi_range(l_cone, Cone(frame.plane, 0.0));
-        setup.plane_sin = max_sin(g.x, g.y);
+    if (inv_d > 0.0) {
+        setup.plane_sin = plane_sin(l_cone, frame.plane);
+        setup.near_sin = setup.plane_sin;
+        if (point && !area && !is_zero(frame.plane)) {
+            // H from the computed plane, less what its direction and the rounding can be off by.
+            P vec3 r = position - frame.vertices[0];
+            P float height = rmax(abs(dot3(r, frame.plane)) - len(r) * (frame.plane_tilt + 1.0e-6), 0.0);
+            P float q = rmin(height * inv_d, 1.0);
+            setup.near_sin = rmin(setup.plane_sin, sqrt(rmax(1.0 - q * q, 0.0)));
+        }
     }
     if (MATERIAL_KIND != MATERIAL_LAMBERT) {
         if (!(frame.e_min > 0.0)) {
