@@ -426,6 +426,22 @@ P float max_cos_sin(float p, float q, float a, float b) {
     return r;
 }
 
+// The second derivative of a cosine a.b split by sign (see `Curvature` in Rust): turn >=
+// |Da|^2 + |Db|^2 (the part -t(|Da|^2 + |Db|^2) <= 0 where t >= 0), rest >= the others.
+struct Curvature {
+    float turn;
+    float rest;
+};
+
+Curvature curvature(Field a, Field b, vec2 psi) {
+    P float s_max = max_sin(psi.x, psi.y);
+    P float across_a = gc(2.0 * gmul(a.w, a.radial) + a.x);
+    P float across_b = gc(2.0 * gmul(b.w, b.radial) + b.x);
+    P float turn = gc(gmul(a.w, a.w) + gmul(b.w, b.w));
+    P float rest = gc(2.0 * a.w * b.w + s_max * gc(across_a + across_b));
+    return Curvature(turn, rest);
+}
+
 // What the jets need of an angle range between two unit fields (see `Angles` in Rust).
 struct Angles {
     float s_max;
@@ -930,7 +946,7 @@ void light_weights(GpuMaterial m, vec3 radiance, out vec3 diff_w, out vec3 spec_
 // ---------------------------------------------------------------------------------------------
 
 // GGX D(n.h) jet (see `ggx_d_jet`).
-Jet ggx_d_jet(Jet c, float p0, float p1, float w, float alpha) {
+Jet ggx_d_jet(Jet c, Curvature curv, float p0, float p1, float w, float alpha) {
     P float a2 = alpha * alpha;
     P float beta = 1.0 - a2;
     P float coef = 4.0 * a2 * beta / PI;
@@ -960,6 +976,13 @@ Jet ggx_d_jet(Jet c, float p0, float p1, float w, float alpha) {
     P float dh = gmul(dd, w2);
     if (booked(T_D)) {
         o.h = gc(o.h + dh);
+    }
+    if (est_term == T_ALL) {
+        // D''(Dt)^2 >= 0 and D'(-t(|u|^2 + |v|^2)) <= 0: the larger, plus the rest.
+        P float c0 = est_cos(p0);
+        P float turning = gmul(gc(coef * c0 * c0 / (u0 * u0 * u0)), curv.turn);
+        P float joint = gc(gmul(slope, curv.rest) + rmax(dh, turning));
+        o.h = rmin(o.h, joint);
     }
     return guard_jet(o);
 }
@@ -1017,7 +1040,8 @@ void ggx_factor_jets(Field n, Field l, Field v, Field h, LightSetup st, vec2 nh,
         djet = jet_constant(alpha * alpha / PI);
     } else {
         Jet c_nh = cosine(n, h, vec2(h0, h1));
-        djet = ggx_d_jet(c_nh, h0, h1, w_nh, alpha);
+        Curvature curv = curvature(n, h, vec2(h0, h1));
+        djet = ggx_d_jet(c_nh, curv, h0, h1, w_nh, alpha);
     }
 }
 
@@ -1125,14 +1149,23 @@ void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Sc
         P float chi = est_cos(h0);
         Jet t = jet_constant(est_pow(chi, s0));
         t.g = gc(s1 * max_cos_sin(s0 - 1.0, 1.0, h0, h1) * w_nh);
-        t.h = gmul(c_nh.h, s1 * est_pow(chi, s0 - 1.0));
+        P float slope = s1 * est_pow(chi, s0 - 1.0);
+        t.h = gmul(c_nh.h, slope);
+        P float hp = 0.0;
         if (s1 > 1.0) {
             P float k = s1 * (s1 - 1.0) * max_cos_sin(s0 - 2.0, 2.0, h0, h1);
             P float w2 = gmul(w_nh, w_nh);
-            P float hp = gmul(k, w2);
+            hp = gmul(k, w2);
             if (booked(T_POWER)) {
                 t.h = gc(t.h + hp);
             }
+        }
+        if (est_term == T_ALL) {
+            // The power's part >= 0, the cosine's turning part <= 0: the larger, plus the rest.
+            Curvature curv = curvature(n, h, vec2(h0, h1));
+            P float turning = gmul(gmul(s1, est_pow(chi, s0)), curv.turn);
+            P float joint = gc(gmul(slope, curv.rest) + rmax(hp, turning));
+            t.h = rmin(t.h, joint);
         }
         t = guard_jet(t);
         Jet sp = product2(att, t);

@@ -642,6 +642,27 @@ fn cosine(a: &Field, b: &Field, psi: (f32, f32), gd: &Guard) -> Jet {
     Jet { m: angles.c_max, g, h, t: ha + hb + hd }
 }
 
+/// The second derivative of a cosine `t = â·b̂` split by sign (`docs/estimator.md` §3, "A lobe
+/// of a cosine"): with `u = Dâ`, `v = Db̂` and `Tₐ`, `T_b` the parts of `D²â`, `D²b̂` across
+/// the fields (radial and non-affine), `D²t = −t(|u|² + |v|²) + 2u·v + Tₐ·b̂ + â·T_b`. Where
+/// `t ≥ 0` the first part is `≤ 0` and at most `t·turn` in size; `rest` bounds the others.
+struct Curvature {
+    /// `wₐ² + w_b² ≥ |u|² + |v|²`.
+    turn: f32,
+    /// `2wₐw_b + sin ψ (2wₐρₐ + xₐ + 2w_bρ_b + x_b)`.
+    rest: f32,
+}
+
+fn curvature(a: &Field, b: &Field, psi: (f32, f32), gd: &Guard) -> Curvature {
+    let s_max = max_sin(psi.0, psi.1);
+    let across_a = gd.c(2.0 * gd.mul(a.w, a.radial) + a.x);
+    let across_b = gd.c(2.0 * gd.mul(b.w, b.radial) + b.x);
+    Curvature {
+        turn: gd.c(gd.mul(a.w, a.w) + gd.mul(b.w, b.w)),
+        rest: gd.c(2.0 * a.w * b.w + s_max * gd.c(across_a + across_b)),
+    }
+}
+
 /// What the jets need of an angle range `[ψ₀, ψ₁]` between two unit fields.
 struct Angles {
     s_max: f32,
@@ -1774,7 +1795,8 @@ fn light_jets(
             // A shininess anywhere in [s₀, s₁] (s₀ ≥ 1): every factor s, s − 1 grows with s
             // and every power of t = cos ψ ≤ 1 shrinks, so s₁ and s₀ bound them separately.
             let c_nh = cosine(&n, &h, (h0, h1), gd);
-            let t = power_jet(&c_nh, (parameter.lo, parameter.hi), (h0, h1), w_nh, gd);
+            let curv = curvature(&n, &h, (h0, h1), gd);
+            let t = power_jet(&c_nh, &curv, (parameter.lo, parameter.hi), (h0, h1), w_nh, gd);
             let spec = product([att, t], gd);
             (diffuse, [spec; 3])
         }
@@ -1851,7 +1873,8 @@ fn ggx_factor_jets(
         Jet::constant(alpha * alpha / PI)
     } else {
         let c_nh = cosine(&n, &h, (h0, h1), gd);
-        ggx_d_jet(&c_nh, h0, h1, w_nh, alpha, gd)
+        let curv = curvature(&n, &h, (h0, h1), gd);
+        ggx_d_jet(&c_nh, &curv, h0, h1, w_nh, alpha, gd)
     };
     [gjet, vjet, djet]
 }
@@ -1861,20 +1884,32 @@ fn ggx_factor_jets(
 /// `[s₀, s₁]` (`s₀ ≥ 1`): `|DT| ≤ s cos^(s−1)ψ sin ψ·w`, jointly maximised over ψ;
 /// `|D²T| ≤ s(s−1) cos^(s−2)ψ sin²ψ·w² + s t^(s−1)|D²t|`. Every factor `s`, `s − 1` grows
 /// with `s` and every power of `t ≤ 1` shrinks, so `s₁` and `s₀` bound them separately.
-fn power_jet(c: &Jet, (s0, s1): (f32, f32), (h0, h1): (f32, f32), w: f32, gd: &Guard) -> Jet {
+fn power_jet(
+    c: &Jet,
+    curv: &Curvature,
+    (s0, s1): (f32, f32),
+    (h0, h1): (f32, f32),
+    w: f32,
+    gd: &Guard,
+) -> Jet {
     let chi = est_cos(h0);
     let g = gd.c(s1 * max_cos_sin(s0 - 1.0, 1.0, h0, h1) * w);
     let slope = s1 * est_pow(chi, s0 - 1.0);
     let mut hh = scaled(&c.h, slope, gd);
     let mut ht = gd.mul(c.t, slope);
+    let mut hp = 0.0;
     if s1 > 1.0 {
         let k = s1 * (s1 - 1.0) * max_cos_sin(s0 - 2.0, 2.0, h0, h1);
         let w2 = gd.mul(w, w);
-        let hp = gd.mul(k, w2);
+        hp = gd.mul(k, w2);
         hh[Term::Power as usize] = gd.c(hh[Term::Power as usize] + hp);
         ht = gd.c(ht + hp);
     }
-    gd.jet(Jet { m: est_pow(chi, s0), g, h: hh, t: ht })
+    // D²T = s·t^(s−2)·[(s−1)(Dt)² + t·D²t]: the power's part is ≥ 0 and the cosine's turning
+    // part ≤ 0, so the larger of the two (plus the rest) bounds it, not their sum.
+    let turning = gd.mul(gd.mul(s1, est_pow(chi, s0)), curv.turn);
+    let joint = gd.c(gd.mul(slope, curv.rest) + hp.max(turning));
+    gd.jet(Jet { m: est_pow(chi, s0), g, h: hh, t: ht.min(joint) })
 }
 
 /// Jet of `v·h = |l̂ + v̂|/2 = cos(∠(l,v)/2)` where the angle between `l̂` and `v̂` is at most
@@ -1984,7 +2019,7 @@ fn parameter_variation(
 
 /// GGX `D(n·h)` jet with the first and second derivatives maximised jointly with the
 /// `sin ψ` that bounds `|D(n·h)|` (the peak of `D` sits where `n·h` is stationary).
-fn ggx_d_jet(c: &Jet, p0: f32, p1: f32, w: f32, alpha: f32, gd: &Guard) -> Jet {
+fn ggx_d_jet(c: &Jet, curv: &Curvature, p0: f32, p1: f32, w: f32, alpha: f32, gd: &Guard) -> Jet {
     let a2 = alpha * alpha;
     let beta = 1.0 - a2;
     let coef = 4.0 * a2 * beta / PI;
@@ -2015,7 +2050,11 @@ fn ggx_d_jet(c: &Jet, p0: f32, p1: f32, w: f32, alpha: f32, gd: &Guard) -> Jet {
     let hd = gd.mul(dd, w2);
     h[Term::D as usize] = gd.c(h[Term::D as usize] + hd);
     t = gd.c(t + hd);
-    gd.jet(Jet { m, g, h, t })
+    // D''(Dt)² ≥ 0 and D'·(−t(|u|² + |v|²)) ≤ 0 (as for the power): the larger, plus the rest.
+    let c0 = est_cos(p0);
+    let turning = gd.mul(gd.c(coef * c0 * c0 / (u0 * u0 * u0)), curv.turn);
+    let joint = gd.c(gd.mul(slope, curv.rest) + hd.max(turning));
+    gd.jet(Jet { m, g, h, t: t.min(joint) })
 }
 
 /// Smallest real `n > 0` with `a/n² + b/n + c ≤ eps` (`∞` if none).
@@ -3334,10 +3373,11 @@ mod tests {
                 let gd = Guard::default();
                 let (fn_, fh) = (n.field(Term::Normal), h.field(Term::Half));
                 let c = cosine(&fn_, &fh, psi, &gd);
+                let curv = curvature(&fn_, &fh, psi, &gd);
                 // Shininess log-uniform in [1, 10⁴], a single value or a textured range.
                 let s0 = 10f32.powf(4.0 * rng.f());
                 let s1 = if rng.below(2) == 0 { s0 } else { (s0 * 10f32.powf(rng.f())).min(1.0e4) };
-                let jet = power_jet(&c, (s0, s1), psi, fn_.w + fh.w, &gd);
+                let jet = power_jet(&c, &curv, (s0, s1), psi, fn_.w + fh.w, &gd);
                 assert!(!gd.bad.get(), "saturated");
                 let tightness = [s0, (s0 * s1).sqrt(), s1].map(|s| {
                     let what = format!("case {case}: ψ {psi:?}, s {s} in [{s0}, {s1}]");
@@ -3357,10 +3397,11 @@ mod tests {
             let gd = Guard::default();
             let (fn_, fh) = (n.field(Term::Normal), h.field(Term::Half));
             let c = cosine(&fn_, &fh, psi, &gd);
+            let curv = curvature(&fn_, &fh, psi, &gd);
             // Roughness 0 (α at its floor) up to 1.
             let roughness = if case % 10 == 0 { 0.0 } else { rng.range(0.05, 1.0) };
             let alpha = crate::shading::brdf::ggx_alpha(roughness);
-            let jet = ggx_d_jet(&c, psi.0, psi.1, fn_.w + fh.w, alpha, &gd);
+            let jet = ggx_d_jet(&c, &curv, psi.0, psi.1, fn_.w + fh.w, alpha, &gd);
             assert!(!gd.bad.get(), "saturated");
             let a2 = f64::from(alpha).powi(2);
             let d = |t: f64| {
