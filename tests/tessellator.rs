@@ -36,7 +36,8 @@ fn uniform_levels_emit_the_ring_pattern_counts() {
 }
 
 use multirate::analysis::tessellator::triangle_pattern;
-use multirate::render::capture::{check_patterns, pattern_check_levels};
+use multirate::render::capture::{check_patterns, measured_table, pattern_check_levels, PatternTable};
+use multirate::shading::estimator::pattern_level;
 
 #[test]
 fn model_reproduces_the_driver() {
@@ -84,6 +85,29 @@ fn the_pattern_check_passes_here_and_sees_a_different_pattern() {
     // Every level up to 16 (what the renderer checks before multirate's first draw).
     let levels = pattern_check_levels(16);
     assert_eq!(levels.len(), 16 * 16 + 16 * 3);
-    check_patterns(&context, 16).expect("lavapipe tessellates as the model");
+    let table = check_patterns(&context, 16).expect("lavapipe tessellates as the model");
+    assert_eq!(table, PatternTable::Model, "lavapipe uses the built-in table");
+    assert_validation_clean(&context);
+}
+
+/// The table a device that tessellated otherwise would get, measured here on lavapipe's own
+/// captures: the built-in table's entries up to `n_max` (the measurement and the model agree).
+#[test]
+fn the_table_measured_on_this_device_is_the_built_in_one() {
+    let context = validated_context();
+    let capture = TessellationCapture::new(&context).expect("capture pipeline");
+    let n_max = 8;
+    let levels = pattern_check_levels(n_max);
+    let captured: Vec<_> =
+        levels.iter().map(|&(inner, outer)| capture.capture(inner, outer).expect("capture")).collect();
+    let words = measured_table(&context.info.name, &levels, &captured, n_max).expect("the table holds");
+    for inner in 1..=n_max {
+        for outer in 1..=n_max {
+            let index = (inner - 1) * 64 + (outer - 1);
+            let measured = (words[(index / 2) as usize] >> (16 * (index % 2))) & 0xffff;
+            let built_in = (pattern_level(inner, outer) * 256.0).round() as u32;
+            assert_eq!(measured, built_in, "inner {inner}, outer {outer}");
+        }
+    }
     assert_validation_clean(&context);
 }

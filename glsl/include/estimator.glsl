@@ -666,20 +666,21 @@ P vec2 enclosing_radius2(vec3 u, vec3 v) {
     return out_value;
 }
 
+// The seven shapes {0, u, v} in the basis (e1, e2): see SHAPES in Rust.
+const vec4 PATTERN_SHAPES[7] = vec4[7](
+    vec4(1.0, 0.0, 0.0, 1.0),
+    vec4(1.0, 0.0, TWO_THIRDS, TWO_THIRDS),
+    vec4(1.0, 0.0, -THIRD, TWO_THIRDS),
+    vec4(0.0, 1.0, TWO_THIRDS, TWO_THIRDS),
+    vec4(0.0, 1.0, TWO_THIRDS, -THIRD),
+    vec4(-1.0, 1.0, -FOUR_THIRDS, TWO_THIRDS),
+    vec4(-1.0, 1.0, -THIRD, -THIRD));
+
 PatternConstants pattern_constants(vec3 e1, vec3 e2) {
-    // The seven shapes {0, u, v} in the basis (e1, e2): see SHAPES in Rust.
-    const vec4 shapes[7] = vec4[7](
-        vec4(1.0, 0.0, 0.0, 1.0),
-        vec4(1.0, 0.0, TWO_THIRDS, TWO_THIRDS),
-        vec4(1.0, 0.0, -THIRD, TWO_THIRDS),
-        vec4(0.0, 1.0, TWO_THIRDS, TWO_THIRDS),
-        vec4(0.0, 1.0, TWO_THIRDS, -THIRD),
-        vec4(-1.0, 1.0, -FOUR_THIRDS, TWO_THIRDS),
-        vec4(-1.0, 1.0, -THIRD, -THIRD));
     PatternConstants o = PatternConstants(0.0, 0.0, 0.0, 0.0);
     for (int s = 0; s < 7; ++s) {
-        P vec3 u = e1 * shapes[s].x + e2 * shapes[s].y;
-        P vec3 v = e1 * shapes[s].z + e2 * shapes[s].w;
+        P vec3 u = e1 * PATTERN_SHAPES[s].x + e2 * PATTERN_SHAPES[s].y;
+        P vec3 v = e1 * PATTERN_SHAPES[s].z + e2 * PATTERN_SHAPES[s].w;
         P vec2 kd = enclosing_radius2(u, v);
         P float k = sqrt(kd.x);
         P float d = sqrt(kd.y);
@@ -691,6 +692,23 @@ PatternConstants pattern_constants(vec3 e1, vec3 e2) {
         o.diam = rmax(o.diam, d);
     }
     return o;
+}
+
+// Upper bounds (sqrt K1, sqrt K) from the shapes' longest edge, r^2 <= d^2/3 (see `jung_scales`).
+P vec2 jung_scales(vec3 e1, vec3 e2) {
+    P float d1 = 0.0;
+    P float d = 0.0;
+    for (int s = 0; s < 7; ++s) {
+        P vec3 u = e1 * PATTERN_SHAPES[s].x + e2 * PATTERN_SHAPES[s].y;
+        P vec3 v = e1 * PATTERN_SHAPES[s].z + e2 * PATTERN_SHAPES[s].w;
+        P float d2 = rmax(rmax(len2(u), len2(v)), len2(u - v));
+        if (s == 0) {
+            d1 = d2;
+        }
+        d = rmax(d, d2);
+    }
+    P vec2 r = vec2(sqrt(d1 / 3.0), sqrt(d / 3.0));
+    return r;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -721,7 +739,6 @@ struct Frame {
     vec3 unit_normals[3];
     vec3 plane;
     float plane_tilt;
-    float v_plane_sin;
     float n_plane_sin;
     Cone v_cone;
     float e_min;
@@ -751,8 +768,8 @@ Frame make_frame(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye)
     P float longest = rmax(rmax(len(n0), len(n1)), len(n2));
     P vec3 e1 = n1 - n0;
     P vec3 e2 = n2 - n0;
-    PatternConstants pg = pattern_constants(vec3(dot3(n0, e1), dot3(n1, e1), dot3(n2, e1)),
-                                            vec3(dot3(n0, e2), dot3(n1, e2), dot3(n2, e2)));
+    P vec2 pg = jung_scales(vec3(dot3(n0, e1), dot3(n1, e1), dot3(n2, e1)),
+                            vec3(dot3(n0, e2), dot3(n1, e2), dot3(n2, e2)));
     P float g_pad = RADIAL_PAD * longest;
     P float r_n = min_length(n0, n1, n2, f.n_cone);
     if (!(r_n > 1.0e-6 * longest)) {
@@ -764,8 +781,8 @@ Frame make_frame(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye)
     P vec3 to_eye2 = eye - p2;
     f.v_cone = cone_of(to_eye0, to_eye1, to_eye2);
     f.e_min = min_length(to_eye0, to_eye1, to_eye2, f.v_cone);
-    f.s1 = Scale(px.sqrt_k1, pn.sqrt_k1, pg.sqrt_k1 + g_pad * pn.sqrt_k1);
-    f.sn = Scale(px.sqrt_k, pn.sqrt_k, pg.sqrt_k + g_pad * pn.sqrt_k);
+    f.s1 = Scale(px.sqrt_k1, pn.sqrt_k1, pg.x + g_pad * pn.sqrt_k1);
+    f.sn = Scale(px.sqrt_k, pn.sqrt_k, pg.y + g_pad * pn.sqrt_k);
     f.d1 = Scale(px.diam1, pn.diam1, 0.0);
     f.dn = Scale(px.diam, pn.diam, 0.0);
     f.n_max_len = longest;
@@ -780,7 +797,6 @@ Frame make_frame(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye)
         f.plane = vec3(0.0);
         f.plane_tilt = 0.0;
     }
-    f.v_plane_sin = plane_sin(f.v_cone, f.plane);
     f.n_plane_sin = plane_sin(f.n_cone, f.plane);
     f.v_center = unit(eye - center);
     return f;
@@ -1131,7 +1147,7 @@ void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Sc
     }
 
     P float v_w = gc(s.a / frame.e_min);
-    Field v = Field(v_w, gmul(v_w, frame.v_plane_sin), 0.0, T_VIEW);
+    Field v = Field(v_w, v_w, 0.0, T_VIEW);
     P float h_w = gc((l.w + v.w) / st.m_min);
     Field h = Field(h_w, h_w, gc(K23 * (l.w * l.w + v.w * v.w) / st.m_min), T_HALF);
     P float h0 = st.psi_nh.x;

@@ -4,8 +4,10 @@
 //! geometry shader with rasterisation discarded. The tessellator model in
 //! `analysis::tessellator` is tested against these captures, and [`check_patterns`] checks,
 //! before multirate first draws on a device, that the device tessellates as the model does:
-//! the effective-level table (`estimator::PATTERN_LEVELS`) is computed from the model.
+//! the effective-level table (`estimator::PATTERN_LEVELS`) is computed from the model. Where
+//! it does not, the table is measured on the device's own patterns instead.
 
+use crate::analysis::pattern_level::{effective_level, pack, table_entry};
 use crate::analysis::tessellator::{triangle_pattern, Pattern};
 use crate::error::{Error, Result};
 use crate::shaders;
@@ -77,6 +79,51 @@ impl CapturedPattern {
         triangles.sort();
         self.distinct_vertices() == vertices && self.canonical_triangles() == triangles
     }
+
+    /// The effective level of this pattern (`analysis::pattern_level`).
+    pub fn effective_level(&self) -> f64 {
+        effective_level(self.triangles.iter().map(|t| t.map(|c| c.map(f64::from))))
+    }
+}
+
+/// The effective-level table multirate uses on a device (what [`check_patterns`] found).
+#[derive(Clone, Debug, PartialEq)]
+pub enum PatternTable {
+    /// The device tessellates as the model: `estimator::PATTERN_LEVELS` holds.
+    Model,
+    /// The device's own table, in the layout of `PATTERN_LEVELS`, measured on its patterns up
+    /// to the checked `n_max` (entries above it are 0: no level is ever reached there).
+    Measured(Arc<Vec<u32>>),
+}
+
+/// A device's own effective-level table from its captured patterns `captured`, one per entry
+/// of `levels` ([`pattern_check_levels`]`(n_max)`): each `(inner, outer)` entry from the
+/// pattern with `outer` on all three edges; then every captured pattern, the mixed ones
+/// included, must have an effective level of at least the smallest of its edges' entries
+/// (the rule `estimator::patch_levels` relies on), or the table is refused: the error names
+/// the first pattern that breaks it.
+pub fn measured_table(
+    device: &str,
+    levels: &[(f32, [f32; 3])],
+    captured: &[CapturedPattern],
+    n_max: u32,
+) -> Result<Vec<u32>> {
+    let n_max = n_max.clamp(1, 64);
+    let mut entries = vec![0u32; 64 * 64];
+    let index = |inner: u32, outer: u32| ((inner - 1) * 64 + (outer - 1)) as usize;
+    for ((inner, outer), pattern) in levels.iter().zip(captured) {
+        if outer[0] == outer[1] && outer[1] == outer[2] {
+            entries[index(*inner as u32, outer[0] as u32)] = table_entry(pattern.effective_level());
+        }
+    }
+    for ((inner, outer), pattern) in levels.iter().zip(captured) {
+        let table = outer.iter().map(|&o| entries[index(*inner as u32, o as u32)]).min().unwrap_or(0);
+        let reached = pattern.effective_level();
+        if table == 0 || f64::from(table) / 256.0 > reached + 1e-9 {
+            return Err(Error::Patterns { device: device.to_owned(), inner: *inner, outer: *outer });
+        }
+    }
+    Ok(pack(|inner, outer| if inner <= n_max && outer <= n_max { entries[index(inner, outer)] } else { 0 }))
 }
 
 /// The levels [`check_patterns`] captures for `n_max`: every inner level with every outer
@@ -95,26 +142,36 @@ pub fn pattern_check_levels(n_max: u32) -> Vec<(f32, [f32; 3])> {
     levels
 }
 
-/// Checks, once per device and `n_max` (the context remembers the largest checked), that
-/// the device tessellates every level multirate may set up to `n_max` as the model does
-/// ([`pattern_check_levels`]): multirate's effective-level table is computed from the model,
-/// and a table that was not checked on the device is never used. Fails with
-/// [`Error::Patterns`] at the first difference, and with [`Error::NoDevice`] where the device
-/// cannot capture (no geometryShader or vertexPipelineStoresAndAtomics).
-pub fn check_patterns(context: &Arc<Context>, n_max: u32) -> Result<()> {
-    use std::sync::atomic::Ordering;
+/// Checks, once per device and `n_max` (the context remembers the largest checked and what
+/// it found), whether the device tessellates every level multirate may set up to `n_max` as
+/// the model does ([`pattern_check_levels`]): multirate's built-in effective-level table is
+/// computed from the model, and a table that was not checked on the device is never used.
+/// Where a pattern differs, the table is measured on the device's patterns
+/// ([`measured_table`]). Fails with [`Error::Patterns`] where even that table does not hold,
+/// and with [`Error::NoDevice`] where the device cannot capture (no geometryShader or
+/// vertexPipelineStoresAndAtomics).
+pub fn check_patterns(context: &Arc<Context>, n_max: u32) -> Result<PatternTable> {
     let n_max = n_max.clamp(1, 64);
-    if context.patterns_checked_up_to.load(Ordering::Acquire) >= n_max {
-        return Ok(());
+    let mut check = context.pattern_check.lock().expect("pattern check lock");
+    if check.checked_up_to >= n_max {
+        return Ok(check.measured.clone().map_or(PatternTable::Model, PatternTable::Measured));
     }
     let capture = TessellationCapture::new(context)?;
-    for (inner, outer) in pattern_check_levels(n_max) {
-        if !capture.capture(inner, outer)?.is(&triangle_pattern(inner, outer)) {
-            return Err(Error::Patterns { device: context.info.name.clone(), inner, outer });
-        }
+    let levels = pattern_check_levels(n_max);
+    let mut captured = Vec::with_capacity(levels.len());
+    let mut as_model = true;
+    for &(inner, outer) in &levels {
+        let pattern = capture.capture(inner, outer)?;
+        as_model &= pattern.is(&triangle_pattern(inner, outer));
+        captured.push(pattern);
     }
-    context.patterns_checked_up_to.fetch_max(n_max, Ordering::AcqRel);
-    Ok(())
+    check.measured = if as_model {
+        None
+    } else {
+        Some(Arc::new(measured_table(&context.info.name, &levels, &captured, n_max)?))
+    };
+    check.checked_up_to = n_max;
+    Ok(check.measured.clone().map_or(PatternTable::Model, PatternTable::Measured))
 }
 
 /// A pipeline that tessellates one patch and records the result.
@@ -275,5 +332,74 @@ impl TessellationCapture {
                 })
                 .collect(),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shading::estimator::{pattern_level, PATTERN_LEVELS};
+
+    /// What a device that tessellates as `model` would capture.
+    fn as_captured(model: &Pattern) -> CapturedPattern {
+        let at = |i: u32| model.vertices[i as usize].map(|x| x as f32);
+        CapturedPattern {
+            tess_coords: model.vertices.iter().map(|v| v.map(|x| x as f32)).collect(),
+            triangles: model.triangles.iter().map(|t| [at(t[0]), at(t[2]), at(t[1])]).collect(),
+        }
+    }
+
+    fn entry(words: &[u32], inner: u32, outer: u32) -> u32 {
+        let index = (inner - 1) * 64 + (outer - 1);
+        (words[(index / 2) as usize] >> (16 * (index % 2))) & 0xffff
+    }
+
+    #[test]
+    fn the_model_captured_measures_the_built_in_table() {
+        let n_max = 6;
+        let levels = pattern_check_levels(n_max);
+        let captured: Vec<_> =
+            levels.iter().map(|&(inner, outer)| as_captured(&triangle_pattern(inner, outer))).collect();
+        assert!(captured.iter().zip(&levels).all(|(c, &(i, o))| c.is(&triangle_pattern(i, o))));
+        let words = measured_table("model", &levels, &captured, n_max).expect("the model's table holds");
+        for inner in 1..=64 {
+            for outer in 1..=64 {
+                let built_in = entry(&PATTERN_LEVELS, inner, outer);
+                assert_eq!((pattern_level(inner, outer) * 256.0) as u32, built_in);
+                let expected = if inner <= n_max && outer <= n_max { built_in } else { 0 };
+                assert_eq!(entry(&words, inner, outer), expected, "inner {inner}, outer {outer}");
+            }
+        }
+    }
+
+    #[test]
+    fn other_patterns_get_their_own_levels_or_are_refused() {
+        // A device whose inner level 4 with outer 4 looks like the model's inner level 2.
+        let n_max = 6;
+        let levels = pattern_check_levels(n_max);
+        let captured: Vec<_> = levels
+            .iter()
+            .map(|&(inner, outer)| {
+                let inner = if inner == 4.0 && outer == [4.0; 3] { 2.0 } else { inner };
+                as_captured(&triangle_pattern(inner, outer))
+            })
+            .collect();
+        let words = measured_table("coarse", &levels, &captured, n_max).expect("a coarser table holds");
+        assert_eq!(entry(&words, 4, 4), entry(&PATTERN_LEVELS, 2, 4));
+        assert!(entry(&words, 4, 4) < entry(&PATTERN_LEVELS, 4, 4));
+        assert_eq!(entry(&words, 5, 5), entry(&PATTERN_LEVELS, 5, 5));
+
+        // A mixed pattern coarser than its edges' entries promise: refused, and named.
+        let levels = vec![(2.0, [2.0; 3]), (2.0, [3.0; 3]), (2.0, [2.0, 2.0, 3.0])];
+        let mut captured: Vec<_> =
+            levels.iter().map(|&(inner, outer)| as_captured(&triangle_pattern(inner, outer))).collect();
+        assert!(measured_table("model", &levels, &captured, 3).is_ok());
+        captured[2] = as_captured(&triangle_pattern(1.0, [1.0; 3]));
+        match measured_table("odd", &levels, &captured, 3) {
+            Err(Error::Patterns { device, inner, outer }) => {
+                assert_eq!((device.as_str(), inner, outer), ("odd", 2.0, [2.0, 2.0, 3.0]));
+            }
+            other => panic!("expected a refusal, got {other:?}"),
+        }
     }
 }

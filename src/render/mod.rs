@@ -472,7 +472,10 @@ pub struct Renderer {
     /// Per mesh: how many it listed (zeroed before each pre-pass).
     visible_counts: Buffer,
     /// `PATTERN_LEVELS`, the effective levels of the hardware patterns.
-    _pattern_levels: Buffer,
+    pattern_levels: Buffer,
+    /// The device's own effective-level table in `pattern_levels`, where the built-in one
+    /// does not hold on it (`capture::check_patterns`).
+    measured_table: std::sync::Mutex<Option<Arc<Vec<u32>>>>,
     /// Per triangle: its patch's tessellation levels, written by the pre-pass's last step.
     _patch_levels: Buffer,
     /// Per mesh, from its first triangle on: its visible triangles shaded on sub-vertices,
@@ -758,7 +761,8 @@ impl Renderer {
             _triangle_neighbours: neighbour_buffer,
             _visible_triangles: visible_triangle_buffer,
             visible_counts: visible_count_buffer,
-            _pattern_levels: pattern_level_buffer,
+            pattern_levels: pattern_level_buffer,
+            measured_table: std::sync::Mutex::new(None),
             _patch_levels: patch_level_buffer,
             _patch_lists: [interpolated_patch_buffer, fallback_patch_buffer, flat_patch_buffer],
             patch_draws: [interpolated_draw_buffer, fallback_draw_buffer],
@@ -805,12 +809,29 @@ impl Renderer {
         }
         if view.mode == Mode::Multirate {
             // The effective-level table holds only for the tessellator it was computed from.
-            capture::check_patterns(&self.context, view.n_max)?;
+            if let capture::PatternTable::Measured(words) =
+                capture::check_patterns(&self.context, view.n_max)?
+            {
+                self.use_measured_table(&words)?;
+            }
             let wireframe = self.wireframe_variants.as_ref().filter(|_| view.wireframe);
             for variants in std::iter::once(&self.variants).chain(wireframe) {
                 self.prepare_variants(variants, view)?;
             }
         }
+        Ok(())
+    }
+
+    /// Replaces the effective-level table the shaders read by the device's measured one (once
+    /// per table); waits for the device first, since submitted frames read the buffer.
+    fn use_measured_table(&self, words: &Arc<Vec<u32>>) -> Result<()> {
+        let mut current = self.measured_table.lock().expect("measured table lock");
+        if current.as_ref().is_some_and(|table| Arc::ptr_eq(table, words)) {
+            return Ok(());
+        }
+        self.context.wait_idle()?;
+        self.pattern_levels.upload(words.as_slice())?;
+        *current = Some(Arc::clone(words));
         Ok(())
     }
 

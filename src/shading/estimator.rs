@@ -919,7 +919,7 @@ pub struct PatternConstants {
 /// median towards the opposite corner) the two halves of a ring quad, `{0, e, e + r}` and
 /// `{0, e, r}` (both diagonals; corner triangles and the centre fan of even levels are
 /// among them).
-const SHAPES: [[(f32, f32); 2]; 7] = [
+pub(crate) const SHAPES: [[(f32, f32); 2]; 7] = [
     [(1.0, 0.0), (0.0, 1.0)],
     // side AB: e = e₁, r = −e₁/3 + 2e₂/3
     [(1.0, 0.0), (2.0 / 3.0, 2.0 / 3.0)],
@@ -970,6 +970,23 @@ pub fn pattern_constants(e1: Vec3, e2: Vec3) -> PatternConstants {
     out
 }
 
+/// Upper bounds `(√K₁, √K)` on [`pattern_constants`] from the longest edge `d` of the shapes
+/// alone (Jung's theorem, `r² ≤ d²/3`): at most 15 % above them and cheaper, for the normal's
+/// radial scale ([`Scale::g`]), which only ever enters beside a larger term.
+fn jung_scales(e1: Vec3, e2: Vec3) -> (f32, f32) {
+    let (mut d1, mut d) = (0.0f32, 0.0f32);
+    for (s, shape) in SHAPES.iter().enumerate() {
+        let u = e1 * shape[0].0 + e2 * shape[0].1;
+        let v = e1 * shape[1].0 + e2 * shape[1].1;
+        let d2 = u.length_squared().max(v.length_squared()).max((u - v).length_squared());
+        if s == 0 {
+            d1 = d2;
+        }
+        d = d.max(d2);
+    }
+    ((d1 / 3.0).sqrt(), (d / 3.0).sqrt())
+}
+
 // ------------------------------------------------------------------------------------------
 // Per-triangle and per-light geometry
 // ------------------------------------------------------------------------------------------
@@ -999,9 +1016,8 @@ struct Frame {
     v_cone: Cone,
     /// Bound on the angle (rad) between `plane` and the true plane normal (f32 rounding).
     plane_tilt: f32,
-    /// `max |sin|` of the angle between v̂ and the plane normal (see [`plane_sin`]).
-    v_plane_sin: f32,
-    /// The same for the normals n̂: bounds `|n̂·Xδ|/|Xδ|`.
+    /// `max |sin|` of the angle between n̂ and the plane normal (see [`plane_sin`]): bounds
+    /// `|n̂·Xδ|/|Xδ|`.
     n_plane_sin: f32,
     /// Lower bound on the distance from the eye to the triangle.
     e_min: f32,
@@ -1019,7 +1035,7 @@ impl Frame {
         let n_cone = cone_of(tri.normals);
         let longest = n0.length().max(n1.length()).max(n2.length());
         let along = |e: Vec3| Vec3::new(n0.dot(e), n1.dot(e), n2.dot(e));
-        let pg = pattern_constants(along(n1 - n0), along(n2 - n0));
+        let pg = jung_scales(along(n1 - n0), along(n2 - n0));
         // Rounding of the dot products: a few ulps of |N|·|Nδ|, and |Nδ| ≤ 2√K at the scale.
         let g_pad = RADIAL_PAD * longest;
         let mut r_n = min_length(tri.normals, &n_cone);
@@ -1044,8 +1060,8 @@ impl Frame {
             eye: tri.eye,
             centroid,
             rho_x,
-            s1: Scale { a: px.sqrt_k1, b: pn.sqrt_k1, g: pg.sqrt_k1 + g_pad * pn.sqrt_k1 },
-            sn: Scale { a: px.sqrt_k, b: pn.sqrt_k, g: pg.sqrt_k + g_pad * pn.sqrt_k },
+            s1: Scale { a: px.sqrt_k1, b: pn.sqrt_k1, g: pg.0 + g_pad * pn.sqrt_k1 },
+            sn: Scale { a: px.sqrt_k, b: pn.sqrt_k, g: pg.1 + g_pad * pn.sqrt_k },
             d1: Scale { a: px.diam1, b: pn.diam1, g: 0.0 },
             dn: Scale { a: px.diam, b: pn.diam, g: 0.0 },
             n_cone,
@@ -1055,7 +1071,6 @@ impl Frame {
             unit_normals: tri.normals.map(unit),
             plane,
             plane_tilt,
-            v_plane_sin: plane_sin(&v_cone, plane),
             n_plane_sin: plane_sin(&n_cone, plane),
             v_cone,
             e_min,
@@ -1778,7 +1793,7 @@ fn light_jets(
     }
 
     let v_w = gd.c(s.a / frame.e_min);
-    let v = Field { w: v_w, radial: gd.mul(v_w, frame.v_plane_sin), x: 0.0, term: Term::View };
+    let v = Field { w: v_w, radial: v_w, x: 0.0, term: Term::View };
     let h_w = gd.c((l.w + v.w) / st.m_min);
     let h =
         Field { w: h_w, radial: h_w, x: gd.c(K23 * (l.w * l.w + v.w * v.w) / st.m_min), term: Term::Half };
@@ -2552,6 +2567,7 @@ pub const PATTERN_LEVELS: [u32; 2048] = [
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::analysis::pattern_level::{effective_level, pack, table_entry};
     use crate::analysis::tessellator::{triangle_pattern, Pattern};
     use glam::DVec3;
 
@@ -2685,134 +2701,20 @@ mod tests {
 
     // ----- effective levels of the hardware patterns (mixed inner and outer levels) -----
 
-    /// Points `(s, τ, h)` of the side-frame configurations `{0, s·e, τ·e + h·f}` (`e` the
-    /// side, `f` towards the opposite corner) whose enclosing radius is at most `√K_W` under
-    /// every map `W`: every labelling of the seven shapes that has an edge along the side,
-    /// every segment between two corners of a shape (`s = 0`), segments along the side that
-    /// are not longer than it, and all of their negatives.
-    fn frame_points() -> Vec<[f64; 3]> {
-        // Exact thirds (SHAPES holds f32 approximations).
-        let exact = |x: f32| (f64::from(x) * 3.0).round() / 3.0;
-        let mut points = vec![[1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
-        for shape in SHAPES.iter() {
-            let v =
-                [[0.0, 0.0], [exact(shape[0].0), exact(shape[0].1)], [exact(shape[1].0), exact(shape[1].1)]];
-            for a in 0..3 {
-                for b in 0..3 {
-                    if a == b {
-                        continue;
-                    }
-                    let c = 3 - a - b;
-                    let d1 = [v[b][0] - v[a][0], v[b][1] - v[a][1]];
-                    let d2 = [v[c][0] - v[a][0], v[c][1] - v[a][1]];
-                    points.push([0.0, d1[0], d1[1]]);
-                    if d1[1] == 0.0 {
-                        points.push([d1[0], d2[0], d2[1]]);
-                    }
-                }
-            }
-        }
-        let mut all: Vec<[f64; 3]> = Vec::new();
-        for p in points {
-            for q in [p, p.map(|x| -x)] {
-                if !all.iter().any(|r| (0..3).all(|k| (r[k] - q[k]).abs() < 1e-12)) {
-                    all.push(q);
-                }
-            }
-        }
-        all
-    }
-
-    /// Facets `n` (with `n·x ≤ 1` on the hull) of the convex hull of `points`, which is
-    /// symmetric about the origin and full-dimensional: the gauge is `max n·x`.
-    fn hull_facets(points: &[[f64; 3]]) -> Vec<[f64; 3]> {
-        let det3 = |m: [[f64; 3]; 3]| {
-            m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-                - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-        };
-        let mut facets: Vec<[f64; 3]> = Vec::new();
-        let n = points.len();
-        for a in 0..n {
-            for b in a + 1..n {
-                for c in b + 1..n {
-                    let m = [points[a], points[b], points[c]];
-                    let det = det3(m);
-                    if det.abs() < 1e-12 {
-                        continue;
-                    }
-                    // Cramer: n solves m·n = (1, 1, 1).
-                    let normal: [f64; 3] = std::array::from_fn(|k| {
-                        let mut mk = m;
-                        for row in &mut mk {
-                            row[k] = 1.0;
-                        }
-                        det3(mk) / det
-                    });
-                    let dot = |q: &[f64; 3]| normal[0] * q[0] + normal[1] * q[1] + normal[2] * q[2];
-                    if points.iter().all(|q| dot(q) <= 1.0 + 1e-9)
-                        && !facets.iter().any(|f| (0..3).all(|k| (f[k] - normal[k]).abs() < 1e-9))
-                    {
-                        facets.push(normal);
-                    }
-                }
-            }
-        }
-        facets
-    }
-
-    fn gauge(facets: &[[f64; 3]], x: [f64; 3]) -> f64 {
-        facets.iter().map(|n| n[0] * x[0] + n[1] * x[1] + n[2] * x[2]).fold(0.0, f64::max)
-    }
-
-    /// `γ` with `r(W·T) ≤ γ·√K_W` for every map `W`, for the pattern triangle `t`
-    /// (barycentric corners): the smallest over the sides `k` and the choices of a base edge
-    /// of `gauge(s, τ, h) + |dy|`, in the frame of side `k` (`x = b[k+1]` along the side,
-    /// `y = b[k]` towards the opposite corner); `dy`, the base's rise in that frame (the
-    /// fixed-point rings are not exactly parallel to the sides), is charged as a segment along
-    /// `f` of length `|dy|`, whose radius is at most `|dy|·√K`.
-    fn triangle_gauge(facets: &[[f64; 3]], t: [[f64; 3]; 3]) -> f64 {
-        let mut best = f64::INFINITY;
-        for k in 0..3 {
-            let xy = t.map(|b| (b[(k + 1) % 3], b[k]));
-            for a in 0..3 {
-                let (b, c) = ((a + 1) % 3, (a + 2) % 3);
-                let (l, r) = if xy[a].0 <= xy[b].0 { (xy[a], xy[b]) } else { (xy[b], xy[a]) };
-                let g = gauge(facets, [r.0 - l.0, xy[c].0 - l.0, xy[c].1 - l.1]);
-                best = best.min(g + (r.1 - l.1).abs());
-            }
-        }
-        best
-    }
-
-    /// The effective level `L = 1/max γ` of the hardware pattern for `inner`, `outer`:
-    /// every sub-triangle has `r² ≤ K_W/L²` (and diameter `≤ D_W/L`) under every map `W`.
-    fn pattern_level_exact(facets: &[[f64; 3]], inner: u32, outer: [u32; 3]) -> f64 {
+    /// The effective level `L` of the model's pattern for `inner`, `outer`.
+    fn pattern_level_exact(inner: u32, outer: [u32; 3]) -> f64 {
         let p = triangle_pattern(inner as f32, outer.map(|o| o as f32));
-        let worst = p
-            .triangles
-            .iter()
-            .map(|t| triangle_gauge(facets, t.map(|v| p.vertices[v as usize])))
-            .fold(0.0, f64::max);
-        1.0 / worst
-    }
-
-    /// The table entry: the effective level rounded down to a multiple of 1/256 (values within
-    /// 10⁻⁶/256 below a multiple count as it: f64 noise of the gauge, far inside `SAFETY`),
-    /// and at least 1: every sub-triangle lies inside the patch, whose radius is `√K₁ ≤ √K`.
-    fn quantised(level: f64) -> u32 {
-        ((level * 256.0 + 1e-6).floor() as u32).max(256)
+        effective_level(p.triangles.iter().map(|t| t.map(|v| p.vertices[v as usize])))
     }
 
     /// The packed table equals the levels measured on the driver's patterns (a sample of
     /// inner × outer levels; the full table is the same computation for all 64 × 64).
     #[test]
     fn pattern_level_table_matches_the_driver_patterns() {
-        let facets = hull_facets(&frame_points());
         let levels = [1u32, 2, 3, 4, 5, 8, 13, 16, 31, 64];
         for &inner in &levels {
             for &outer in &levels {
-                let expected = quantised(pattern_level_exact(&facets, inner, [outer; 3]));
+                let expected = table_entry(pattern_level_exact(inner, [outer; 3]));
                 let table = (pattern_level(inner, outer) * 256.0).round() as u32;
                 assert_eq!(table, expected, "inner {inner}, outer {outer}");
             }
@@ -2825,7 +2727,6 @@ mod tests {
     /// few seconds in a debug build).
     #[test]
     fn pattern_level_table_is_current() {
-        let facets = hull_facets(&frame_points());
         let print = std::env::var("MULTIRATE_PATTERN_LEVELS").is_ok_and(|v| v == "print");
         let mut words = vec![0u32; 2048];
         for index in 0..4096u32 {
@@ -2833,7 +2734,7 @@ mod tests {
                 continue;
             }
             let (inner, outer) = (index / 64 + 1, index % 64 + 1);
-            let expected = quantised(pattern_level_exact(&facets, inner, [outer; 3]));
+            let expected = table_entry(pattern_level_exact(inner, [outer; 3]));
             words[(index / 2) as usize] |= expected << (16 * (index % 2));
             let table = (pattern_level(inner, outer) * 256.0).round() as u32;
             assert_eq!(
@@ -2898,13 +2799,12 @@ mod tests {
     /// patterns with three different outer levels.
     #[test]
     fn mixed_patterns_take_the_smallest_edge_level() {
-        let facets = hull_facets(&frame_points());
         let mut rng = Rng(0x005e_ed1e_7e15);
         for _ in 0..150 {
             let pick = |rng: &mut Rng| 1 + (rng.f() * 24.0) as u32;
             let inner = pick(&mut rng);
             let outer = [pick(&mut rng), pick(&mut rng), pick(&mut rng)];
-            let exact = pattern_level_exact(&facets, inner, outer);
+            let exact = pattern_level_exact(inner, outer);
             let table = outer.iter().map(|&o| pattern_level(inner, o)).fold(f32::MAX, f32::min);
             assert!(
                 f64::from(table) <= exact + 1e-9,

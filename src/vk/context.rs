@@ -62,6 +62,14 @@ impl ValidationLog {
     }
 }
 
+/// What the tessellation patterns of the device were found to be (see
+/// `render::capture::check_patterns`): the largest `n_max` checked (0: none), and the device's
+/// own effective-level table where the built-in one does not hold on it (`None`: it does).
+pub(crate) struct PatternCheck {
+    pub checked_up_to: u32,
+    pub measured: Option<Arc<Vec<u32>>>,
+}
+
 /// Everything a pass needs to talk to the GPU. Shared as `Arc<Context>`; resources keep an
 /// `Arc` so the device outlives them.
 pub struct Context {
@@ -77,9 +85,9 @@ pub struct Context {
     pub surface_instance: Option<ash::khr::surface::Instance>,
     debug_instance: Option<ash::ext::debug_utils::Instance>,
     debug_device: Option<ash::ext::debug_utils::Device>,
-    /// The largest `n_max` up to which this device's tessellation patterns were found to be
-    /// the model's (`render::capture::check_patterns`; 0: not checked).
-    pub(crate) patterns_checked_up_to: std::sync::atomic::AtomicU32,
+    /// What `render::capture::check_patterns` found about this device's tessellation
+    /// patterns, and up to which `n_max`.
+    pub(crate) pattern_check: Mutex<PatternCheck>,
     messenger: vk::DebugUtilsMessengerEXT,
     validation: Arc<ValidationLog>,
     one_shot_pool: Mutex<vk::CommandPool>,
@@ -315,7 +323,7 @@ impl Context {
             surface_instance,
             debug_instance,
             debug_device,
-            patterns_checked_up_to: std::sync::atomic::AtomicU32::new(0),
+            pattern_check: Mutex::new(PatternCheck { checked_up_to: 0, measured: None }),
             messenger,
             validation,
             one_shot_pool: Mutex::new(one_shot_pool),

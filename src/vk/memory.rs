@@ -69,14 +69,6 @@ impl Buffer {
     ) -> Result<Buffer> {
         let bytes: &[u8] = bytemuck::cast_slice(data);
         let size = bytes.len().max(4) as vk::DeviceSize;
-        let staging = Buffer::new(
-            context,
-            &format!("{name} (staging)"),
-            size,
-            vk::BufferUsageFlags::TRANSFER_SRC,
-            MemoryLocation::CpuToGpu,
-        )?;
-        staging.write(bytes);
         let buffer = Buffer::new(
             context,
             name,
@@ -84,12 +76,30 @@ impl Buffer {
             usage | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
         )?;
+        buffer.upload(data)?;
+        Ok(buffer)
+    }
+
+    /// Copies `data` to the start of a buffer made by [`Buffer::with_data`] through a staging
+    /// buffer, and waits for the copy. The caller makes sure no submitted work uses it.
+    pub fn upload<T: bytemuck::Pod>(&self, data: &[T]) -> Result<()> {
+        let bytes: &[u8] = bytemuck::cast_slice(data);
+        let size = bytes.len().max(4) as vk::DeviceSize;
+        assert!(size <= self.size, "upload past the end of the buffer");
+        let staging = Buffer::new(
+            &self.context,
+            "staging",
+            size,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::CpuToGpu,
+        )?;
+        staging.write(bytes);
+        let context = &self.context;
         context.run_once(|cmd| {
             let region = [vk::BufferCopy::default().size(size)];
             // SAFETY: both buffers are live and large enough; `run_once` waits for completion.
-            unsafe { context.device.cmd_copy_buffer(cmd, staging.raw, buffer.raw, &region) };
-        })?;
-        Ok(buffer)
+            unsafe { context.device.cmd_copy_buffer(cmd, staging.raw, self.raw, &region) };
+        })
     }
 
     /// Host-visible bytes of the buffer (None for device-only memory).
