@@ -2567,7 +2567,7 @@ pub const PATTERN_LEVELS: [u32; 2048] = [
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::pattern_level::{effective_level, pack, table_entry};
+    use crate::analysis::pattern_level::{effective_level, table_entry};
     use crate::analysis::tessellator::{triangle_pattern, Pattern};
     use glam::DVec3;
 
