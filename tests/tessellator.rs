@@ -35,6 +35,7 @@ fn uniform_levels_emit_the_ring_pattern_counts() {
     assert_validation_clean(&context);
 }
 
+use multirate::analysis::pattern_level::entry;
 use multirate::analysis::tessellator::triangle_pattern;
 use multirate::render::capture::{check_patterns, measured_table, pattern_check_levels, PatternTable};
 use multirate::shading::estimator::pattern_level;
@@ -103,8 +104,7 @@ fn the_table_measured_on_this_device_is_the_built_in_one() {
     let words = measured_table(&context.info.name, &levels, &captured, n_max).expect("the table holds");
     for inner in 1..=n_max {
         for outer in 1..=n_max {
-            let index = (inner - 1) * 64 + (outer - 1);
-            let measured = (words[(index / 2) as usize] >> (16 * (index % 2))) & 0xffff;
+            let measured = entry(&words, inner, outer);
             let built_in = (pattern_level(inner, outer) * 256.0).round() as u32;
             assert_eq!(measured, built_in, "inner {inner}, outer {outer}");
         }

@@ -38,6 +38,12 @@ pub fn pack(entry: impl Fn(u32, u32) -> u32) -> Vec<u32> {
     words
 }
 
+/// The entry `(inner, outer)` of a table packed by [`pack`] (levels clamped to `1..=64`).
+pub fn entry(words: &[u32], inner: u32, outer: u32) -> u32 {
+    let index = (inner.clamp(1, 64) - 1) * 64 + (outer.clamp(1, 64) - 1);
+    (words[(index / 2) as usize] >> (16 * (index % 2))) & 0xffff
+}
+
 /// The facets of the hull of the side-frame configurations, computed once.
 fn facets() -> &'static [[f64; 3]] {
     static FACETS: OnceLock<Vec<[f64; 3]>> = OnceLock::new();

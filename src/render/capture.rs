@@ -338,6 +338,7 @@ impl TessellationCapture {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::analysis::pattern_level::entry;
     use crate::shading::estimator::{pattern_level, PATTERN_LEVELS};
 
     /// What a device that tessellates as `model` would capture.
@@ -347,11 +348,6 @@ mod tests {
             tess_coords: model.vertices.iter().map(|v| v.map(|x| x as f32)).collect(),
             triangles: model.triangles.iter().map(|t| [at(t[0]), at(t[2]), at(t[1])]).collect(),
         }
-    }
-
-    fn entry(words: &[u32], inner: u32, outer: u32) -> u32 {
-        let index = (inner - 1) * 64 + (outer - 1);
-        (words[(index / 2) as usize] >> (16 * (index % 2))) & 0xffff
     }
 
     #[test]

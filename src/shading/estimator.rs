@@ -1908,6 +1908,7 @@ fn power_jet(
     gd: &Guard,
 ) -> Jet {
     let chi = est_cos(h0);
+    let peak = est_pow(chi, s0);
     let g = gd.c(s1 * max_cos_sin(s0 - 1.0, 1.0, h0, h1) * w);
     let slope = s1 * est_pow(chi, s0 - 1.0);
     let mut hh = scaled(&c.h, slope, gd);
@@ -1922,9 +1923,9 @@ fn power_jet(
     }
     // D²T = s·t^(s−2)·[(s−1)(Dt)² + t·D²t]: the power's part is ≥ 0 and the cosine's turning
     // part ≤ 0, so the larger of the two (plus the rest) bounds it, not their sum.
-    let turning = gd.mul(gd.mul(s1, est_pow(chi, s0)), curv.turn);
+    let turning = gd.mul(gd.mul(s1, peak), curv.turn);
     let joint = gd.c(gd.mul(slope, curv.rest) + hp.max(turning));
-    gd.jet(Jet { m: est_pow(chi, s0), g, h: hh, t: ht.min(joint) })
+    gd.jet(Jet { m: peak, g, h: hh, t: ht.min(joint) })
 }
 
 /// Jet of `v·h = |l̂ + v̂|/2 = cos(∠(l,v)/2)` where the angle between `l̂` and `v̂` is at most
@@ -2254,10 +2255,7 @@ pub struct PatchLevels {
 /// the seven shapes' constants, [`pattern_constants`]). A patch's level is the smallest
 /// over its three edges. Levels are clamped to `1..=64`. See `docs/estimator.md`.
 pub fn pattern_level(inner: u32, outer: u32) -> f32 {
-    let index = (inner.clamp(1, 64) - 1) * 64 + (outer.clamp(1, 64) - 1);
-    let word = PATTERN_LEVELS[(index / 2) as usize];
-    let q = (word >> (16 * (index % 2))) & 0xffff;
-    q as f32 * (1.0 / 256.0)
+    crate::analysis::pattern_level::entry(&PATTERN_LEVELS, inner, outer) as f32 * (1.0 / 256.0)
 }
 
 /// The smallest `n` in `1..=n_max` whose uniform pattern has effective level `≥ level`;
@@ -2567,7 +2565,7 @@ pub const PATTERN_LEVELS: [u32; 2048] = [
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::pattern_level::{effective_level, table_entry};
+    use crate::analysis::pattern_level::{effective_level, pack, table_entry};
     use crate::analysis::tessellator::{triangle_pattern, Pattern};
     use glam::DVec3;
 
@@ -2728,14 +2726,12 @@ mod tests {
     #[test]
     fn pattern_level_table_is_current() {
         let print = std::env::var("MULTIRATE_PATTERN_LEVELS").is_ok_and(|v| v == "print");
-        let mut words = vec![0u32; 2048];
         for index in 0..4096u32 {
             if !print && index % 7 != 0 {
                 continue;
             }
             let (inner, outer) = (index / 64 + 1, index % 64 + 1);
             let expected = table_entry(pattern_level_exact(inner, [outer; 3]));
-            words[(index / 2) as usize] |= expected << (16 * (index % 2));
             let table = (pattern_level(inner, outer) * 256.0).round() as u32;
             assert_eq!(
                 table, expected,
@@ -2743,6 +2739,7 @@ mod tests {
             );
         }
         if print {
+            let words = pack(|inner, outer| table_entry(pattern_level_exact(inner, [outer; 3])));
             for line in words.chunks(8) {
                 let items: Vec<String> = line.iter().map(|w| format!("{w:#010x}")).collect();
                 println!("    {},", items.join(", "));
