@@ -608,6 +608,44 @@ fn check_terminator(brdf: Brdf, seed: u64) {
     assert!(!few, "too few crossed triangles tessellated at n >= 2: {text}");
 }
 
+/// [`random_case`] seen edge-on: the eye moved to 83–97° from the mean normal, at the same
+/// distance, so that `n·v` changes sign on most triangles (GGX's kink in `V`, which Relaxed
+/// bounds and Conservative shades per pixel).
+fn silhouette_case(rng: &mut Rng, brdf: Brdf) -> Case {
+    let mut case = random_case(rng, brdf);
+    let [a, b, c] = case.tri.positions;
+    let centre = (a + b + c) / 3.0;
+    let base = (case.tri.normals[0] + case.tri.normals[1] + case.tri.normals[2]).normalize_or_zero();
+    if base != Vec3::ZERO {
+        let angle = rng.range(1.45, 1.7);
+        let dir = tilt(rng, base, angle);
+        case.tri.eye = centre + dir * (case.tri.eye - centre).length();
+    }
+    case
+}
+
+/// Random GGX triangles seen edge-on.
+const SILHOUETTE_TRIANGLES: usize = 5_000;
+
+/// GGX's view kink where it matters ([`silhouette_case`]), Relaxed, both splits: zero
+/// violations, and the kink's first-order part must decide levels `n ≥ 2` on enough of them.
+#[test]
+fn ggx_silhouettes_never_exceed_epsilon() {
+    let (mut text, mut violations, mut fine) = (String::new(), 0, usize::MAX);
+    type Config = (&'static str, fn(f32) -> EstimatorSettings);
+    let configs: [Config; 2] = [("Relaxed, Heuristic", relaxed), ("Relaxed, Uniform", relaxed_uniform)];
+    for (name, settings_of) in configs {
+        let start = Instant::now();
+        let stats = run(Brdf::Ggx, 0x51_1e77e, SILHOUETTE_TRIANGLES, silhouette_case, settings_of);
+        violations += stats.violations;
+        fine = fine.min(stats.terminator_fine);
+        text += &report(&format!("Ggx seen edge-on, {name}"), stats, start.elapsed().as_secs_f64());
+    }
+    println!("{text}");
+    assert_eq!(violations, 0, "{text}");
+    assert!(fine >= SILHOUETTE_TRIANGLES / 50, "too few kinked triangles tessellated at n >= 2: {text}");
+}
+
 /// The extended distribution: [`random_case`] with `n_max` from 1 to 32 instead of 16, and
 /// point lights moved closer (down to 1/50 of the triangle's size from its centre) or exactly
 /// into the triangle's plane (grazing), their intensity scaled with the squared distance.

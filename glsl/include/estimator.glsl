@@ -1005,7 +1005,7 @@ Jet ggx_d_jet(Jet c, Curvature curv, float p0, float p1, float w, float alpha) {
 
 // The roughness-dependent GGX factors G, V and D at one alpha (see `ggx_factor_jets`).
 void ggx_factor_jets(Field n, Field l, Field v, Field h, LightSetup st, vec2 nh, float w_nh,
-                     float alpha, out Jet gjet, out Jet vjet, out Jet djet) {
+                     float alpha, float view_band, out Jet gjet, out Jet vjet, out Jet djet) {
     P float h0 = nh.x;
     P float h1 = nh.y;
     P float k = 0.5 * alpha;
@@ -1033,6 +1033,21 @@ void ggx_factor_jets(Field n, Field l, Field v, Field h, LightSetup st, vec2 nh,
     // V_v = 1/(max(n.v, 0)(1-k)+k): constant 1/k where n.v <= 0 throughout.
     if (st.nv_sign == SIGN_NON_POSITIVE) {
         vjet = jet_constant(1.0 / k);
+    } else if (st.nv_sign == SIGN_BOTH) {
+        // Relaxed, the view's kink inside: the smooth parts (see `smith_v_kink_jet`).
+        Jet c_v = cosine(n, v, st.psi_nv);
+        P float slope = (1.0 - k) / (k * k);
+        P float v2 = 2.0 * (1.0 - k) * (1.0 - k) / (k * k * k);
+        vjet = jet_constant(0.0);
+        vjet.h = gmul(c_v.h, slope);
+        P float cv2 = gmul(c_v.g, c_v.g);
+        P float hv = gmul(v2, cv2);
+        if (booked(T_V)) {
+            vjet.h = gc(vjet.h + hv);
+        }
+        vjet.m = gc(1.0 / k + gmul(slope, rmin(c_v.m, view_band)));
+        vjet.g = gmul(slope, c_v.g);
+        vjet = guard_jet(vjet);
     } else {
         P vec2 nv = vec2(st.psi_nv.x, rmin(st.psi_nv.y, HALF_PI));
         Jet c_v = cosine(n, v, nv);
@@ -1104,9 +1119,11 @@ Jet irradiance_jet(Frame frame, LightSetup st, Field n, float a) {
     return j;
 }
 
-// The jets of one light's diffuse part and (per channel) specular part at pattern scale s.
+// The jets of one light's diffuse part and (per channel) specular part at pattern scale s,
+// and GGX's view-kink weight (see `LightJets`); view_band bounds |n.v| where the kink crosses.
 void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Scale s,
-                out Jet diffuse, out Jet spec[3]) {
+                float view_band, out Jet diffuse, out Jet spec[3], out vec3 view_kink) {
+    view_kink = vec3(0.0);
     P float n_w = gc(s.b / frame.r_n);
     Field n = Field(n_w, rmin(n_w, gc(s.g / frame.r_n)), 0.0, T_NORMAL);
     P float l_w = gmul(s.a, st.inv_d);
@@ -1209,12 +1226,12 @@ void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Sc
     Jet gjet;
     Jet vjet;
     Jet djet;
-    ggx_factor_jets(n, l, v, h, st, vec2(h0, h1), w_nh, alphas[0], gjet, vjet, djet);
+    ggx_factor_jets(n, l, v, h, st, vec2(h0, h1), w_nh, alphas[0], view_band, gjet, vjet, djet);
     for (int i = 1; i < alpha_count; ++i) {
         Jet g2;
         Jet v2;
         Jet d2;
-        ggx_factor_jets(n, l, v, h, st, vec2(h0, h1), w_nh, alphas[i], g2, v2, d2);
+        ggx_factor_jets(n, l, v, h, st, vec2(h0, h1), w_nh, alphas[i], view_band, g2, v2, d2);
         gjet = jet_max(gjet, g2);
         vjet = jet_max(vjet, v2);
         djet = jet_max(djet, d2);
@@ -1234,6 +1251,9 @@ void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Sc
     P float om3 = om * om2;
     P float om4 = om2 * om2;
     P float om5 = om * om4;
+    // |V'| at the kink, largest at the smallest k.
+    P float k_lo = 0.5 * alpha_lo;
+    P float kink_slope = st.nv_sign == SIGN_BOTH ? (1.0 - k_lo) / (k_lo * k_lo) : 0.0;
     for (int c = 0; c < 3; ++c) {
         P float f0c = material.specular[c];
         P float fm = f0c + (1.0 - f0c) * om5;
@@ -1254,6 +1274,8 @@ void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Sc
         spec[c].m = 0.25 * p.m;
         spec[c].g = 0.25 * p.g;
         spec[c].h = gmul(p.h, 0.25);
+        P float without_v = gmul(gmul(gmul(att.m, djet.m), fjet.m), gjet.m);
+        view_kink[c] = gmul(0.25 * without_v, kink_slope);
     }
 }
 
@@ -1386,6 +1408,11 @@ P vec3 polygon_specular_bound(GpuMaterial material, vec2 param, LightSetup st, G
 // `terminator_band`).
 P float terminator_band(Frame frame, LightSetup st, Scale d) {
     return gc(d.b / frame.r_n + d.a * st.inv_d);
+}
+
+// Relaxed, GGX: |n.v| on a sub-triangle of diameters d that n.v = 0 crosses (`view_band`).
+P float view_band(Frame frame, Scale d) {
+    return gc(d.b / frame.r_n + d.a / frame.e_min);
 }
 
 // Relaxed: the factor <= 1 by which the specular lobe's sup over the band 0 < n.l <= beta is
@@ -1582,8 +1609,8 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
                 return REASON_DISCONTINUITY;
             }
         } else {
-            // max(n.v, 0) has a kink in V at n.v = 0.
-            if (setup.nv_sign == SIGN_BOTH) {
+            // max(n.v, 0) has a kink in V at n.v = 0: bounded in Relaxed (see Rust).
+            if (setup.nv_sign == SIGN_BOTH && DISCONTINUITY == 0) {
                 return REASON_DISCONTINUITY;
             }
         }
@@ -1608,6 +1635,8 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     P vec3 tot_sn = vec3(0.0);
     P vec3 lin1 = vec3(0.0);
     P vec3 linn = vec3(0.0);
+    P vec3 lin1_s = vec3(0.0);
+    P vec3 linn_s = vec3(0.0);
     P vec3 range_d = vec3(0.0);
     P vec3 range_s = vec3(0.0);
     P vec3 spec_sup = vec3(0.0);
@@ -1618,21 +1647,31 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
         band1 = terminator_band(frame, setup, frame.d1);
         bandn = terminator_band(frame, setup, frame.dn);
     }
+    // Relaxed, GGX: the same for n.v where it may change sign (its kink in V).
+    bool view_kink = MATERIAL_KIND == MATERIAL_GGX && !setup.area && setup.nv_sign == SIGN_BOTH;
+    P float view1 = 0.0;
+    P float viewn = 0.0;
+    if (view_kink) {
+        view1 = view_band(frame, frame.d1);
+        viewn = view_band(frame, frame.dn);
+    }
     for (int level = 0; level < 2; ++level) {
         Scale s = level == 0 ? frame.s1 : frame.sn;
+        P float view_at = level == 0 ? view1 : rmin(view1, viewn);
         Jet diff;
         Jet spec[3];
+        P vec3 kink;
         if (SPLIT == 0) {
             for (int pass = 0; pass < active_term_count(); ++pass) {
                 est_term = active_term(pass);
-                light_jets(frame, material, param, setup, s, diff, spec);
+                light_jets(frame, material, param, setup, s, view_at, diff, spec, kink);
                 P vec3 spec_h = vec3(spec[0].h, spec[1].h, spec[2].h);
                 h_d[level][est_term] = diff_w * (diff.h * (0.5 * SAFETY));
                 h_s[level][est_term] = spec_w * spec_h * (0.5 * SAFETY);
             }
         }
         est_term = T_ALL;
-        light_jets(frame, material, param, setup, s, diff, spec);
+        light_jets(frame, material, param, setup, s, view_at, diff, spec, kink);
         P vec3 spec_t = vec3(spec[0].h, spec[1].h, spec[2].h);
         if (level == 0) {
             tot_d1 = diff_w * (diff.h * (0.5 * SAFETY));
@@ -1653,6 +1692,11 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
             lin1 = diff_w * (TERMINATOR_KINK * SAFETY * gmul(att, band1));
             linn = diff_w * (TERMINATOR_KINK * SAFETY * gmul(att, bandn));
         }
+        if (view_kink && level == 1) {
+            // Relaxed: the view's kink adds 1/4 sup(specular without V) |V'(0)| osc(n.v).
+            lin1_s = spec_w * (kink * (TERMINATOR_KINK * SAFETY * view1));
+            linn_s = spec_w * (kink * (TERMINATOR_KINK * SAFETY * viewn));
+        }
     }
     P vec3 other;
     if (area) {
@@ -1668,12 +1712,12 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     // Per part and channel: the smaller of the part's interpolation bound and its range
     // (`!(range <= bound)`, true for NaN, as in Rust).
     bvec3 interp_d = not(lessThanEqual(range_d, tot_dn / (top * top) + linn / top));
-    bvec3 interp_s = not(lessThanEqual(range_s, tot_sn / (top * top) + zero_top));
+    bvec3 interp_s = not(lessThanEqual(range_s, tot_sn / (top * top) + linn_s / top + zero_top));
     // The jump at levels >= 2 at a lower bound of the final level (see Rust).
     P vec3 zero_inf = terminator_jump(spec_w, spec_sup, param, setup, 0.0) + other;
     const vec3 none = vec3(0.0);
     P vec3 a = mix(none, tot_dn, interp_d) + mix(none, tot_sn, interp_s);
-    P vec3 b = mix(none, linn, interp_d);
+    P vec3 b = mix(none, linn, interp_d) + mix(none, linn_s, interp_s);
     P vec3 z = mix(none, zero_inf, interp_s);
     P float low = 1.0;
     for (int c = 0; c < 3; ++c) {
@@ -1692,18 +1736,20 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
             // The jump at l: the one at `low` where l >= low, else the whole lobe (see Rust).
             P vec3 zero_l = l >= low ? zeron : whole_lobe + other;
             P vec3 part_d = rmin3(tot_dn / (l * l) + linn / l, range_d);
-            P vec3 part_s = rmin3(tot_sn / (l * l) + zero_l, range_s);
+            P vec3 part_s = rmin3(tot_sn / (l * l) + linn_s / l + zero_l, range_s);
             sum_grid[k] = sum_grid[k] + (part_d + part_s);
         }
     }
-    sum_one = sum_one + (rmin3(tot_d1 + lin1, range_d) + rmin3(tot_s1 + zero1, range_s));
+    sum_one = sum_one + (rmin3(tot_d1 + lin1, range_d) + rmin3(tot_s1 + lin1_s + zero1, range_s));
     // Each part adds its interpolation bound or its range (diffuse first, as in Rust).
     sum_range = sum_range + mix(range_d, none, interp_d);
     sum_range = sum_range + mix(range_s, none, interp_s);
     sum_tn = sum_tn + mix(none, tot_dn, interp_d);
     sum_tn = sum_tn + mix(none, tot_sn, interp_s);
     sum_lin1 = sum_lin1 + mix(none, lin1, interp_d);
+    sum_lin1 = sum_lin1 + mix(none, lin1_s, interp_s);
     sum_linn = sum_linn + mix(none, linn, interp_d);
+    sum_linn = sum_linn + mix(none, linn_s, interp_s);
     sum_jumps1 = sum_jumps1 + mix(none, zero1, interp_s);
     sum_jumps = sum_jumps + mix(none, zeron, interp_s);
     if (SPLIT == 0) {

@@ -1420,8 +1420,9 @@ fn plan_light(
                 }
             }
             MaterialKind::Ggx { .. } => {
-                // max(n·v, 0) has a kink in V at n·v = 0.
-                if setup.nv_sign == Sign::Both {
+                // max(n·v, 0) has a kink in V at n·v = 0: Relaxed bounds it like the
+                // terminator's (`view_kink_slope`), Conservative shades it per pixel.
+                if setup.nv_sign == Sign::Both && mode == Discontinuity::Conservative {
                     return Err(Reason::Discontinuity);
                 }
             }
@@ -1452,7 +1453,7 @@ fn add_light(
     // of each part's contribution.
     let mut h = [[[Vec3::ZERO; TERM_COUNT]; 2]; 2];
     let mut tot = [[Vec3::ZERO; 2]; 2];
-    let (mut lin1, mut linn) = (Vec3::ZERO, Vec3::ZERO);
+    let (mut lin1, mut linn) = ([Vec3::ZERO; 2], [Vec3::ZERO; 2]);
     let mut range = [Vec3::ZERO; 2];
     let mut spec_sup = Vec3::ZERO;
     // Relaxed: how far n·l can be from 0 on a sub-triangle the terminator crosses, at level 1
@@ -1462,9 +1463,18 @@ fn add_light(
     } else {
         (0.0, 0.0)
     };
+    // Relaxed, GGX: the same for n·v where it may change sign (its kink in V).
+    let view_kink =
+        matches!(material, MaterialKind::Ggx { .. }) && setup.area.is_none() && setup.nv_sign == Sign::Both;
+    let (view1, viewn) =
+        if view_kink { (view_band(frame, frame.d1, gd), view_band(frame, frame.dn, gd)) } else { (0.0, 0.0) };
     for level in 0..2 {
         let s = if level == 0 { frame.s1 } else { frame.sn };
-        let (diff, spec) = light_jets(frame, material, parameter, &setup, s, gd);
+        // The kink's band on a sub-triangle: at most the patch's, and `viewn/L ≤ viewn` at
+        // the effective levels `L ≥ 1` the solver may return.
+        let view_at = if level == 0 { view1 } else { view1.min(viewn) };
+        let jets = light_jets(frame, material, parameter, &setup, s, view_at, gd);
+        let (diff, spec) = (jets.diffuse, jets.specular);
         for t in 0..TERM_COUNT {
             let spec_h = Vec3::new(spec[0].h[t], spec[1].h[t], spec[2].h[t]);
             h[DIFFUSE][level][t] = diff_w * (diff.h[t] * (0.5 * SAFETY));
@@ -1482,8 +1492,13 @@ fn add_light(
             // sub-triangle the terminator crosses (docs/estimator.md §4), and
             // osc(c) ≤ sup|Dc|·diam ≤ band/L.
             let att = if setup.inv_d > 0.0 { setup.inv_d * setup.inv_d } else { 1.0 };
-            lin1 = diff_w * (TERMINATOR_KINK * SAFETY * gd.mul(att, band1));
-            linn = diff_w * (TERMINATOR_KINK * SAFETY * gd.mul(att, bandn));
+            lin1[DIFFUSE] = diff_w * (TERMINATOR_KINK * SAFETY * gd.mul(att, band1));
+            linn[DIFFUSE] = diff_w * (TERMINATOR_KINK * SAFETY * gd.mul(att, bandn));
+        }
+        if view_kink && level == 1 {
+            // Relaxed: the view's kink adds ¼·sup(specular without V)·|V'(0)|·osc(n̂·v̂).
+            lin1[SPECULAR] = spec_w * (jets.view_kink * (TERMINATOR_KINK * SAFETY * view1));
+            linn[SPECULAR] = spec_w * (jets.view_kink * (TERMINATOR_KINK * SAFETY * viewn));
         }
     }
     // The n-independent parts of the specular part: a textured parameter's variation
@@ -1513,7 +1528,10 @@ fn add_light(
     // range wins for good if it is below the bound even at n_max (dim or spiky lights, a
     // faint specular lobe on a diffuse surface): at every level up to n_max it is then the
     // better bound. (The error of the sum is at most the sum of the parts' errors.)
-    let at_top = [tot[DIFFUSE][1] / (top * top) + linn / top, tot[SPECULAR][1] / (top * top) + zero_top];
+    let at_top = [
+        tot[DIFFUSE][1] / (top * top) + linn[DIFFUSE] / top,
+        tot[SPECULAR][1] / (top * top) + linn[SPECULAR] / top + zero_top,
+    ];
     let interpolated = [0, 1].map(|part| [0, 1, 2].map(|c| !(range[part][c] <= at_top[part][c])));
     // The jump at levels ≥ 2 is taken at a lower bound of the final level: the level this
     // light alone needs with the jump at its infimum (the band's width 0). Every level the
@@ -1525,7 +1543,7 @@ fn add_light(
         let (d, sp) = (interpolated[DIFFUSE][c], interpolated[SPECULAR][c]);
         if d || sp {
             let a = if d { tot[DIFFUSE][1][c] } else { 0.0 } + if sp { tot[SPECULAR][1][c] } else { 0.0 };
-            let b = if d { linn[c] } else { 0.0 };
+            let b = if d { linn[DIFFUSE][c] } else { 0.0 } + if sp { linn[SPECULAR][c] } else { 0.0 };
             let z = if sp { zero_inf[c] } else { 0.0 };
             low = low.max(level_for(a, b, z, eps));
         }
@@ -1542,14 +1560,15 @@ fn add_light(
         // narrows), below it the whole lobe does (cheap, and then the range is no larger).
         let zero_l = if l >= low { zeron } else { whole_lobe + other };
         for c in 0..3 {
-            let d = (tot[DIFFUSE][1][c] / (l * l) + linn[c] / l).min(range[DIFFUSE][c]);
-            let sp = (tot[SPECULAR][1][c] / (l * l) + zero_l[c]).min(range[SPECULAR][c]);
+            let d = (tot[DIFFUSE][1][c] / (l * l) + linn[DIFFUSE][c] / l).min(range[DIFFUSE][c]);
+            let sp =
+                (tot[SPECULAR][1][c] / (l * l) + linn[SPECULAR][c] / l + zero_l[c]).min(range[SPECULAR][c]);
             sum.grid[k][c] += d + sp;
         }
     }
     for c in 0..3 {
-        let one_d = (tot[DIFFUSE][0][c] + lin1[c]).min(range[DIFFUSE][c]);
-        let one_s = (tot[SPECULAR][0][c] + zero1[c]).min(range[SPECULAR][c]);
+        let one_d = (tot[DIFFUSE][0][c] + lin1[DIFFUSE][c]).min(range[DIFFUSE][c]);
+        let one_s = (tot[SPECULAR][0][c] + lin1[SPECULAR][c] + zero1[c]).min(range[SPECULAR][c]);
         sum.one[c] += one_d + one_s;
         for part in [DIFFUSE, SPECULAR] {
             if !interpolated[part][c] {
@@ -1561,10 +1580,9 @@ fn add_light(
                 sum.hn[t][c] += h[part][1][t][c];
             }
             sum.tn[c] += tot[part][1][c];
-            if part == DIFFUSE {
-                sum.lin1[c] += lin1[c];
-                sum.linn[c] += linn[c];
-            } else {
+            sum.lin1[c] += lin1[part][c];
+            sum.linn[c] += linn[part][c];
+            if part == SPECULAR {
                 sum.jumps1[c] += zero1[c];
                 sum.jumps[c] += zeron[c];
             }
@@ -1583,6 +1601,12 @@ const SPECULAR: usize = 1;
 /// within `sup|Dc|·diam` of 0, and `|Dc| ≤ |Dn̂| + |Dl̂| ≤ |Nδ|/min|N| + |Xδ|/d_min`.
 fn terminator_band(frame: &Frame, st: &LightSetup, d: Scale, gd: &Guard) -> f32 {
     gd.c(d.b / frame.r_n + d.a * st.inv_d)
+}
+
+/// Relaxed, GGX: the same for the view's kink, `|n̂·v̂|` on a sub-triangle of diameters `d`
+/// that `n·v = 0` crosses: `|D(n̂·v̂)| ≤ |Nδ|/min|N| + |Xδ|/e_min`.
+fn view_band(frame: &Frame, d: Scale, gd: &Guard) -> f32 {
+    gd.c(d.b / frame.r_n + d.a / frame.e_min)
 }
 
 /// Relaxed: the factor `≤ 1` by which the specular lobe's sup over the band `0 < n̂·l̂ ≤ β`
@@ -1759,14 +1783,27 @@ fn irradiance_jet(frame: &Frame, st: &LightSetup, n: &Field, a: f32, gd: &Guard)
     Jet { m: gd.mul(c, id2), g, h, t: gd.c(hn + hd + hl) }
 }
 
+/// One light's jets at one pattern scale.
+struct LightJets {
+    diffuse: Jet,
+    /// Per channel (GGX's Fresnel colours it).
+    specular: [Jet; 3],
+    /// GGX where `n·v` changes sign, per channel: the sup of the specular part without its view
+    /// half `V`, times `|V'|` at the kink (`docs/estimator.md` §4, "The view's kink"); else 0.
+    view_kink: Vec3,
+}
+
+/// The jets of one light at pattern scale `s`; `view_band` bounds `|n̂·v̂|` on the
+/// sub-triangles at this scale that the view's kink crosses (used where it may).
 fn light_jets(
     frame: &Frame,
     material: &MaterialKind,
     parameter: ParameterRange,
     st: &LightSetup,
     s: Scale,
+    view_band: f32,
     gd: &Guard,
-) -> (Jet, [Jet; 3]) {
+) -> LightJets {
     let n_w = gd.c(s.b / frame.r_n);
     let n = Field { w: n_w, radial: n_w.min(gd.c(s.g / frame.r_n)), x: 0.0, term: Term::Normal };
     let l_w = gd.mul(s.a, st.inv_d);
@@ -1788,8 +1825,9 @@ fn light_jets(
         product([att, cosine(&n, &l, st.psi_nl, gd)], gd)
     };
     let zero = Jet::constant(0.0);
+    let only_diffuse = LightJets { diffuse, specular: [zero; 3], view_kink: Vec3::ZERO };
     if matches!(material, MaterialKind::Lambert { .. }) || st.area.is_some() {
-        return (diffuse, [zero; 3]);
+        return only_diffuse;
     }
 
     let v_w = gd.c(s.a / frame.e_min);
@@ -1805,7 +1843,7 @@ fn light_jets(
         MaterialKind::Lambert { .. } => unreachable!(),
         MaterialKind::BlinnPhong { .. } => {
             if st.psi_nh.0 >= FRAC_PI_2 {
-                return (diffuse, [zero; 3]);
+                return only_diffuse;
             }
             // A shininess anywhere in [s₀, s₁] (s₀ ≥ 1): every factor s, s − 1 grows with s
             // and every power of t = cos ψ ≤ 1 shrinks, so s₁ and s₀ bound them separately.
@@ -1813,7 +1851,7 @@ fn light_jets(
             let curv = curvature(&n, &h, (h0, h1), gd);
             let t = power_jet(&c_nh, &curv, (parameter.lo, parameter.hi), (h0, h1), w_nh, gd);
             let spec = product([att, t], gd);
-            (diffuse, [spec; 3])
+            LightJets { specular: [spec; 3], ..only_diffuse }
         }
         MaterialKind::Ggx { f0, .. } => {
             // The roughness-dependent factors D, G and V at the ends of the roughness range
@@ -1831,21 +1869,27 @@ fn light_jets(
                     count = 3;
                 }
             }
-            let mut factors = ggx_factor_jets(&n, &l, &v, &h, st, (h0, h1), w_nh, alphas[0], gd);
+            let mut factors = ggx_factor_jets(&n, &l, &v, &h, st, (h0, h1), w_nh, alphas[0], view_band, gd);
             for &alpha in &alphas[1..count] {
-                let more = ggx_factor_jets(&n, &l, &v, &h, st, (h0, h1), w_nh, alpha, gd);
+                let more = ggx_factor_jets(&n, &l, &v, &h, st, (h0, h1), w_nh, alpha, view_band, gd);
                 factors = [0, 1, 2].map(|f| jet_max(&factors[f], &more[f]));
             }
             let [gjet, vjet, djet] = factors;
 
             let vh = half_cosine_jet(&l, &v, st.psi_lv.1, st.m_min, gd);
+            // |V'| at the kink, largest at the smallest k.
+            let k = 0.5 * alpha_lo;
+            let kink_slope = if st.nv_sign == Sign::Both { (1.0 - k) / (k * k) } else { 0.0 };
             let mut spec = [zero; 3];
+            let mut view_kink = Vec3::ZERO;
             for (c, out) in spec.iter_mut().enumerate() {
                 let fjet = fresnel_jet(f0[c], &vh, gd);
                 let p = product([att, djet, fjet, gjet, vjet], gd);
                 *out = Jet { m: 0.25 * p.m, g: 0.25 * p.g, h: scaled(&p.h, 0.25, gd), t: gd.mul(p.t, 0.25) };
+                let without_v = gd.mul(gd.mul(gd.mul(att.m, djet.m), fjet.m), gjet.m);
+                view_kink[c] = gd.mul(0.25 * without_v, kink_slope);
             }
-            (diffuse, spec)
+            LightJets { specular: spec, view_kink, ..only_diffuse }
         }
     }
 }
@@ -1862,6 +1906,7 @@ fn ggx_factor_jets(
     nh: (f32, f32),
     w_nh: f32,
     alpha: f32,
+    view_band: f32,
     gd: &Guard,
 ) -> [Jet; 3] {
     let (n, l, v, h) = (*n, *l, *v, *h);
@@ -1874,12 +1919,14 @@ fn ggx_factor_jets(
     let gjet = smith_g_jet(&c_g, nl, k, gd);
 
     // V_v = 1/(max(n·v, 0)(1−k)+k): constant 1/k where n·v ≤ 0 throughout.
-    let vjet = if st.nv_sign == Sign::NonPositive {
-        Jet::constant(1.0 / k)
-    } else {
-        let nv = (st.psi_nv.0, st.psi_nv.1.min(FRAC_PI_2));
-        let c_v = cosine(&n, &v, nv, gd);
-        smith_v_jet(&c_v, nv, k, gd)
+    let vjet = match st.nv_sign {
+        Sign::NonPositive => Jet::constant(1.0 / k),
+        Sign::Positive => {
+            let nv = (st.psi_nv.0, st.psi_nv.1.min(FRAC_PI_2));
+            let c_v = cosine(&n, &v, nv, gd);
+            smith_v_jet(&c_v, nv, k, gd)
+        }
+        Sign::Both => smith_v_kink_jet(&cosine(&n, &v, st.psi_nv, gd), k, view_band, gd),
     };
 
     // D(t), t = n·h = cos ψ, with s2 = sin²ψ and u = α² + (1−α²)s2:
@@ -1984,6 +2031,20 @@ fn smith_v_jet(c_v: &Jet, nv: (f32, f32), k: f32, gd: &Guard) -> Jet {
     let v1 = (1.0 - k) / (q * q);
     let v2 = 2.0 * (1.0 - k) * (1.0 - k) / (q * q * q);
     chain(c_v, 1.0 / q, v1, v2, Term::V, gd)
+}
+
+/// Relaxed, where `n·v` changes sign (`docs/estimator.md` §4, "The view's kink"): with
+/// `u = n̂·v̂`, `V(max(u, 0)) = 1/k − max(ρ(u), 0)`, `ρ` the smooth function that is
+/// `1/k − V(u)` for `u ≥ 0` and continues with its slope `(1 − k)/k²` below 0. The smooth
+/// parts' bounds are this jet: `c_v` the cosine's jet over the whole angle range (both sides),
+/// `|ρ'| ≤ (1 − k)/k²`, `|ρ''| ≤ 2(1 − k)²/k³`, and the value `1/k + sup|ρ(u)|`, where
+/// `|u| ≤ band` on a sub-triangle the kink crosses (the others need only `1/k`). The kink
+/// itself adds a first-order part (`view_kink_slope`).
+fn smith_v_kink_jet(c_v: &Jet, k: f32, band: f32, gd: &Guard) -> Jet {
+    let slope = (1.0 - k) / (k * k);
+    let v2 = 2.0 * (1.0 - k) * (1.0 - k) / (k * k * k);
+    let value = gd.c(1.0 / k + gd.mul(slope, c_v.m.min(band)));
+    chain(c_v, value, slope, v2, Term::V, gd)
 }
 
 /// Elementwise larger bounds of two jets.
@@ -3666,6 +3727,45 @@ mod tests {
         }
     }
 
+    /// The view kink's split (`smith_v_kink_jet`): `V(max(u, 0)) = 1/k − max(ρ(u), 0)` with
+    /// `ρ` the tangent-continued `1/k − V`; the jet of `u` itself (slope 1, no curvature)
+    /// must bound `ρ`'s slope and curvature on both sides of the kink, and `1/k − ρ(u)` on
+    /// `|u| ≤ band`.
+    #[test]
+    fn view_kink_split_is_exact_and_its_jet_bounds_it() {
+        for k in [5.0e-4f64, 0.01, 0.045, 0.2, 0.5] {
+            let v = |c: f64| 1.0 / (c * (1.0 - k) + k);
+            let rho = |u: f64| if u >= 0.0 { 1.0 / k - v(u) } else { (1.0 - k) / (k * k) * u };
+            for band in [0.01f64, 0.1, 1.0] {
+                let identity = Jet { m: band as f32, g: 1.0, h: NO_H, t: 0.0 };
+                let gd = Guard::default();
+                let jet = smith_v_kink_jet(&identity, k as f32, band as f32, &gd);
+                let (m, g, t) = (f64::from(jet.m), f64::from(jet.g), f64::from(jet.t));
+                let steps = 2000;
+                // Differences with a step well inside V's scale k, at points clear of the
+                // kink by two steps (one of them right next to it).
+                let h = 1e-3 * k.min(band);
+                let grid = (-steps..=steps).map(|i| band * i as f64 / steps as f64);
+                let (mut slope, mut curve) = (0.0f64, 0.0f64);
+                for u in grid.chain([2.0 * h, -2.0 * h]) {
+                    let split = 1.0 / k - rho(u).max(0.0);
+                    assert!((split - v(u.max(0.0))).abs() <= 1e-12 * v(0.0), "k {k}, u {u}");
+                    assert!((1.0 / k - rho(u)).abs() <= m * (1.0 + 1e-6), "k {k}, u {u}: value over {m}");
+                    if u.abs() >= 2.0 * h && u.abs() <= band - h {
+                        let first = (rho(u + h) - rho(u - h)) / (2.0 * h);
+                        let second = (rho(u + h) - 2.0 * rho(u) + rho(u - h)) / (h * h);
+                        slope = slope.max(first.abs());
+                        curve = curve.max(second.abs());
+                    }
+                }
+                assert!(slope <= g * (1.0 + 1e-5), "k {k}: slope {slope} > {g}");
+                assert!(curve <= t * (1.0 + 1e-3), "k {k}: curvature {curve} > {t}");
+                // Both are reached next to the kink (the bounds are ρ's at u = 0⁺).
+                assert!(slope >= 0.99 * g && curve >= 0.99 * t, "k {k}: {slope}/{g}, {curve}/{t}");
+            }
+        }
+    }
+
     #[test]
     fn extremes_behave() {
         let lam = materials()[0];
@@ -4006,7 +4106,8 @@ mod tests {
                 let g_step = DVec3::new(np.dot(n_step), nq.dot(n_step), nr.dot(n_step));
                 let scale =
                     Scale { a: x_step.length() as f32, b: n_step.length() as f32, g: g_step.length() as f32 };
-                let (diff, spec) = light_jets(&frame, &material, parameter, &setup, scale, &gd);
+                let jets = light_jets(&frame, &material, parameter, &setup, scale, 0.0, &gd);
+                let (diff, spec) = (jets.diffuse, jets.specular);
                 let h = 2.0e-5;
                 let (f0, fp, fm) = (at(0.0), at(h), at(-h));
                 for c in 0..3 {
