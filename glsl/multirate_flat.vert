@@ -5,12 +5,16 @@
 // the list's k-th triangle; it is shaded as multirate.tese shades that corner at level 1 (same
 // position, normal, parameter level of detail and precise clip position), so the image, the
 // evaluation count and the edges shared with tessellated neighbours are those of the
-// tessellated draw.
+// tessellated draw. In the draw of the flat triangles shaded per pixel (FLAG_FALLBACK_PATCHES)
+// it shades nothing and passes the corner on to multirate.frag at level 0, as multirate.tese
+// does for a fallback patch.
 #include "triangle_level.glsl"
 #include "texturing.glsl"
 
 layout(location = 0) out vec3 out_diffuse;
 layout(location = 1) out vec3 out_specular;
+layout(location = 2) out vec3 out_position;
+layout(location = 3) out vec3 out_normal;
 layout(location = 4) out vec2 out_uv;
 layout(location = 5) flat out float out_level;
 #if TRIANGLE_IDS
@@ -20,11 +24,27 @@ layout(location = TRIANGLE_ID_LOCATION) flat out uint out_triangle;
 precise gl_Position;
 
 void main() {
-    uint triangle = flat_patches[draw.patch_base + uint(gl_VertexIndex) / 3u];
+    bool per_pixel = (draw.flags & FLAG_FALLBACK_PATCHES) != 0u;
+    uint entry = uint(gl_VertexIndex) / 3u;
+    uint triangle = flat_patches[draw.patch_base + (per_pixel ? draw.triangle_count - 1u - entry : entry)];
     uint corner = uint(gl_VertexIndex) % 3u;
     uint vertex = scene_indices[3u * triangle + corner];
     vec3 position = scene_vec3(vertex, 0u);
+    vec3 normal = scene_vec3(vertex, 3u);
     vec2 uv = scene_uv(vertex);
+    out_position = position;
+    out_normal = normal;
+    out_uv = uv;
+#if TRIANGLE_IDS
+    out_triangle = triangle;
+#endif
+    gl_Position = draw.view_proj * vec4(position, 1.0);
+    if (per_pixel) {
+        out_diffuse = vec3(0.0);
+        out_specular = vec3(0.0);
+        out_level = 0.0;
+        return;
+    }
     GpuMaterial m = materials[draw.material_index];
     float parameter = m.params.x;
     if (has_parameter_map(m)) {
@@ -36,16 +56,11 @@ void main() {
         float lod_bound = material_lod_bound(t[0], t[1], t[2]) - 0.02;
         parameter = parameter_at_lod(m, uv, subvertex_lod(m, p, t, position, 1.0, lod_bound));
     }
-    Shading s = shade(position, scene_vec3(vertex, 3u), draw.eye.xyz, draw.material_index, parameter);
+    Shading s = shade(position, normal, draw.eye.xyz, draw.material_index, parameter);
     out_diffuse = s.diffuse;
     out_specular = s.specular;
     if (COUNT_EVALUATIONS) {
         atomicAdd(counters.subvertex_evaluations, 1u);
     }
-    out_uv = uv;
     out_level = 1.0;
-#if TRIANGLE_IDS
-    out_triangle = triangle;
-#endif
-    gl_Position = draw.view_proj * vec4(position, 1.0);
 }

@@ -4,9 +4,10 @@
 // a mesh combines its level and its neighbours' (triangle_levels, written by
 // triangle_levels.comp) into the tessellation levels of its patch (estimator.glsl,
 // `patch_levels`), writes them to patch_tess_levels, and appends the triangle to one of the
-// mesh's lists (bindings.glsl): the flat patches (all levels 1, drawn without tessellation),
-// or the interpolated or the fallback patches, counting it into the indirect draw that covers
-// its slot. The control stage (multirate_levels.tesc) only reads the levels.
+// mesh's lists (bindings.glsl): the flat patches (all levels 1, drawn without tessellation,
+// shaded on their corners or per pixel), or the interpolated or the fallback patches, counting
+// it into the indirect draw that covers its slot. The control stage (multirate_levels.tesc)
+// only reads the levels.
 #include "triangle_level.glsl"
 
 layout(local_size_x = 64) in;
@@ -24,12 +25,14 @@ void main() {
     if (VARIANT_RECORD_LEVELS != 0) {
         level_records[triangle] = level_record(levels);
     }
-    // A patch that is its own triangle needs no tessellator: the flat list.
-    if (!levels.fallback && levels.inner <= 1.0 && all(lessThanEqual(levels.outer, vec3(1.0)))) {
-        uint entry = atomicAdd(flat_draws[draw.mesh_index].x, 3u) / 3u;
-        flat_patches[draw.patch_base + entry] = triangle;
+    // A patch that is its own triangle needs no tessellator: the flat list, whose triangles
+    // shaded per pixel are listed from the mesh's last triangle down.
+    if (levels.inner <= 1.0 && all(lessThanEqual(levels.outer, vec3(1.0)))) {
+        uint flat_draw = 2u * draw.mesh_index + (levels.fallback ? 1u : 0u);
+        uint entry = atomicAdd(flat_draws[flat_draw].x, 3u) / 3u;
+        flat_patches[draw.patch_base + (levels.fallback ? draw.triangle_count - 1u - entry : entry)] = triangle;
         if (entry == 0u) {
-            flat_draws[draw.mesh_index].y = 1u;
+            flat_draws[flat_draw].y = 1u;
         }
         return;
     }

@@ -18,7 +18,7 @@ void main() {
     uint a = scene_indices[3u * triangle];
     uint b = scene_indices[3u * triangle + 1u];
     uint c = scene_indices[3u * triangle + 2u];
-    triangle_levels[triangle] = estimated_level(scene_vec3(a, 0u), scene_vec3(b, 0u), scene_vec3(c, 0u),
-                                                scene_vec3(a, 3u), scene_vec3(b, 3u), scene_vec3(c, 3u),
-                                                scene_uv(a), scene_uv(b), scene_uv(c));
+    triangle_levels[triangle] = visible_level(scene_vec3(a, 0u), scene_vec3(b, 0u), scene_vec3(c, 0u),
+                                              scene_vec3(a, 3u), scene_vec3(b, 3u), scene_vec3(c, 3u),
+                                              scene_uv(a), scene_uv(b), scene_uv(c));
 }

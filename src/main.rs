@@ -404,7 +404,10 @@ fn analyze(args: &AnalyzeArgs, gpu: &GpuArgs) -> Result<()> {
         settings.epsilon,
         settings.n_max
     );
-    println!("  fallback to per-pixel shading: {}", summary.fallbacks);
+    println!(
+        "  fallback to per-pixel shading: {} ({} back faces of two-sided meshes)",
+        summary.fallbacks, summary.back_faces
+    );
     println!("  shading evaluations (tessellated vertices), estimator: {}", summary.estimator_evaluations);
     if args.oracle {
         println!("  shading evaluations (tessellated vertices), oracle:    {}", summary.oracle_evaluations);

@@ -5,7 +5,9 @@
 //!   pixel in `pixel` mode, three vertex evaluations in `vertex` mode, and a scene that falls
 //!   back everywhere counts exactly the fragments of `pixel` mode;
 //! - multirate draws patches whose levels are all 1 without the tessellator and shades their
-//!   corners once each.
+//!   corners once each;
+//! - the back faces of a two-sided mesh fall back to per-pixel shading after the front faces:
+//!   hidden, they shade nothing and reach the tessellator only beside a tessellated edge.
 
 mod common;
 
@@ -159,5 +161,63 @@ fn level_one_patches_skip_the_tessellator_and_shade_their_corners() {
     let counted_flat = renderer.count_evaluations(&target, &flat_only).expect("count");
     assert_eq!(counted_flat.sub_vertices, 3 * all_visible, "three corners per visible triangle");
     assert!(counted.sub_vertices > 3 * flat, "{counted:?}");
+    assert_validation_clean(&context);
+}
+
+#[test]
+fn back_faces_of_a_two_sided_mesh_fall_back_and_shade_only_where_seen() {
+    // The icosphere is closed, so it is one-sided by default and its back faces are culled.
+    // Marked two-sided, its back faces are drawn, but shaded per pixel in the fallback draw
+    // after the front faces: the early depth test rejects every fragment the front faces hide,
+    // so the hidden half costs no shading, where interpolation would shade its sub-vertices.
+    let one_sided = Scene::load(&repo_path("scenes/test/ggx_point.toml")).expect("scene");
+    let sphere = one_sided.meshes.iter().position(|m| m.name == "sphere").expect("sphere mesh");
+    assert!(!one_sided.meshes[sphere].two_sided, "a closed mesh is one-sided by default");
+    let mut two_sided = one_sided.clone();
+    two_sided.meshes[sphere].two_sided = true;
+    let context = validated_context();
+    let target = RenderTarget::new(&context, vk::Extent2D { width: 160, height: 120 }).expect("target");
+    let view = View { mode: Mode::Multirate, ..View::of_scene(&one_sided) };
+
+    let culling = Renderer::new(&context, &one_sided).expect("renderer");
+    let culled_levels = culling.record_levels(&target, &view).expect("levels");
+    let culled_counts = culling.count_evaluations(&target, &view).expect("count");
+    let culled_image = culling.render(&target, &view).expect("render");
+    let keeping = Renderer::new(&context, &two_sided).expect("renderer");
+    let kept_levels = keeping.record_levels(&target, &view).expect("levels");
+    let kept_counts = keeping.count_evaluations(&target, &view).expect("count");
+    let kept_image = keeping.render(&target, &view).expect("render");
+
+    // Every back face the one-sided mesh culls inside the view falls back instead; nothing else
+    // changes, neighbours' edge levels included (a fallback asks as little as a culled face).
+    let first: usize = two_sided.meshes[..sphere].iter().map(|m| m.indices.len() / 3).sum();
+    let count = two_sided.meshes[sphere].indices.len() / 3;
+    let mut back_faces = 0u64;
+    for (triangle, (culled, kept)) in culled_levels.iter().zip(&kept_levels).enumerate() {
+        if (first..first + count).contains(&triangle) && culled[0] == CULLED_LEVEL && kept[0] != CULLED_LEVEL
+        {
+            assert_eq!(kept[0], 0.0, "triangle {triangle}: a kept back face falls back");
+            back_faces += 1;
+        } else {
+            assert_eq!(culled, kept, "triangle {triangle}");
+        }
+    }
+    assert!(back_faces > count as u64 / 4, "{back_faces} of the sphere's {count} triangles are back faces");
+    assert_eq!(kept_counts.culled_patches + back_faces, culled_counts.culled_patches);
+    assert_eq!(kept_counts.sub_vertices, culled_counts.sub_vertices, "back faces shade no sub-vertex");
+    assert_eq!(kept_counts.fragments, culled_counts.fragments, "nor a fragment: the front faces hide them");
+    assert_eq!(kept_image.pixels, culled_image.pixels, "the same image");
+    // Only the back faces beside a tessellated edge reach the tessellator (their outer levels
+    // must match it); the others are drawn as they are, like the flat patches.
+    let patches = |renderer: &Renderer| {
+        let measured = renderer.measure(&target, &view, 0, 1).expect("measure");
+        measured.statistics.expect("statistics").tessellation_control_patches
+    };
+    let beside_tessellated = kept_levels.iter().zip(&culled_levels).filter(|(kept, culled)| {
+        culled[0] == CULLED_LEVEL && kept[0] == 0.0 && kept[1..].iter().any(|&outer| outer > 1.0)
+    });
+    let beside_tessellated = beside_tessellated.count() as u64;
+    assert!(beside_tessellated < back_faces, "{beside_tessellated} of {back_faces}");
+    assert_eq!(patches(&keeping), patches(&culling) + beside_tessellated);
     assert_validation_clean(&context);
 }

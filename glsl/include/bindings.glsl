@@ -69,14 +69,17 @@ layout(set = 0, binding = 13, std430) buffer InterpolatedPatches { uint interpol
 layout(set = 0, binding = 14, std430) buffer FallbackPatches { uint fallback_patches[]; };
 layout(set = 0, binding = 15, std430) buffer InterpolatedDraws { uvec4 interpolated_draws[]; };
 layout(set = 0, binding = 16, std430) buffer FallbackDraws { uvec4 fallback_draws[]; };
-// Per mesh, from its first triangle on, a third list: the visible triangles whose patch is the
-// triangle itself (inner and outer levels all 1), drawn without tessellation by one indirect
-// draw, flat_draws[mesh] (vertexCount = 3 per triangle, counted as they are listed; the host
-// zeroes it, and the first entry sets instanceCount to 1). multirate_flat.vert shades their
-// corners as the evaluation stage would.
+// Per mesh, a third list: the visible triangles whose patch is the triangle itself (inner and
+// outer levels all 1), drawn without tessellation. Those shaded on their corners are listed from
+// the mesh's first triangle on and drawn by flat_draws[2 mesh]; those shaded per pixel from its
+// last triangle down, by flat_draws[2 mesh + 1] (vertexCount = 3 per triangle, counted as they
+// are listed; the host zeroes them, and the first entry sets instanceCount to 1).
+// multirate_flat.vert shades the corners as the evaluation stage would, or, in the per-pixel
+// draw (FLAG_FALLBACK_PATCHES), passes them on for multirate.frag to shade.
 layout(set = 0, binding = 17, std430) buffer FlatPatches { uint flat_patches[]; };
 layout(set = 0, binding = 18, std430) buffer FlatDraws { uvec4 flat_draws[]; };
-// DrawConstants.flags bit: this draw is of the fallback list (else of the interpolated one).
+// DrawConstants.flags bit: this draw is of the fallback list (else of the interpolated one), or
+// of the flat triangles shaded per pixel.
 const uint FLAG_FALLBACK_PATCHES = 16u;
 
 // One Vertex of scene_vertices (src/gpu_types.rs): position, normal, uv.

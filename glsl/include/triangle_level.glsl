@@ -4,7 +4,8 @@
 //
 // A triangle that cannot be seen is culled before the estimator runs: it lies wholly outside
 // one plane of the view frustum, or it faces away from the eye on a one-sided mesh. Its level is
-// CULLED_LEVEL, and the control stage gives its patch outer level 0. Rust twin of the culling:
+// CULLED_LEVEL, and the control stage gives its patch outer level 0. A back face of a two-sided
+// mesh is not estimated either: it is shaded per pixel (visible_level). Rust twin of both:
 // `src/render/cull.rs` (bit-identical: `precise`, no fused multiply-adds).
 #ifndef TRIANGLE_LEVEL_GLSL
 #define TRIANGLE_LEVEL_GLSL
@@ -27,6 +28,16 @@ P vec4 clip_of(vec3 p) {
     return c;
 }
 
+// Whether the eye lies clearly behind the triangle's plane (`cull::faces_away` in Rust).
+bool faces_away(vec3 p0, vec3 p1, vec3 p2) {
+    // Front faces wind anticlockwise: their normal (p1 − p0) × (p2 − p0) points to the eye.
+    P vec3 normal = cross3(p1 - p0, p2 - p0);
+    P vec3 to_eye = draw.eye.xyz - p0;
+    P float facing = dot3(normal, to_eye);
+    P float margin = BACKFACE_MARGIN_SQUARED * len2(normal) * len2(to_eye);
+    return facing < 0.0 && facing * facing > margin;
+}
+
 // Whether no point of the triangle can be visible (`cull::culled` in Rust).
 bool patch_culled(vec3 p0, vec3 p1, vec3 p2) {
     P vec4 a = clip_of(p0);
@@ -39,15 +50,7 @@ bool patch_culled(vec3 p0, vec3 p1, vec3 p2) {
         || (a.z > a.w && b.z > b.w && c.z > c.w) || (a.z < 0.0 && b.z < 0.0 && c.z < 0.0)) {
         return true;
     }
-    if ((draw.flags & FLAG_ONE_SIDED) == 0u) {
-        return false;
-    }
-    // Front faces wind anticlockwise: their normal (p1 − p0) × (p2 − p0) points to the eye.
-    P vec3 normal = cross3(p1 - p0, p2 - p0);
-    P vec3 to_eye = draw.eye.xyz - p0;
-    P float facing = dot3(normal, to_eye);
-    P float margin = BACKFACE_MARGIN_SQUARED * len2(normal) * len2(to_eye);
-    return facing < 0.0 && facing * facing > margin;
+    return (draw.flags & FLAG_ONE_SIDED) != 0u && faces_away(p0, p1, p2);
 }
 
 // The coarsest level of detail at which the evaluation stage samples the parameter map on the
@@ -99,12 +102,24 @@ float estimated_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2
                           draw.viewport.z, draw.viewport.w);
 }
 
-// The level of the draw's triangle: CULLED_LEVEL, or its estimated_level.
+// The level of the draw's triangle that is not culled: FALLBACK_LEVEL for a back face of a
+// two-sided mesh (`cull::shaded_per_pixel` in Rust), else its estimated_level. Such a
+// back face is shaded per pixel in the fallback draw, which comes after the others, so that
+// where the mesh's front faces hide it (the far side of an open mesh) the early depth test
+// rejects its fragments before they shade; interpolated, its sub-vertices would all be shaded.
+float visible_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2) {
+    if ((draw.flags & FLAG_ONE_SIDED) == 0u && faces_away(p0, p1, p2)) {
+        return FALLBACK_LEVEL;
+    }
+    return estimated_level(p0, p1, p2, n0, n1, n2, t0, t1, t2);
+}
+
+// The level of the draw's triangle: CULLED_LEVEL, or its visible_level.
 float triangle_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2) {
     if (patch_culled(p0, p1, p2)) {
         return CULLED_LEVEL;
     }
-    return estimated_level(p0, p1, p2, n0, n1, n2, t0, t1, t2);
+    return visible_level(p0, p1, p2, n0, n1, n2, t0, t1, t2);
 }
 
 #endif

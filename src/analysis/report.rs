@@ -8,13 +8,13 @@ use super::measured::Measured;
 use super::oracle::{oracle_level, true_error_textured, vertices_at_level, SAMPLES_PER_EDGE};
 use super::tessellator::triangle_pattern;
 use crate::render::camera::view_projection;
-use crate::render::cull::{culled, CULLED_LEVEL};
+use crate::render::cull::{culled, shaded_per_pixel, CULLED_LEVEL};
 use crate::scene::adjacency::{adjacency_patches, PATCH_SIZE};
 use crate::scene::texture::PowerSat;
 use crate::scene::{with_parameter, Scene};
 use crate::shading::estimator::{
     estimate_textured, patch_levels, Estimate, EstimatorSettings, ParameterRange, PatchLevels, TriangleInput,
-    TERM_NAMES,
+    FALLBACK_LEVEL, TERM_NAMES,
 };
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -41,6 +41,9 @@ pub struct TriangleReport {
     /// Culled before its estimate (`render::cull`): not drawn, outer levels 0. Only
     /// `Triangles::All` reports culled triangles.
     pub culled: bool,
+    /// A back face of a two-sided mesh (`render::cull::shaded_per_pixel`): shaded per pixel
+    /// whatever its estimate, which is reported all the same.
+    pub back_face: bool,
 }
 
 /// Vertices (shading evaluations) of the pattern with these levels.
@@ -52,8 +55,11 @@ pub fn pattern_vertices(levels: &PatchLevels) -> u64 {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Summary {
     pub triangles: usize,
-    /// Patches shaded per pixel (the estimator's fallbacks and the patches no inner level fits).
+    /// Patches shaded per pixel (the estimator's fallbacks, the patches no inner level fits and
+    /// the back faces of two-sided meshes).
     pub fallbacks: usize,
+    /// Of the fallbacks, the back faces of two-sided meshes (never estimated on the GPU).
+    pub back_faces: usize,
     /// Tessellated vertices the control stage's levels shade (fallback patches excluded),
     /// shared-edge levels included.
     pub estimator_evaluations: u64,
@@ -137,13 +143,22 @@ pub fn analyze(
         let estimate_of = |corners: &[u32]| {
             estimate_textured(&input(corners), material, range(corners), &scene.lights, settings)
         };
-        let culled_of = |corners: &[u32]| {
-            let positions = [0, 1, 2].map(|k| mesh.positions[corners[k] as usize]);
-            culled(&view_proj, scene.camera.eye, positions, !mesh.two_sided)
+        let positions_of = |corners: &[u32]| [0, 1, 2].map(|k| mesh.positions[corners[k] as usize]);
+        let culled_of =
+            |corners: &[u32]| culled(&view_proj, scene.camera.eye, positions_of(corners), !mesh.two_sided);
+        let back_face_of =
+            |corners: &[u32]| shaded_per_pixel(scene.camera.eye, positions_of(corners), !mesh.two_sided);
+        // As triangle_level.glsl: a culled triangle gets no estimate, a back face of a
+        // two-sided mesh falls back without one.
+        let level_of = |corners: &[u32]| {
+            if culled_of(corners) {
+                CULLED_LEVEL
+            } else if back_face_of(corners) {
+                FALLBACK_LEVEL
+            } else {
+                estimate_of(corners).level
+            }
         };
-        // As triangle_level.glsl: a culled triangle gets no estimate.
-        let level_of =
-            |corners: &[u32]| if culled_of(corners) { CULLED_LEVEL } else { estimate_of(corners).level };
         let patches = adjacency_patches(mesh);
         for (triangle, patch) in patches.chunks_exact(PATCH_SIZE).enumerate() {
             let own_culled = culled_of(&patch[0..3]);
@@ -152,8 +167,10 @@ pub fn analyze(
             }
             let own = input(&patch[0..3]);
             let own_estimate = estimate_of(&patch[0..3]);
+            let back_face = back_face_of(&patch[0..3]);
             let neighbours = [0, 1, 2].map(|edge| level_of(&patch[3 + 3 * edge..6 + 3 * edge]));
-            let levels = patch_levels(own_estimate.level, neighbours, n_max);
+            let own_level = if back_face { FALLBACK_LEVEL } else { own_estimate.level };
+            let levels = patch_levels(own_level, neighbours, n_max);
             let (oracle_n, true_err) = if with_oracle {
                 let oracle =
                     oracle_level(&own, material, &scene.lights, settings.epsilon as f64, n_max, |n| {
@@ -198,6 +215,7 @@ pub fn analyze(
                 oracle_n,
                 true_error: true_err,
                 culled: own_culled,
+                back_face,
             });
         }
     }
@@ -210,6 +228,7 @@ pub fn summarize(reports: &[TriangleReport], epsilon: f32) -> Summary {
     for report in reports {
         if report.levels.fallback {
             summary.fallbacks += 1;
+            summary.back_faces += usize::from(report.back_face);
             continue;
         }
         summary.estimator_evaluations += pattern_vertices(&report.levels);
@@ -225,7 +244,8 @@ pub fn summarize(reports: &[TriangleReport], epsilon: f32) -> Summary {
 
 /// The CSV of `reports`: one row per triangle, one column per estimator term, then the real
 /// level, the uniform `n`, the patch's level and outer levels as the control stage writes them
-/// (`patch_level` 0: per-pixel fallback, `reason` `Mixed` when only the mixed pattern is why).
+/// (`patch_level` 0: per-pixel fallback, `reason` `BackFace` for a back face of a two-sided
+/// mesh, `Mixed` when only the mixed pattern is why).
 /// `measured`: per `(mesh, triangle)` the GPU-measured error (`analyze --measured`), written
 /// as `measured_error,measured_pixels` (empty for triangles without interior pixels).
 pub fn to_csv(
@@ -250,9 +270,12 @@ pub fn to_csv(
         for value in r.estimate.terms {
             let _ = write!(csv, ",{value}");
         }
-        // `reason` is the estimator's; `Mixed` marks a patch that falls back only because no
-        // inner level makes its transition strips fine enough.
-        let reason = if r.levels.fallback && !r.estimate.fallback {
+        // `reason` is the estimator's; `BackFace` marks a back face of a two-sided mesh, and
+        // `Mixed` a patch that falls back only because no inner level makes its transition
+        // strips fine enough.
+        let reason = if r.back_face {
+            "BackFace".to_string()
+        } else if r.levels.fallback && !r.estimate.fallback {
             "Mixed".to_string()
         } else {
             format!("{:?}", r.estimate.reason)

@@ -1,5 +1,6 @@
 //! Culling before the estimate: which triangles of the multirate pass cannot be seen and get
-//! outer level 0 without running the estimator. The Rust twin of `patch_culled` in
+//! outer level 0 without running the estimator, and which are shaded per pixel without it (the
+//! back faces of two-sided meshes). The Rust twin of `patch_culled` and `visible_level` in
 //! `glsl/include/triangle_level.glsl`, operation for operation (no fused multiply-adds on
 //! either side), so that the level records of the GPU and of `analysis::report` agree bit for
 //! bit; `tests/multirate.rs` checks that.
@@ -43,14 +44,26 @@ pub fn culled(view_proj: &Mat4, eye: Vec3, p: [Vec3; 3], one_sided: bool) -> boo
     {
         return true;
     }
-    if !one_sided {
-        return false;
-    }
+    one_sided && faces_away(eye, p)
+}
+
+/// Whether `eye` lies clearly behind the plane of the triangle `p` (more than the sine
+/// [`BACKFACE_MARGIN_SQUARED`] away from it; front faces wind anticlockwise).
+pub fn faces_away(eye: Vec3, p: [Vec3; 3]) -> bool {
     let normal = cross3(p[1] - p[0], p[2] - p[0]);
     let to_eye = eye - p[0];
     let facing = dot3(normal, to_eye);
     let margin = BACKFACE_MARGIN_SQUARED * dot3(normal, normal) * dot3(to_eye, to_eye);
     facing < 0.0 && facing * facing > margin
+}
+
+/// Whether a triangle that is not [`culled`] is shaded per pixel without an estimate
+/// (`visible_level` in triangle_level.glsl): a back face of a two-sided mesh. The fallback
+/// draw comes after the others, so where the mesh's front faces hide such a face (the far side
+/// of an open mesh) the early depth test rejects its fragments before they shade, where
+/// interpolated shading would shade all of its sub-vertices.
+pub fn shaded_per_pixel(eye: Vec3, p: [Vec3; 3], one_sided: bool) -> bool {
+    !one_sided && faces_away(eye, p)
 }
 
 #[cfg(test)]
@@ -79,6 +92,8 @@ mod tests {
         assert!(!culled(&vp, cam.eye, front, true));
         assert!(culled(&vp, cam.eye, back, true));
         assert!(!culled(&vp, cam.eye, back, false), "two-sided meshes keep back faces");
+        assert!(shaded_per_pixel(cam.eye, back, false), "and shade them per pixel");
+        assert!(!shaded_per_pixel(cam.eye, front, false) && !shaded_per_pixel(cam.eye, back, true));
     }
 
     #[test]

@@ -362,6 +362,9 @@ struct ListPipelines<P> {
     /// The flat patches (all levels 1), without tessellation stages: multirate_flat.vert shades
     /// their corners.
     flat: P,
+    /// The flat patches shaded per pixel: multirate_flat.vert passes their corners on to
+    /// multirate.frag.
+    flat_fallback: P,
 }
 
 /// The steps of the triangle-level pre-pass (`Estimator::Compute`).
@@ -383,7 +386,11 @@ impl Variant {
             Mode::Fixed(_) => Some(one(&self.tessellated)),
             Mode::Multirate => self.multirate_cell(view).get().map(|m| MeshPipelines {
                 first: m.draw.raw,
-                lists: m.lists.as_ref().map(|l| ListPipelines { fallback: l.fallback.raw, flat: l.flat.raw }),
+                lists: m.lists.as_ref().map(|l| ListPipelines {
+                    fallback: l.fallback.raw,
+                    flat: l.flat.raw,
+                    flat_fallback: l.flat_fallback.raw,
+                }),
             }),
         }
     }
@@ -484,7 +491,8 @@ pub struct Renderer {
     _patch_lists: [Buffer; 3],
     /// The indirect draws of the first two lists (`VkDrawIndirectCommand`, one per triangle).
     patch_draws: [Buffer; 2],
-    /// The indirect draw of each mesh's flat list (`VkDrawIndirectCommand`, one per mesh).
+    /// The indirect draws of each mesh's flat list (`VkDrawIndirectCommand`, two per mesh: the
+    /// triangles shaded on their corners, then those shaded per pixel).
     flat_draws: Buffer,
     _lights: Buffer,
     _materials: Buffer,
@@ -628,7 +636,7 @@ impl Renderer {
             device_words(context, "interpolated patch draws", 4 * triangle_count, indirect)?;
         let fallback_draw_buffer =
             device_words(context, "fallback patch draws", 4 * triangle_count, indirect)?;
-        let flat_draw_buffer = device_words(context, "flat patch draws", 4 * draws.len(), indirect)?;
+        let flat_draw_buffer = device_words(context, "flat patch draws", 2 * 4 * draws.len(), indirect)?;
         let level_buffer = Buffer::new(
             context,
             "level records",
@@ -999,18 +1007,23 @@ impl Renderer {
         let stride = std::mem::size_of::<vk::DrawIndirectCommand>() as u32;
         constants.patch_base = draw.first_triangle;
         constants.patches_per_draw = per_draw;
-        // The flat patches first and the per-pixel fallback last, so that the early depth test
-        // spares the fallback's shading wherever the other lists cover it.
-        constants.flags &= !FLAG_FALLBACK_PATCHES;
-        // SAFETY: recording inside the rendering begun by `record_draws`; the pre-pass wrote
-        // the commands before the barrier it ends with; the draw buffers have INDIRECT_BUFFER
-        // usage. The flat list is one draw per mesh: no tessellated-vertex limit applies.
-        unsafe {
-            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, lists.flat);
-            self.push_draw_constants(cmd, constants);
-            let offset = vk::DeviceSize::from(draw.mesh_index * stride);
-            device.cmd_draw_indirect(cmd, self.flat_draws.raw, offset, 1, stride);
-        }
+        constants.triangle_count = draw.index_count / 3;
+        // The flat patches first and the per-pixel ones last, so that the early depth test
+        // spares the per-pixel shading wherever the other lists cover it.
+        let flat_draw = |constants: &mut DrawConstants, pipeline, which: u32, flag| {
+            constants.flags = (constants.flags & !FLAG_FALLBACK_PATCHES) | flag;
+            // SAFETY: recording inside the rendering begun by `record_draws`; the pre-pass
+            // wrote the commands before the barrier it ends with; the draw buffers have
+            // INDIRECT_BUFFER usage. A flat draw covers a mesh: no tessellated-vertex limit
+            // applies.
+            unsafe {
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+                self.push_draw_constants(cmd, constants);
+                let offset = vk::DeviceSize::from((2 * draw.mesh_index + which) * stride);
+                device.cmd_draw_indirect(cmd, self.flat_draws.raw, offset, 1, stride);
+            }
+        };
+        flat_draw(constants, lists.flat, 0, 0);
         let tessellated = [
             (interpolated, &self.patch_draws[0], 0),
             (lists.fallback, &self.patch_draws[1], FLAG_FALLBACK_PATCHES),
@@ -1027,6 +1040,7 @@ impl Renderer {
                 }
             }
         }
+        flat_draw(constants, lists.flat_fallback, 1, FLAG_FALLBACK_PATCHES);
         constants.flags &= !FLAG_FALLBACK_PATCHES;
     }
 
@@ -1733,29 +1747,25 @@ impl Modules {
         let draw = graphics(&format!("{name}, interpolated patches"), &interpolated_frag)?;
         let fallback = graphics(&format!("{name}, fallback patches"), &multirate_frag)?;
         let flat_vert = variant_module(context, "multirate_flat.vert", features)?;
-        let stages = vec![
-            Stage {
-                stage: vk::ShaderStageFlags::VERTEX,
-                module: &flat_vert,
-                specialization: Some(&specialization),
-            },
-            Stage {
-                stage: vk::ShaderStageFlags::FRAGMENT,
-                module: &interpolated_frag,
-                specialization: Some(&specialization),
-            },
-        ];
-        let flat_name = format!("{name}, flat patches");
-        let scene = scene_pipeline(&flat_name, stages, layout, variant.instrumentation);
-        let flat = Pipeline::graphics(
-            context,
-            &GraphicsPipelineDesc {
-                polygon_mode: variant.polygon_mode,
-                vertex_bindings: &[],
-                vertex_attributes: &[],
-                ..scene
-            },
-        )?;
-        Ok(Multirate { draw, lists: Some(ListPipelines { fallback, flat }), pre_pass })
+        let flat = |name: &str, fragment: &ShaderModule| {
+            let stage = |stage, module| Stage { stage, module, specialization: Some(&specialization) };
+            let stages = vec![
+                stage(vk::ShaderStageFlags::VERTEX, &flat_vert),
+                stage(vk::ShaderStageFlags::FRAGMENT, fragment),
+            ];
+            let scene = scene_pipeline(name, stages, layout, variant.instrumentation);
+            Pipeline::graphics(
+                context,
+                &GraphicsPipelineDesc {
+                    polygon_mode: variant.polygon_mode,
+                    vertex_bindings: &[],
+                    vertex_attributes: &[],
+                    ..scene
+                },
+            )
+        };
+        let flat_fallback = flat(&format!("{name}, flat patches shaded per pixel"), &multirate_frag)?;
+        let flat = flat(&format!("{name}, flat patches"), &interpolated_frag)?;
+        Ok(Multirate { draw, lists: Some(ListPipelines { fallback, flat, flat_fallback }), pre_pass })
     }
 }
