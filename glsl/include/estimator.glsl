@@ -337,6 +337,21 @@ Jet guard_jet(Jet j) {
     return Jet(gc(j.m), gc(j.g), gc(j.h));
 }
 
+// Chain rule for phi(c), with the jet `inner` of c, |phi| <= value, |phi'| <= first and
+// |phi''| <= second; phi's own curvature is booked under `term` (`chain` in Rust).
+Jet chain(Jet inner, float value, float first, float second, int term) {
+    Jet j = jet_constant(0.0);
+    j.h = gmul(inner.h, first);
+    P float inner2 = gmul(inner.g, inner.g);
+    P float curvature = gmul(second, inner2);
+    if (booked(term)) {
+        j.h = gc(j.h + curvature);
+    }
+    j.m = value;
+    j.g = gmul(first, inner.g);
+    return guard_jet(j);
+}
+
 // Product rule for k (2 or 5) factors, as `product` in Rust (the cross terms go to T_CROSS,
 // in the same order).
 Jet product(Jet f[5], int k) {
@@ -1019,16 +1034,7 @@ void ggx_factor_jets(Field n, Field l, Field v, Field h, LightSetup st, vec2 nh,
     P float q1 = c1 * (1.0 - k) + k;
     P float g1 = k / (q0 * q0);
     P float g2 = 2.0 * k * (1.0 - k) / (q0 * q0 * q0);
-    gjet = jet_constant(0.0);
-    gjet.h = gmul(c_g.h, g1);
-    P float cg2 = gmul(c_g.g, c_g.g);
-    P float hg = gmul(g2, cg2);
-    if (booked(T_V)) {
-        gjet.h = gc(gjet.h + hg);
-    }
-    gjet.m = c1 / q1;
-    gjet.g = gmul(g1, c_g.g);
-    gjet = guard_jet(gjet);
+    gjet = chain(c_g, c1 / q1, g1, g2, T_V);
 
     // V_v = 1/(max(n.v, 0)(1-k)+k): constant 1/k where n.v <= 0 throughout.
     if (st.nv_sign == SIGN_NON_POSITIVE) {
@@ -1038,32 +1044,14 @@ void ggx_factor_jets(Field n, Field l, Field v, Field h, LightSetup st, vec2 nh,
         Jet c_v = cosine(n, v, st.psi_nv);
         P float slope = (1.0 - k) / (k * k);
         P float v2 = 2.0 * (1.0 - k) * (1.0 - k) / (k * k * k);
-        vjet = jet_constant(0.0);
-        vjet.h = gmul(c_v.h, slope);
-        P float cv2 = gmul(c_v.g, c_v.g);
-        P float hv = gmul(v2, cv2);
-        if (booked(T_V)) {
-            vjet.h = gc(vjet.h + hv);
-        }
-        vjet.m = gc(1.0 / k + gmul(slope, rmin(c_v.m, view_band)));
-        vjet.g = gmul(slope, c_v.g);
-        vjet = guard_jet(vjet);
+        vjet = chain(c_v, gc(1.0 / k + gmul(slope, rmin(c_v.m, view_band))), slope, v2, T_V);
     } else {
         P vec2 nv = vec2(st.psi_nv.x, rmin(st.psi_nv.y, HALF_PI));
         Jet c_v = cosine(n, v, nv);
         P float q = rmax(est_cos(nv.y), 0.0) * (1.0 - k) + k;
         P float v1 = (1.0 - k) / (q * q);
         P float v2 = 2.0 * (1.0 - k) * (1.0 - k) / (q * q * q);
-        vjet = jet_constant(0.0);
-        vjet.h = gmul(c_v.h, v1);
-        P float cv2 = gmul(c_v.g, c_v.g);
-        P float hv = gmul(v2, cv2);
-        if (booked(T_V)) {
-            vjet.h = gc(vjet.h + hv);
-        }
-        vjet.m = 1.0 / q;
-        vjet.g = gmul(v1, c_v.g);
-        vjet = guard_jet(vjet);
+        vjet = chain(c_v, 1.0 / q, v1, v2, T_V);
     }
 
     // D(t), t = n.h.
@@ -1259,16 +1247,7 @@ void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Sc
         P float fm = f0c + (1.0 - f0c) * om5;
         P float f1 = 5.0 * (1.0 - f0c) * om4;
         P float f2 = 20.0 * (1.0 - f0c) * om3;
-        Jet fjet = jet_constant(0.0);
-        fjet.h = gmul(ht, f1);
-        P float gt2 = gmul(gt, gt);
-        P float hf = gmul(f2, gt2);
-        if (booked(T_F)) {
-            fjet.h = gc(fjet.h + hf);
-        }
-        fjet.m = fm;
-        fjet.g = gmul(f1, gt);
-        fjet = guard_jet(fjet);
+        Jet fjet = chain(Jet(0.0, gt, ht), fm, f1, f2, T_F);
         Jet f[5] = Jet[5](att, djet, fjet, gjet, vjet);
         Jet p = product(f, 5);
         spec[c].m = 0.25 * p.m;
