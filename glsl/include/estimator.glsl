@@ -1241,7 +1241,7 @@ void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Sc
     P float om5 = om * om4;
     // |V'| at the kink, largest at the smallest k.
     P float k_lo = 0.5 * alpha_lo;
-    P float kink_slope = st.nv_sign == SIGN_BOTH ? (1.0 - k_lo) / (k_lo * k_lo) : 0.0;
+    P float kink_slope = (1.0 - k_lo) / (k_lo * k_lo);
     for (int c = 0; c < 3; ++c) {
         P float f0c = material.specular[c];
         P float fm = f0c + (1.0 - f0c) * om5;
@@ -1253,8 +1253,10 @@ void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Sc
         spec[c].m = 0.25 * p.m;
         spec[c].g = 0.25 * p.g;
         spec[c].h = gmul(p.h, 0.25);
-        P float without_v = gmul(gmul(gmul(att.m, djet.m), fjet.m), gjet.m);
-        view_kink[c] = gmul(0.25 * without_v, kink_slope);
+        if (st.nv_sign == SIGN_BOTH) {
+            P float without_v = gmul(gmul(gmul(att.m, djet.m), fjet.m), gjet.m);
+            view_kink[c] = gmul(0.25 * without_v, kink_slope);
+        }
     }
 }
 

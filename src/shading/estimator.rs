@@ -1421,7 +1421,7 @@ fn plan_light(
             }
             MaterialKind::Ggx { .. } => {
                 // max(n·v, 0) has a kink in V at n·v = 0: Relaxed bounds it like the
-                // terminator's (`view_kink_slope`), Conservative shades it per pixel.
+                // terminator's (`LightJets::view_kink`), Conservative shades it per pixel.
                 if setup.nv_sign == Sign::Both && mode == Discontinuity::Conservative {
                     return Err(Reason::Discontinuity);
                 }
@@ -1879,15 +1879,17 @@ fn light_jets(
             let vh = half_cosine_jet(&l, &v, st.psi_lv.1, st.m_min, gd);
             // |V'| at the kink, largest at the smallest k.
             let k = 0.5 * alpha_lo;
-            let kink_slope = if st.nv_sign == Sign::Both { (1.0 - k) / (k * k) } else { 0.0 };
+            let kink_slope = (1.0 - k) / (k * k);
             let mut spec = [zero; 3];
             let mut view_kink = Vec3::ZERO;
             for (c, out) in spec.iter_mut().enumerate() {
                 let fjet = fresnel_jet(f0[c], &vh, gd);
                 let p = product([att, djet, fjet, gjet, vjet], gd);
                 *out = Jet { m: 0.25 * p.m, g: 0.25 * p.g, h: scaled(&p.h, 0.25, gd), t: gd.mul(p.t, 0.25) };
-                let without_v = gd.mul(gd.mul(gd.mul(att.m, djet.m), fjet.m), gjet.m);
-                view_kink[c] = gd.mul(0.25 * without_v, kink_slope);
+                if st.nv_sign == Sign::Both {
+                    let without_v = gd.mul(gd.mul(gd.mul(att.m, djet.m), fjet.m), gjet.m);
+                    view_kink[c] = gd.mul(0.25 * without_v, kink_slope);
+                }
             }
             LightJets { specular: spec, view_kink, ..only_diffuse }
         }
@@ -2039,7 +2041,7 @@ fn smith_v_jet(c_v: &Jet, nv: (f32, f32), k: f32, gd: &Guard) -> Jet {
 /// parts' bounds are this jet: `c_v` the cosine's jet over the whole angle range (both sides),
 /// `|ρ'| ≤ (1 − k)/k²`, `|ρ''| ≤ 2(1 − k)²/k³`, and the value `1/k + sup|ρ(u)|`, where
 /// `|u| ≤ band` on a sub-triangle the kink crosses (the others need only `1/k`). The kink
-/// itself adds a first-order part (`view_kink_slope`).
+/// itself adds a first-order part (`LightJets::view_kink`).
 fn smith_v_kink_jet(c_v: &Jet, k: f32, band: f32, gd: &Guard) -> Jet {
     let slope = (1.0 - k) / (k * k);
     let v2 = 2.0 * (1.0 - k) * (1.0 - k) / (k * k * k);
