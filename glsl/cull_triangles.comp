@@ -2,11 +2,14 @@
 // variants: count_evaluations record_levels
 // `multirate` mode, `--estimator compute`, first step: one invocation per triangle of a mesh
 // (draw.patch_base to draw.patch_base + draw.triangle_count - 1) gives culled triangles
-// CULLED_LEVEL and lists the others for triangle_levels.comp (bindings.glsl, visible_triangles
-// and visible_counts, which the host zeroes first).
+// CULLED_LEVEL, and lists the others (bindings.glsl, visible_triangles): those to estimate from
+// the mesh's first triangle on, for triangle_levels.comp, and the back faces of a two-sided mesh,
+// which take FALLBACK_LEVEL without an estimate (triangle_level.glsl, shaded_per_pixel), from
+// its last triangle down. It counts both lists and the workgroups of the later steps that cover
+// them in visible_counts and level_dispatches, which the host resets first.
 #include "triangle_level.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = PRE_PASS_GROUP) in;
 
 void main() {
     uint local = gl_GlobalInvocationID.x;
@@ -25,8 +28,21 @@ void main() {
         if (VARIANT_RECORD_LEVELS != 0) {
             level_records[triangle] = CULLED_RECORD;
         }
+    } else if (shaded_per_pixel(p0, p1, p2)) {
+        triangle_levels[triangle] = FALLBACK_LEVEL;
+        uint back = atomicAdd(level_dispatches[2u * draw.mesh_index + 1u].w, 1u);
+        visible_triangles[draw.patch_base + draw.triangle_count - 1u - back] = triangle;
+        // Each PRE_PASS_GROUP-th back face opens one more workgroup of the patch step.
+        if (back % PRE_PASS_GROUP == 0u) {
+            atomicAdd(level_dispatches[2u * draw.mesh_index + 1u].x, 1u);
+        }
     } else {
         uint slot = atomicAdd(visible_counts[3u * draw.mesh_index], 1u);
         visible_triangles[draw.patch_base + slot] = triangle;
+        // Each PRE_PASS_GROUP-th triangle to estimate opens one more workgroup of both steps.
+        if (slot % PRE_PASS_GROUP == 0u) {
+            atomicAdd(level_dispatches[2u * draw.mesh_index].x, 1u);
+            atomicAdd(level_dispatches[2u * draw.mesh_index + 1u].x, 1u);
+        }
     }
 }

@@ -10,14 +10,28 @@
 // only reads the levels.
 #include "triangle_level.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = PRE_PASS_GROUP) in;
+
+// The listed triangle this invocation covers (cull_triangles.comp): the workgroups of the
+// estimated triangles come first, then those of the back faces, listed from the end; ~0u past
+// either list's count.
+uint listed_triangle() {
+    uint estimated_groups = level_dispatches[2u * draw.mesh_index].x;
+    if (gl_WorkGroupID.x < estimated_groups) {
+        uint local = gl_GlobalInvocationID.x;
+        return local < visible_counts[3u * draw.mesh_index] ? visible_triangles[draw.patch_base + local] : ~0u;
+    }
+    uint back = (gl_WorkGroupID.x - estimated_groups) * PRE_PASS_GROUP + gl_LocalInvocationID.x;
+    return back < level_dispatches[2u * draw.mesh_index + 1u].w
+        ? visible_triangles[draw.patch_base + draw.triangle_count - 1u - back]
+        : ~0u;
+}
 
 void main() {
-    uint local = gl_GlobalInvocationID.x;
-    if (local >= visible_counts[3u * draw.mesh_index]) {
+    uint triangle = listed_triangle();
+    if (triangle == ~0u) {
         return;
     }
-    uint triangle = visible_triangles[draw.patch_base + local];
     uvec4 across = triangle_neighbours[triangle];
     vec3 neighbours = vec3(triangle_levels[across.x], triangle_levels[across.y], triangle_levels[across.z]);
     PatchLevels levels = patch_levels(triangle_levels[triangle], neighbours, draw.viewport.w);

@@ -51,6 +51,15 @@ layout(set = 0, binding = 8, std430) readonly buffer SceneIndices { uint scene_i
 // only.
 layout(set = 0, binding = 9, std430) buffer VisibleTriangles { uint visible_triangles[]; };
 layout(set = 0, binding = 10, std430) buffer VisibleCounts { uint visible_counts[]; };
+// The workgroup size of the pre-pass's steps (TRIANGLE_LEVEL_GROUP in Rust).
+#define PRE_PASS_GROUP 64
+// Per mesh, the culling step's indirect dispatches (`VkDispatchIndirectCommand` in xyz; the host
+// resets each to (0, 1, 1, 0)): level_dispatches[2 mesh] of the estimator step, one workgroup per
+// PRE_PASS_GROUP triangles to estimate, and level_dispatches[2 mesh + 1] of the patch step, those
+// workgroups first, then one per PRE_PASS_GROUP back faces, whose count is in its w. Only those
+// run: on a CPU rasteriser every SIMD batch of a workgroup runs the estimator's whole code,
+// returned lanes or not.
+layout(set = 0, binding = 19, std430) buffer LevelDispatches { uvec4 level_dispatches[]; };
 // The effective levels of the hardware patterns (estimator.glsl, `pattern_level`): Rust's
 // `PATTERN_LEVELS` words. A buffer rather than a constant array: lavapipe copies a shader's
 // array into every invocation's private memory before the first read.

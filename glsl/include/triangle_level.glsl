@@ -102,13 +102,19 @@ float estimated_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2
                           draw.viewport.z, draw.viewport.w);
 }
 
-// The level of the draw's triangle that is not culled: FALLBACK_LEVEL for a back face of a
-// two-sided mesh (`cull::shaded_per_pixel` in Rust), else its estimated_level. Such a
-// back face is shaded per pixel in the fallback draw, which comes after the others, so that
-// where the mesh's front faces hide it (the far side of an open mesh) the early depth test
-// rejects its fragments before they shade; interpolated, its sub-vertices would all be shaded.
+// Whether the draw's triangle, not culled, is a back face of a two-sided mesh
+// (`cull::shaded_per_pixel` in Rust). Such a back face is shaded per pixel without an estimate,
+// in the fallback draw, which comes after the others, so that where the mesh's front faces hide
+// it (the far side of an open mesh) the early depth test rejects its fragments before they
+// shade; interpolated, its sub-vertices would all be shaded.
+bool shaded_per_pixel(vec3 p0, vec3 p1, vec3 p2) {
+    return (draw.flags & FLAG_ONE_SIDED) == 0u && faces_away(p0, p1, p2);
+}
+
+// The level of the draw's triangle that is not culled: FALLBACK_LEVEL where it is
+// shaded_per_pixel, else its estimated_level.
 float visible_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2) {
-    if ((draw.flags & FLAG_ONE_SIDED) == 0u && faces_away(p0, p1, p2)) {
+    if (shaded_per_pixel(p0, p1, p2)) {
         return FALLBACK_LEVEL;
     }
     return estimated_level(p0, p1, p2, n0, n1, n2, t0, t1, t2);

@@ -478,6 +478,12 @@ pub struct Renderer {
     _visible_triangles: Buffer,
     /// Per mesh: how many it listed (zeroed before each pre-pass).
     visible_counts: Buffer,
+    /// Per mesh: the indirect dispatches of the pre-pass's estimator and patch steps over the
+    /// triangles its culling step listed (`VkDispatchIndirectCommand` in 4 words each), reset
+    /// from `level_dispatch_reset` before each pre-pass.
+    level_dispatches: Buffer,
+    /// `level_dispatches` before the culling step: (0, 1, 1, 0), no workgroups yet.
+    level_dispatch_reset: Buffer,
     /// `PATTERN_LEVELS`, the effective levels of the hardware patterns.
     pattern_levels: Buffer,
     /// The device's own effective-level table in `pattern_levels`, where the built-in one
@@ -627,6 +633,18 @@ impl Renderer {
             3 * draws.len(),
             vk::BufferUsageFlags::TRANSFER_DST,
         )?;
+        let level_dispatch_buffer = device_words(
+            context,
+            "pre-pass dispatches",
+            8 * draws.len(),
+            vk::BufferUsageFlags::INDIRECT_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+        )?;
+        let level_dispatch_reset = Buffer::with_data(
+            context,
+            "pre-pass dispatch reset",
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            &vec![[0u32, 1, 1, 0]; 2 * draws.len().max(1)],
+        )?;
         let patch_list = |name| device_words(context, name, triangle_count, vk::BufferUsageFlags::empty());
         let interpolated_patch_buffer = patch_list("interpolated patches")?;
         let fallback_patch_buffer = patch_list("fallback patches")?;
@@ -680,7 +698,7 @@ impl Renderer {
         )?;
 
         let bindings =
-            std::array::from_fn::<_, 19, _>(|b| shader_binding(b as u32, vk::DescriptorType::STORAGE_BUFFER));
+            std::array::from_fn::<_, 20, _>(|b| shader_binding(b as u32, vk::DescriptorType::STORAGE_BUFFER));
         let push = [vk::PushConstantRange::default()
             .stage_flags(PUSH_STAGES)
             .size(std::mem::size_of::<DrawConstants>() as u32)];
@@ -697,7 +715,7 @@ impl Renderer {
             context,
             "forward descriptors",
             1,
-            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 19 }],
+            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 20 }],
         )?;
         let descriptor_set = pool.allocate(layout.set_layouts[0])?;
         bind_storage_buffers(
@@ -724,6 +742,7 @@ impl Renderer {
                 fallback_draw_buffer.raw,
                 flat_patch_buffer.raw,
                 flat_draw_buffer.raw,
+                level_dispatch_buffer.raw,
             ],
         );
 
@@ -769,6 +788,8 @@ impl Renderer {
             _triangle_neighbours: neighbour_buffer,
             _visible_triangles: visible_triangle_buffer,
             visible_counts: visible_count_buffer,
+            level_dispatches: level_dispatch_buffer,
+            level_dispatch_reset,
             pattern_levels: pattern_level_buffer,
             measured_table: std::sync::Mutex::new(None),
             _patch_levels: patch_level_buffer,
@@ -933,12 +954,18 @@ impl Renderer {
         let storage = A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE;
         // The previous frame's indirect draws, vertex pulling and control stages have read the lists and levels.
         let readers = S::DRAW_INDIRECT | S::VERTEX_SHADER | S::TESSELLATION_CONTROL_SHADER;
-        barrier(readers, A::NONE, S::COMPUTE_SHADER | S::CLEAR, A::NONE);
+        barrier(readers, A::NONE, S::COMPUTE_SHADER | S::CLEAR | S::COPY, A::NONE);
         for buffer in [&self.visible_counts, &self.flat_draws].into_iter().chain(&self.patch_draws) {
             // SAFETY: recording outside a render pass; the buffers have TRANSFER_DST usage.
             unsafe { device.cmd_fill_buffer(cmd, buffer.raw, 0, vk::WHOLE_SIZE, 0) };
         }
-        barrier(S::CLEAR, A::TRANSFER_WRITE, S::COMPUTE_SHADER, storage);
+        let reset = [vk::BufferCopy::default().size(self.level_dispatches.size)];
+        // SAFETY: recording outside a render pass; both buffers have the same size and the
+        // TRANSFER_SRC / TRANSFER_DST usages.
+        unsafe {
+            device.cmd_copy_buffer(cmd, self.level_dispatch_reset.raw, self.level_dispatches.raw, &reset)
+        };
+        barrier(S::CLEAR | S::COPY, A::TRANSFER_WRITE, S::COMPUTE_SHADER, storage);
         let mut constants = draw_constants(view, extent);
         constants.patches_per_draw = self.patches_per_draw(view.n_max);
         self.bind_set_at(cmd, vk::PipelineBindPoint::COMPUTE, 0, self.descriptor_set);
@@ -970,13 +997,33 @@ impl Renderer {
                         0,
                         bytemuck::bytes_of(&constants),
                     );
-                    // The later steps cover every triangle too; the invocations past the
-                    // mesh's visible count return at once.
-                    device.cmd_dispatch(cmd, constants.triangle_count.div_ceil(TRIANGLE_LEVEL_GROUP), 1, 1);
+                    match step {
+                        PrePassStep::Cull => device.cmd_dispatch(
+                            cmd,
+                            constants.triangle_count.div_ceil(TRIANGLE_LEVEL_GROUP),
+                            1,
+                            1,
+                        ),
+                        // The later steps cover the triangles the culling step listed, in the
+                        // workgroups it counted.
+                        PrePassStep::Levels | PrePassStep::Patches => device.cmd_dispatch_indirect(
+                            cmd,
+                            self.level_dispatches.raw,
+                            LEVEL_DISPATCH_STRIDE
+                                * (2 * vk::DeviceSize::from(draw.mesh_index)
+                                    + vk::DeviceSize::from(matches!(step, PrePassStep::Patches))),
+                        ),
+                    }
                 }
             }
             match step {
-                PrePassStep::Cull | PrePassStep::Levels => {
+                PrePassStep::Cull => barrier(
+                    S::COMPUTE_SHADER,
+                    A::SHADER_STORAGE_WRITE,
+                    S::COMPUTE_SHADER | S::DRAW_INDIRECT,
+                    storage | A::INDIRECT_COMMAND_READ,
+                ),
+                PrePassStep::Levels => {
                     barrier(S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE, S::COMPUTE_SHADER, storage)
                 }
                 PrePassStep::Patches => barrier(
@@ -1465,9 +1512,12 @@ enum PrePassStep {
 /// control points within a draw: draws that read it there hold no more.
 const LAVAPIPE_PRIMITIVE_ID_CONTROL_POINTS: u32 = 1020;
 
-/// Invocations per work group of the triangle-level pre-pass (`local_size_x` of
-/// glsl/triangle_levels.comp).
+/// Invocations per work group of the triangle-level pre-pass (`PRE_PASS_GROUP` in
+/// glsl/include/bindings.glsl).
 const TRIANGLE_LEVEL_GROUP: u32 = 64;
+
+/// Bytes per dispatch in `Renderer::level_dispatches` (`uvec4 level_dispatches[]`), two per mesh.
+const LEVEL_DISPATCH_STRIDE: vk::DeviceSize = 16;
 
 /// The push constants of `view` on a target of `extent` (per draw: material, mesh, first
 /// triangle).
