@@ -6,7 +6,7 @@
 // the mesh's first triangle on, for triangle_levels.comp, and the back faces of a two-sided mesh,
 // which take FALLBACK_LEVEL without an estimate (triangle_level.glsl, shaded_per_pixel), from
 // its last triangle down. It counts both lists and the workgroups of the later steps that cover
-// them in visible_counts and level_dispatches, which the host resets first.
+// them in level_dispatches, which the host resets first.
 #include "triangle_level.glsl"
 
 layout(local_size_x = PRE_PASS_GROUP) in;
@@ -37,7 +37,7 @@ void main() {
             atomicAdd(level_dispatches[2u * draw.mesh_index + 1u].x, 1u);
         }
     } else {
-        uint slot = atomicAdd(visible_counts[3u * draw.mesh_index], 1u);
+        uint slot = atomicAdd(level_dispatches[2u * draw.mesh_index].w, 1u);
         visible_triangles[draw.patch_base + slot] = triangle;
         // Each PRE_PASS_GROUP-th triangle to estimate opens one more workgroup of both steps.
         if (slot % PRE_PASS_GROUP == 0u) {

@@ -16,12 +16,12 @@ layout(local_size_x = PRE_PASS_GROUP) in;
 // estimated triangles come first, then those of the back faces, listed from the end; ~0u past
 // either list's count.
 uint listed_triangle() {
-    uint estimated_groups = level_dispatches[2u * draw.mesh_index].x;
-    if (gl_WorkGroupID.x < estimated_groups) {
+    uvec4 estimated = level_dispatches[2u * draw.mesh_index];
+    if (gl_WorkGroupID.x < estimated.x) {
         uint local = gl_GlobalInvocationID.x;
-        return local < visible_counts[3u * draw.mesh_index] ? visible_triangles[draw.patch_base + local] : ~0u;
+        return local < estimated.w ? visible_triangles[draw.patch_base + local] : ~0u;
     }
-    uint back = (gl_WorkGroupID.x - estimated_groups) * PRE_PASS_GROUP + gl_LocalInvocationID.x;
+    uint back = (gl_WorkGroupID.x - estimated.x) * PRE_PASS_GROUP + gl_LocalInvocationID.x;
     return back < level_dispatches[2u * draw.mesh_index + 1u].w
         ? visible_triangles[draw.patch_base + draw.triangle_count - 1u - back]
         : ~0u;
@@ -50,7 +50,7 @@ void main() {
         }
         return;
     }
-    uint slot = atomicAdd(visible_counts[3u * draw.mesh_index + (levels.fallback ? 2u : 1u)], 1u);
+    uint slot = atomicAdd(patch_counts[2u * draw.mesh_index + (levels.fallback ? 1u : 0u)], 1u);
     uint per_draw = max(draw.patches_per_draw, 1u);
     uint command = draw.patch_base + slot / per_draw;
     // The first patch of a draw enables it: one instance, from its first vertex.

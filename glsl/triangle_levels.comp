@@ -11,7 +11,7 @@ layout(local_size_x = PRE_PASS_GROUP) in;
 
 void main() {
     uint local = gl_GlobalInvocationID.x;
-    if (local >= visible_counts[3u * draw.mesh_index]) {
+    if (local >= level_dispatches[2u * draw.mesh_index].w) {
         return;
     }
     uint triangle = visible_triangles[draw.patch_base + local];

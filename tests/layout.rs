@@ -180,6 +180,11 @@ const OP_IMAGE_SAMPLE_FIRST: u32 = 87; // OpImageSampleImplicitLod
 const OP_IMAGE_SAMPLE_LAST: u32 = 94; // OpImageSampleProjDrefExplicitLod
 const OP_IMAGE_QUERY_SIZE_LOD: u32 = 103;
 const DECORATION_SPEC_ID: u32 = 1;
+const OP_EXECUTION_MODE: u32 = 16;
+const OP_CONSTANT: u32 = 43;
+const OP_EXECUTION_MODE_ID: u32 = 331;
+const EXECUTION_MODE_LOCAL_SIZE: u32 = 17;
+const EXECUTION_MODE_LOCAL_SIZE_ID: u32 = 38;
 const GLSL_STD_450_POW: u32 = 26;
 /// brdf.glsl's polygonal-light constants (count, samples, technique, MIS v).
 const POLYGON_SPEC_IDS: std::ops::RangeInclusive<u32> = 8..=11;
@@ -191,6 +196,10 @@ struct Contents {
     spec_ids: Vec<u32>,
     texture_reads: usize,
     pows: usize,
+    /// A compute shader's `local_size_x` (SPIR-V 1.6 gives it as the id of a constant).
+    local_size_x: Option<u32>,
+    local_size_x_id: Option<u32>,
+    constants: HashMap<u32, u32>,
 }
 
 fn contents(spirv: &[u8]) -> Contents {
@@ -209,9 +218,21 @@ fn contents(spirv: &[u8]) -> Contents {
                 contents.texture_reads += 1
             }
             OP_EXT_INST if operands[3] == GLSL_STD_450_POW => contents.pows += 1,
+            OP_EXECUTION_MODE if operands[1] == EXECUTION_MODE_LOCAL_SIZE => {
+                contents.local_size_x = Some(operands[2])
+            }
+            OP_EXECUTION_MODE_ID if operands[1] == EXECUTION_MODE_LOCAL_SIZE_ID => {
+                contents.local_size_x_id = Some(operands[2])
+            }
+            OP_CONSTANT if operands.len() == 3 => {
+                contents.constants.insert(operands[1], operands[2]);
+            }
             _ => {}
         }
         at += count;
+    }
+    if let Some(id) = contents.local_size_x_id {
+        contents.local_size_x = contents.constants.get(&id).copied();
     }
     contents
 }
@@ -267,4 +288,18 @@ fn every_shading_variant_holds_only_its_features() {
         checked += 1;
     }
     assert!(checked > 100, "only {checked} modules: build.rs compiled no variants");
+}
+
+#[test]
+fn pre_pass_workgroups_have_the_size_the_host_dispatches() {
+    // The host sizes the culling step's dispatch, and the culling step the later steps', by
+    // render::PRE_PASS_GROUP.
+    let pre_pass = ["cull_triangles.comp", "triangle_levels.comp", "patch_levels.comp"];
+    let mut checked = 0;
+    for module in shaders::ALL.iter().filter(|m| pre_pass.contains(&m.stage)) {
+        let size = contents(module.spirv).local_size_x;
+        assert_eq!(size, Some(multirate::render::PRE_PASS_GROUP), "{} {:?}", module.stage, module.features());
+        checked += 1;
+    }
+    assert!(checked >= pre_pass.len(), "only {checked} pre-pass modules");
 }

@@ -46,20 +46,23 @@ layout(set = 0, binding = 6, std430) readonly buffer TriangleNeighbours { uvec4 
 layout(set = 0, binding = 7, std430) readonly buffer SceneVertices { float scene_vertices[]; };
 layout(set = 0, binding = 8, std430) readonly buffer SceneIndices { uint scene_indices[]; };
 // The pre-pass's culling step (cull_triangles.comp) lists each mesh's triangles that are not
-// culled, from the mesh's first triangle on, and counts them in visible_counts[3 mesh] (mesh:
-// draw.mesh_index), so that the estimator's invocations run side by side on visible triangles
-// only.
+// culled (mesh: draw.mesh_index): those to estimate from the mesh's first triangle on, the back
+// faces of a two-sided mesh from its last triangle down, so that the estimator's invocations run
+// side by side on the triangles they estimate only.
 layout(set = 0, binding = 9, std430) buffer VisibleTriangles { uint visible_triangles[]; };
-layout(set = 0, binding = 10, std430) buffer VisibleCounts { uint visible_counts[]; };
-// The workgroup size of the pre-pass's steps (TRIANGLE_LEVEL_GROUP in Rust).
+// The workgroup size of the pre-pass's steps (`render::PRE_PASS_GROUP` in Rust; tests/layout.rs
+// checks the compiled modules against it).
 #define PRE_PASS_GROUP 64
-// Per mesh, the culling step's indirect dispatches (`VkDispatchIndirectCommand` in xyz; the host
-// resets each to (0, 1, 1, 0)): level_dispatches[2 mesh] of the estimator step, one workgroup per
-// PRE_PASS_GROUP triangles to estimate, and level_dispatches[2 mesh + 1] of the patch step, those
-// workgroups first, then one per PRE_PASS_GROUP back faces, whose count is in its w. Only those
-// run: on a CPU rasteriser every SIMD batch of a workgroup runs the estimator's whole code,
-// returned lanes or not.
+// Per mesh, the culling step's two indirect dispatches and the lengths of its two lists
+// (`VkDispatchIndirectCommand` in xyz, the length in w; the host resets each to (0, 1, 1, 0)):
+// level_dispatches[2 mesh] of the estimator step, one workgroup per PRE_PASS_GROUP triangles to
+// estimate, w their count; level_dispatches[2 mesh + 1] of the patch step, those workgroups first,
+// then one per PRE_PASS_GROUP back faces, w their count. Only those run: on a CPU rasteriser every
+// SIMD batch of a workgroup runs the estimator's whole code, returned lanes or not.
 layout(set = 0, binding = 19, std430) buffer LevelDispatches { uvec4 level_dispatches[]; };
+// Per mesh, the patch step's counts of its interpolated and fallback lists (below):
+// patch_counts[2 mesh] and [2 mesh + 1], zeroed by the host.
+layout(set = 0, binding = 10, std430) buffer PatchCounts { uint patch_counts[]; };
 // The effective levels of the hardware patterns (estimator.glsl, `pattern_level`): Rust's
 // `PATTERN_LEVELS` words. A buffer rather than a constant array: lavapipe copies a shader's
 // array into every invocation's private memory before the first read.
@@ -67,8 +70,8 @@ layout(set = 0, binding = 11, std430) readonly buffer PatternLevels { uint patte
 // The pre-pass's last step (patch_levels.comp): per visible triangle the tessellation levels of
 // its patch, x = the inner level (0: per-pixel fallback), yzw = the outer levels; and per mesh,
 // from its first triangle on, two lists of its tessellated visible triangles, those shaded on
-// sub-vertices and those shaded per pixel (counted in visible_counts[3 mesh + 1] and
-// [3 mesh + 2]). Each list
+// sub-vertices and those shaded per pixel (counted in patch_counts[2 mesh] and
+// [2 mesh + 1]). Each list
 // is drawn by indirect draws of draw.patches_per_draw patches each: the k-th is the
 // VkDrawIndirectCommand at entry (first triangle + k) of the list's draws, with vertexCount = 3
 // per patch; the host zeroes them before each pre-pass (instanceCount 0: nothing drawn), and

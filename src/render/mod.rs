@@ -474,13 +474,12 @@ pub struct Renderer {
     _triangle_levels: Buffer,
     /// Per triangle: the triangles across its edges (`uvec4`, scene indices).
     _triangle_neighbours: Buffer,
-    /// Per mesh, from its first triangle on: its triangles the pre-pass did not cull.
+    /// Per mesh: its triangles the pre-pass did not cull, those to estimate from its first
+    /// triangle on, the back faces of a two-sided mesh from its last triangle down.
     _visible_triangles: Buffer,
-    /// Per mesh: how many it listed (zeroed before each pre-pass).
-    visible_counts: Buffer,
     /// Per mesh: the indirect dispatches of the pre-pass's estimator and patch steps over the
-    /// triangles its culling step listed (`VkDispatchIndirectCommand` in 4 words each), reset
-    /// from `level_dispatch_reset` before each pre-pass.
+    /// triangles its culling step listed (`VkDispatchIndirectCommand` and the list's length, 4
+    /// words each), reset from `level_dispatch_reset` before each pre-pass.
     level_dispatches: Buffer,
     /// `level_dispatches` before the culling step: (0, 1, 1, 0), no workgroups yet.
     level_dispatch_reset: Buffer,
@@ -495,6 +494,8 @@ pub struct Renderer {
     /// those shaded per pixel, and those whose patch is the triangle itself (flat), as the
     /// pre-pass's last step lists them.
     _patch_lists: [Buffer; 3],
+    /// Per mesh: the lengths of its interpolated and fallback lists (zeroed before each pre-pass).
+    patch_counts: Buffer,
     /// The indirect draws of the first two lists (`VkDrawIndirectCommand`, one per triangle).
     patch_draws: [Buffer; 2],
     /// The indirect draws of each mesh's flat list (`VkDrawIndirectCommand`, two per mesh: the
@@ -627,10 +628,10 @@ impl Renderer {
         )?;
         let visible_triangle_buffer =
             device_words(context, "visible triangles", triangle_count, vk::BufferUsageFlags::empty())?;
-        let visible_count_buffer = device_words(
+        let patch_count_buffer = device_words(
             context,
-            "visible, interpolated and fallback patch counts",
-            3 * draws.len(),
+            "interpolated and fallback patch counts",
+            2 * draws.len(),
             vk::BufferUsageFlags::TRANSFER_DST,
         )?;
         let level_dispatch_buffer = device_words(
@@ -733,7 +734,7 @@ impl Renderer {
                 vertex_buffer.raw,
                 index_buffer.raw,
                 visible_triangle_buffer.raw,
-                visible_count_buffer.raw,
+                patch_count_buffer.raw,
                 pattern_level_buffer.raw,
                 patch_level_buffer.raw,
                 interpolated_patch_buffer.raw,
@@ -787,7 +788,7 @@ impl Renderer {
             _triangle_levels: triangle_level_buffer,
             _triangle_neighbours: neighbour_buffer,
             _visible_triangles: visible_triangle_buffer,
-            visible_counts: visible_count_buffer,
+            patch_counts: patch_count_buffer,
             level_dispatches: level_dispatch_buffer,
             level_dispatch_reset,
             pattern_levels: pattern_level_buffer,
@@ -955,7 +956,7 @@ impl Renderer {
         // The previous frame's indirect draws, vertex pulling and control stages have read the lists and levels.
         let readers = S::DRAW_INDIRECT | S::VERTEX_SHADER | S::TESSELLATION_CONTROL_SHADER;
         barrier(readers, A::NONE, S::COMPUTE_SHADER | S::CLEAR | S::COPY, A::NONE);
-        for buffer in [&self.visible_counts, &self.flat_draws].into_iter().chain(&self.patch_draws) {
+        for buffer in [&self.patch_counts, &self.flat_draws].into_iter().chain(&self.patch_draws) {
             // SAFETY: recording outside a render pass; the buffers have TRANSFER_DST usage.
             unsafe { device.cmd_fill_buffer(cmd, buffer.raw, 0, vk::WHOLE_SIZE, 0) };
         }
@@ -998,12 +999,9 @@ impl Renderer {
                         bytemuck::bytes_of(&constants),
                     );
                     match step {
-                        PrePassStep::Cull => device.cmd_dispatch(
-                            cmd,
-                            constants.triangle_count.div_ceil(TRIANGLE_LEVEL_GROUP),
-                            1,
-                            1,
-                        ),
+                        PrePassStep::Cull => {
+                            device.cmd_dispatch(cmd, constants.triangle_count.div_ceil(PRE_PASS_GROUP), 1, 1)
+                        }
                         // The later steps cover the triangles the culling step listed, in the
                         // workgroups it counted.
                         PrePassStep::Levels | PrePassStep::Patches => device.cmd_dispatch_indirect(
@@ -1513,8 +1511,8 @@ enum PrePassStep {
 const LAVAPIPE_PRIMITIVE_ID_CONTROL_POINTS: u32 = 1020;
 
 /// Invocations per work group of the triangle-level pre-pass (`PRE_PASS_GROUP` in
-/// glsl/include/bindings.glsl).
-const TRIANGLE_LEVEL_GROUP: u32 = 64;
+/// glsl/include/bindings.glsl, the `local_size_x` of its three compute shaders).
+pub const PRE_PASS_GROUP: u32 = 64;
 
 /// Bytes per dispatch in `Renderer::level_dispatches` (`uvec4 level_dispatches[]`), two per mesh.
 const LEVEL_DISPATCH_STRIDE: vk::DeviceSize = 16;
