@@ -441,6 +441,15 @@ P float max_cos_sin(float p, float q, float a, float b) {
     return r;
 }
 
+// The power's profile coefficient less the cosine's turning part (see `power_net_coefficient`).
+P float power_net_coefficient(float s0, float s1, float c0, float c1) {
+    P float p = 0.5 * (s0 - 2.0);
+    P float peak = p * (s1 - 1.0) / ((p + 1.0) * s1);
+    P float x = rmin(rmax(peak, c1 * c1), c0 * c0);
+    P float r = s1 * est_pow(x, p) * rmax((s1 - 1.0) * (1.0 - x) - x, 0.0);
+    return r;
+}
+
 // The second derivative of a cosine a.b split by sign (see `Curvature` in Rust): turn >=
 // |Da|^2 + |Db|^2 (the part -t(|Da|^2 + |Db|^2) <= 0 where t >= 0), rest >= the others.
 struct Curvature {
@@ -977,6 +986,25 @@ void light_weights(GpuMaterial m, vec3 radiance, out vec3 diff_w, out vec3 spec_
 // ---------------------------------------------------------------------------------------------
 
 // GGX D(n.h) jet (see `ggx_d_jet`).
+// The distribution's profile coefficient less the turning part (see Rust).
+P float ggx_net_at(float a2, float beta, float coef, float x) {
+    P float u = a2 + beta * x;
+    P float n = (2.0 * a2 + 5.0 * beta - 4.0 * beta * x) * x - a2;
+    P float r = coef * rmax(n, 0.0) / ((u * u) * (u * u));
+    return r;
+}
+
+P float ggx_net_coefficient(float a2, float s0, float s1) {
+    P float beta = 1.0 - a2;
+    P float coef = 4.0 * a2 * beta / PI;
+    P float b = beta * (14.0 * a2 + 15.0 * beta);
+    P float c = a2 * (2.0 * a2 + 9.0 * beta);
+    P float root = 2.0 * c / rmax(b + sqrt(rmax(b * b - 32.0 * beta * beta * c, 0.0)), 1.0e-30);
+    P float r = rmax(rmax(ggx_net_at(a2, beta, coef, rmin(rmax(root, s0), s1)), ggx_net_at(a2, beta, coef, s0)),
+                     ggx_net_at(a2, beta, coef, s1));
+    return r;
+}
+
 Jet ggx_d_jet(Jet c, Curvature curv, float p0, float p1, float w, float alpha) {
     P float a2 = alpha * alpha;
     P float beta = 1.0 - a2;
@@ -1009,10 +1037,13 @@ Jet ggx_d_jet(Jet c, Curvature curv, float p0, float p1, float w, float alpha) {
         o.h = gc(o.h + dh);
     }
     if (est_term == T_ALL) {
-        // D''(Dt)^2 >= 0 and D'(-t(|u|^2 + |v|^2)) <= 0: the larger, plus the rest.
+        // D''(Dt)^2 >= 0 and D'(-t(|u|^2 + |v|^2)) <= 0: the larger, plus the rest; the first
+        // less the second on the turn's share of w^2 (see `ggx_net_coefficient`).
         P float c0 = est_cos(p0);
         P float turning = gmul(gc(coef * c0 * c0 / (u0 * u0 * u0)), curv.turn);
-        P float joint = gc(gmul(slope, curv.rest) + rmax(dh, turning));
+        P float net = gc(gmul(ggx_net_coefficient(a2, s0, s1), curv.turn)
+            + gmul(dd, rmax(w2 - curv.turn, 0.0)));
+        P float joint = gc(gmul(slope, curv.rest) + rmax(rmin(net, dh), turning));
         o.h = rmin(o.h, joint);
     }
     return guard_jet(o);
@@ -1173,8 +1204,9 @@ void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Sc
         P float slope = s1 * est_pow(chi, s0 - 1.0);
         t.h = gmul(c_nh.h, slope);
         P float hp = 0.0;
+        P float k = 0.0;
         if (s1 > 1.0) {
-            P float k = s1 * (s1 - 1.0) * max_cos_sin(s0 - 2.0, 2.0, h0, h1);
+            k = s1 * (s1 - 1.0) * max_cos_sin(s0 - 2.0, 2.0, h0, h1);
             P float w2 = gmul(w_nh, w_nh);
             hp = gmul(k, w2);
             if (booked(T_POWER)) {
@@ -1185,7 +1217,13 @@ void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Sc
             // The power's part >= 0, the cosine's turning part <= 0: the larger, plus the rest.
             Curvature curv = curvature(n, h, vec2(h0, h1));
             P float turning = gmul(gmul(s1, est_pow(chi, s0)), curv.turn);
-            P float joint = gc(gmul(slope, curv.rest) + rmax(hp, turning));
+            // The profile's part less the turning part, on the turn's share of w^2 (see Rust).
+            P float net = hp;
+            if (s1 > 1.0 && s0 > 2.0) {
+                P float c1 = power_net_coefficient(s0, s1, chi, rmax(est_cos(h1), 0.0));
+                net = gc(gmul(c1, curv.turn) + gmul(k, rmax(gmul(w_nh, w_nh) - curv.turn, 0.0)));
+            }
+            P float joint = gc(gmul(slope, curv.rest) + rmax(rmin(net, hp), turning));
             t.h = rmin(t.h, joint);
         }
         t = guard_jet(t);
