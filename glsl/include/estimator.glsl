@@ -754,6 +754,7 @@ struct Frame {
     float rho_x;
     Scale s1;
     Scale sn;
+    float rho;
     Scale d1;
     Scale dn;
     Cone n_cone;
@@ -777,6 +778,22 @@ P float plane_sin(Cone cone, vec3 plane) {
     }
     P vec2 g = psi_range(cone, Cone(plane, 0.0));
     return max_sin(g.x, g.y);
+}
+
+// s1/sn of one attribute, 0 where sn is (see `Frame::rho` in Rust).
+P float scale_ratio(float one, float later) {
+    P float r = later > 0.0 ? one / later : 0.0;
+    return r;
+}
+
+// The jet at a scale rho times this one's: value kept, first derivative times rho, second
+// times rho^2 (see `LightJets::scaled`).
+Jet scaled_jet(Jet j, float rho, float rho2) {
+    Jet o;
+    o.m = j.m;
+    o.g = j.g * rho;
+    o.h = j.h * rho2;
+    return o;
 }
 
 Frame make_frame(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye) {
@@ -807,6 +824,8 @@ Frame make_frame(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye)
     f.e_min = min_length(to_eye0, to_eye1, to_eye2, f.v_cone);
     f.s1 = Scale(px.sqrt_k1, pn.sqrt_k1, pg.x + g_pad * pn.sqrt_k1);
     f.sn = Scale(px.sqrt_k, pn.sqrt_k, pg.y + g_pad * pn.sqrt_k);
+    f.rho = rmin(rmax(rmax(scale_ratio(f.s1.a, f.sn.a), scale_ratio(f.s1.b, f.sn.b)), scale_ratio(f.s1.g, f.sn.g)),
+                 1.0);
     f.d1 = Scale(px.diam1, pn.diam1, 0.0);
     f.dn = Scale(px.diam, pn.diam, 0.0);
     f.n_max_len = longest;
@@ -1674,6 +1693,15 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
         view1 = view_band(frame, frame.d1);
         viewn = view_band(frame, frame.dn);
     }
+    // The jets at levels >= 2, and at level 1 those scaled by rho unless the Uniform split needs
+    // each term or GGX's view kink takes another band (see Rust).
+    bool derive_one = SPLIT == 1 && !view_kink;
+    Jet diff_n;
+    Jet spec_n[3];
+    P vec3 kink_n;
+    est_term = T_ALL;
+    light_jets(frame, material, param, setup, frame.sn, rmin(view1, viewn), diff_n, spec_n, kink_n);
+    P float rho2 = frame.rho * frame.rho;
     for (int level = 0; level < 2; ++level) {
         Scale s = level == 0 ? frame.s1 : frame.sn;
         P float view_at = level == 0 ? view1 : rmin(view1, viewn);
@@ -1690,7 +1718,19 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
             }
         }
         est_term = T_ALL;
-        light_jets(frame, material, param, setup, s, view_at, diff, spec, kink);
+        if (level == 1) {
+            diff = diff_n;
+            spec = spec_n;
+            kink = kink_n;
+        } else if (derive_one) {
+            diff = scaled_jet(diff_n, frame.rho, rho2);
+            spec[0] = scaled_jet(spec_n[0], frame.rho, rho2);
+            spec[1] = scaled_jet(spec_n[1], frame.rho, rho2);
+            spec[2] = scaled_jet(spec_n[2], frame.rho, rho2);
+            kink = kink_n;
+        } else {
+            light_jets(frame, material, param, setup, s, view_at, diff, spec, kink);
+        }
         P vec3 spec_t = vec3(spec[0].h, spec[1].h, spec[2].h);
         if (level == 0) {
             tot_d1 = diff_w * (diff.h * (0.5 * SAFETY));
