@@ -652,8 +652,7 @@ fn comparison(md: &mut String, table: &[Row], grids: &[Row], sweep: &[Row]) {
 /// The five steps that made multirate faster than per-pixel shading, each as measured against
 /// the build before it when it landed (docs/speedups.md holds the commands and all later steps).
 fn steps(md: &mut String) {
-    let _ = writeln!(md, "## What each step gained
-");
+    let _ = writeln!(md, "## What each step gained\n");
     let _ = writeln!(
         md,
         "Measured when each step landed, its build against the one before it in one run on this machine kind (lavapipe, bunny at 1920×1080, ε 0.075, ms; not re-measured by the command above). [speedups.md](speedups.md) has the commands, the other scenes and the later steps, each against the one before.\n"
