@@ -652,13 +652,19 @@ fn comparison(md: &mut String, table: &[Row], grids: &[Row], sweep: &[Row]) {
 /// The five steps that made multirate faster than per-pixel shading, each as measured against
 /// the build before it when it landed (docs/speedups.md holds the commands and all later steps).
 fn steps(md: &mut String) {
-    let _ = writeln!(md, "## What each step gained\n");
-    let _ = writeln!(
-        md,
-        "Measured when each step landed, its build against the one before it in one run on this machine kind (lavapipe, bunny at 1920×1080, ε 0.075, ms; not re-measured by the command above). [speedups.md](speedups.md) has the commands, the other scenes and the later steps, each against the one before.\n"
-    );
-    for line in STEPS {
-        let _ = writeln!(md, "{line}");
+    let intro = "Measured when each step landed, its build against the one before it in one run on this machine kind (lavapipe, bunny at 1920×1080, ε 0.075, ms; not re-measured by the command above). [speedups.md](speedups.md) has the commands, the other scenes and the later steps, each against the one before.";
+    text_section(md, "What each step gained", Some(intro), &STEPS, "");
+}
+
+/// A section of fixed text: its heading, an optional paragraph, and one line per item, each
+/// after `marker`.
+fn text_section(md: &mut String, heading: &str, intro: Option<&str>, items: &[&str], marker: &str) {
+    let _ = writeln!(md, "## {heading}\n");
+    if let Some(intro) = intro {
+        let _ = writeln!(md, "{intro}\n");
+    }
+    for item in items {
+        let _ = writeln!(md, "{marker}{item}");
     }
     let _ = writeln!(md);
 }
@@ -673,11 +679,7 @@ const STEPS: [&str; 5] = [
 
 /// What a reader should and should not conclude from times measured on lavapipe.
 fn reading_lavapipe_times(md: &mut String) {
-    let _ = writeln!(md, "## Reading times measured on lavapipe\n");
-    for line in READING_LAVAPIPE_TIMES {
-        let _ = writeln!(md, "- {line}");
-    }
-    let _ = writeln!(md);
+    text_section(md, "Reading times measured on lavapipe", None, &READING_LAVAPIPE_TIMES, "- ");
 }
 
 const READING_LAVAPIPE_TIMES: [&str; 4] = [

@@ -4135,6 +4135,25 @@ mod tests {
         (radiance * irradiance).to_array()
     }
 
+    /// A random material of kind `brdf` (0 Lambert, 1 Blinn-Phong, 2 GGX): colours 0.05–1,
+    /// shininess log-uniform 1–10⁴, roughness 0.02–1 and one in eight exactly 0.
+    fn random_material(rng: &mut crate::test_rng::Rng, brdf: usize) -> MaterialKind {
+        let colour = |rng: &mut crate::test_rng::Rng| rng.point(Vec3::splat(0.05), Vec3::ONE);
+        match brdf {
+            0 => MaterialKind::Lambert { kd: colour(rng) },
+            1 => MaterialKind::BlinnPhong {
+                kd: colour(rng),
+                ks: colour(rng),
+                shininess: rng.range(0.0, 10_000f32.ln()).exp(),
+            },
+            _ => MaterialKind::Ggx {
+                albedo: colour(rng),
+                f0: colour(rng) * 0.5,
+                roughness: if rng.below(8) == 0 { 0.0 } else { rng.range(0.02, 1.0) },
+            },
+        }
+    }
+
     /// The level-1 jets `add_light` takes from those at levels ≥ 2 (`LightJets::scaled` by
     /// `Frame::rho`) are never below the jets computed at the level-1 scale itself: every jet is
     /// non-decreasing in each attribute's scale and homogeneous in them. Random triangles
@@ -4181,20 +4200,7 @@ mod tests {
                     intensity: 1.0,
                 },
             };
-            let colour = |rng: &mut crate::test_rng::Rng| rng.point(Vec3::splat(0.05), Vec3::ONE);
-            let material = match case % 3 {
-                0 => MaterialKind::Lambert { kd: colour(&mut rng) },
-                1 => MaterialKind::BlinnPhong {
-                    kd: colour(&mut rng),
-                    ks: colour(&mut rng),
-                    shininess: rng.range(0.0, 10_000f32.ln()).exp(),
-                },
-                _ => MaterialKind::Ggx {
-                    albedo: colour(&mut rng),
-                    f0: colour(&mut rng) * 0.5,
-                    roughness: rng.f(),
-                },
-            };
+            let material = random_material(&mut rng, case % 3);
             let own = ParameterRange::of(&material);
             let parameter = if case % 2 == 0 {
                 own
@@ -4301,20 +4307,7 @@ mod tests {
                     intensity: rng.range(0.3, 3.0),
                 },
             };
-            let colour = |rng: &mut crate::test_rng::Rng| rng.point(Vec3::splat(0.05), Vec3::ONE);
-            let material = match brdf {
-                0 => MaterialKind::Lambert { kd: colour(&mut rng) },
-                1 => MaterialKind::BlinnPhong {
-                    kd: colour(&mut rng),
-                    ks: colour(&mut rng),
-                    shininess: rng.range(0.0, 10_000f32.ln()).exp(),
-                },
-                _ => MaterialKind::Ggx {
-                    albedo: colour(&mut rng),
-                    f0: colour(&mut rng) * 0.5,
-                    roughness: if rng.below(8) == 0 { 0.0 } else { rng.range(0.02, 1.0) },
-                },
-            };
+            let material = random_material(&mut rng, brdf);
             let tri = TriangleInput { positions, normals, eye };
             let frame = Frame::new(&tri);
             // Half the cases: a textured parameter, whose range the jets bound over; the
