@@ -788,7 +788,8 @@ P float scale_ratio(float one, float later) {
 
 // The jet at a scale rho times this one's: value kept, first derivative times rho, second
 // times rho^2 (see `LightJets::scaled`).
-Jet scaled_jet(Jet j, float rho, float rho2) {
+Jet scaled_jet(Jet j, float rho) {
+    P float rho2 = rho * rho;
     Jet o;
     o.m = j.m;
     o.g = j.g * rho;
@@ -1004,8 +1005,8 @@ void light_weights(GpuMaterial m, vec3 radiance, out vec3 diff_w, out vec3 spec_
 // Jets of one light
 // ---------------------------------------------------------------------------------------------
 
-// GGX D(n.h) jet (see `ggx_d_jet`).
-// The distribution's profile coefficient less the turning part (see Rust).
+// The distribution's profile coefficient less the turning part at s2 = sin^2 psi (see
+// `ggx_net_coefficient` in Rust).
 P float ggx_net_at(float a2, float beta, float coef, float x) {
     P float u = a2 + beta * x;
     P float n = (2.0 * a2 + 5.0 * beta - 4.0 * beta * x) * x - a2;
@@ -1024,6 +1025,7 @@ P float ggx_net_coefficient(float a2, float s0, float s1) {
     return r;
 }
 
+// GGX D(n.h) jet (see `ggx_d_jet`).
 Jet ggx_d_jet(Jet c, Curvature curv, float p0, float p1, float w, float alpha) {
     P float a2 = alpha * alpha;
     P float beta = 1.0 - a2;
@@ -1224,9 +1226,9 @@ void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Sc
         t.h = gmul(c_nh.h, slope);
         P float hp = 0.0;
         P float k = 0.0;
+        P float w2 = gmul(w_nh, w_nh);
         if (s1 > 1.0) {
             k = s1 * (s1 - 1.0) * max_cos_sin(s0 - 2.0, 2.0, h0, h1);
-            P float w2 = gmul(w_nh, w_nh);
             hp = gmul(k, w2);
             if (booked(T_POWER)) {
                 t.h = gc(t.h + hp);
@@ -1240,7 +1242,7 @@ void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Sc
             P float net = hp;
             if (s1 > 1.0 && s0 > 2.0) {
                 P float c1 = power_net_coefficient(s0, s1, chi, rmax(est_cos(h1), 0.0));
-                net = gc(gmul(c1, curv.turn) + gmul(k, rmax(gmul(w_nh, w_nh) - curv.turn, 0.0)));
+                net = gc(gmul(c1, curv.turn) + gmul(k, rmax(w2 - curv.turn, 0.0)));
             }
             P float joint = gc(gmul(slope, curv.rest) + rmax(rmin(net, hp), turning));
             t.h = rmin(t.h, joint);
@@ -1701,7 +1703,6 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     P vec3 kink_n;
     est_term = T_ALL;
     light_jets(frame, material, param, setup, frame.sn, rmin(view1, viewn), diff_n, spec_n, kink_n);
-    P float rho2 = frame.rho * frame.rho;
     for (int level = 0; level < 2; ++level) {
         Scale s = level == 0 ? frame.s1 : frame.sn;
         P float view_at = level == 0 ? view1 : rmin(view1, viewn);
@@ -1723,10 +1724,10 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
             spec = spec_n;
             kink = kink_n;
         } else if (derive_one) {
-            diff = scaled_jet(diff_n, frame.rho, rho2);
-            spec[0] = scaled_jet(spec_n[0], frame.rho, rho2);
-            spec[1] = scaled_jet(spec_n[1], frame.rho, rho2);
-            spec[2] = scaled_jet(spec_n[2], frame.rho, rho2);
+            diff = scaled_jet(diff_n, frame.rho);
+            spec[0] = scaled_jet(spec_n[0], frame.rho);
+            spec[1] = scaled_jet(spec_n[1], frame.rho);
+            spec[2] = scaled_jet(spec_n[2], frame.rho);
             kink = kink_n;
         } else {
             light_jets(frame, material, param, setup, s, view_at, diff, spec, kink);
