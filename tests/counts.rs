@@ -1,6 +1,7 @@
 //! Deterministic counts (lavapipe, validation layer on):
 //! - pipeline statistics: one triangle at `fixed:n` runs the evaluation shader once per
-//!   distinct sub-vertex, ceil(3(n+1)²/4), and the timestamps around the pass are positive;
+//!   distinct sub-vertex, ceil(3(n+1)²/4) (at least once on devices other than lavapipe, as
+//!   Vulkan allows), and the timestamps around the pass are positive;
 //! - the counting variant: the same sub-vertex counts, one fragment evaluation per covered
 //!   pixel in `pixel` mode, three vertex evaluations in `vertex` mode, and a scene that falls
 //!   back everywhere counts exactly the fragments of `pixel` mode;
@@ -17,6 +18,7 @@ use multirate::analysis::tessellator::uniform_vertex_count;
 use multirate::render::cull::CULLED_LEVEL;
 use multirate::render::{EvaluationCounts, Mode, Renderer, View};
 use multirate::scene::Scene;
+use multirate::vk::context::Context;
 use multirate::vk::target::RenderTarget;
 
 fn one_triangle_scene() -> Scene {
@@ -42,6 +44,12 @@ fn one_triangle_scene() -> Scene {
     scene
 }
 
+/// Whether the device is known to run the evaluation shader once per distinct sub-vertex of
+/// a patch (lavapipe); the specification only promises at least once.
+fn deduplicates_sub_vertices(context: &Context) -> bool {
+    context.info.name.contains("llvmpipe")
+}
+
 #[test]
 fn one_triangle_at_fixed_n_shades_the_pattern_vertices() {
     let scene = one_triangle_scene();
@@ -55,10 +63,14 @@ fn one_triangle_at_fixed_n_shades_the_pattern_vertices() {
         let stats = measured.statistics.expect("statistics");
         let expected = uniform_vertex_count(n) as u64;
         assert_eq!(stats.tessellation_control_patches, 1, "n = {n}");
-        assert_eq!(
-            stats.tessellation_evaluation_invocations, expected,
-            "n = {n}: evaluation shader runs per distinct sub-vertex"
-        );
+        // Vulkan runs the evaluation shader at least once per distinct sub-vertex; lavapipe
+        // (CI's device) runs it exactly once, an NVIDIA H200 ran it 90 times at n = 8 (61).
+        let invocations = stats.tessellation_evaluation_invocations;
+        if deduplicates_sub_vertices(&context) {
+            assert_eq!(invocations, expected, "n = {n}: evaluation shader runs per distinct sub-vertex");
+        } else {
+            assert!(invocations >= expected, "n = {n}: {invocations} evaluations, {expected} sub-vertices");
+        }
         let gpu_ms = measured.gpu_ms();
         assert_eq!(gpu_ms.len(), 3, "n = {n}: one interval per measured frame");
         assert!(gpu_ms.iter().all(|ms| ms.is_finite() && *ms > 0.0), "{gpu_ms:?}");
@@ -69,7 +81,11 @@ fn one_triangle_at_fixed_n_shades_the_pattern_vertices() {
         );
 
         let counted = renderer.count_evaluations(&target, &view).expect("count");
-        assert_eq!(counted, EvaluationCounts { sub_vertices: expected, ..Default::default() }, "n = {n}");
+        if deduplicates_sub_vertices(&context) {
+            assert_eq!(counted, EvaluationCounts { sub_vertices: expected, ..Default::default() }, "n = {n}");
+        } else {
+            assert!(counted.sub_vertices >= expected, "n = {n}: {counted:?}");
+        }
     }
     assert_validation_clean(&context);
 }
