@@ -28,7 +28,7 @@ use multirate::analysis::tessellator::{triangle_pattern, Pattern};
 use multirate::scene::{with_parameter, Light, LightSampling, MaterialKind, PolygonLight, PolygonSampling};
 use multirate::shading::estimator::{
     estimate, estimate_textured, pattern_level, uniform_level, Discontinuity, EstimatorSettings,
-    ParameterRange, Reason, Split, Term, TriangleInput,
+    ParameterRange, Reason, Split, Term, TriangleInput, SHAPES,
 };
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -825,24 +825,13 @@ fn textured_roughness_never_exceeds_epsilon() {
 /// Random triangles per BRDF of [`where_the_excess_lies`].
 const DECOMPOSITION_TRIANGLES: usize = 3_000;
 
-/// The sub-triangle shapes of the hardware pattern, as `estimator::SHAPES` (`docs/estimator.md`
-/// §1), in the barycentric basis `(s, t)` of `λ = (1 − s − t, s, t)`.
-const PATTERN_SHAPES: [[(f64, f64); 2]; 7] = [
-    [(1.0, 0.0), (0.0, 1.0)],
-    [(1.0, 0.0), (2.0 / 3.0, 2.0 / 3.0)],
-    [(1.0, 0.0), (-1.0 / 3.0, 2.0 / 3.0)],
-    [(0.0, 1.0), (2.0 / 3.0, 2.0 / 3.0)],
-    [(0.0, 1.0), (2.0 / 3.0, -1.0 / 3.0)],
-    [(-1.0, 1.0), (-4.0 / 3.0, 2.0 / 3.0)],
-    [(-1.0, 1.0), (-1.0 / 3.0, -1.0 / 3.0)],
-];
-
 /// The level a bound by the supremum of the true second derivative would choose, measured:
 /// the Hessian `H(y)` of each channel by central differences (step 0.01 of the patch) on a
 /// 24-per-edge grid of points `y`, then equation (1) with `sup_y |dᵀH(y)d|` for every corner
-/// offset `d` of a 6-per-edge grid of points in each pattern shape (`E`, and `E₁` for the patch
-/// alone), and the smallest `n` with `min(E/L(n)², osc f) ≤ ε` (`L` the effective level, `osc`
-/// the sampled range of `f`). No jets: what a perfect bound of the supremum kind reaches.
+/// offset `d` of a 6-per-edge grid of points in each pattern shape ([`SHAPES`]; `E`, and `E₁`
+/// for the patch alone), and the smallest `n` with `min(E/L(n)², osc f) ≤ ε` (`L` the
+/// effective level, `osc` the sampled range of `f`). No jets: what a perfect bound of the
+/// supremum kind reaches.
 fn sup_bound_level(case: &Case) -> Option<u32> {
     use multirate::analysis::oracle::shade_at;
     let f = |s: f64, t: f64| shade_at(&case.tri, &case.material, &case.lights, [1.0 - s - t, s, t]);
@@ -872,8 +861,9 @@ fn sup_bound_level(case: &Case) -> Option<u32> {
             .fold(0.0, f64::max)
     };
     let (mut all, mut patch) = (0.0f64, 0.0f64);
-    for (index, shape) in PATTERN_SHAPES.iter().enumerate() {
-        let corners = [(0.0, 0.0), shape[0], shape[1]];
+    for (index, shape) in SHAPES.iter().enumerate() {
+        let widen = |(s, t): (f32, f32)| (f64::from(s), f64::from(t));
+        let corners = [(0.0, 0.0), widen(shape[0]), widen(shape[1])];
         let q = 6;
         for a in 0..=q {
             for b in 0..=(q - a) {

@@ -930,7 +930,7 @@ pub struct PatternConstants {
 /// median towards the opposite corner) the two halves of a ring quad, `{0, e, e + r}` and
 /// `{0, e, r}` (both diagonals; corner triangles and the centre fan of even levels are
 /// among them).
-pub(crate) const SHAPES: [[(f32, f32); 2]; 7] = [
+pub const SHAPES: [[(f32, f32); 2]; 7] = [
     [(1.0, 0.0), (0.0, 1.0)],
     // side AB: e = e₁, r = −e₁/3 + 2e₂/3
     [(1.0, 0.0), (2.0 / 3.0, 2.0 / 3.0)],
@@ -4258,6 +4258,24 @@ mod tests {
     /// shininess up to 10⁴, GGX roughness down to 0, and textured parameter ranges (the jets
     /// over a range, the shading at one value of it). Conservative handling, so that the
     /// clamps (`n·l`, `n·h` below shininess 2, `n·v`) are inactive wherever the jets apply.
+    /// `axis` turned by an angle in `[lo, hi)` towards a random side.
+    fn tilt(rng: &mut crate::test_rng::Rng, axis: Vec3, lo: f32, hi: f32) -> Vec3 {
+        let angle = rng.range(lo, hi);
+        let side = axis.any_orthonormal_pair();
+        let turn = rng.range(0.0, std::f32::consts::TAU);
+        let across = side.0 * turn.cos() + side.1 * turn.sin();
+        (axis * angle.cos() + across * angle.sin()).normalize()
+    }
+
+    /// A random patch of corner offsets up to `size` around a centre in `[−1, 1]³`, and an eye
+    /// 2–10 away: `(centre, positions, direction to the eye, eye)`.
+    fn random_patch(rng: &mut crate::test_rng::Rng, size: f32) -> (Vec3, [Vec3; 3], Vec3, Vec3) {
+        let centre = rng.point(Vec3::splat(-1.0), Vec3::splat(1.0));
+        let positions = [0; 3].map(|_| centre + rng.point(Vec3::splat(-size), Vec3::splat(size)));
+        let eye_dir = rng.point(Vec3::splat(-1.0), Vec3::splat(1.0)).normalize_or_zero();
+        (centre, positions, eye_dir, centre + eye_dir * rng.range(2.0, 10.0))
+    }
+
     /// How close the jets come, at a point, to the second derivative in its worst direction:
     /// tiny patches (size 10⁻³, normal spreads 5·10⁻⁵–10⁻³ rad, point lights from 3 sizes
     /// away and directional lights, the three BRDFs, and the lobes alone), 72 directions at
@@ -4271,18 +4289,7 @@ mod tests {
         let mut ratios: [Vec<f64>; 5] = Default::default();
         for case in 0..3000 {
             let brdf = case % 3;
-            let size = 1.0e-3;
-            let centre = rng.point(Vec3::splat(-1.0), Vec3::splat(1.0));
-            let positions = [0; 3].map(|_| centre + rng.point(Vec3::splat(-size), Vec3::splat(size)));
-            let eye_dir = rng.point(Vec3::splat(-1.0), Vec3::splat(1.0)).normalize_or_zero();
-            let eye = centre + eye_dir * rng.range(2.0, 10.0);
-            let tilt = |rng: &mut crate::test_rng::Rng, axis: Vec3, lo: f32, hi: f32| {
-                let angle = rng.range(lo, hi);
-                let side = axis.any_orthonormal_pair();
-                let turn = rng.range(0.0, std::f32::consts::TAU);
-                let across = side.0 * turn.cos() + side.1 * turn.sin();
-                (axis * angle.cos() + across * angle.sin()).normalize()
-            };
+            let (centre, positions, eye_dir, eye) = random_patch(&mut rng, 1.0e-3);
             let base = tilt(&mut rng, eye_dir, 0.0, 1.2);
             let spread = 1.0e-3 * (rng.range(-3.0, 0.0)).exp();
             let normals = [0; 3].map(|_| tilt(&mut rng, base, 0.0, spread));
@@ -4379,19 +4386,8 @@ mod tests {
         for case in 0..3000 {
             let brdf = case % 3;
             let size = rng.range(0.05, 1.0);
-            let centre = rng.point(Vec3::splat(-1.0), Vec3::splat(1.0));
-            let positions = [0; 3].map(|_| centre + rng.point(Vec3::splat(-size), Vec3::splat(size)));
-            let eye_dir = rng.point(Vec3::splat(-1.0), Vec3::splat(1.0)).normalize_or_zero();
-            let eye = centre + eye_dir * rng.range(2.0, 10.0);
+            let (centre, positions, eye_dir, eye) = random_patch(&mut rng, size);
             let tangent = eye_dir.any_orthonormal_vector();
-            // `axis` turned by an angle in [lo, hi) towards a random side.
-            let tilt = |rng: &mut crate::test_rng::Rng, axis: Vec3, lo: f32, hi: f32| {
-                let angle = rng.range(lo, hi);
-                let side = axis.any_orthonormal_pair();
-                let turn = rng.range(0.0, std::f32::consts::TAU);
-                let across = side.0 * turn.cos() + side.1 * turn.sin();
-                (axis * angle.cos() + across * angle.sin()).normalize()
-            };
             let base = tilt(&mut rng, eye_dir, 0.0, 1.2);
             let spread = (rng.range(-7.0, -0.2)).exp();
             let normals = [0; 3].map(|_| tilt(&mut rng, base, 0.0, spread) * (0.7 + 0.6 * rng.f()));
