@@ -4276,6 +4276,89 @@ mod tests {
         (centre, positions, eye_dir, centre + eye_dir * rng.range(2.0, 10.0))
     }
 
+    /// The slope of `t = n̂·ĥ` against its bound `|Dt| ≤ sin ψ·(w_n + w_h)` (what the lobes'
+    /// profile part squares), at the centre of tiny patches as in
+    /// [`jets_at_a_point_against_the_worst_direction`], over 72 directions: asserts the bound and
+    /// prints `max_δ (Dt)² / max_δ bound²`, for `t` and for its normal's part `Dn̂·ĥ` alone
+    /// (`docs/estimator.md` §11).
+    #[test]
+    fn lobe_slope_against_the_worst_direction() {
+        let mut rng = crate::test_rng::Rng(0x1234_5678_9abc);
+        let (mut whole, mut normal_part) = (Vec::new(), Vec::new());
+        for _ in 0..2000 {
+            let (centre, positions, eye_dir, eye) = random_patch(&mut rng, 1.0e-3);
+            let base = tilt(&mut rng, eye_dir, 0.0, 1.2);
+            let spread = 1.0e-3 * (rng.range(-3.0, 0.0)).exp();
+            let normals = [0; 3].map(|_| tilt(&mut rng, base, 0.0, spread));
+            let towards = tilt(&mut rng, base, 0.0, 1.4);
+            let light = if rng.below(3) == 0 {
+                Light::Point {
+                    position: centre + towards * rng.range(0.003, 10.0),
+                    color: Vec3::ONE,
+                    intensity: 1.0,
+                }
+            } else {
+                Light::Directional { direction: -towards, color: Vec3::ONE, intensity: 1.0 }
+            };
+            let material = MaterialKind::BlinnPhong { kd: Vec3::ZERO, ks: Vec3::ONE, shininess: 100.0 };
+            let tri = TriangleInput { positions, normals, eye };
+            let frame = Frame::new(&tri);
+            let own = ParameterRange::of(&material);
+            let Ok(Some((setup, _, _))) =
+                plan_light(&frame, &material, own, &light, Discontinuity::Conservative)
+            else {
+                continue;
+            };
+            let [p, q, r] = positions.map(|x| x.as_dvec3());
+            let [np, nq, nr] = normals.map(|x| x.as_dvec3());
+            let s_max = f64::from(max_sin(setup.psi_nh.0, setup.psi_nh.1.min(FRAC_PI_2)));
+            let (mut slope, mut bound, mut slope_n, mut bound_n) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+            for k in 0..72 {
+                let turn = f64::from(k) * std::f64::consts::PI / 72.0;
+                let (du, dv) = (turn.cos(), turn.sin());
+                // t along the step; with `normal_only` the light and view stay at the centre's.
+                let t_at = |t: f64, normal_only: bool| {
+                    let (a, b) = (1.0 / 3.0 + t * du, 1.0 / 3.0 + t * dv);
+                    let x = p + (q - p) * a + (r - p) * b;
+                    let n = (np + (nq - np) * a + (nr - np) * b).normalize();
+                    let seen_from = if normal_only { (p + q + r) / 3.0 } else { x };
+                    let l = match light {
+                        Light::Point { position, .. } => (position.as_dvec3() - seen_from).normalize(),
+                        _ => towards.as_dvec3().normalize(),
+                    };
+                    let v = (eye.as_dvec3() - seen_from).normalize();
+                    n.dot((l + v).normalize())
+                };
+                let h = 1.0e-2;
+                let dt = (t_at(h, false) - t_at(-h, false)) / (2.0 * h);
+                let dn = (t_at(h, true) - t_at(-h, true)) / (2.0 * h);
+                let x_step = ((q - p) * du + (r - p) * dv).length() as f32;
+                let n_step = ((nq - np) * du + (nr - np) * dv).length() as f32;
+                let w_n = f64::from(n_step / frame.r_n);
+                let w_h = f64::from((x_step * setup.inv_d + x_step / frame.e_min) / setup.m_min);
+                let b = s_max * (w_n + w_h);
+                assert!(dt.abs() <= b * 1.001, "{light:?}, {tri:?}, direction {k}: |Dt| {} > {b}", dt.abs());
+                slope = slope.max(dt * dt);
+                bound = bound.max(b * b);
+                slope_n = slope_n.max(dn * dn);
+                bound_n = bound_n.max((s_max * w_n).powi(2));
+            }
+            whole.push(slope / bound);
+            normal_part.push(slope_n / bound_n);
+        }
+        for (name, v) in [("(Dt)²", &mut whole), ("(Dn̂·ĥ)²", &mut normal_part)] {
+            v.sort_by(|a, b| a.total_cmp(b));
+            let n = v.len();
+            assert!(n > 1000 && v[n - 1] > 0.9, "{name}: {n} patches, largest {}", v[n - 1]);
+            eprintln!(
+                "{name} / its bound², worst direction of each of {n} patches: 10th percentile {:.2}, median {:.2}, 90th {:.2}",
+                v[n / 10],
+                v[n / 2],
+                v[9 * n / 10]
+            );
+        }
+    }
+
     /// How close the jets come, at a point, to the second derivative in its worst direction:
     /// tiny patches (size 10⁻³, normal spreads 5·10⁻⁵–10⁻³ rad, point lights from 3 sizes
     /// away and directional lights, the three BRDFs, and the lobes alone), 72 directions at
