@@ -912,6 +912,7 @@ fn children(t: &TriangleInput) -> [TriangleInput; 4] {
 /// test's triangles (Conservative, Heuristic): evaluations, fallbacks counted at `n_max`, of
 /// - every triangle the oracle tessellates, and the least any estimator could reach there
 ///   with the fallbacks a discontinuity or singularity forces (the oracle's count elsewhere);
+///   the same for Relaxed;
 /// - the smooth triangles alone: the oracle; a perfect bound by the supremum of `|D²f|`
 ///   ([`sup_bound_level`]); the estimator on the 4 and 16 children of each triangle that asks
 ///   for a level above 2 (level `2ᵈ·max` of theirs, a prototype: a child's range bounds do not
@@ -931,6 +932,7 @@ fn where_the_excess_lies() {
     ] {
         let mut rng = SplitMix64(seed);
         let (mut oracle_all, mut estimator_all, mut forced) = (0u64, 0u64, 0u64);
+        let (mut relaxed_all, mut relaxed_forced) = (0u64, 0u64);
         let mut smooth = [0u64; 5];
         let mut sup_violations = 0;
         for _ in 0..DECOMPOSITION_TRIANGLES {
@@ -947,6 +949,13 @@ fn where_the_excess_lies() {
             let chosen = (!est.fallback).then_some(est.n);
             oracle_all += vertices_at_level(m);
             estimator_all += count(chosen);
+            let relaxed = estimate(&case.tri, &case.material, &case.lights, &relaxed(case.epsilon));
+            relaxed_all += count((!relaxed.fallback).then_some(relaxed.n));
+            relaxed_forced += if relaxed.fallback && relaxed.reason != Reason::Level {
+                vertices_at_level(case.n_max)
+            } else {
+                vertices_at_level(m)
+            };
             if est.fallback && est.reason != Reason::Level {
                 forced += vertices_at_level(case.n_max);
                 continue;
@@ -989,9 +998,11 @@ fn where_the_excess_lies() {
         let x = |a: u64, b: u64| a as f64 / b.max(1) as f64;
         let _ = writeln!(
             text,
-            "{brdf:?}: all the oracle tessellates: estimator x{:.2}, least with the forced fallbacks x{:.2}; smooth: oracle {}, supremum of |D2f| x{:.2} ({sup_violations} over eps), 16 children x{:.2}, 4 children x{:.2}, estimator x{:.2}",
+            "{brdf:?}: all the oracle tessellates: estimator x{:.2}, least with the forced fallbacks x{:.2} (Relaxed: x{:.2}, x{:.2}); smooth: oracle {}, supremum of |D2f| x{:.2} ({sup_violations} over eps), 16 children x{:.2}, 4 children x{:.2}, estimator x{:.2}",
             x(estimator_all, oracle_all),
             x(forced, oracle_all),
+            x(relaxed_all, oracle_all),
+            x(relaxed_forced, oracle_all),
             smooth[0],
             x(smooth[1], smooth[0]),
             x(smooth[2], smooth[0]),
