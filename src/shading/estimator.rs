@@ -4286,22 +4286,9 @@ mod tests {
         let mut rng = crate::test_rng::Rng(0x1234_5678_9abc);
         let (mut whole, mut normal_part) = (Vec::new(), Vec::new());
         for _ in 0..2000 {
-            let (centre, positions, eye_dir, eye) = random_patch(&mut rng, 1.0e-3);
-            let base = tilt(&mut rng, eye_dir, 0.0, 1.2);
-            let spread = 1.0e-3 * (rng.range(-3.0, 0.0)).exp();
-            let normals = [0; 3].map(|_| tilt(&mut rng, base, 0.0, spread));
-            let towards = tilt(&mut rng, base, 0.0, 1.4);
-            let light = if rng.below(3) == 0 {
-                Light::Point {
-                    position: centre + towards * rng.range(0.003, 10.0),
-                    color: Vec3::ONE,
-                    intensity: 1.0,
-                }
-            } else {
-                Light::Directional { direction: -towards, color: Vec3::ONE, intensity: 1.0 }
-            };
+            let (tri, light, towards) = tiny_patch(&mut rng);
             let material = MaterialKind::BlinnPhong { kd: Vec3::ZERO, ks: Vec3::ONE, shininess: 100.0 };
-            let tri = TriangleInput { positions, normals, eye };
+            let (positions, normals, eye) = (tri.positions, tri.normals, tri.eye);
             let frame = Frame::new(&tri);
             let own = ParameterRange::of(&material);
             let Ok(Some((setup, _, _))) =
@@ -4359,6 +4346,27 @@ mod tests {
         }
     }
 
+    /// A patch of size 10⁻³ with unit normals spread by 5·10⁻⁵–10⁻³ rad, and one light in the
+    /// direction `towards` (returned) within 1.4 rad of them: a point light 0.003–10 away (a
+    /// third of the cases) or a directional one.
+    fn tiny_patch(rng: &mut crate::test_rng::Rng) -> (TriangleInput, Light, Vec3) {
+        let (centre, positions, eye_dir, eye) = random_patch(rng, 1.0e-3);
+        let base = tilt(rng, eye_dir, 0.0, 1.2);
+        let spread = 1.0e-3 * (rng.range(-3.0, 0.0)).exp();
+        let normals = [0; 3].map(|_| tilt(rng, base, 0.0, spread));
+        let towards = tilt(rng, base, 0.0, 1.4);
+        let light = if rng.below(3) == 0 {
+            Light::Point {
+                position: centre + towards * rng.range(0.003, 10.0),
+                color: Vec3::ONE,
+                intensity: 1.0,
+            }
+        } else {
+            Light::Directional { direction: -towards, color: Vec3::ONE, intensity: 1.0 }
+        };
+        (TriangleInput { positions, normals, eye }, light, towards)
+    }
+
     /// How close the jets come, at a point, to the second derivative in its worst direction:
     /// tiny patches (size 10⁻³, normal spreads 5·10⁻⁵–10⁻³ rad, point lights from 3 sizes
     /// away and directional lights, the three BRDFs, and the lobes alone), 72 directions at
@@ -4372,23 +4380,8 @@ mod tests {
         let mut ratios: [Vec<f64>; 5] = Default::default();
         for case in 0..3000 {
             let brdf = case % 3;
-            let (centre, positions, eye_dir, eye) = random_patch(&mut rng, 1.0e-3);
-            let base = tilt(&mut rng, eye_dir, 0.0, 1.2);
-            let spread = 1.0e-3 * (rng.range(-3.0, 0.0)).exp();
-            let normals = [0; 3].map(|_| tilt(&mut rng, base, 0.0, spread));
-            let light = if rng.below(3) == 0 {
-                Light::Point {
-                    position: centre + tilt(&mut rng, base, 0.0, 1.4) * rng.range(0.003, 10.0),
-                    color: Vec3::ONE,
-                    intensity: 1.0,
-                }
-            } else {
-                Light::Directional {
-                    direction: -tilt(&mut rng, base, 0.0, 1.5),
-                    color: Vec3::ONE,
-                    intensity: 1.0,
-                }
-            };
+            let (tri, light, _) = tiny_patch(&mut rng);
+            let (positions, normals, eye) = (tri.positions, tri.normals, tri.eye);
             let full = random_material(&mut rng, brdf);
             let lobe = match full {
                 MaterialKind::BlinnPhong { ks, shininess, .. } => {
@@ -4399,7 +4392,6 @@ mod tests {
                 }
                 MaterialKind::Lambert { .. } => None,
             };
-            let tri = TriangleInput { positions, normals, eye };
             let frame = Frame::new(&tri);
             for (material, slot) in [(Some(full), brdf), (lobe, brdf + 2)] {
                 let Some(material) = material else { continue };
