@@ -216,7 +216,7 @@ pub fn run_all(
     epsilon_sweep(&mut md, &sweep_rows, plan.sweep, &options.out)?;
     steps(&mut md);
     comparison(&mut md, &table_rows, &fig11_rows, &sweep_rows);
-    if context.info.name.contains("llvmpipe") {
+    if context.info.is_lavapipe() {
         reading_lavapipe_times(&mut md);
     }
     Ok(md)

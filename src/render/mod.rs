@@ -1552,7 +1552,7 @@ pub fn draw_splitting_note(info: &crate::vk::context::DeviceInfo) -> Option<Stri
 /// whole at fixed:15 and loses rows of patches from fixed:16 on). Splitting draws so that each
 /// emits at most 65535 vertices avoids it; other drivers get no limit.
 fn tessellated_vertex_budget(info: &crate::vk::context::DeviceInfo) -> Option<u32> {
-    info.name.contains("llvmpipe").then_some(65535)
+    info.is_lavapipe().then_some(65535)
 }
 
 /// Renders `scene` headless at `width`×`height` with `view`.

@@ -1834,6 +1834,25 @@ impl LightJets {
     }
 }
 
+/// The unit fields `n̂` and `l̂` of one light at pattern scale `s`.
+fn normal_and_light_fields(frame: &Frame, st: &LightSetup, s: Scale, gd: &Guard) -> (Field, Field) {
+    let n_w = gd.c(s.b / frame.r_n);
+    let n = Field { w: n_w, radial: n_w.min(gd.c(s.g / frame.r_n)), x: 0.0, term: Term::Normal };
+    let l_w = gd.mul(s.a, st.inv_d);
+    let l = Field { w: l_w, radial: gd.mul(l_w, st.plane_sin), x: 0.0, term: Term::Light };
+    (n, l)
+}
+
+/// The unit fields `v̂` and `ĥ = (l̂ + v̂)/|l̂ + v̂|` (specular lights only: `m_min > 0`).
+fn view_and_half_fields(frame: &Frame, st: &LightSetup, l: &Field, s: Scale, gd: &Guard) -> (Field, Field) {
+    let v_w = gd.c(s.a / frame.e_min);
+    let v = Field { w: v_w, radial: v_w, x: 0.0, term: Term::View };
+    let h_w = gd.c((l.w + v.w) / st.m_min);
+    let h =
+        Field { w: h_w, radial: h_w, x: gd.c(K23 * (l.w * l.w + v.w * v.w) / st.m_min), term: Term::Half };
+    (v, h)
+}
+
 /// The jets of one light at pattern scale `s`; `view_band` bounds `|n̂·v̂|` on the
 /// sub-triangles at this scale that the view's kink crosses (used where it may).
 fn light_jets(
@@ -1845,10 +1864,7 @@ fn light_jets(
     view_band: f32,
     gd: &Guard,
 ) -> LightJets {
-    let n_w = gd.c(s.b / frame.r_n);
-    let n = Field { w: n_w, radial: n_w.min(gd.c(s.g / frame.r_n)), x: 0.0, term: Term::Normal };
-    let l_w = gd.mul(s.a, st.inv_d);
-    let l = Field { w: l_w, radial: gd.mul(l_w, st.plane_sin), x: 0.0, term: Term::Light };
+    let (n, l) = normal_and_light_fields(frame, st, s, gd);
     let att =
         if st.inv_d > 0.0 { attenuation_jet(st.inv_d, st.plane_sin, s.a, gd) } else { Jet::constant(1.0) };
     // A polygon: each of its points is a point light whose intensity has the emitter's cosine
@@ -1871,11 +1887,7 @@ fn light_jets(
         return only_diffuse;
     }
 
-    let v_w = gd.c(s.a / frame.e_min);
-    let v = Field { w: v_w, radial: v_w, x: 0.0, term: Term::View };
-    let h_w = gd.c((l.w + v.w) / st.m_min);
-    let h =
-        Field { w: h_w, radial: h_w, x: gd.c(K23 * (l.w * l.w + v.w * v.w) / st.m_min), term: Term::Half };
+    let (v, h) = view_and_half_fields(frame, st, &l, s, gd);
     // n·h where it is positive (both lobes vanish, with their derivatives, below 0).
     let (h0, h1) = (st.psi_nh.0, st.psi_nh.1.min(FRAC_PI_2));
     let w_nh = gd.c(n.w + h.w);
@@ -4298,7 +4310,8 @@ mod tests {
             };
             let [p, q, r] = positions.map(|x| x.as_dvec3());
             let [np, nq, nr] = normals.map(|x| x.as_dvec3());
-            let s_max = f64::from(max_sin(setup.psi_nh.0, setup.psi_nh.1.min(FRAC_PI_2)));
+            let gd = Guard::default();
+            let nh = (setup.psi_nh.0, setup.psi_nh.1.min(FRAC_PI_2));
             let (mut slope, mut bound, mut slope_n, mut bound_n) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
             for k in 0..72 {
                 let turn = f64::from(k) * std::f64::consts::PI / 72.0;
@@ -4319,16 +4332,22 @@ mod tests {
                 let h = 1.0e-2;
                 let dt = (t_at(h, false) - t_at(-h, false)) / (2.0 * h);
                 let dn = (t_at(h, true) - t_at(-h, true)) / (2.0 * h);
-                let x_step = ((q - p) * du + (r - p) * dv).length() as f32;
-                let n_step = ((nq - np) * du + (nr - np) * dv).length() as f32;
-                let w_n = f64::from(n_step / frame.r_n);
-                let w_h = f64::from((x_step * setup.inv_d + x_step / frame.e_min) / setup.m_min);
-                let b = s_max * (w_n + w_h);
+                let n_step = (nq - np) * du + (nr - np) * dv;
+                let scale = Scale {
+                    a: ((q - p) * du + (r - p) * dv).length() as f32,
+                    b: n_step.length() as f32,
+                    g: DVec3::new(np.dot(n_step), nq.dot(n_step), nr.dot(n_step)).length() as f32,
+                };
+                // The estimator's own bounds: the cosine jet's slope, and its normal's part alone.
+                let (n, l) = normal_and_light_fields(&frame, &setup, scale, &gd);
+                let (_, h) = view_and_half_fields(&frame, &setup, &l, scale, &gd);
+                let still = Field { w: 0.0, ..h };
+                let b = f64::from(cosine(&n, &h, nh, &gd).g);
                 assert!(dt.abs() <= b * 1.001, "{light:?}, {tri:?}, direction {k}: |Dt| {} > {b}", dt.abs());
                 slope = slope.max(dt * dt);
                 bound = bound.max(b * b);
                 slope_n = slope_n.max(dn * dn);
-                bound_n = bound_n.max((s_max * w_n).powi(2));
+                bound_n = bound_n.max(f64::from(cosine(&n, &still, nh, &gd).g).powi(2));
             }
             whole.push(slope / bound);
             normal_part.push(slope_n / bound_n);

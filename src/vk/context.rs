@@ -45,6 +45,14 @@ pub struct DeviceInfo {
     pub max_tessellation_level: u32,
 }
 
+impl DeviceInfo {
+    /// Lavapipe (Mesa's llvmpipe), the CPU device CI runs on, whose quirks the renderer and the
+    /// tests know.
+    pub fn is_lavapipe(&self) -> bool {
+        self.name.contains("llvmpipe")
+    }
+}
+
 /// Warnings and errors reported by the validation layer (and the loader) since start-up.
 #[derive(Debug, Default)]
 pub struct ValidationLog {
