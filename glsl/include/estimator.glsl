@@ -846,6 +846,42 @@ Frame make_frame(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye)
     return f;
 }
 
+// A lower bound on the height of p over the triangle's plane (see `Frame::height_of`).
+P float height_of(Frame frame, vec3 p) {
+    if (is_zero(frame.plane)) {
+        return 0.0;
+    }
+    P vec3 r = p - frame.vertices[0];
+    P float h = rmax(abs(dot3(r, frame.plane)) - len(r) * (frame.plane_tilt + 1.0e-6), 0.0);
+    return h;
+}
+
+// A lower bound on the distance from p to the triangle (see `Frame::distance_of`).
+P float distance_of(Frame frame, vec3 p) {
+    P float height = height_of(frame, p);
+    if (is_zero(frame.plane)) {
+        return height;
+    }
+    P vec3 foot = p - frame.plane * dot3(p - frame.vertices[0], frame.plane);
+    // The foot's distance to the triangle: 0 inside, else to the nearest edge.
+    bool inside = true;
+    P float rho = len(foot - frame.vertices[0]);
+    for (int k = 0; k < 3; ++k) {
+        P vec3 a = frame.vertices[k];
+        P vec3 e = frame.vertices[(k + 1) % 3] - a;
+        P vec3 f = foot - a;
+        inside = inside && dot3(cross3(e, f), frame.plane) >= 0.0;
+        P float t = clamp(dot3(f, e) / len2(e), 0.0, 1.0);
+        rho = rmin(rho, len(f - e * t));
+    }
+    P float reach = len(p - frame.vertices[0]) + 2.0 * frame.rho_x;
+    P float magnitude = max_el(abs(foot)) + max_el(abs(frame.vertices[0])) + 2.0 * frame.rho_x;
+    P float pad = 2.0 * reach * (frame.plane_tilt + 1.0e-6) + 1.0e-6 * magnitude;
+    P float rho_out = (inside || !(rho > pad)) ? 0.0 : rho - pad;
+    P float d = sqrt(height * height + rho_out * rho_out);
+    return d;
+}
+
 // See `LightSetup` in Rust.
 struct LightSetup {
     float plane_sin;
@@ -862,6 +898,8 @@ struct LightSetup {
     // A polygonal light, and the range of the emitter's angle (see `LightSetup` in Rust).
     bool area;
     vec2 emitter;
+    // <= H/d_min (at most 1): the cosine of gamma where the light is nearest (see Rust).
+    float near_cos;
 };
 
 // Accumulated bounds (see `Sums`): per term and channel, levels 1 and >= 2 (Uniform split
@@ -1121,6 +1159,16 @@ Jet jet_max(Jet a, Jet b) {
     return Jet(rmax(a.m, b.m), rmax(a.g, b.g), rmax(a.h, b.h));
 }
 
+// The normal part of n.D^2 I with the falloff and sin(gamma) taken together along
+// sin^2 = 1 - H^2/d^2 (see `along_plane` in Rust): the coefficient of |a|^2/d_min^4.
+P float along_plane(LightSetup st, float nu, float c) {
+    P float h2 = st.near_cos * st.near_cos;
+    P float q = rmax(1.875 * h2, 1.0);
+    P float rising = rmax(12.0 * q - 15.0 * h2, 0.0) / (q * q * q);
+    P float k = 6.0 * st.plane_sin * nu + rmax(rising, 3.0) * c;
+    return k;
+}
+
 // A point light's diffuse factor n.I with the irradiance field I = r/|r|^3 bounded as one
 // field (see `irradiance_jet` in Rust).
 Jet irradiance_jet(Frame frame, LightSetup st, Field n, float a) {
@@ -1139,7 +1187,7 @@ Jet irradiance_jet(Frame frame, LightSetup st, Field n, float a) {
     P float projected = 6.0 * sg * nu + rmax(abs(15.0 * sg2 - 3.0), 3.0) * c;
     P float product_rule = rmax(8.0 * sg2 - 2.0, 2.0) * c + 4.0 * sg * an.s_max
                            + rmin(an.phi, c + 2.0 * an.s_max * sg);
-    P float light_k = rmin(rmin(whole, projected), product_rule);
+    P float light_k = rmin(rmin(rmin(whole, projected), product_rule), along_plane(st, nu, c));
     P float cross_k = rmin(speed, 2.0 * sg * an.s_max + 1.0);
     P float hn = gmul(seen(an, n), id2);
     P float hd = gmul(gmul(2.0 * cross_k * n.w, a_id), id2);
@@ -1549,7 +1597,8 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
             }
             return REASON_SINGULAR;
         }
-        inv_d = 1.0 / d_min;
+        // Every point of the triangle is at least its height and in-plane distance away.
+        inv_d = 1.0 / rmax(d_min, distance_of(frame, position));
         l_center = unit(position - frame.center);
     } else {
         P vec3 l = unit(-position);
@@ -1588,15 +1637,24 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     setup.psi_lv = vec2(0.0, PI);
     setup.area = area;
     setup.emitter = area ? geometry.emitter : vec2(0.0);
+    setup.near_cos = 0.0;
     if (inv_d > 0.0) {
         setup.plane_sin = plane_sin(l_cone, frame.plane);
         setup.near_sin = setup.plane_sin;
         if (point && !area && !is_zero(frame.plane)) {
-            // H from the computed plane, less what its direction and the rounding can be off by.
-            P vec3 r = position - frame.vertices[0];
-            P float height = rmax(abs(dot3(r, frame.plane)) - len(r) * (frame.plane_tilt + 1.0e-6), 0.0);
+            P float height = height_of(frame, position);
             P float q = rmin(height * inv_d, 1.0);
+            setup.near_cos = q;
             setup.near_sin = rmin(setup.plane_sin, sqrt(rmax(1.0 - q * q, 0.0)));
+            // |n.l| <= H/d_min + nu: a light near the plane is seen at grazing angles (see Rust).
+            P float reach = len(position - frame.vertices[0]);
+            P float height_hi = height + 2.0 * reach * (frame.plane_tilt + 1.0e-6);
+            P float grazing = (height_hi * inv_d + frame.n_plane_sin) * (1.0 + 1.0e-5) + 1.0e-6;
+            if (grazing < 1.0) {
+                P float lo = rmax(est_acos(grazing) - ANGLE_PAD, 0.0);
+                P float p0 = rmax(setup.psi_nl.x, lo);
+                setup.psi_nl = vec2(p0, rmax(rmin(setup.psi_nl.y, PI - lo), p0));
+            }
         }
     }
     if (MATERIAL_KIND != MATERIAL_LAMBERT) {
