@@ -932,7 +932,7 @@ fn where_the_excess_lies() {
     ] {
         let mut rng = SplitMix64(seed);
         let (mut oracle_all, mut estimator_all, mut forced) = (0u64, 0u64, 0u64);
-        let (mut relaxed_all, mut relaxed_forced) = (0u64, 0u64);
+        let (mut relaxed_all, mut relaxed_forced, mut relaxed_level) = (0u64, 0u64, 0u64);
         let mut smooth = [0u64; 5];
         let mut sup_violations = 0;
         for _ in 0..DECOMPOSITION_TRIANGLES {
@@ -951,6 +951,9 @@ fn where_the_excess_lies() {
             estimator_all += count(chosen);
             let relaxed = estimate(&case.tri, &case.material, &case.lights, &relaxed(case.epsilon));
             relaxed_all += count((!relaxed.fallback).then_some(relaxed.n));
+            if relaxed.fallback && relaxed.reason == Reason::Level {
+                relaxed_level += vertices_at_level(case.n_max) - vertices_at_level(m);
+            }
             relaxed_forced += if relaxed.fallback && relaxed.reason != Reason::Level {
                 vertices_at_level(case.n_max)
             } else {
@@ -998,11 +1001,12 @@ fn where_the_excess_lies() {
         let x = |a: u64, b: u64| a as f64 / b.max(1) as f64;
         let _ = writeln!(
             text,
-            "{brdf:?}: all the oracle tessellates: estimator x{:.2}, least with the forced fallbacks x{:.2} (Relaxed: x{:.2}, x{:.2}); smooth: oracle {}, supremum of |D2f| x{:.2} ({sup_violations} over eps), 16 children x{:.2}, 4 children x{:.2}, estimator x{:.2}",
+            "{brdf:?}: all the oracle tessellates: estimator x{:.2}, least with the forced fallbacks x{:.2} (Relaxed: x{:.2}, x{:.2}, {:.0} % of its excess in levels above n_max); smooth: oracle {}, supremum of |D2f| x{:.2} ({sup_violations} over eps), 16 children x{:.2}, 4 children x{:.2}, estimator x{:.2}",
             x(estimator_all, oracle_all),
             x(forced, oracle_all),
             x(relaxed_all, oracle_all),
             x(relaxed_forced, oracle_all),
+            100.0 * x(relaxed_level, relaxed_all.saturating_sub(oracle_all)),
             smooth[0],
             x(smooth[1], smooth[0]),
             x(smooth[2], smooth[0]),

@@ -3917,6 +3917,80 @@ mod tests {
         assert!(seen[0] > 50 && seen[1] > 50, "lights beside and above their triangle: {seen:?}");
     }
 
+    /// The range of the angle between `n̂` and `ĥ` (`LightSetup::psi_nh`, from the cones of
+    /// `n̂` and `ĥ`) against its minimum and maximum sampled at 496 points of each of 3 000
+    /// random triangles (normals spread by up to 1 rad, point lights 0.3–300 sizes away and
+    /// directional ones, eyes 0.3–30 away): never narrower than the samples, and it prints how
+    /// far below the smallest angle its lower end lies (`docs/estimator.md` §11: a circular
+    /// cone for `ĥ` is loose where the light or the eye is close, which a narrow lobe pays for).
+    #[test]
+    fn half_vector_angle_range_holds_the_sampled_angles() {
+        let mut rng = crate::test_rng::Rng(0x0a11_0f0e_a1f0_0003);
+        let mut ratios = Vec::new();
+        for _ in 0..3000 {
+            let centre = rng.point(Vec3::splat(-1.0), Vec3::splat(1.0));
+            let view_dir = rng.point(Vec3::splat(-1.0), Vec3::splat(1.0)).normalize_or_zero();
+            let view_dist = rng.range(0.3f32.ln(), 30f32.ln()).exp();
+            let eye = centre + view_dir * view_dist;
+            let (t1, t2) = view_dir.any_orthonormal_pair();
+            let size = view_dist * rng.range(0.002f32.ln(), 0.5f32.ln()).exp();
+            let positions =
+                [0; 3].map(|_| centre + (t1 * rng.range(-1.0, 1.0) + t2 * rng.range(-1.0, 1.0)) * size);
+            let spread = rng.range(1.0e-4f32.ln(), 0.0).exp();
+            let normals = [0; 3].map(|_| tilt(&mut rng, view_dir, 0.0, spread));
+            let towards = tilt(&mut rng, view_dir, 0.0, 1.5);
+            let light = if rng.below(2) == 0 {
+                let distance = size * rng.range(0.3f32.ln(), 300f32.ln()).exp();
+                Light::Point { position: centre + towards * distance, color: Vec3::ONE, intensity: 1.0 }
+            } else {
+                Light::Directional { direction: -towards, color: Vec3::ONE, intensity: 1.0 }
+            };
+            let tri = TriangleInput { positions, normals, eye };
+            let material = MaterialKind::BlinnPhong { kd: Vec3::ZERO, ks: Vec3::ONE, shininess: 100.0 };
+            let frame = Frame::new(&tri);
+            let Ok(Some((setup, _, _))) =
+                plan_light(&frame, &material, ParameterRange::of(&material), &light, Discontinuity::Relaxed)
+            else {
+                continue;
+            };
+            let (mut low, mut high) = (f64::MAX, 0.0f64);
+            let steps = 30;
+            for i in 0..=steps {
+                for j in 0..=(steps - i) {
+                    let (a, b) = (f64::from(i) / f64::from(steps), f64::from(j) / f64::from(steps));
+                    let [p, q, r] = positions.map(|x| x.as_dvec3());
+                    let [np, nq, nr] = normals.map(|x| x.as_dvec3());
+                    let x = p + (q - p) * a + (r - p) * b;
+                    let n = (np + (nq - np) * a + (nr - np) * b).normalize();
+                    let l = match light {
+                        Light::Point { position, .. } => (position.as_dvec3() - x).normalize(),
+                        _ => towards.as_dvec3(),
+                    };
+                    let h = (l + (eye.as_dvec3() - x).normalize()).normalize();
+                    let angle = n.dot(h).clamp(-1.0, 1.0).acos();
+                    (low, high) = (low.min(angle), high.max(angle));
+                }
+            }
+            let (p0, p1) = (f64::from(setup.psi_nh.0), f64::from(setup.psi_nh.1));
+            assert!(
+                p0 <= low + 1.0e-5 && p1 >= high - 1.0e-5,
+                "{tri:?}, {light:?}: [{p0}, {p1}] vs [{low}, {high}]"
+            );
+            if low > 0.05 {
+                ratios.push(p0 / low);
+            }
+        }
+        ratios.sort_by(|a, b| a.total_cmp(b));
+        let n = ratios.len();
+        assert!(n > 1000, "{n} triangles off the highlight");
+        eprintln!(
+            "lower end of the n̂-ĥ angle over its sampled minimum, {n} triangles off the highlight: 10th percentile {:.2}, median {:.2}, 90th {:.2}",
+            ratios[n / 10],
+            ratios[n / 2],
+            ratios[9 * n / 10]
+        );
+    }
+
     /// The levels are decided on the jets' one-number second-order bound (`Jet::t`), the
     /// GPU's single pass; the per-term bounds are its parts. They must agree: never above the
     /// parts' sum, and equal to it up to rounding where neither a lobe's joint bound
