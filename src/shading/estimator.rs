@@ -3748,6 +3748,31 @@ mod tests {
         Some((TriangleInput { positions, normals, eye: centre + plane * 5.0 }, position))
     }
 
+    /// A random point `(u, v)` of the patch (barycentric, uniform in `u`) and a random unit
+    /// step direction `(du, dv)` in the same coordinates.
+    fn point_and_step(rng: &mut crate::test_rng::Rng) -> (f64, f64, f64, f64) {
+        let (u, v) = (f64::from(rng.range(0.0, 1.0)), f64::from(rng.f()));
+        let turn = f64::from(rng.range(0.0, std::f32::consts::TAU));
+        (u, (1.0 - u) * v, turn.cos(), turn.sin())
+    }
+
+    /// [`irradiance_case`] with its light planned for a white Lambert material (Relaxed):
+    /// `None` also where the light adds nothing.
+    fn planned_irradiance_case(
+        rng: &mut crate::test_rng::Rng,
+        size: f32,
+        curved: bool,
+        kind: usize,
+    ) -> Option<(TriangleInput, Vec3, Frame, LightSetup)> {
+        let (tri, position) = irradiance_case(rng, size, curved, kind)?;
+        let light = Light::Point { position, color: Vec3::ONE, intensity: 1.0 };
+        let frame = Frame::new(&tri);
+        let material = MaterialKind::Lambert { kd: Vec3::ONE };
+        let own = ParameterRange::of(&material);
+        let (setup, _, _) = plan_light(&frame, &material, own, &light, Discontinuity::Relaxed).ok()??;
+        Some((tri, position, frame, setup))
+    }
+
     #[test]
     fn irradiance_jet_bounds_the_exact_derivatives() {
         let mut rng = crate::test_rng::Rng(0x1aad_1a9c_e5e1_d000);
@@ -3756,26 +3781,17 @@ mod tests {
         for case in 0..1500 {
             let size = rng.range(0.05, 1.0);
             let curved = case % 2 == 1;
-            let Some((tri, position)) = irradiance_case(&mut rng, size, curved, case % 3) else {
-                continue;
-            };
-            let (positions, normals) = (tri.positions, tri.normals);
-            let light = Light::Point { position, color: Vec3::ONE, intensity: 1.0 };
-            let frame = Frame::new(&tri);
-            let material = MaterialKind::Lambert { kd: Vec3::ONE };
-            let Ok(Some((setup, _, _))) =
-                plan_light(&frame, &material, ParameterRange::of(&material), &light, Discontinuity::Relaxed)
+            let Some((tri, position, frame, setup)) =
+                planned_irradiance_case(&mut rng, size, curved, case % 3)
             else {
                 continue;
             };
+            let (positions, normals) = (tri.positions, tri.normals);
             let [p, q, r] = positions.map(|x| x.as_dvec3());
             let [np, nq, nr] = normals.map(|x| x.as_dvec3());
             let light_at = position.as_dvec3();
             for _ in 0..8 {
-                let (u, v) = (f64::from(rng.range(0.0, 1.0)), f64::from(rng.f()));
-                let (u, v) = (u, (1.0 - u) * v);
-                let turn = f64::from(rng.range(0.0, std::f32::consts::TAU));
-                let (du, dv) = (turn.cos(), turn.sin());
+                let (u, v, du, dv) = point_and_step(&mut rng);
                 let diffuse = |t: f64| {
                     let (a, b) = (u + t * du, v + t * dv);
                     let x = p + (q - p) * a + (r - p) * b;
@@ -3834,14 +3850,8 @@ mod tests {
         let (mut checked, mut deciding, mut tightest) = (0usize, 0usize, 0.0f64);
         for case in 0..1500 {
             let size = rng.range(0.05, 1.0);
-            let Some((tri, position)) = irradiance_case(&mut rng, size, case % 2 == 1, case % 3) else {
-                continue;
-            };
-            let light = Light::Point { position, color: Vec3::ONE, intensity: 1.0 };
-            let frame = Frame::new(&tri);
-            let material = MaterialKind::Lambert { kd: Vec3::ONE };
-            let Ok(Some((setup, _, _))) =
-                plan_light(&frame, &material, ParameterRange::of(&material), &light, Discontinuity::Relaxed)
+            let Some((tri, position, frame, setup)) =
+                planned_irradiance_case(&mut rng, size, case % 2 == 1, case % 3)
             else {
                 continue;
             };
@@ -3855,10 +3865,7 @@ mod tests {
             let [np, nq, nr] = tri.normals.map(|x| x.as_dvec3());
             let light_at = position.as_dvec3();
             for _ in 0..8 {
-                let (u, v) = (f64::from(rng.range(0.0, 1.0)), f64::from(rng.f()));
-                let (u, v) = (u, (1.0 - u) * v);
-                let turn = f64::from(rng.range(0.0, std::f32::consts::TAU));
-                let (du, dv) = (turn.cos(), turn.sin());
+                let (u, v, du, dv) = point_and_step(&mut rng);
                 let n = (np + (nq - np) * u + (nr - np) * v).normalize();
                 let light_part = |t: f64| {
                     let x = p + (q - p) * (u + t * du) + (r - p) * (v + t * dv);
@@ -3980,15 +3987,19 @@ mod tests {
                 ratios.push(p0 / low);
             }
         }
-        ratios.sort_by(|a, b| a.total_cmp(b));
         let n = ratios.len();
         assert!(n > 1000, "{n} triangles off the highlight");
         eprintln!(
-            "lower end of the n̂-ĥ angle over its sampled minimum, {n} triangles off the highlight: 10th percentile {:.2}, median {:.2}, 90th {:.2}",
-            ratios[n / 10],
-            ratios[n / 2],
-            ratios[9 * n / 10]
+            "lower end of the n̂-ĥ angle over its sampled minimum, {n} triangles off the highlight: {}",
+            percentiles(&mut ratios)
         );
+    }
+
+    /// Sorts `v` and names its 10th percentile, median and 90th percentile.
+    fn percentiles(v: &mut [f64]) -> String {
+        v.sort_by(|a, b| a.total_cmp(b));
+        let n = v.len();
+        format!("10th percentile {:.2}, median {:.2}, 90th {:.2}", v[n / 10], v[n / 2], v[9 * n / 10])
     }
 
     /// The levels are decided on the jets' one-number second-order bound (`Jet::t`), the
@@ -4599,15 +4610,10 @@ mod tests {
             normal_part.push(slope_n / bound_n);
         }
         for (name, v) in [("(Dt)²", &mut whole), ("(Dn̂·ĥ)²", &mut normal_part)] {
-            v.sort_by(|a, b| a.total_cmp(b));
+            let text = percentiles(v);
             let n = v.len();
             assert!(n > 1000 && v[n - 1] > 0.9, "{name}: {n} patches, largest {}", v[n - 1]);
-            eprintln!(
-                "{name} / its bound², worst direction of each of {n} patches: 10th percentile {:.2}, median {:.2}, 90th {:.2}",
-                v[n / 10],
-                v[n / 2],
-                v[9 * n / 10]
-            );
+            eprintln!("{name} / its bound², worst direction of each of {n} patches: {text}");
         }
     }
 
@@ -4704,15 +4710,10 @@ mod tests {
         }
         let names = ["Lambert", "Blinn-Phong", "GGX", "Blinn-Phong lobe alone", "GGX lobe alone"];
         for (name, v) in names.iter().zip(ratios.iter_mut()) {
-            v.sort_by(|a, b| a.total_cmp(b));
+            let text = percentiles(v);
             let n = v.len();
             assert!(n > 500, "{name}: {n} cases");
-            eprintln!(
-                "{name}: {n} patches, max over directions of |f''| / of the bound: 10th percentile {:.2}, median {:.2}, 90th {:.2}",
-                v[n / 10],
-                v[n / 2],
-                v[9 * n / 10]
-            );
+            eprintln!("{name}: {n} patches, max over directions of |f''| / of the bound: {text}");
             assert!(v[n - 1] > 0.5, "{name}: the bound is never approached");
         }
     }
