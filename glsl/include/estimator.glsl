@@ -846,19 +846,21 @@ Frame make_frame(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye)
     return f;
 }
 
-// A lower bound on the height of p over the triangle's plane (see `Frame::height_of`).
-P float height_of(Frame frame, vec3 p) {
+// Lower and upper bounds on the height of p over the triangle's plane (see `Frame::height_of`).
+P vec2 height_of(Frame frame, vec3 p) {
     if (is_zero(frame.plane)) {
-        return 0.0;
+        return vec2(0.0);
     }
     P vec3 r = p - frame.vertices[0];
-    P float h = rmax(abs(dot3(r, frame.plane)) - len(r) * (frame.plane_tilt + 1.0e-6), 0.0);
-    return h;
+    P float height = abs(dot3(r, frame.plane));
+    P float pad = len(r) * (frame.plane_tilt + 1.0e-6);
+    P vec2 range = vec2(rmax(height - pad, 0.0), height + pad);
+    return range;
 }
 
-// A lower bound on the distance from p to the triangle (see `Frame::distance_of`).
-P float distance_of(Frame frame, vec3 p) {
-    P float height = height_of(frame, p);
+// A lower bound on the distance from p to the triangle, its height from below given (see
+// `Frame::distance_of`).
+P float distance_of(Frame frame, vec3 p, float height) {
     if (is_zero(frame.plane)) {
         return height;
     }
@@ -1580,6 +1582,8 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     P float inv_d;
     P vec3 l_center;
     P vec3 l_vectors[3];
+    // A point light's height over the plane, from below and from above.
+    P vec2 heights = vec2(0.0);
     if (area) {
         l_cone = geometry.cone;
         inv_d = 1.0 / geometry.d_min;
@@ -1598,7 +1602,8 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
             return REASON_SINGULAR;
         }
         // Every point of the triangle is at least its height and in-plane distance away.
-        inv_d = 1.0 / rmax(d_min, distance_of(frame, position));
+        heights = height_of(frame, position);
+        inv_d = 1.0 / rmax(d_min, distance_of(frame, position, heights.x));
         l_center = unit(position - frame.center);
     } else {
         P vec3 l = unit(-position);
@@ -1642,14 +1647,12 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
         setup.plane_sin = plane_sin(l_cone, frame.plane);
         setup.near_sin = setup.plane_sin;
         if (point && !area && !is_zero(frame.plane)) {
-            P float height = height_of(frame, position);
+            P float height = heights.x;
             P float q = rmin(height * inv_d, 1.0);
             setup.near_cos = q;
             setup.near_sin = rmin(setup.plane_sin, sqrt(rmax(1.0 - q * q, 0.0)));
             // |n.l| <= H/d_min + nu: a light near the plane is seen at grazing angles (see Rust).
-            P float reach = len(position - frame.vertices[0]);
-            P float height_hi = height + 2.0 * reach * (frame.plane_tilt + 1.0e-6);
-            P float grazing = (height_hi * inv_d + frame.n_plane_sin) * (1.0 + 1.0e-5) + 1.0e-6;
+            P float grazing = (heights.y * inv_d + frame.n_plane_sin) * (1.0 + 1.0e-5) + 1.0e-6;
             if (grazing < 1.0) {
                 P float lo = rmax(est_acos(grazing) - ANGLE_PAD, 0.0);
                 P float p0 = rmax(setup.psi_nl.x, lo);

@@ -1097,21 +1097,22 @@ impl Frame {
         }
     }
 
-    /// A lower bound on the height of `p` over the triangle's plane (0 without a plane): the
-    /// computed one less what the plane's direction and the rounding can be off by.
-    fn height_of(&self, p: Vec3) -> f32 {
+    /// Lower and upper bounds on the height of `p` over the triangle's plane (0 without a
+    /// plane): the computed one less and plus what the plane's direction and the rounding can be
+    /// off by.
+    fn height_of(&self, p: Vec3) -> (f32, f32) {
         if self.plane == Vec3::ZERO {
-            return 0.0;
+            return (0.0, 0.0);
         }
         let r = p - self.vertices[0];
-        (r.dot(self.plane).abs() - r.length() * (self.plane_tilt + 1.0e-6)).max(0.0)
+        let (height, pad) = (r.dot(self.plane).abs(), r.length() * (self.plane_tilt + 1.0e-6));
+        ((height - pad).max(0.0), height + pad)
     }
 
-    /// A lower bound on the distance from `p` to the triangle: `√(H² + ρ²)` with `H` its
-    /// height ([`Frame::height_of`]) and `ρ` the in-plane distance from its foot to the
-    /// triangle, less what the rounding can move it.
-    fn distance_of(&self, p: Vec3) -> f32 {
-        let height = self.height_of(p);
+    /// A lower bound on the distance from `p` to the triangle: `√(H² + ρ²)` with `H ≥ height`
+    /// its height from below ([`Frame::height_of`]) and `ρ` the in-plane distance from its foot
+    /// to the triangle, less what the rounding can move it.
+    fn distance_of(&self, p: Vec3, height: f32) -> f32 {
         if self.plane == Vec3::ZERO {
             return height;
         }
@@ -1336,6 +1337,8 @@ fn plan_light(
     mode: Discontinuity,
 ) -> Result<Option<(LightSetup, Vec3, Vec3)>, Reason> {
     let mut area = None;
+    // A point light's height over the plane, from below and from above.
+    let mut heights = (0.0, 0.0);
     let (radiance, l_cone, inv_d, l_center) = match *light {
         Light::Point { position, color, intensity } => {
             let radiance = color * intensity;
@@ -1354,7 +1357,8 @@ fn plan_light(
                 return Err(Reason::Singular);
             }
             // Every point of the triangle is at least its height and in-plane distance away.
-            let d_min = d_min.max(frame.distance_of(position));
+            heights = frame.height_of(position);
+            let d_min = d_min.max(frame.distance_of(position, heights.0));
             (radiance, cone, 1.0 / d_min, unit(position - frame.centroid))
         }
         Light::Directional { direction, color, intensity } => {
@@ -1422,15 +1426,13 @@ fn plan_light(
     if inv_d > 0.0 {
         setup.plane_sin = plane_sin(&l_cone, frame.plane);
         setup.near_sin = setup.plane_sin;
-        if let (Light::Point { position, .. }, true) = (light, frame.plane != Vec3::ZERO) {
-            let height = frame.height_of(*position);
+        if matches!(light, Light::Point { .. }) && frame.plane != Vec3::ZERO {
+            let (height, height_hi) = heights;
             let q = (height * inv_d).min(1.0);
             setup.near_cos = q;
             setup.near_sin = setup.plane_sin.min((1.0 - q * q).max(0.0).sqrt());
             // |n̂·l̂| ≤ H/d + ν·sin γ ≤ H/d_min + ν (n̂'s and l̂'s parts along the plane normal
             // and in the plane; H from above): a light near the plane is seen at grazing angles.
-            let reach = (*position - frame.vertices[0]).length();
-            let height_hi = height + 2.0 * reach * (frame.plane_tilt + 1.0e-6);
             let grazing = (height_hi * inv_d + frame.n_plane_sin) * (1.0 + 1.0e-5) + 1.0e-6;
             if grazing < 1.0 {
                 let lo = (est_acos(grazing) - ANGLE_PAD).max(0.0);
@@ -3748,6 +3750,19 @@ mod tests {
         Some((TriangleInput { positions, normals, eye: centre + plane * 5.0 }, position))
     }
 
+    /// The jets' scale along the domain step `(du, dv)` of a patch, in f64: `|Xδ|`, `|Nδ|` and
+    /// `|Gδ|` (see [`Scale`]).
+    fn scale_along(tri: &TriangleInput, du: f64, dv: f64) -> Scale {
+        let [p, q, r] = tri.positions.map(|x| x.as_dvec3());
+        let [np, nq, nr] = tri.normals.map(|x| x.as_dvec3());
+        let n_step = (nq - np) * du + (nr - np) * dv;
+        Scale {
+            a: ((q - p) * du + (r - p) * dv).length() as f32,
+            b: n_step.length() as f32,
+            g: DVec3::new(np.dot(n_step), nq.dot(n_step), nr.dot(n_step)).length() as f32,
+        }
+    }
+
     /// A random point `(u, v)` of the patch (barycentric, uniform in `u`) and a random unit
     /// step direction `(du, dv)` in the same coordinates.
     fn point_and_step(rng: &mut crate::test_rng::Rng) -> (f64, f64, f64, f64) {
@@ -3799,17 +3814,9 @@ mod tests {
                     let d = light_at - x;
                     n.dot(d) / d.length().powi(3)
                 };
-                let x_step = (q - p) * du + (r - p) * dv;
-                let n_step = (nq - np) * du + (nr - np) * dv;
-                let g_step = DVec3::new(np.dot(n_step), nq.dot(n_step), nr.dot(n_step));
-                let n_w = gd.c(n_step.length() as f32 / frame.r_n);
-                let n_field = Field {
-                    w: n_w,
-                    radial: n_w.min(gd.c(g_step.length() as f32 / frame.r_n)),
-                    x: 0.0,
-                    term: Term::Normal,
-                };
-                let jet = irradiance_jet(&frame, &setup, &n_field, x_step.length() as f32, &gd);
+                let scale = scale_along(&tri, du, dv);
+                let (n_field, _) = normal_and_light_fields(&frame, &setup, scale, &gd);
+                let jet = irradiance_jet(&frame, &setup, &n_field, scale.a, &gd);
                 // A step well inside the light's distance; the differences' rounding is about
                 // 10⁻¹⁶·|f|/h per order.
                 let h = 1.0e-3 * f64::from(size.min(1.0 / setup.inv_d));
@@ -3903,7 +3910,8 @@ mod tests {
             let Some((tri, position)) = irradiance_case(&mut rng, size, false, case % 3) else {
                 continue;
             };
-            let bound = f64::from(Frame::new(&tri).distance_of(position));
+            let frame = Frame::new(&tri);
+            let bound = f64::from(frame.distance_of(position, frame.height_of(position).0));
             let [p, q, r] = tri.positions.map(|x| x.as_dvec3());
             let light_at = position.as_dvec3();
             let mut nearest = f64::MAX;
@@ -4589,12 +4597,7 @@ mod tests {
                 let h = 1.0e-2;
                 let dt = (t_at(h, false) - t_at(-h, false)) / (2.0 * h);
                 let dn = (t_at(h, true) - t_at(-h, true)) / (2.0 * h);
-                let n_step = (nq - np) * du + (nr - np) * dv;
-                let scale = Scale {
-                    a: ((q - p) * du + (r - p) * dv).length() as f32,
-                    b: n_step.length() as f32,
-                    g: DVec3::new(np.dot(n_step), nq.dot(n_step), nr.dot(n_step)).length() as f32,
-                };
+                let scale = scale_along(&tri, du, dv);
                 // The estimator's own bounds: the cosine jet's slope, and its normal's part alone.
                 let (n, l) = normal_and_light_fields(&frame, &setup, scale, &gd);
                 let (_, h) = view_and_half_fields(&frame, &setup, &l, scale, &gd);
@@ -4684,14 +4687,7 @@ mod tests {
                         let nrm = np + (nq - np) * a + (nr - np) * b;
                         shade_f64(x, nrm, eye.as_dvec3(), &material, &light)[0]
                     };
-                    let x_step = (q - p) * du + (r - p) * dv;
-                    let n_step = (nq - np) * du + (nr - np) * dv;
-                    let g_step = DVec3::new(np.dot(n_step), nq.dot(n_step), nr.dot(n_step));
-                    let scale = Scale {
-                        a: x_step.length() as f32,
-                        b: n_step.length() as f32,
-                        g: g_step.length() as f32,
-                    };
+                    let scale = scale_along(&tri, du, dv);
                     let jets = light_jets(&frame, &material, own, &setup, scale, 0.0, &gd);
                     let bound = f64::from(diff_w[0] * jets.diffuse.t + spec_w[0] * jets.specular[0].t);
                     let h = 2.0e-2;
@@ -4793,11 +4789,7 @@ mod tests {
                     let nrm = np + (nq - np) * a + (nr - np) * b;
                     shade_f64(x, nrm, eye.as_dvec3(), &shaded, &light)
                 };
-                let x_step = (q - p) * du + (r - p) * dv;
-                let n_step = (nq - np) * du + (nr - np) * dv;
-                let g_step = DVec3::new(np.dot(n_step), nq.dot(n_step), nr.dot(n_step));
-                let scale =
-                    Scale { a: x_step.length() as f32, b: n_step.length() as f32, g: g_step.length() as f32 };
+                let scale = scale_along(&tri, du, dv);
                 let jets = light_jets(&frame, &material, parameter, &setup, scale, 0.0, &gd);
                 let (diff, spec) = (jets.diffuse, jets.specular);
                 let h = 2.0e-5;
