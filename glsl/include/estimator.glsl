@@ -659,6 +659,22 @@ P float hull_max_angle(vec3 a, vec3 u[3]) {
     return m < HALF_PI ? m : PI;
 }
 
+// A lower bound on the angle between n and the half vector of a and b at the same point, where
+// n.a > 0 on the whole triangle: n is the half vector of a and its mirror r, and
+// angle(h, n) >= angle(b, r)/2; r is within 2 nu_n + nu_a of the axes' mirror r0, and b lies in
+// the spherical triangle b_units and in its cone (see Rust: mirror_lower_angle).
+P float mirror_lower_angle(Cone n, Cone a, Cone b, vec3 b_units[3]) {
+    if (!(n.spread < PI && a.spread < PI && b.spread < PI)) {
+        return 0.0;
+    }
+    P vec3 r0 = unit(n.axis * (2.0 * dot3(n.axis, a.axis)) - a.axis);
+    if (is_zero(r0)) {
+        return 0.0;
+    }
+    P float apart = rmax(angle(b.axis, r0) - b.spread, hull_distance(r0, b_units));
+    return rmax(0.5 * (apart - 2.0 * n.spread - a.spread) - ANGLE_PAD, 0.0);
+}
+
 // ---------------------------------------------------------------------------------------------
 // The pattern constants
 // ---------------------------------------------------------------------------------------------
@@ -1702,6 +1718,22 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
         int nv_sign;
         setup.psi_nv = cosine_range(frame, frame.v_cone, v_vectors, nv_sign);
         setup.nv_sign = nv_sign;
+        // The same angle at the same point, from the mirror directions (see Rust).
+        if (!area) {
+            P vec3 l_units[3] = vec3[3](l_cone.axis, l_cone.axis, l_cone.axis);
+            if (point) {
+                l_units = vec3[3](unit(l_vectors[0]), unit(l_vectors[1]), unit(l_vectors[2]));
+            }
+            P vec3 v_units[3] = vec3[3](unit(v_vectors[0]), unit(v_vectors[1]), unit(v_vectors[2]));
+            P float lo = setup.psi_nh.x;
+            if (nv_sign == SIGN_POSITIVE) {
+                lo = rmax(lo, mirror_lower_angle(frame.n_cone, frame.v_cone, l_cone, l_units));
+            }
+            if (!straddle) {
+                lo = rmax(lo, mirror_lower_angle(frame.n_cone, l_cone, frame.v_cone, v_units));
+            }
+            setup.psi_nh.x = rmin(lo, setup.psi_nh.y);
+        }
         // A polygon's sampled specular part is bounded by its range: kinks do not matter.
         if (area) {
         } else if (MATERIAL_KIND == MATERIAL_BLINN_PHONG) {

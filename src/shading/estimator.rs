@@ -885,6 +885,26 @@ fn hull_distance(a: Vec3, u: [Vec3; 3]) -> f32 {
     (best * (1.0 - 1.0e-3) - ANGLE_PAD).max(0.0)
 }
 
+/// A lower bound on the angle between n̂ and the half vector `ĥ = (â + b̂)/|â + b̂|` at the
+/// same point, where `n̂·â > 0` on the whole triangle (`docs/estimator.md` §3, "The lobe's
+/// angle from the mirror direction"). There `n̂` is the half vector of `â` and its mirror
+/// `r = 2(n̂·â)n̂ − â`, and two half vectors of a common `â` are at least half as far apart as
+/// their other ends: `∠(ĥ, n̂) ≥ ∠(b̂, r)/2`. `r` stays within `2ν_n + ν_a` of the mirror `r₀`
+/// of the cones' axes (a half-turn about `n̂` against one about the axis is a rotation by twice
+/// their angle), and `b̂` lies in the spherical triangle of `b_units` (a point light's
+/// directions to the corners, the view's) and in its cone.
+fn mirror_lower_angle(n: &Cone, a: &Cone, b: &Cone, b_units: [Vec3; 3]) -> f32 {
+    if !(n.half < PI && a.half < PI && b.half < PI) {
+        return 0.0;
+    }
+    let r0 = unit(n.axis * (2.0 * n.axis.dot(a.axis)) - a.axis);
+    if r0 == Vec3::ZERO {
+        return 0.0;
+    }
+    let apart = (angle(b.axis, r0) - b.half).max(hull_distance(r0, b_units));
+    (0.5 * (apart - 2.0 * n.half - a.half) - ANGLE_PAD).max(0.0)
+}
+
 /// Largest angle between `a` and the spherical triangle spanned by unit `u`, valid when it
 /// is below π/2 (then `n̂·a` is quasi-concave on the cone and its minimum sits at a corner);
 /// `π` otherwise.
@@ -1483,6 +1503,23 @@ fn plan_light(
         let (psi_nv, nv_sign) = cosine_range(frame, &frame.v_cone, v_vectors);
         setup.psi_nv = psi_nv;
         setup.nv_sign = nv_sign;
+        // The same angle at the same point, from the mirror directions: where n·v > 0, n̂ is
+        // the half vector of v̂ and its mirror, and where n·l > 0 of l̂ and its mirror.
+        if area.is_none() {
+            let l_units = match *light {
+                Light::Point { position, .. } => frame.vertices.map(|x| unit(position - x)),
+                _ => [l_cone.axis; 3],
+            };
+            let v_units = v_vectors.map(unit);
+            let mut lo = setup.psi_nh.0;
+            if nv_sign == Sign::Positive {
+                lo = lo.max(mirror_lower_angle(&frame.n_cone, &frame.v_cone, &l_cone, l_units));
+            }
+            if !straddle {
+                lo = lo.max(mirror_lower_angle(&frame.n_cone, &l_cone, &frame.v_cone, v_units));
+            }
+            setup.psi_nh.0 = lo.min(setup.psi_nh.1);
+        }
         // A polygon's sampled specular part is bounded by its range: kinks do not matter.
         let kinks = if area.is_some() { &MaterialKind::Lambert { kd: Vec3::ZERO } } else { material };
         match *kinks {
@@ -4001,6 +4038,45 @@ mod tests {
             "lower end of the n̂-ĥ angle over its sampled minimum, {n} triangles off the highlight: {}",
             percentiles(&mut ratios)
         );
+    }
+
+    /// The two facts [`mirror_lower_angle`] rests on, in f64 over random directions (some
+    /// nearly coplanar, some close together): the half vectors of a common `v̂` and two others
+    /// are at least half as far apart as those two, with equality for coplanar ones; and a
+    /// half-turn about `n̂` moves `v̂` at most twice `∠(n̂, n̂₀)` plus `∠(v̂, v̂₀)` from where the
+    /// half-turn about `n̂₀` moves `v̂₀`.
+    #[test]
+    fn half_vectors_of_a_common_direction_are_at_least_half_as_far_apart() {
+        let mut rng = crate::test_rng::Rng(0x0a11_0f0e_a1f0_0004);
+        let random_unit = |rng: &mut crate::test_rng::Rng| {
+            rng.point(Vec3::splat(-1.0), Vec3::splat(1.0)).as_dvec3().normalize_or(DVec3::X)
+        };
+        let angle = |a: DVec3, b: DVec3| a.cross(b).length().atan2(a.dot(b));
+        let half_turn = |axis: DVec3, v: DVec3| axis * (2.0 * axis.dot(v)) - v;
+        let (mut tightest, mut checked) = (f64::MAX, 0);
+        for k in 0..200_000 {
+            let v = random_unit(&mut rng);
+            let l = random_unit(&mut rng);
+            let r = match k % 3 {
+                0 => random_unit(&mut rng),
+                1 => (l + random_unit(&mut rng) * 0.01).normalize(),
+                // In the plane of v and l.
+                _ => (v * rng.range(-1.0, 1.0) as f64 + l * rng.range(-1.0, 1.0) as f64).normalize_or(l),
+            };
+            if v.dot(l) < -0.999 || v.dot(r) < -0.999 || angle(l, r) < 1.0e-6 {
+                continue;
+            }
+            let apart = angle((v + l).normalize(), (v + r).normalize());
+            let ratio = apart / (0.5 * angle(l, r));
+            assert!(ratio >= 1.0 - 1.0e-9, "{v} {l} {r}: {ratio}");
+            tightest = tightest.min(ratio);
+            checked += 1;
+
+            let (n, n0, v0) = (random_unit(&mut rng), random_unit(&mut rng), random_unit(&mut rng));
+            let moved = angle(half_turn(n, v), half_turn(n0, v0));
+            assert!(moved <= 2.0 * angle(n, n0) + angle(v, v0) + 1.0e-9, "{n} {n0} {v} {v0}");
+        }
+        assert!(checked > 150_000 && tightest < 1.0 + 1.0e-6, "{checked} checked, tightest {tightest}");
     }
 
     /// Sorts `v` and names its 10th percentile, median and 90th percentile.
