@@ -918,6 +918,8 @@ fn children(t: &TriangleInput) -> [TriangleInput; 4] {
 ///   for a level above 2 (level `2ᵈ·max` of theirs, a prototype: a child's range bounds do not
 ///   hold for sub-triangles across children, so it is not a bound); the estimator.
 ///
+/// And which term needs the highest level on the triangles that make the Relaxed excess.
+///
 /// Asserts that the measured supremum bound holds wherever it chose a level (the premise of
 /// the figures) and lies below the estimator.
 #[test]
@@ -935,6 +937,7 @@ fn where_the_excess_lies() {
         let (mut relaxed_all, mut relaxed_forced, mut relaxed_level) = (0u64, 0u64, 0u64);
         let mut smooth = [0u64; 5];
         let mut sup_violations = 0;
+        let mut deciding: std::collections::BTreeMap<&str, u64> = std::collections::BTreeMap::new();
         for _ in 0..DECOMPOSITION_TRIANGLES {
             let case = random_case(&mut rng, brdf);
             let settings = conservative(case.epsilon);
@@ -953,6 +956,35 @@ fn where_the_excess_lies() {
             relaxed_all += count((!relaxed.fallback).then_some(relaxed.n));
             if relaxed.fallback && relaxed.reason == Reason::Level {
                 relaxed_level += vertices_at_level(case.n_max) - vertices_at_level(m);
+            }
+            // The Relaxed excess by the term that needs the highest level (forced fallbacks
+            // by their reason; "range" where the parts' ranges alone exceed eps).
+            let relaxed_count = count(
+                (!relaxed.fallback || relaxed.reason == Reason::Level).then_some(if relaxed.fallback {
+                    case.n_max
+                } else {
+                    relaxed.n
+                }),
+            );
+            let excess = relaxed_count.saturating_sub(vertices_at_level(m));
+            if excess > 0 {
+                let largest = relaxed.named_terms().fold(("none", 0.0f32), |best, (name, level)| {
+                    if level > best.1 {
+                        (name, level)
+                    } else {
+                        best
+                    }
+                });
+                let name = if relaxed.fallback && relaxed.reason != Reason::Level {
+                    if relaxed.reason == Reason::Discontinuity {
+                        "discontinuity"
+                    } else {
+                        "singular"
+                    }
+                } else {
+                    largest.0
+                };
+                *deciding.entry(name).or_insert(0) += excess;
             }
             relaxed_forced += if relaxed.fallback && relaxed.reason != Reason::Level {
                 vertices_at_level(case.n_max)
@@ -1012,6 +1044,16 @@ fn where_the_excess_lies() {
             x(smooth[2], smooth[0]),
             x(smooth[3], smooth[0]),
             x(smooth[4], smooth[0]),
+        );
+        let mut shares: Vec<(&str, u64)> = deciding.into_iter().collect();
+        shares.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
+        let total: u64 = shares.iter().map(|s| s.1).sum();
+        let listed: Vec<String> =
+            shares.iter().take(6).map(|(name, e)| format!("{name} {:.0} %", 100.0 * x(*e, total))).collect();
+        let _ = writeln!(
+            text,
+            "   Relaxed excess by the term that needs the highest level: {}",
+            listed.join(", ")
         );
         assert_eq!(sup_violations, 0, "{text}");
         assert!(smooth[1] < smooth[4], "{text}");

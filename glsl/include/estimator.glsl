@@ -62,6 +62,8 @@ const float INV_SQRT3 = 0.57735026;       // 1.0 / 3.0f32.sqrt()
 const float THIRD = 0.33333334;           // 1.0 / 3.0
 const float TWO_THIRDS = 0.6666667;       // 2.0 / 3.0
 const float FOUR_THIRDS = 1.3333334;      // 4.0 / 3.0
+const float MIRROR_WORTH = 0.05;          // radians (see Rust)
+const float HULL_WORTH = 0.03;            // radians (see Rust)
 const float HULL_SHRINK = 0.999;          // 1.0 - 1.0e-3 in f32
 const float PI_MINUS_MILLI = 3.1405928;   // PI - 1.0e-3 in f32
 const float MIN_D2_SAFE = 1.0010001e-8;   // MIN_LIGHT_DISTANCE_SQUARED * 1.001 in f32
@@ -662,17 +664,24 @@ P float hull_max_angle(vec3 a, vec3 u[3]) {
 // A lower bound on the angle between n and the half vector of a and b at the same point, where
 // n.a > 0 on the whole triangle: n is the half vector of a and its mirror r, and
 // angle(h, n) >= angle(b, r)/2; r is within 2 nu_n + nu_a of the axes' mirror r0, and b lies in
-// the spherical triangle b_units and in its cone (see Rust: mirror_lower_angle).
-P float mirror_lower_angle(Cone n, Cone a, Cone b, vec3 b_units[3]) {
+// its cone and (when has_vectors) in the spherical triangle of the directions of b_vectors.
+// Returns the larger of this and lo (see Rust: mirror_lower_angle).
+P float mirror_lower_angle(Cone n, Cone a, Cone b, bool has_vectors, vec3 b_vectors[3], float lo) {
     if (!(n.spread < PI && a.spread < PI && b.spread < PI)) {
-        return 0.0;
+        return lo;
     }
     P vec3 r0 = unit(n.axis * (2.0 * dot3(n.axis, a.axis)) - a.axis);
     if (is_zero(r0)) {
-        return 0.0;
+        return lo;
     }
-    P float apart = rmax(angle(b.axis, r0) - b.spread, hull_distance(r0, b_units));
-    return rmax(0.5 * (apart - 2.0 * n.spread - a.spread) - ANGLE_PAD, 0.0);
+    P float spread = 2.0 * n.spread + a.spread;
+    P float axis_angle = angle(b.axis, r0);
+    P float apart = axis_angle - b.spread;
+    if (has_vectors && b.spread > HULL_WORTH && 0.5 * (axis_angle + b.spread - spread) > lo) {
+        P vec3 units[3] = vec3[3](unit(b_vectors[0]), unit(b_vectors[1]), unit(b_vectors[2]));
+        apart = rmax(apart, hull_distance(r0, units));
+    }
+    return rmax(lo, 0.5 * (apart - spread) - ANGLE_PAD);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1718,19 +1727,15 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
         int nv_sign;
         setup.psi_nv = cosine_range(frame, frame.v_cone, v_vectors, nv_sign);
         setup.nv_sign = nv_sign;
-        // The same angle at the same point, from the mirror directions (see Rust).
-        if (!area) {
-            P vec3 l_units[3] = vec3[3](l_cone.axis, l_cone.axis, l_cone.axis);
-            if (point) {
-                l_units = vec3[3](unit(l_vectors[0]), unit(l_vectors[1]), unit(l_vectors[2]));
-            }
-            P vec3 v_units[3] = vec3[3](unit(v_vectors[0]), unit(v_vectors[1]), unit(v_vectors[2]));
+        // The same angle at the same point, from the mirror directions, where h's cone is wide
+        // enough for it to matter (see Rust).
+        if (!area && setup.h_cone.spread > MIRROR_WORTH) {
             P float lo = setup.psi_nh.x;
             if (nv_sign == SIGN_POSITIVE) {
-                lo = rmax(lo, mirror_lower_angle(frame.n_cone, frame.v_cone, l_cone, l_units));
+                lo = mirror_lower_angle(frame.n_cone, frame.v_cone, l_cone, point, l_vectors, lo);
             }
             if (!straddle) {
-                lo = rmax(lo, mirror_lower_angle(frame.n_cone, l_cone, frame.v_cone, v_units));
+                lo = mirror_lower_angle(frame.n_cone, l_cone, frame.v_cone, true, v_vectors, lo);
             }
             setup.psi_nh.x = rmin(lo, setup.psi_nh.y);
         }

@@ -235,6 +235,13 @@ const ANGLE_PAD: f32 = 2.0e-6;
 /// Relative rounding allowance of the normal's radial scale ([`Scale::g`]), per unit of
 /// `max|Nₖ|·|Nδ|`.
 const RADIAL_PAD: f32 = 2.0e-6;
+/// Radians: the narrowest cone of `ĥ` for which [`mirror_lower_angle`] is tried. The cones'
+/// bound is within twice `ĥ`'s half-angle of the true smallest angle (`n̂` covers the spherical
+/// triangle of the normals), so below this no bound can raise it by more than 0.1 rad.
+const MIRROR_WORTH: f32 = 0.05;
+/// Radians: the narrowest cone whose spherical triangle [`mirror_lower_angle`] measures
+/// (below it the cone's distance is within this of the triangle's).
+const HULL_WORTH: f32 = 0.03;
 /// A cone wider than this is no bound at all (a cap wider than a hemisphere is not convex).
 const MAX_HALF: f32 = FRAC_PI_2 - 1.0e-4;
 
@@ -886,23 +893,33 @@ fn hull_distance(a: Vec3, u: [Vec3; 3]) -> f32 {
 }
 
 /// A lower bound on the angle between n̂ and the half vector `ĥ = (â + b̂)/|â + b̂|` at the
-/// same point, where `n̂·â > 0` on the whole triangle (`docs/estimator.md` §3, "The lobe's
-/// angle from the mirror direction"). There `n̂` is the half vector of `â` and its mirror
+/// same point, where `n̂·â > 0` on the whole triangle (`docs/estimator.md` §2, "Cones and
+/// cosine ranges": "`n·h` at the same point"). There `n̂` is the half vector of `â` and its mirror
 /// `r = 2(n̂·â)n̂ − â`, and two half vectors of a common `â` are at least half as far apart as
 /// their other ends: `∠(ĥ, n̂) ≥ ∠(b̂, r)/2`. `r` stays within `2ν_n + ν_a` of the mirror `r₀`
 /// of the cones' axes (a half-turn about `n̂` against one about the axis is a rotation by twice
-/// their angle), and `b̂` lies in the spherical triangle of `b_units` (a point light's
-/// directions to the corners, the view's) and in its cone.
-fn mirror_lower_angle(n: &Cone, a: &Cone, b: &Cone, b_units: [Vec3; 3]) -> f32 {
+/// their angle), and `b̂` lies in its cone and in the spherical triangle of the directions of
+/// `b_vectors` (from the corners to a point light or the eye; `None` for a single direction).
+/// Returns the larger of this bound and `lo`.
+fn mirror_lower_angle(n: &Cone, a: &Cone, b: &Cone, b_vectors: Option<[Vec3; 3]>, lo: f32) -> f32 {
     if !(n.half < PI && a.half < PI && b.half < PI) {
-        return 0.0;
+        return lo;
     }
     let r0 = unit(n.axis * (2.0 * n.axis.dot(a.axis)) - a.axis);
     if r0 == Vec3::ZERO {
-        return 0.0;
+        return lo;
     }
-    let apart = (angle(b.axis, r0) - b.half).max(hull_distance(r0, b_units));
-    (0.5 * (apart - 2.0 * n.half - a.half) - ANGLE_PAD).max(0.0)
+    let spread = 2.0 * n.half + a.half;
+    let axis_angle = angle(b.axis, r0);
+    let mut apart = axis_angle - b.half;
+    // The spherical triangle is within `θ_b` of the axis, so it adds at most `θ_b` to the
+    // cone's distance: it is worth its cost only for a wide cone, where it could raise `lo`.
+    if let Some(vectors) = b_vectors {
+        if b.half > HULL_WORTH && 0.5 * (axis_angle + b.half - spread) > lo {
+            apart = apart.max(hull_distance(r0, vectors.map(unit)));
+        }
+    }
+    lo.max(0.5 * (apart - spread) - ANGLE_PAD)
 }
 
 /// Largest angle between `a` and the spherical triangle spanned by unit `u`, valid when it
@@ -1505,18 +1522,17 @@ fn plan_light(
         setup.nv_sign = nv_sign;
         // The same angle at the same point, from the mirror directions: where n·v > 0, n̂ is
         // the half vector of v̂ and its mirror, and where n·l > 0 of l̂ and its mirror.
-        if area.is_none() {
-            let l_units = match *light {
-                Light::Point { position, .. } => frame.vertices.map(|x| unit(position - x)),
-                _ => [l_cone.axis; 3],
-            };
-            let v_units = v_vectors.map(unit);
+        if area.is_none() && setup.h_cone.half > MIRROR_WORTH {
             let mut lo = setup.psi_nh.0;
             if nv_sign == Sign::Positive {
-                lo = lo.max(mirror_lower_angle(&frame.n_cone, &frame.v_cone, &l_cone, l_units));
+                let l_vectors = match *light {
+                    Light::Point { position, .. } => Some(frame.vertices.map(|x| position - x)),
+                    _ => None,
+                };
+                lo = mirror_lower_angle(&frame.n_cone, &frame.v_cone, &l_cone, l_vectors, lo);
             }
             if !straddle {
-                lo = lo.max(mirror_lower_angle(&frame.n_cone, &l_cone, &frame.v_cone, v_units));
+                lo = mirror_lower_angle(&frame.n_cone, &l_cone, &frame.v_cone, Some(v_vectors), lo);
             }
             setup.psi_nh.0 = lo.min(setup.psi_nh.1);
         }
