@@ -953,36 +953,19 @@ fn where_the_excess_lies() {
             oracle_all += vertices_at_level(m);
             estimator_all += count(chosen);
             let relaxed = estimate(&case.tri, &case.material, &case.lights, &relaxed(case.epsilon));
-            relaxed_all += count((!relaxed.fallback).then_some(relaxed.n));
+            let relaxed_count = count((!relaxed.fallback).then_some(relaxed.n));
+            relaxed_all += relaxed_count;
             if relaxed.fallback && relaxed.reason == Reason::Level {
                 relaxed_level += vertices_at_level(case.n_max) - vertices_at_level(m);
             }
             // The Relaxed excess by the term that needs the highest level (forced fallbacks
             // by their reason; "range" where the parts' ranges alone exceed eps).
-            let relaxed_count = count(
-                (!relaxed.fallback || relaxed.reason == Reason::Level).then_some(if relaxed.fallback {
-                    case.n_max
-                } else {
-                    relaxed.n
-                }),
-            );
             let excess = relaxed_count.saturating_sub(vertices_at_level(m));
             if excess > 0 {
-                let largest = relaxed.named_terms().fold(("none", 0.0f32), |best, (name, level)| {
-                    if level > best.1 {
-                        (name, level)
-                    } else {
-                        best
-                    }
-                });
-                let name = if relaxed.fallback && relaxed.reason != Reason::Level {
-                    if relaxed.reason == Reason::Discontinuity {
-                        "discontinuity"
-                    } else {
-                        "singular"
-                    }
-                } else {
-                    largest.0
+                let name = match relaxed.reason {
+                    Reason::Discontinuity => "discontinuity",
+                    Reason::Singular => "singular",
+                    _ => relaxed.named_terms().fold(("none", 0.0f32), |a, b| if b.1 > a.1 { b } else { a }).0,
                 };
                 *deciding.entry(name).or_insert(0) += excess;
             }

@@ -1376,6 +1376,9 @@ fn plan_light(
     let mut area = None;
     // A point light's height over the plane, from below and from above.
     let mut heights = (0.0, 0.0);
+    // A point light's vectors from the corners (their directions span the spherical triangle
+    // of l̂).
+    let mut l_vectors = None;
     let (radiance, l_cone, inv_d, l_center) = match *light {
         Light::Point { position, color, intensity } => {
             let radiance = color * intensity;
@@ -1383,6 +1386,7 @@ fn plan_light(
                 return Ok(None);
             }
             let w = frame.vertices.map(|x| position - x);
+            l_vectors = Some(w);
             let cone = cone_of(w);
             let d_min = min_length(w, &cone);
             // The falloff is clamped at d² = 10⁻⁸: only smooth (and bounded) beyond it.
@@ -1430,10 +1434,8 @@ fn plan_light(
         return Err(Reason::Singular);
     }
     // Sign of n·l: exact, from the bilinear form (Σλₖ Nₖ)·(Σλₖ wₖ) over the simplex.
-    let (psi_nl, sign) = match (light, &area) {
-        (Light::Point { position, .. }, _) => {
-            cosine_range(frame, &l_cone, frame.vertices.map(|x| *position - x))
-        }
+    let (psi_nl, sign) = match (l_vectors, &area) {
+        (Some(w), _) => cosine_range(frame, &l_cone, w),
         (_, Some(a)) => cosine_range_of(frame, &l_cone, a.q, a.w_max, a.d_min),
         _ => cosine_range(frame, &l_cone, [l_cone.axis; 3]),
     };
@@ -1525,10 +1527,6 @@ fn plan_light(
         if area.is_none() && setup.h_cone.half > MIRROR_WORTH {
             let mut lo = setup.psi_nh.0;
             if nv_sign == Sign::Positive {
-                let l_vectors = match *light {
-                    Light::Point { position, .. } => Some(frame.vertices.map(|x| position - x)),
-                    _ => None,
-                };
                 lo = mirror_lower_angle(&frame.n_cone, &frame.v_cone, &l_cone, l_vectors, lo);
             }
             if !straddle {
