@@ -56,6 +56,9 @@ const float ANGLE_PAD = 2.0e-6;
 const float RADIAL_PAD = 2.0e-6;
 // Relaxed: Lg - g <= E_f + TERMINATOR_KINK osc(f) where g = max(f, 0) has its kink (see Rust).
 const float TERMINATOR_KINK = 0.25;
+// The light part's peaks along the plane (see `TILT_PEAK` and `TILT_FLAT` in Rust).
+const float TILT_PEAK = 3.42857146;       // 24.0 / 7.0 in f32
+const float TILT_FLAT = 2.6832817;        // sqrt(7.2), rounded up
 const float HALF_PI = 1.5707964;          // std::f32::consts::FRAC_PI_2
 const float MAX_HALF = 1.5706964;         // FRAC_PI_2 - 1.0e-4 in f32
 const float INV_SQRT3 = 0.57735026;       // 1.0 / 3.0f32.sqrt()
@@ -883,11 +886,32 @@ P vec2 height_of(Frame frame, vec3 p) {
     return range;
 }
 
+// The distance from p to the longest edge of a triangle without a plane, less the third
+// corner's distance from it and the rounding (see `Frame::distance_along_line`).
+P float distance_to_segment(vec3 a, vec3 b, float length2, vec3 x) {
+    P vec3 e = b - a;
+    P vec3 f = x - a;
+    P float t = length2 > 0.0 ? clamp(dot3(f, e) / length2, 0.0, 1.0) : 0.0;
+    P float d = len(f - e * t);
+    return d;
+}
+P float distance_along_line(Frame frame, vec3 p) {
+    P vec3 v[3] = frame.vertices;
+    P float lengths[3] = float[](len2(v[1] - v[0]), len2(v[2] - v[1]), len2(v[0] - v[2]));
+    int k = (lengths[0] >= lengths[1] && lengths[0] >= lengths[2]) ? 0 : (lengths[1] >= lengths[2] ? 1 : 2);
+    P vec3 a = v[k];
+    P vec3 b = v[(k + 1) % 3];
+    P float magnitude = max_el(abs(p)) + max_el(abs(a)) + 2.0 * frame.rho_x;
+    P float d = rmax(distance_to_segment(a, b, lengths[k], p) - distance_to_segment(a, b, lengths[k], v[(k + 2) % 3])
+                     - 1.0e-6 * magnitude, 0.0);
+    return d;
+}
+
 // A lower bound on the distance from p to the triangle, its height from below given (see
 // `Frame::distance_of`).
 P float distance_of(Frame frame, vec3 p, float height) {
     if (is_zero(frame.plane)) {
-        return height;
+        return distance_along_line(frame, p);
     }
     P vec3 foot = p - frame.plane * dot3(p - frame.vertices[0], frame.plane);
     // The foot's distance to the triangle: 0 inside, else to the nearest edge.
@@ -927,6 +951,9 @@ struct LightSetup {
     vec2 emitter;
     // <= H/d_min (at most 1): the cosine of gamma where the light is nearest (see Rust).
     float near_cos;
+    // >= H/d_min (at most 1; 1 without a plane), and <= inf E' over the triangle (see Rust).
+    float far_cos;
+    float att_inf;
 };
 
 // Accumulated bounds (see `Sums`): per term and channel, levels 1 and >= 2 (Uniform split
@@ -1196,6 +1223,31 @@ P float along_plane(LightSetup st, float nu, float c) {
     return k;
 }
 
+// The light part n.D^2 I with the normal split along the plane normal and in the plane (see
+// `tilted` in Rust): the coefficient of |a|^2/d_min^4.
+P float tilted(LightSetup st, float nu) {
+    P float h2 = st.near_cos * st.near_cos;
+    P float rising;
+    if (7.0 * h2 <= 4.0) {
+        rising = 12.0 - 15.0 * h2;
+    } else {
+        P float x = 4.0 / (7.0 * h2);
+        rising = rmax(TILT_PEAK * x * x * sqrt(x), 3.0);
+    }
+    P float s = st.plane_sin;
+    P float s2 = s * s;
+    P float turning;
+    if (s2 < 0.2) {
+        turning = s * (9.0 - 15.0 * s2);
+    } else if (s2 <= 0.8) {
+        turning = TILT_FLAT;
+    } else {
+        turning = s * (15.0 * s2 - 9.0);
+    }
+    P float k = st.far_cos * rising + nu * turning;
+    return k;
+}
+
 // A point light's diffuse factor n.I with the irradiance field I = r/|r|^3 bounded as one
 // field (see `irradiance_jet` in Rust).
 Jet irradiance_jet(Frame frame, LightSetup st, Field n, float a) {
@@ -1214,7 +1266,7 @@ Jet irradiance_jet(Frame frame, LightSetup st, Field n, float a) {
     P float projected = 6.0 * sg * nu + rmax(abs(15.0 * sg2 - 3.0), 3.0) * c;
     P float product_rule = rmax(8.0 * sg2 - 2.0, 2.0) * c + 4.0 * sg * an.s_max
                            + rmin(an.phi, c + 2.0 * an.s_max * sg);
-    P float light_k = rmin(rmin(rmin(whole, projected), product_rule), along_plane(st, nu, c));
+    P float light_k = rmin(rmin(rmin(rmin(whole, projected), product_rule), along_plane(st, nu, c)), tilted(st, nu));
     P float cross_k = rmin(speed, 2.0 * sg * an.s_max + 1.0);
     P float hn = gmul(seen(an, n), id2);
     P float hd = gmul(gmul(2.0 * cross_k * n.w, a_id), id2);
@@ -1519,10 +1571,31 @@ P vec3 polygon_specular_bound(GpuMaterial material, vec2 param, LightSetup st, G
     return b;
 }
 
-// Relaxed: a bound on |n.l| over a sub-triangle the terminator crosses, of diameters `d` (see
-// `terminator_band`).
-P float terminator_band(Frame frame, LightSetup st, Scale d) {
-    return gc(d.b / frame.r_n + d.a * st.inv_d);
+// Relaxed: a bound on |n.l| over a sub-triangle the terminator crosses, per 1/L at the levels
+// L >= above, of diameters d/L (see `terminator_band`).
+P float terminator_band(Frame frame, LightSetup st, Scale d, float above) {
+    P float normal = d.b / frame.r_n;
+    P float light = d.a * st.inv_d;
+    P float c_star = angles_of(st.psi_nl).c_max;
+    P float room = above - st.plane_sin * light;
+    if (room > 0.0) {
+        c_star = rmin(c_star, (normal + frame.n_plane_sin * light) / room);
+    }
+    P float across = rmin(frame.n_plane_sin + st.plane_sin * c_star, 1.0);
+    P float band = normal + light * across;
+    return gc(band);
+}
+
+// The same at one effective level l, at most the oscillation of n.l over the triangle.
+P float terminator_band_at(Frame frame, LightSetup st, Scale d, float l) {
+    P float band = rmin(terminator_band(frame, st, d, l) / l, est_cos(st.psi_nl.x) - est_cos(st.psi_nl.y));
+    return band;
+}
+
+// The band's floor as the level grows (see `terminator_floor`).
+P float terminator_floor(Frame frame, LightSetup st, Scale d) {
+    P float band = d.b / frame.r_n + d.a * st.inv_d * rmin(frame.n_plane_sin, 1.0);
+    return gc(band);
 }
 
 // Relaxed, GGX: |n.v| on a sub-triangle of diameters d that n.v = 0 crosses (`view_band`).
@@ -1668,6 +1741,15 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     setup.area = area;
     setup.emitter = area ? geometry.emitter : vec2(0.0);
     setup.near_cos = 0.0;
+    setup.far_cos = 1.0;
+    if (area) {
+        setup.att_inf = 0.0;
+    } else if (point) {
+        P float d_max = rmax(rmax(len(l_vectors[0]), len(l_vectors[1])), len(l_vectors[2])) * (1.0 + 1.0e-5);
+        setup.att_inf = 1.0 / (d_max * d_max);
+    } else {
+        setup.att_inf = 1.0;
+    }
     if (inv_d > 0.0) {
         setup.plane_sin = plane_sin(l_cone, frame.plane);
         setup.near_sin = setup.plane_sin;
@@ -1675,6 +1757,7 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
             P float height = heights.x;
             P float q = rmin(height * inv_d, 1.0);
             setup.near_cos = q;
+            setup.far_cos = rmin(heights.y * inv_d, 1.0);
             setup.near_sin = rmin(setup.plane_sin, sqrt(rmax(1.0 - q * q, 0.0)));
             // |n.l| <= H/d_min + nu: a light near the plane is seen at grazing angles (see Rust).
             P float grazing = (heights.y * inv_d + frame.n_plane_sin) * (1.0 + 1.0e-5) + 1.0e-6;
@@ -1781,9 +1864,11 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     // Relaxed: how far n.l can be from 0 on a crossed sub-triangle, at level 1 and per 1/L.
     P float band1 = 0.0;
     P float bandn = 0.0;
+    // sup E' (1 for a directional light).
+    P float att = setup.inv_d > 0.0 ? setup.inv_d * setup.inv_d : 1.0;
     if (setup.straddle) {
-        band1 = terminator_band(frame, setup, frame.d1);
-        bandn = terminator_band(frame, setup, frame.dn);
+        band1 = terminator_band_at(frame, setup, frame.d1, 1.0);
+        bandn = terminator_band(frame, setup, frame.dn, 0.0);
     }
     // Relaxed, GGX: the same for n.v where it may change sign (its kink in V).
     bool view_kink = MATERIAL_KIND == MATERIAL_GGX && !setup.area && setup.nv_sign == SIGN_BOTH;
@@ -1841,12 +1926,12 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
         // (The sups m do not depend on the pass.)
         P vec3 spec_m = vec3(spec[0].m, spec[1].m, spec[2].m);
         spec_sup = spec_m;
-        // Each part lies in [0, sup] and so does its interpolant.
-        range_d = diff_w * (diff.m * SAFETY);
+        // Each part lies in [inf, sup] and so does its interpolant (see Rust).
+        P float diff_inf = setup.att_inf * rmax(est_cos(setup.psi_nl.y), 0.0) * (1.0 - 1.0e-5);
+        range_d = diff_w * (rmax(diff.m - diff_inf, 0.0) * SAFETY);
         range_s = spec_w * spec_m * SAFETY;
         if (setup.straddle && level == 1) {
             // Relaxed: the diffuse kink adds 1/4 sup E' osc(n.l) (see Rust).
-            P float att = setup.inv_d > 0.0 ? setup.inv_d * setup.inv_d : 1.0;
             lin1 = diff_w * (TERMINATOR_KINK * SAFETY * gmul(att, band1));
             linn = diff_w * (TERMINATOR_KINK * SAFETY * gmul(att, bandn));
         }
@@ -1875,8 +1960,22 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     P vec3 zero_inf = terminator_jump(spec_w, spec_sup, param, setup, 0.0) + other;
     const vec3 none = vec3(0.0);
     P vec3 a = mix(none, tot_dn, interp_d) + mix(none, tot_sn, interp_s);
-    P vec3 b = mix(none, linn, interp_d) + mix(none, linn_s, interp_s);
     P vec3 z = mix(none, zero_inf, interp_s);
+    // Relaxed: the diffuse kink at the levels this light alone needs with the kink at its
+    // floor, where the band's fixed point holds (see Rust).
+    if (setup.straddle) {
+        P vec3 floor_kink = diff_w * (TERMINATOR_KINK * SAFETY * gmul(att, terminator_floor(frame, setup, frame.dn)));
+        P vec3 b0 = mix(none, floor_kink, interp_d) + mix(none, linn_s, interp_s);
+        P float floor_level = 1.0;
+        for (int c = 0; c < 3; ++c) {
+            if (interp_d[c] || interp_s[c]) {
+                floor_level = rmax(floor_level, level_for(a[c], b0[c], z[c], eps));
+            }
+        }
+        bandn = rmin(bandn, terminator_band(frame, setup, frame.dn, floor_level));
+        linn = diff_w * (TERMINATOR_KINK * SAFETY * gmul(att, bandn));
+    }
+    P vec3 b = mix(none, linn, interp_d) + mix(none, linn_s, interp_s);
     P float low = 1.0;
     for (int c = 0; c < 3; ++c) {
         if (interp_d[c] || interp_s[c]) {
@@ -1893,7 +1992,11 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
             P float l = grid_level[k];
             // The jump at l: the one at `low` where l >= low, else the whole lobe (see Rust).
             P vec3 zero_l = l >= low ? zeron : whole_lobe + other;
-            P vec3 part_d = rmin3(tot_dn / (l * l) + linn / l, range_d);
+            // The diffuse kink at l itself (valid below `low` too).
+            P vec3 kink_l = setup.straddle
+                ? diff_w * (TERMINATOR_KINK * SAFETY * gmul(att, terminator_band_at(frame, setup, frame.dn, l)))
+                : vec3(0.0);
+            P vec3 part_d = rmin3(tot_dn / (l * l) + kink_l, range_d);
             P vec3 part_s = rmin3(tot_sn / (l * l) + linn_s / l + zero_l, range_s);
             sum_grid[k] = sum_grid[k] + (part_d + part_s);
         }
