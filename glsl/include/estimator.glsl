@@ -416,10 +416,8 @@ P float max_sin(float p0, float p1) {
     return s;
 }
 
-// max phi(psi) over [p0, p1], phi = c/2 + sqrt(1 - 3c^2/4), c = |cos psi|.
-P float max_phi(float p0, float p1) {
-    P float c0 = abs(est_cos(p0));
-    P float c1 = abs(est_cos(p1));
+// max phi(psi) over [p0, p1], phi = c/2 + sqrt(1 - 3c^2/4), c = |cos psi| (c0, c1 at the ends).
+P float max_phi(float p0, float p1, float c0, float c1) {
     P float lo;
     P float hi;
     if (p0 <= HALF_PI && p1 >= HALF_PI) {
@@ -478,9 +476,15 @@ struct Angles {
     float phi;
 };
 
+// The same with the cosines of the range's ends given (see `Angles::with_cosines`).
+Angles angles_with(vec2 psi, vec2 cosines) {
+    P float c0 = abs(cosines.x);
+    P float c1 = abs(cosines.y);
+    return Angles(max_sin(psi.x, psi.y), rmax(c0, c1), max_phi(psi.x, psi.y, c0, c1));
+}
+
 Angles angles_of(vec2 psi) {
-    return Angles(max_sin(psi.x, psi.y), rmax(abs(est_cos(psi.x)), abs(est_cos(psi.y))),
-                  max_phi(psi.x, psi.y));
+    return angles_with(psi, vec2(est_cos(psi.x), est_cos(psi.y)));
 }
 
 // >= |D^2 u . b| for the field f and a unit b at an angle in the range (`Angles::seen`).
@@ -492,10 +496,9 @@ P float seen(Angles an, Field f) {
     return r;
 }
 
-// Jet of c = a.b where the angle between them stays in psi (neither a nor b books under
+// Jet of c = a.b where the angle between them has the Angles `an` (neither a nor b books under
 // T_DOT; they may share a term, as a polygon's emitter cosine does).
-Jet cosine(Field a, Field b, vec2 psi) {
-    Angles an = angles_of(psi);
+Jet cosine_at(Field a, Field b, Angles an) {
     P float s_max = an.s_max;
     Jet j = jet_constant(an.c_max);
     P float ha = seen(an, a);
@@ -512,6 +515,11 @@ Jet cosine(Field a, Field b, vec2 psi) {
     }
     j.g = gc(s_max * (a.w + b.w));
     return j;
+}
+
+// The same for the angle range psi.
+Jet cosine(Field a, Field b, vec2 psi) {
+    return cosine_at(a, b, angles_of(psi));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -954,6 +962,8 @@ struct LightSetup {
     // >= H/d_min (at most 1; 1 without a plane), and <= inf E' over the triangle (see Rust).
     float far_cos;
     float att_inf;
+    // The cosines at the ends of psi_nl.
+    vec2 nl_cos;
 };
 
 // Accumulated bounds (see `Sums`): per term and channel, levels 1 and >= 2 (Uniform split
@@ -1251,7 +1261,7 @@ P float tilted(LightSetup st, float nu) {
 // A point light's diffuse factor n.I with the irradiance field I = r/|r|^3 bounded as one
 // field (see `irradiance_jet` in Rust).
 Jet irradiance_jet(Frame frame, LightSetup st, Field n, float a) {
-    Angles an = angles_of(st.psi_nl);
+    Angles an = angles_with(st.psi_nl, st.nl_cos);
     P float sg = st.plane_sin;
     P float nu = frame.n_plane_sin;
     P float c = an.c_max;
@@ -1320,7 +1330,7 @@ void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Sc
     if (st.inv_d > 0.0 && !st.area) {
         diffuse = irradiance_jet(frame, st, n, s.a);
     } else {
-        diffuse = product2(att, cosine(n, l, st.psi_nl));
+        diffuse = product2(att, cosine_at(n, l, angles_with(st.psi_nl, st.nl_cos)));
     }
     Jet zero = jet_constant(0.0);
     spec[0] = zero;
@@ -1528,8 +1538,8 @@ P vec3 polygon_specular_bound(GpuMaterial material, vec2 param, LightSetup st, G
         return vec3(0.0);
     }
     P vec3 radiance = light.radiance.rgb;
-    P float cos_l_min = rmax(est_cos(st.psi_nl.y), 0.0);
-    P float cos_l_max = rmin(est_cos(st.psi_nl.x), 1.0);
+    P float cos_l_min = rmax(st.nl_cos.y, 0.0);
+    P float cos_l_max = rmin(st.nl_cos.x, 1.0);
     P float cos_y_max = rmin(est_cos(st.emitter.x), 1.0);
     P float omega = gc(rmin(gmul(light.normal.w * cos_y_max, gmul(st.inv_d, st.inv_d)), 2.0 * PI));
     P float h0 = st.psi_nh.x;
@@ -1576,7 +1586,7 @@ P vec3 polygon_specular_bound(GpuMaterial material, vec2 param, LightSetup st, G
 P float terminator_band(Frame frame, LightSetup st, Scale d, float above) {
     P float normal = d.b / frame.r_n;
     P float light = d.a * st.inv_d;
-    P float c_star = angles_of(st.psi_nl).c_max;
+    P float c_star = rmax(abs(st.nl_cos.x), abs(st.nl_cos.y));
     P float room = above - st.plane_sin * light;
     if (room > 0.0) {
         c_star = rmin(c_star, (normal + frame.n_plane_sin * light) / room);
@@ -1588,7 +1598,7 @@ P float terminator_band(Frame frame, LightSetup st, Scale d, float above) {
 
 // The same at one effective level l, at most the oscillation of n.l over the triangle.
 P float terminator_band_at(Frame frame, LightSetup st, Scale d, float l) {
-    P float band = rmin(terminator_band(frame, st, d, l) / l, est_cos(st.psi_nl.x) - est_cos(st.psi_nl.y));
+    P float band = rmin(terminator_band(frame, st, d, l) / l, st.nl_cos.x - st.nl_cos.y);
     return band;
 }
 
@@ -1629,7 +1639,7 @@ P float lobe_band_share(vec2 param, LightSetup st, float beta) {
     }
     // GGX: G(c) = c/(c(1-k)+k) on the band, at the smallest k, against G(c_max).
     P float k = 0.5 * max(param.x * param.x, GGX_MIN_ALPHA);
-    P float c1 = est_cos(st.psi_nl.x);
+    P float c1 = st.nl_cos.x;
     if (!(beta < c1)) {
         return 1.0;
     }
@@ -1745,8 +1755,7 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     if (area) {
         setup.att_inf = 0.0;
     } else if (point) {
-        P float d_max = rmax(rmax(len(l_vectors[0]), len(l_vectors[1])), len(l_vectors[2])) * (1.0 + 1.0e-5);
-        setup.att_inf = 1.0 / (d_max * d_max);
+        setup.att_inf = 1.0 / (rmax(rmax(len2(l_vectors[0]), len2(l_vectors[1])), len2(l_vectors[2])) * (1.0 + 2.0e-5));
     } else {
         setup.att_inf = 1.0;
     }
@@ -1768,6 +1777,7 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
             }
         }
     }
+    setup.nl_cos = vec2(est_cos(setup.psi_nl.x), est_cos(setup.psi_nl.y));
     if (MATERIAL_KIND != MATERIAL_LAMBERT) {
         if (!(frame.e_min > 0.0)) {
             return REASON_SINGULAR;
@@ -1927,7 +1937,7 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
         P vec3 spec_m = vec3(spec[0].m, spec[1].m, spec[2].m);
         spec_sup = spec_m;
         // Each part lies in [inf, sup] and so does its interpolant (see Rust).
-        P float diff_inf = setup.att_inf * rmax(est_cos(setup.psi_nl.y), 0.0) * (1.0 - 1.0e-5);
+        P float diff_inf = setup.att_inf * rmax(setup.nl_cos.y, 0.0) * (1.0 - 1.0e-5);
         range_d = diff_w * (rmax(diff.m - diff_inf, 0.0) * SAFETY);
         range_s = spec_w * spec_m * SAFETY;
         if (setup.straddle && level == 1) {

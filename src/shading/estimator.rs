@@ -653,7 +653,11 @@ struct Field {
 /// `C = min(φ(ψ)·w², max|cos ψ|·w² + 2 max sin ψ·w·radial)`,
 /// `φ(ψ) = |cos ψ|/2 + √(1 − ¾cos²ψ) ≤ 2/√3`.
 fn cosine(a: &Field, b: &Field, psi: (f32, f32), gd: &Guard) -> Jet {
-    let angles = Angles::of(psi);
+    cosine_at(a, b, &Angles::of(psi), gd)
+}
+
+/// [`cosine`] with the angle range's [`Angles`] given.
+fn cosine_at(a: &Field, b: &Field, angles: &Angles, gd: &Guard) -> Jet {
     let mut h = NO_H;
     let ha = angles.seen(a, gd);
     let hb = angles.seen(b, gd);
@@ -695,11 +699,13 @@ struct Angles {
 
 impl Angles {
     fn of((p0, p1): (f32, f32)) -> Angles {
-        Angles {
-            s_max: max_sin(p0, p1),
-            c_max: est_cos(p0).abs().max(est_cos(p1).abs()),
-            phi: max_phi(p0, p1),
-        }
+        Angles::with_cosines((p0, p1), (est_cos(p0), est_cos(p1)))
+    }
+
+    /// The same with the cosines of the range's ends given (`est_cos` of each).
+    fn with_cosines((p0, p1): (f32, f32), (c0, c1): (f32, f32)) -> Angles {
+        let (c0, c1) = (c0.abs(), c1.abs());
+        Angles { s_max: max_sin(p0, p1), c_max: c0.max(c1), phi: max_phi(p0, p1, c0, c1) }
     }
 
     /// `≥ |D²û·b̂|` for the field `f` and a unit `b̂` at an angle in the range: with
@@ -723,9 +729,8 @@ fn max_sin(p0: f32, p1: f32) -> f32 {
 }
 
 /// `max φ(ψ)` over `[p0, p1]`, `φ = c/2 + √(1 − ¾c²)` with `c = |cos ψ|`; φ rises from 1 at
-/// `c = 0` to 2/√3 at `c = 1/√3` and falls back to 1 at `c = 1`.
-fn max_phi(p0: f32, p1: f32) -> f32 {
-    let (c0, c1) = (est_cos(p0).abs(), est_cos(p1).abs());
+/// `c = 0` to 2/√3 at `c = 1/√3` and falls back to 1 at `c = 1`. `c0`, `c1`: `|cos|` at the ends.
+fn max_phi(p0: f32, p1: f32, c0: f32, c1: f32) -> f32 {
     let (lo, hi) =
         if p0 <= FRAC_PI_2 && p1 >= FRAC_PI_2 { (0.0, c0.max(c1)) } else { (c0.min(c1), c0.max(c1)) };
     let c = (1.0 / 3.0f32.sqrt()).clamp(lo, hi);
@@ -1248,6 +1253,8 @@ struct LightSetup {
     /// `≤ inf E'` over the triangle: `1/d_max²` for a point light (the farthest point is a
     /// corner), 1 for a directional one, 0 for a polygon.
     att_inf: f32,
+    /// The cosines at the ends of `psi_nl`, `(cos ψ_min, cos ψ_max)`.
+    nl_cos: (f32, f32),
 }
 
 /// Accumulated bounds, per term and channel: `½·SAFETY·Σ weight·H` at level 1 and at
@@ -1499,12 +1506,13 @@ fn plan_light(
         far_cos: 1.0,
         att_inf: match (l_vectors, light) {
             (Some(w), _) => {
-                let d_max = w[0].length().max(w[1].length()).max(w[2].length()) * (1.0 + 1.0e-5);
-                1.0 / (d_max * d_max)
+                1.0 / (w[0].length_squared().max(w[1].length_squared()).max(w[2].length_squared())
+                    * (1.0 + 2.0e-5))
             }
             (None, Light::Directional { .. }) => 1.0,
             _ => 0.0,
         },
+        nl_cos: (1.0, -1.0),
     };
     if inv_d > 0.0 {
         setup.plane_sin = plane_sin(&l_cone, frame.plane);
@@ -1525,6 +1533,7 @@ fn plan_light(
             }
         }
     }
+    setup.nl_cos = (est_cos(setup.psi_nl.0), est_cos(setup.psi_nl.1));
     let specular = !matches!(material, MaterialKind::Lambert { .. });
     if specular {
         if !(frame.e_min > 0.0) {
@@ -1670,7 +1679,7 @@ fn add_light(
         spec_sup = spec_m;
         // Each part lies in [inf, sup] and so does its interpolant; the diffuse part `E'·c` is
         // at least `inf E'·cos ψ_max` where it does not change sign.
-        let diff_inf = setup.att_inf * est_cos(setup.psi_nl.1).max(0.0) * (1.0 - 1.0e-5);
+        let diff_inf = setup.att_inf * setup.nl_cos.1.max(0.0) * (1.0 - 1.0e-5);
         range = [diff_w * ((diff.m - diff_inf).max(0.0) * SAFETY), spec_w * spec_m * SAFETY];
         if setup.straddle && level == 1 {
             // Relaxed: with f = E'·c and g = max(f, 0), Lg − g ≤ E_f + ¼·sup E'·osc(c) on a
@@ -1814,7 +1823,7 @@ const SPECULAR: usize = 1;
 /// with `L` for `above`, which can only be larger.
 fn terminator_band(frame: &Frame, st: &LightSetup, d: Scale, above: f32, gd: &Guard) -> f32 {
     let (normal, light) = (d.b / frame.r_n, d.a * st.inv_d);
-    let mut c_star = Angles::of(st.psi_nl).c_max;
+    let mut c_star = st.nl_cos.0.abs().max(st.nl_cos.1.abs());
     let room = above - st.plane_sin * light;
     if room > 0.0 {
         c_star = c_star.min((normal + frame.n_plane_sin * light) / room);
@@ -1826,8 +1835,7 @@ fn terminator_band(frame: &Frame, st: &LightSetup, d: Scale, above: f32, gd: &Gu
 /// The same at one effective level `l`, and at most the oscillation of `n̂·l̂` over the whole
 /// triangle (`cos ψ_min − cos ψ_max`), which does not fall with the level.
 fn terminator_band_at(frame: &Frame, st: &LightSetup, d: Scale, l: f32, gd: &Guard) -> f32 {
-    let (p0, p1) = st.psi_nl;
-    (terminator_band(frame, st, d, l, gd) / l).min(est_cos(p0) - est_cos(p1))
+    (terminator_band(frame, st, d, l, gd) / l).min(st.nl_cos.0 - st.nl_cos.1)
 }
 
 /// The floor of [`terminator_band`] as the level grows (`c* → 0`): `b_N + ν·b_X` per `1/L`.
@@ -1868,7 +1876,7 @@ fn lobe_band_share(material: &MaterialKind, parameter: ParameterRange, st: &Ligh
         }
         MaterialKind::Ggx { .. } => {
             let k = 0.5 * ggx_alpha(parameter.lo);
-            let c1 = est_cos(st.psi_nl.0);
+            let c1 = st.nl_cos.0;
             if !(beta < c1) {
                 1.0
             } else {
@@ -1904,8 +1912,8 @@ fn polygon_specular_bound(
         return Vec3::ZERO;
     };
     let radiance = polygon.radiance();
-    let cos_l_min = est_cos(st.psi_nl.1).max(0.0);
-    let cos_l_max = est_cos(st.psi_nl.0).min(1.0);
+    let cos_l_min = st.nl_cos.1.max(0.0);
+    let cos_l_max = st.nl_cos.0.min(1.0);
     let cos_y_max = est_cos(emitter.0).min(1.0);
     let omega = gd.c(gd.mul(polygon.area * cos_y_max, gd.mul(st.inv_d, st.inv_d)).min(2.0 * PI));
     let (h0, h1) = st.psi_nh;
@@ -1982,7 +1990,7 @@ fn attenuation_jet(inv_d: f32, plane_sin: f32, a: f32, gd: &Guard) -> Jet {
 /// the plane normal). Each part also keeps the product rule's bound of `E'·(n̂·l̂)`, the
 /// smaller is taken.
 fn irradiance_jet(frame: &Frame, st: &LightSetup, n: &Field, a: f32, gd: &Guard) -> Jet {
-    let angles = Angles::of(st.psi_nl);
+    let angles = Angles::with_cosines(st.psi_nl, st.nl_cos);
     let (sg, nu, c) = (st.plane_sin, frame.n_plane_sin, angles.c_max);
     let id2 = gd.mul(st.inv_d, st.inv_d);
     let a_id = gd.mul(a, st.inv_d);
@@ -2124,7 +2132,7 @@ fn light_jets(
     let diffuse = if st.inv_d > 0.0 && st.area.is_none() {
         irradiance_jet(frame, st, &n, s.a, gd)
     } else {
-        product([att, cosine(&n, &l, st.psi_nl, gd)], gd)
+        product([att, cosine_at(&n, &l, &Angles::with_cosines(st.psi_nl, st.nl_cos), gd)], gd)
     };
     let zero = Jet::constant(0.0);
     let only_diffuse = LightJets { diffuse, specular: [zero; 3], view_kink: Vec3::ZERO };
@@ -4152,6 +4160,7 @@ mod tests {
             near_cos,
             far_cos: 1.0,
             att_inf: 0.0,
+            nl_cos: (1.0, -1.0),
         };
         for i in 0..=200 {
             let h = f64::from(i) / 200.0;
