@@ -1582,8 +1582,8 @@ P vec3 polygon_specular_bound(GpuMaterial material, vec2 param, LightSetup st, G
 }
 
 // Relaxed: a bound on |n.l| over a sub-triangle the terminator crosses, per 1/L at the levels
-// L >= above, of diameters d/L (see `terminator_band`).
-P float terminator_band(Frame frame, LightSetup st, Scale d, float above) {
+// L >= above, of diameters d/L, without the guard (see `band_per_level`), and with it.
+P float band_per_level(Frame frame, LightSetup st, Scale d, float above) {
     P float normal = d.b / frame.r_n;
     P float light = d.a * st.inv_d;
     P float c_star = rmax(abs(st.nl_cos.x), abs(st.nl_cos.y));
@@ -1593,12 +1593,16 @@ P float terminator_band(Frame frame, LightSetup st, Scale d, float above) {
     }
     P float across = rmin(frame.n_plane_sin + st.plane_sin * c_star, 1.0);
     P float band = normal + light * across;
-    return gc(band);
+    return band;
+}
+
+P float terminator_band(Frame frame, LightSetup st, Scale d, float above) {
+    return gc(band_per_level(frame, st, d, above));
 }
 
 // The same at one effective level l, at most the oscillation of n.l over the triangle.
 P float terminator_band_at(Frame frame, LightSetup st, Scale d, float l) {
-    P float band = rmin(terminator_band(frame, st, d, l) / l, st.nl_cos.x - st.nl_cos.y);
+    P float band = rmin(band_per_level(frame, st, d, l) / l, st.nl_cos.x - st.nl_cos.y);
     return band;
 }
 
@@ -1877,7 +1881,7 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     // sup E' (1 for a directional light).
     P float att = setup.inv_d > 0.0 ? setup.inv_d * setup.inv_d : 1.0;
     if (setup.straddle) {
-        band1 = terminator_band_at(frame, setup, frame.d1, 1.0);
+        band1 = gc(terminator_band_at(frame, setup, frame.d1, 1.0));
         bandn = terminator_band(frame, setup, frame.dn, 0.0);
     }
     // Relaxed, GGX: the same for n.v where it may change sign (its kink in V).
@@ -1971,26 +1975,21 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     const vec3 none = vec3(0.0);
     P vec3 a = mix(none, tot_dn, interp_d) + mix(none, tot_sn, interp_s);
     P vec3 z = mix(none, zero_inf, interp_s);
-    // Relaxed: the diffuse kink at the levels this light alone needs with the kink at its
-    // floor, where the band's fixed point holds (see Rust).
-    if (setup.straddle) {
-        P vec3 floor_kink = diff_w * (TERMINATOR_KINK * SAFETY * gmul(att, terminator_floor(frame, setup, frame.dn)));
-        P vec3 b0 = mix(none, floor_kink, interp_d) + mix(none, linn_s, interp_s);
-        P float floor_level = 1.0;
-        for (int c = 0; c < 3; ++c) {
-            if (interp_d[c] || interp_s[c]) {
-                floor_level = rmax(floor_level, level_for(a[c], b0[c], z[c], eps));
-            }
-        }
-        bandn = rmin(bandn, terminator_band(frame, setup, frame.dn, floor_level));
-        linn = diff_w * (TERMINATOR_KINK * SAFETY * gmul(att, bandn));
-    }
-    P vec3 b = mix(none, linn, interp_d) + mix(none, linn_s, interp_s);
+    // Relaxed: the same with the diffuse kink at its floor; the band's fixed point holds from
+    // `low` on (see Rust).
+    P vec3 floor_kink = setup.straddle
+        ? diff_w * (TERMINATOR_KINK * SAFETY * gmul(att, terminator_floor(frame, setup, frame.dn)))
+        : vec3(0.0);
+    P vec3 b = mix(none, floor_kink, interp_d) + mix(none, linn_s, interp_s);
     P float low = 1.0;
     for (int c = 0; c < 3; ++c) {
         if (interp_d[c] || interp_s[c]) {
             low = rmax(low, level_for(a[c], b[c], z[c], eps));
         }
+    }
+    if (setup.straddle) {
+        bandn = rmin(bandn, terminator_band(frame, setup, frame.dn, low));
+        linn = diff_w * (TERMINATOR_KINK * SAFETY * gmul(att, bandn));
     }
     P vec3 zeron = terminator_jump(spec_w, spec_sup, param, setup, bandn / low) + other;
     if (SPLIT == 1) {
@@ -2002,9 +2001,9 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
             P float l = grid_level[k];
             // The jump at l: the one at `low` where l >= low, else the whole lobe (see Rust).
             P vec3 zero_l = l >= low ? zeron : whole_lobe + other;
-            // The diffuse kink at l itself (valid below `low` too).
+            // The diffuse kink at l itself (valid below `low` too; at most att bandn, guarded).
             P vec3 kink_l = setup.straddle
-                ? diff_w * (TERMINATOR_KINK * SAFETY * gmul(att, terminator_band_at(frame, setup, frame.dn, l)))
+                ? diff_w * (TERMINATOR_KINK * SAFETY * (att * terminator_band_at(frame, setup, frame.dn, l)))
                 : vec3(0.0);
             P vec3 part_d = rmin3(tot_dn / (l * l) + kink_l, range_d);
             P vec3 part_s = rmin3(tot_sn / (l * l) + linn_s / l + zero_l, range_s);

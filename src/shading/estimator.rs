@@ -1651,7 +1651,7 @@ fn add_light(
     // (the patch's diameters) and per 1/L at levels L ≥ 2 (see `terminator_band`).
     let (band1, bandn) = if setup.straddle {
         (
-            terminator_band_at(frame, &setup, frame.d1, 1.0, gd),
+            gd.c(terminator_band_at(frame, &setup, frame.d1, 1.0)),
             terminator_band(frame, &setup, frame.dn, 0.0, gd),
         )
     } else {
@@ -1740,32 +1740,29 @@ fn add_light(
     // solver returns is at least that (it adds the other lights' non-negative bounds), and
     // the band only narrows as the level grows.
     let zero_inf = jump(0.0) + other;
-    let view_kinks = linn[SPECULAR];
-    let level_with = |kink: Vec3| {
-        let mut low = 1.0f32;
-        for c in 0..3 {
-            let (d, sp) = (interpolated[DIFFUSE][c], interpolated[SPECULAR][c]);
-            if d || sp {
-                let a = if d { tot[DIFFUSE][1][c] } else { 0.0 } + if sp { tot[SPECULAR][1][c] } else { 0.0 };
-                let b = if d { kink[c] } else { 0.0 } + if sp { view_kinks[c] } else { 0.0 };
-                let z = if sp { zero_inf[c] } else { 0.0 };
-                low = low.max(level_for(a, b, z, eps));
-            }
-        }
-        low
+    // Relaxed: the same with the diffuse kink at its floor (`terminator_floor`, the band's limit
+    // as the level grows), which only lowers it; at every level the solver returns (`≥ low`) the
+    // band's fixed point holds from `low` on.
+    let floor_kink = if setup.straddle {
+        diff_w * (TERMINATOR_KINK * SAFETY * gd.mul(att, terminator_floor(frame, &setup, frame.dn, gd)))
+    } else {
+        Vec3::ZERO
     };
-    // Relaxed: the diffuse kink at the levels this light alone needs with the kink at its floor
-    // (`terminator_floor`), which every level the solver returns reaches: there the band's
-    // fixed point holds.
+    let mut low = 1.0f32;
+    for c in 0..3 {
+        let (d, sp) = (interpolated[DIFFUSE][c], interpolated[SPECULAR][c]);
+        if d || sp {
+            let a = if d { tot[DIFFUSE][1][c] } else { 0.0 } + if sp { tot[SPECULAR][1][c] } else { 0.0 };
+            let b = if d { floor_kink[c] } else { 0.0 } + if sp { linn[SPECULAR][c] } else { 0.0 };
+            let z = if sp { zero_inf[c] } else { 0.0 };
+            low = low.max(level_for(a, b, z, eps));
+        }
+    }
     let mut bandn = bandn;
     if setup.straddle {
-        let floor = level_with(
-            diff_w * (TERMINATOR_KINK * SAFETY * gd.mul(att, terminator_floor(frame, &setup, frame.dn, gd))),
-        );
-        bandn = bandn.min(terminator_band(frame, &setup, frame.dn, floor, gd));
+        bandn = bandn.min(terminator_band(frame, &setup, frame.dn, low, gd));
         linn[DIFFUSE] = diff_w * (TERMINATOR_KINK * SAFETY * gd.mul(att, bandn));
     }
-    let low = level_with(linn[DIFFUSE]);
     let zeron = jump(bandn / low) + other;
     let whole_lobe =
         if setup.straddle && setup.area.is_none() { spec_w * spec_sup * SAFETY } else { Vec3::ZERO };
@@ -1777,10 +1774,10 @@ fn add_light(
         // The jump at `l`: at or above `low` the one taken there bounds it (the band only
         // narrows), below it the whole lobe does (cheap, and then the range is no larger).
         let zero_l = if l >= low { zeron } else { whole_lobe + other };
-        // The diffuse kink at `l` itself (valid below `low` too).
+        // The diffuse kink at `l` itself (valid below `low` too; at most `att·bandn`, which
+        // passed the guard).
         let kink_l = if setup.straddle {
-            diff_w
-                * (TERMINATOR_KINK * SAFETY * gd.mul(att, terminator_band_at(frame, &setup, frame.dn, l, gd)))
+            diff_w * (TERMINATOR_KINK * SAFETY * (att * terminator_band_at(frame, &setup, frame.dn, l)))
         } else {
             Vec3::ZERO
         };
@@ -1831,6 +1828,11 @@ const SPECULAR: usize = 1;
 /// `min|N|` and `d_min`), so `c* ≤ (b_N + ν b_X)/(1 − σ b_X)`: at `L ≥ above` (0: not used)
 /// with `L` for `above`, which can only be larger.
 fn terminator_band(frame: &Frame, st: &LightSetup, d: Scale, above: f32, gd: &Guard) -> f32 {
+    gd.c(band_per_level(frame, st, d, above))
+}
+
+/// [`terminator_band`] without the guard.
+fn band_per_level(frame: &Frame, st: &LightSetup, d: Scale, above: f32) -> f32 {
     let (normal, light) = (d.b / frame.r_n, d.a * st.inv_d);
     let mut c_star = st.nl_cos.0.abs().max(st.nl_cos.1.abs());
     let room = above - st.plane_sin * light;
@@ -1838,13 +1840,14 @@ fn terminator_band(frame: &Frame, st: &LightSetup, d: Scale, above: f32, gd: &Gu
         c_star = c_star.min((normal + frame.n_plane_sin * light) / room);
     }
     let across = (frame.n_plane_sin + st.plane_sin * c_star).min(1.0);
-    gd.c(normal + light * across)
+    normal + light * across
 }
 
 /// The same at one effective level `l`, and at most the oscillation of `n̂·l̂` over the whole
-/// triangle (`cos ψ_min − cos ψ_max`), which does not fall with the level.
-fn terminator_band_at(frame: &Frame, st: &LightSetup, d: Scale, l: f32, gd: &Guard) -> f32 {
-    (terminator_band(frame, st, d, l, gd) / l).min(st.nl_cos.0 - st.nl_cos.1)
+/// triangle (`cos ψ_min − cos ψ_max`), which does not fall with the level (unguarded: at most
+/// `terminator_band(…, 0)/l`).
+fn terminator_band_at(frame: &Frame, st: &LightSetup, d: Scale, l: f32) -> f32 {
+    (band_per_level(frame, st, d, l) / l).min(st.nl_cos.0 - st.nl_cos.1)
 }
 
 /// The floor of [`terminator_band`] as the level grows (`c* → 0`): `b_N + ν·b_X` per `1/L`.
@@ -4239,7 +4242,7 @@ mod tests {
                 }
                 crossed += 1;
                 let worst = (hi - lo).max(hi).max(-lo);
-                let at = f64::from(terminator_band_at(&frame, &setup, frame.dn, l, &gd));
+                let at = f64::from(terminator_band_at(&frame, &setup, frame.dn, l));
                 let per_level = f64::from(terminator_band(&frame, &setup, frame.dn, 0.0, &gd)) / f64::from(l);
                 let above = 1.0 + rng.f() * (l - 1.0);
                 let from_above =
