@@ -918,7 +918,8 @@ fn children(t: &TriangleInput) -> [TriangleInput; 4] {
 ///   for a level above 2 (level `2ᵈ·max` of theirs, a prototype: a child's range bounds do not
 ///   hold for sub-triangles across children, so it is not a bound); the estimator.
 ///
-/// And which term needs the highest level on the triangles that make the Relaxed excess.
+/// And which term needs the highest level on the triangles that make the Relaxed excess, and
+/// how that excess splits by the oracle's level and by whether the estimator falls back.
 ///
 /// Asserts that the measured supremum bound holds wherever it chose a level (the premise of
 /// the figures) and lies below the estimator.
@@ -938,6 +939,9 @@ fn where_the_excess_lies() {
         let mut smooth = [0u64; 5];
         let mut sup_violations = 0;
         let mut deciding: std::collections::BTreeMap<&str, u64> = std::collections::BTreeMap::new();
+        // The Relaxed excess by the oracle's level (up to 1, 4, 8, n_max) and by whether the
+        // estimator tessellates or falls back.
+        let mut by_level = [[0u64; 2]; 4];
         for _ in 0..DECOMPOSITION_TRIANGLES {
             let case = random_case(&mut rng, brdf);
             let settings = conservative(case.epsilon);
@@ -961,6 +965,8 @@ fn where_the_excess_lies() {
             // The Relaxed excess by the term that needs the highest level (forced fallbacks
             // by their reason; "range" where the parts' ranges alone exceed eps).
             let excess = relaxed_count.saturating_sub(vertices_at_level(m));
+            by_level[[1, 4, 8].iter().take_while(|&&top| m > top).count()][usize::from(relaxed.fallback)] +=
+                excess;
             if excess > 0 {
                 let name = match relaxed.reason {
                     Reason::Discontinuity => "discontinuity",
@@ -1038,6 +1044,20 @@ fn where_the_excess_lies() {
             "   Relaxed excess by the term that needs the highest level: {}",
             listed.join(", ")
         );
+        let by_level_total: u64 = by_level.iter().flatten().sum();
+        let rows: Vec<String> = ["1", "2-4", "5-8", "9-n_max"]
+            .iter()
+            .zip(&by_level)
+            .map(|(m, [kept, fell])| {
+                format!(
+                    "{m}: {:.0} % tessellated, {:.0} % per pixel",
+                    100.0 * x(*kept, by_level_total),
+                    100.0 * x(*fell, by_level_total)
+                )
+            })
+            .collect();
+        let _ = writeln!(text, "   Relaxed excess by the oracle's level: {}", rows.join("; "));
+        assert!(by_level_total >= relaxed_all.saturating_sub(oracle_all), "{text}");
         assert_eq!(sup_violations, 0, "{text}");
         assert!(smooth[1] < smooth[4], "{text}");
     }

@@ -1581,34 +1581,50 @@ P vec3 polygon_specular_bound(GpuMaterial material, vec2 param, LightSetup st, G
     return b;
 }
 
-// Relaxed: a bound on |n.l| over a sub-triangle the terminator crosses, per 1/L at the levels
-// L >= above, of diameters d/L, without the guard (see `band_per_level`), and with it.
-P float band_per_level(Frame frame, LightSetup st, Scale d, float above) {
+// Relaxed: a bound on |n.l| over the sub-triangles the terminator crosses, of diameters d/L,
+// with the scalars that do not depend on the level taken once per light (`TerminatorBand`).
+struct TerminatorBand {
+    float normal;
+    float light;
+    float nu;
+    float sigma;
+    float c_max;
+    float fixed_point;
+    float held;
+    float oscillation;
+};
+
+TerminatorBand terminator_band(Frame frame, LightSetup st, Scale d) {
     P float normal = d.b / frame.r_n;
     P float light = d.a * st.inv_d;
-    P float c_star = rmax(abs(st.nl_cos.x), abs(st.nl_cos.y));
-    P float room = above - st.plane_sin * light;
-    if (room > 0.0) {
-        c_star = rmin(c_star, (normal + frame.n_plane_sin * light) / room);
-    }
-    P float across = rmin(frame.n_plane_sin + st.plane_sin * c_star, 1.0);
-    P float band = normal + light * across;
-    return band;
+    P float fixed_point = normal + frame.n_plane_sin * light;
+    P float held = st.plane_sin * light;
+    P float oscillation = st.nl_cos.x - st.nl_cos.y;
+    P float c_max = rmax(abs(st.nl_cos.x), abs(st.nl_cos.y));
+    return TerminatorBand(normal, light, frame.n_plane_sin, st.plane_sin, c_max, fixed_point, held, oscillation);
 }
 
-P float terminator_band(Frame frame, LightSetup st, Scale d, float above) {
-    return gc(band_per_level(frame, st, d, above));
+// The band per 1/L at the levels L >= above (`TerminatorBand::per_level`), unguarded.
+P float band_per_level(TerminatorBand t, float above) {
+    P float c_star = t.c_max;
+    P float room = above - t.held;
+    if (room > 0.0) {
+        c_star = rmin(c_star, t.fixed_point / room);
+    }
+    P float across = rmin(t.nu + t.sigma * c_star, 1.0);
+    P float band = t.normal + t.light * across;
+    return band;
 }
 
 // The same at one effective level l, at most the oscillation of n.l over the triangle.
-P float terminator_band_at(Frame frame, LightSetup st, Scale d, float l) {
-    P float band = rmin(band_per_level(frame, st, d, l) / l, st.nl_cos.x - st.nl_cos.y);
+P float band_at(TerminatorBand t, float l) {
+    P float band = rmin(band_per_level(t, l) / l, t.oscillation);
     return band;
 }
 
-// The band's floor as the level grows (see `terminator_floor`).
-P float terminator_floor(Frame frame, LightSetup st, Scale d) {
-    P float band = d.b / frame.r_n + d.a * st.inv_d * rmin(frame.n_plane_sin, 1.0);
+// The band's floor as the level grows (`TerminatorBand::floor`).
+P float band_floor(TerminatorBand t) {
+    P float band = t.normal + t.light * rmin(t.nu, 1.0);
     return gc(band);
 }
 
@@ -1880,9 +1896,10 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     P float bandn = 0.0;
     // sup E' (1 for a directional light).
     P float att = setup.inv_d > 0.0 ? setup.inv_d * setup.inv_d : 1.0;
+    TerminatorBand terminator = terminator_band(frame, setup, frame.dn);
     if (setup.straddle) {
-        band1 = gc(terminator_band_at(frame, setup, frame.d1, 1.0));
-        bandn = terminator_band(frame, setup, frame.dn, 0.0);
+        band1 = gc(band_at(terminator_band(frame, setup, frame.d1), 1.0));
+        bandn = gc(band_per_level(terminator, 0.0));
     }
     // Relaxed, GGX: the same for n.v where it may change sign (its kink in V).
     bool view_kink = MATERIAL_KIND == MATERIAL_GGX && !setup.area && setup.nv_sign == SIGN_BOTH;
@@ -1978,7 +1995,7 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     // Relaxed: the same with the diffuse kink at its floor; the band's fixed point holds from
     // `low` on (see Rust).
     P vec3 floor_kink = setup.straddle
-        ? diff_w * (TERMINATOR_KINK * SAFETY * gmul(att, terminator_floor(frame, setup, frame.dn)))
+        ? diff_w * (TERMINATOR_KINK * SAFETY * gmul(att, band_floor(terminator)))
         : vec3(0.0);
     P vec3 b = mix(none, floor_kink, interp_d) + mix(none, linn_s, interp_s);
     P float low = 1.0;
@@ -1988,7 +2005,7 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
         }
     }
     if (setup.straddle) {
-        bandn = rmin(bandn, terminator_band(frame, setup, frame.dn, low));
+        bandn = rmin(bandn, gc(band_per_level(terminator, low)));
         linn = diff_w * (TERMINATOR_KINK * SAFETY * gmul(att, bandn));
     }
     P vec3 zeron = terminator_jump(spec_w, spec_sup, param, setup, bandn / low) + other;
@@ -2003,7 +2020,7 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
             P vec3 zero_l = l >= low ? zeron : whole_lobe + other;
             // The diffuse kink at l itself (valid below `low` too; at most att bandn, guarded).
             P vec3 kink_l = setup.straddle
-                ? diff_w * (TERMINATOR_KINK * SAFETY * (att * terminator_band_at(frame, setup, frame.dn, l)))
+                ? diff_w * (TERMINATOR_KINK * SAFETY * (att * band_at(terminator, l)))
                 : vec3(0.0);
             P vec3 part_d = rmin3(tot_dn / (l * l) + kink_l, range_d);
             P vec3 part_s = rmin3(tot_sn / (l * l) + linn_s / l + zero_l, range_s);

@@ -1648,12 +1648,10 @@ fn add_light(
     // sup E' (1 for a directional light).
     let att = if setup.inv_d > 0.0 { setup.inv_d * setup.inv_d } else { 1.0 };
     // Relaxed: how far n·l can be from 0 on a sub-triangle the terminator crosses, at level 1
-    // (the patch's diameters) and per 1/L at levels L ≥ 2 (see `terminator_band`).
+    // (the patch's diameters) and per 1/L at levels L ≥ 2 (see [`TerminatorBand`]).
+    let terminator = TerminatorBand::new(frame, &setup, frame.dn);
     let (band1, bandn) = if setup.straddle {
-        (
-            gd.c(terminator_band_at(frame, &setup, frame.d1, 1.0)),
-            terminator_band(frame, &setup, frame.dn, 0.0, gd),
-        )
+        (gd.c(TerminatorBand::new(frame, &setup, frame.d1).at(1.0)), terminator.guarded(0.0, gd))
     } else {
         (0.0, 0.0)
     };
@@ -1740,11 +1738,11 @@ fn add_light(
     // solver returns is at least that (it adds the other lights' non-negative bounds), and
     // the band only narrows as the level grows.
     let zero_inf = jump(0.0) + other;
-    // Relaxed: the same with the diffuse kink at its floor (`terminator_floor`, the band's limit
+    // Relaxed: the same with the diffuse kink at its floor (`TerminatorBand::floor`, the band's limit
     // as the level grows), which only lowers it; at every level the solver returns (`≥ low`) the
     // band's fixed point holds from `low` on.
     let floor_kink = if setup.straddle {
-        diff_w * (TERMINATOR_KINK * SAFETY * gd.mul(att, terminator_floor(frame, &setup, frame.dn, gd)))
+        diff_w * (TERMINATOR_KINK * SAFETY * gd.mul(att, terminator.floor(gd)))
     } else {
         Vec3::ZERO
     };
@@ -1760,7 +1758,7 @@ fn add_light(
     }
     let mut bandn = bandn;
     if setup.straddle {
-        bandn = bandn.min(terminator_band(frame, &setup, frame.dn, low, gd));
+        bandn = bandn.min(terminator.guarded(low, gd));
         linn[DIFFUSE] = diff_w * (TERMINATOR_KINK * SAFETY * gd.mul(att, bandn));
     }
     let zeron = jump(bandn / low) + other;
@@ -1777,7 +1775,7 @@ fn add_light(
         // The diffuse kink at `l` itself (valid below `low` too; at most `att·bandn`, which
         // passed the guard).
         let kink_l = if setup.straddle {
-            diff_w * (TERMINATOR_KINK * SAFETY * (att * terminator_band_at(frame, &setup, frame.dn, l)))
+            diff_w * (TERMINATOR_KINK * SAFETY * (att * terminator.at(l)))
         } else {
             Vec3::ZERO
         };
@@ -1818,41 +1816,79 @@ const DIFFUSE: usize = 0;
 /// ...and of the specular part.
 const SPECULAR: usize = 1;
 
-/// Relaxed: a bound on `|n̂·l̂|` (and on its oscillation) over a sub-triangle that the
-/// terminator crosses, per `1/L` at the effective levels `L ≥ above`, whose diameters
-/// (positions, normals) are `d/L`. It has a zero of `c = n̂·l̂`, so every point is within
-/// `sup|Dc|·diam` of 0, and `Dc = Dn̂·l̂ + n̂·Dl̂` with `|Dn̂| ≤ |Nδ|/min|N|` and
-/// `n̂·Dl̂ = (n̂·Xδ − c·(l̂·Xδ))/d`, at most `(ν + σ·|c|)|Xδ|/d` (`ν`, `σ`: the normals' and the
-/// light's sines to the plane normal; position steps lie in the plane). `|c| ≤ c_max` (the angle
-/// range), and on the sub-triangle `c* = sup|c| ≤ b_N + (ν + σc*)·b_X` (`b = d/L` over
-/// `min|N|` and `d_min`), so `c* ≤ (b_N + ν b_X)/(1 − σ b_X)`: at `L ≥ above` (0: not used)
-/// with `L` for `above`, which can only be larger.
-fn terminator_band(frame: &Frame, st: &LightSetup, d: Scale, above: f32, gd: &Guard) -> f32 {
-    gd.c(band_per_level(frame, st, d, above))
+/// Relaxed: a bound on `|n̂·l̂|` (and on its oscillation) over the sub-triangles that the
+/// terminator crosses, of diameters (positions, normals) `d/L` at the effective level `L`. It
+/// has a zero of `c = n̂·l̂`, so every point is within `sup|Dc|·diam` of 0, and
+/// `Dc = Dn̂·l̂ + n̂·Dl̂` with `|Dn̂| ≤ |Nδ|/min|N|` and `n̂·Dl̂ = (n̂·Xδ − c·(l̂·Xδ))/d`, at most
+/// `(ν + σ·|c|)|Xδ|/d` (`ν`, `σ`: the normals' and the light's sines to the plane normal;
+/// position steps lie in the plane). `|c| ≤ c_max` (the angle range), and on the sub-triangle
+/// `c* = sup|c| ≤ b_N + (ν + σc*)·b_X` (`b = d/L` over `min|N|` and `d_min`), so
+/// `c* ≤ (b_N + ν b_X)/(1 − σ b_X)`.
+///
+/// The scalars that do not depend on the level are taken once per light, so that the grid
+/// levels pay a division and a few minima each.
+struct TerminatorBand {
+    /// `b_N·L = d_b/min|N|`.
+    normal: f32,
+    /// `b_X·L = d_a/d_min`.
+    light: f32,
+    /// `ν`, the normals' sine to the plane normal.
+    nu: f32,
+    /// `σ`, the light's.
+    sigma: f32,
+    /// `c_max = max|cos|` over the angle range.
+    c_max: f32,
+    /// `(b_N + ν b_X)·L`, the fixed point's numerator.
+    fixed: f32,
+    /// `σ b_X·L`, subtracted from `L` in the fixed point's denominator.
+    held: f32,
+    /// `cos ψ_min − cos ψ_max`, the oscillation of `n̂·l̂` over the whole triangle.
+    oscillation: f32,
 }
 
-/// [`terminator_band`] without the guard.
-fn band_per_level(frame: &Frame, st: &LightSetup, d: Scale, above: f32) -> f32 {
-    let (normal, light) = (d.b / frame.r_n, d.a * st.inv_d);
-    let mut c_star = st.nl_cos.0.abs().max(st.nl_cos.1.abs());
-    let room = above - st.plane_sin * light;
-    if room > 0.0 {
-        c_star = c_star.min((normal + frame.n_plane_sin * light) / room);
+impl TerminatorBand {
+    fn new(frame: &Frame, st: &LightSetup, d: Scale) -> TerminatorBand {
+        let (normal, light) = (d.b / frame.r_n, d.a * st.inv_d);
+        TerminatorBand {
+            normal,
+            light,
+            nu: frame.n_plane_sin,
+            sigma: st.plane_sin,
+            c_max: st.nl_cos.0.abs().max(st.nl_cos.1.abs()),
+            fixed: normal + frame.n_plane_sin * light,
+            held: st.plane_sin * light,
+            oscillation: st.nl_cos.0 - st.nl_cos.1,
+        }
     }
-    let across = (frame.n_plane_sin + st.plane_sin * c_star).min(1.0);
-    normal + light * across
-}
 
-/// The same at one effective level `l`, and at most the oscillation of `n̂·l̂` over the whole
-/// triangle (`cos ψ_min − cos ψ_max`), which does not fall with the level (unguarded: at most
-/// `terminator_band(…, 0)/l`).
-fn terminator_band_at(frame: &Frame, st: &LightSetup, d: Scale, l: f32) -> f32 {
-    (band_per_level(frame, st, d, l) / l).min(st.nl_cos.0 - st.nl_cos.1)
-}
+    /// The band per `1/L` at every effective level `L ≥ above`, with `c*` taken at `above`
+    /// (0: the angle range alone), which only grows as `L` falls to `above`; unguarded.
+    fn per_level(&self, above: f32) -> f32 {
+        let mut c_star = self.c_max;
+        let room = above - self.held;
+        if room > 0.0 {
+            c_star = c_star.min(self.fixed / room);
+        }
+        let across = (self.nu + self.sigma * c_star).min(1.0);
+        self.normal + self.light * across
+    }
 
-/// The floor of [`terminator_band`] as the level grows (`c* → 0`): `b_N + ν·b_X` per `1/L`.
-fn terminator_floor(frame: &Frame, st: &LightSetup, d: Scale, gd: &Guard) -> f32 {
-    gd.c(d.b / frame.r_n + d.a * st.inv_d * frame.n_plane_sin.min(1.0))
+    /// [`TerminatorBand::per_level`] with the guard.
+    fn guarded(&self, above: f32, gd: &Guard) -> f32 {
+        gd.c(self.per_level(above))
+    }
+
+    /// The band at one effective level `l`, and at most the oscillation of `n̂·l̂` over the
+    /// whole triangle, which does not fall with the level (unguarded: at most
+    /// `guarded(0)/l`).
+    fn at(&self, l: f32) -> f32 {
+        (self.per_level(l) / l).min(self.oscillation)
+    }
+
+    /// The band's floor as the level grows (`c* → 0`): `b_N + ν·b_X` per `1/L`.
+    fn floor(&self, gd: &Guard) -> f32 {
+        gd.c(self.normal + self.light * self.nu.min(1.0))
+    }
 }
 
 /// Relaxed, GGX: the same for the view's kink, `|n̂·v̂|` on a sub-triangle of diameters `d`
@@ -4178,7 +4214,7 @@ mod tests {
         }
     }
 
-    /// [`terminator_band_at`] and [`terminator_band`] against `n̂·l̂` sampled on sub-triangles of
+    /// [`TerminatorBand::at`] and [`TerminatorBand::guarded`] against `n̂·l̂` sampled on sub-triangles of
     /// the pattern's shapes at levels 1 to 8 that the terminator crosses (both signs among the
     /// samples): their largest `|n̂·l̂|` and their oscillation stay below the band at that level,
     /// and below the per-`1/L` band from every level `above ≤ L`; on curved patches with lights
@@ -4242,11 +4278,11 @@ mod tests {
                 }
                 crossed += 1;
                 let worst = (hi - lo).max(hi).max(-lo);
-                let at = f64::from(terminator_band_at(&frame, &setup, frame.dn, l));
-                let per_level = f64::from(terminator_band(&frame, &setup, frame.dn, 0.0, &gd)) / f64::from(l);
+                let band = TerminatorBand::new(&frame, &setup, frame.dn);
+                let at = f64::from(band.at(l));
+                let per_level = f64::from(band.guarded(0.0, &gd)) / f64::from(l);
                 let above = 1.0 + rng.f() * (l - 1.0);
-                let from_above =
-                    f64::from(terminator_band(&frame, &setup, frame.dn, above, &gd)) / f64::from(l);
+                let from_above = f64::from(band.guarded(above, &gd)) / f64::from(l);
                 let what = format!("case {case}, level {level}: light {position:?}, {tri:?}");
                 assert!(worst <= at * (1.0 + 1.0e-5), "{what}: {worst} > band at the level {at}");
                 assert!(worst <= per_level * (1.0 + 1.0e-5), "{what}: {worst} > band per level {per_level}");
