@@ -1957,9 +1957,11 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
         // (The sups m do not depend on the pass.)
         P vec3 spec_m = vec3(spec[0].m, spec[1].m, spec[2].m);
         spec_sup = spec_m;
-        // Each part lies in [inf, sup] and so does its interpolant (see Rust).
+        // Each part lies in [inf, sup] and so does its interpolant, the shaded diffuse part in
+        // [inf E' cos psi_max, sup E' max(cos psi_min, 0)] (see Rust).
         P float diff_inf = setup.att_inf * rmax(setup.nl_cos.y, 0.0) * (1.0 - 1.0e-5);
-        range_d = diff_w * (rmax(diff.m - diff_inf, 0.0) * SAFETY);
+        P float diff_sup = setup.area ? diff.m : rmin(diff.m, att * rmax(setup.nl_cos.x, 0.0));
+        range_d = diff_w * (rmax(diff_sup - diff_inf, 0.0) * SAFETY);
         range_s = spec_w * spec_m * SAFETY;
         if (setup.straddle && level == 1) {
             // Relaxed: the diffuse kink adds 1/4 sup E' osc(n.l) (see Rust).

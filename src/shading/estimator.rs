@@ -1685,9 +1685,12 @@ fn add_light(
         let spec_m = Vec3::new(spec[0].m, spec[1].m, spec[2].m);
         spec_sup = spec_m;
         // Each part lies in [inf, sup] and so does its interpolant; the diffuse part `E'·c` is
-        // at least `inf E'·cos ψ_max` where it does not change sign.
+        // at least `inf E'·cos ψ_max` where it does not change sign. As shaded, `max(E'·c, 0)`,
+        // it is at most `sup E'·max(cos ψ_min, 0)`: below the jet's `m` (`sup E'·max|cos ψ|`)
+        // where the light may be behind the surface.
         let diff_inf = setup.att_inf * setup.nl_cos.1.max(0.0) * (1.0 - 1.0e-5);
-        range = [diff_w * ((diff.m - diff_inf).max(0.0) * SAFETY), spec_w * spec_m * SAFETY];
+        let diff_sup = if setup.area.is_none() { diff.m.min(att * setup.nl_cos.0.max(0.0)) } else { diff.m };
+        range = [diff_w * ((diff_sup - diff_inf).max(0.0) * SAFETY), spec_w * spec_m * SAFETY];
         if setup.straddle && level == 1 {
             // Relaxed: with f = E'·c and g = max(f, 0), Lg − g ≤ E_f + ¼·sup E'·osc(c) on a
             // sub-triangle the terminator crosses (docs/estimator.md §4), and
