@@ -52,6 +52,14 @@ float ggx_d(float n_dot_h, float alpha) {
     return a2 / (PI * d * d);
 }
 
+// The same of sin^2 theta_h = 1 - (n.h)^2, which the shading takes as |n x h|^2: near the
+// highlight (n.h)^2 (a^2 - 1) + 1 cancels in f32 (see `ggx_d_sin2` in brdf.rs).
+float ggx_d_sin2(float sin2, float alpha) {
+    float a2 = alpha * alpha;
+    float d = sin2 * (1.0 - a2) + a2;
+    return a2 / (PI * d * d);
+}
+
 // Schlick's Fresnel approximation.
 vec3 schlick_f(float v_dot_h, vec3 f0) {
     float m = 1.0 - v_dot_h;
@@ -94,7 +102,9 @@ Shading reflect_one_light(vec3 n, vec3 l, vec3 v, GpuMaterial m, float parameter
     float k = 0.5 * alpha;
     float n_dot_v = max(dot(n, v), 0.0);
     float v_dot_h = clamp(dot(v, h), 0.0, 1.0);
-    vec3 specular = ggx_d(n_dot_h, alpha) * schlick_f(v_dot_h, m.specular.rgb)
+    vec3 n_cross_h = cross(n, h);
+    float sin2_h = n_dot_h > 0.0 ? min(dot(n_cross_h, n_cross_h), 1.0) : 1.0;
+    vec3 specular = ggx_d_sin2(sin2_h, alpha) * schlick_f(v_dot_h, m.specular.rgb)
         * smith_v(n_dot_l, n_dot_v, k) * 0.25;
     s.specular = specular * n_dot_l;
     return s;

@@ -17,6 +17,16 @@ pub fn ggx_d(n_dot_h: f32, alpha: f32) -> f32 {
     a2 / (std::f32::consts::PI * d * d)
 }
 
+/// The same of `s = sin²θ_h = 1 − (n·h)²` (`n·h ≥ 0`), which the shading takes as `|n × h|²`:
+/// near the highlight `(n·h)²(α² − 1) + 1` cancels in f32 to about `α²`, and the lobe's peak
+/// `1/(πα²)` amplifies the rounding of `n·h` into an error that does not fall with the
+/// tessellation level (`docs/estimator.md` §11).
+pub fn ggx_d_sin2(sin2: f32, alpha: f32) -> f32 {
+    let a2 = alpha * alpha;
+    let d = sin2 * (1.0 - a2) + a2;
+    a2 / (std::f32::consts::PI * d * d)
+}
+
 /// Schlick's Fresnel approximation.
 pub fn schlick_f(v_dot_h: f32, f0: Vec3) -> Vec3 {
     let m = 1.0 - v_dot_h;

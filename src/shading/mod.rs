@@ -9,7 +9,7 @@ pub mod polygon_light;
 pub mod tonemap;
 
 use crate::scene::{Light, MaterialKind};
-use brdf::{ggx_alpha, ggx_d, safe_normalize, schlick_f, smith_v, MIN_LIGHT_DISTANCE_SQUARED};
+use brdf::{ggx_alpha, ggx_d_sin2, safe_normalize, schlick_f, smith_v, MIN_LIGHT_DISTANCE_SQUARED};
 use glam::Vec3;
 use polygon_light::shade_polygon;
 
@@ -30,8 +30,10 @@ pub fn reflect_split(n: Vec3, l: Vec3, v: Vec3, material: &MaterialKind) -> (Vec
             let k = 0.5 * alpha;
             let n_dot_v = n.dot(v).max(0.0);
             let v_dot_h = v.dot(h).clamp(0.0, 1.0);
+            // sin²θ_h from the cross product, exact near the highlight (see `ggx_d_sin2`).
+            let sin2_h = if n_dot_h > 0.0 { n.cross(h).length_squared().min(1.0) } else { 1.0 };
             let specular =
-                ggx_d(n_dot_h, alpha) * schlick_f(v_dot_h, f0) * smith_v(n_dot_l, n_dot_v, k) * 0.25;
+                ggx_d_sin2(sin2_h, alpha) * schlick_f(v_dot_h, f0) * smith_v(n_dot_l, n_dot_v, k) * 0.25;
             (albedo * n_dot_l, specular * n_dot_l)
         }
     }
