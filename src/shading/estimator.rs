@@ -4866,13 +4866,7 @@ mod tests {
 
     /// One light's contribution in f64, as `reflect_split` × irradiance shades it (per
     /// channel): the exact function whose derivatives the light's jets bound.
-    pub(super) fn shade_f64(
-        x: DVec3,
-        normal: DVec3,
-        eye: DVec3,
-        material: &MaterialKind,
-        light: &Light,
-    ) -> [f64; 3] {
+    fn shade_f64(x: DVec3, normal: DVec3, eye: DVec3, material: &MaterialKind, light: &Light) -> [f64; 3] {
         let n = normal.normalize();
         let v = (eye - x).normalize();
         let (l, irradiance) = match *light {
