@@ -20,7 +20,8 @@ pub fn ggx_d(n_dot_h: f32, alpha: f32) -> f32 {
 /// The same of `s = sin²θ_h = 1 − (n·h)²` (`n·h ≥ 0`), which the shading takes as `|n × h|²`:
 /// near the highlight `(n·h)²(α² − 1) + 1` cancels in f32 to about `α²`, and the lobe's peak
 /// `1/(πα²)` amplifies the rounding of `n·h` into an error that does not fall with the
-/// tessellation level (`docs/estimator.md` §11).
+/// tessellation level (`docs/estimator.md` §6). [`ggx_d`] keeps the `n·h` form for the
+/// estimator, whose GLSL twin repeats it operation for operation.
 pub fn ggx_d_sin2(sin2: f32, alpha: f32) -> f32 {
     let a2 = alpha * alpha;
     let d = sin2 * (1.0 - a2) + a2;
