@@ -33,6 +33,9 @@ const AXES: [Axis; 5] = [
     Axis { name: "record_levels", define: "VARIANT_RECORD_LEVELS", values: 2 },
 ];
 
+/// Stack of each shader-compiling thread (address space; only what is touched is committed).
+const COMPILER_STACK_BYTES: usize = 256 << 20;
+
 fn stage_kind(path: &Path) -> Option<shaderc::ShaderKind> {
     Some(match path.extension()?.to_str()? {
         "vert" => shaderc::ShaderKind::Vertex,
@@ -207,18 +210,23 @@ fn main() {
     }
 
     // Compile on every core: the biggest stages take seconds each, and there are many variants.
+    // The optimiser recurses deeply on the estimator's stages: a thread's default 2 MiB stack
+    // overflows, so each compiling thread gets a large one.
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(jobs.len().max(1));
     let next = std::sync::atomic::AtomicUsize::new(0);
     let failures = std::sync::Mutex::new(Vec::new());
     std::thread::scope(|scope| {
         for _ in 0..threads {
-            scope.spawn(|| loop {
-                let index = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                let Some(job) = jobs.get(index) else { break };
-                if let Err(error) = compile(job, &include_dir, &out_dir) {
-                    failures.lock().expect("no thread panicked holding the lock").push(error);
-                }
-            });
+            std::thread::Builder::new()
+                .stack_size(COMPILER_STACK_BYTES)
+                .spawn_scoped(scope, || loop {
+                    let index = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    let Some(job) = jobs.get(index) else { break };
+                    if let Err(error) = compile(job, &include_dir, &out_dir) {
+                        failures.lock().expect("no thread panicked holding the lock").push(error);
+                    }
+                })
+                .expect("a compiling thread starts");
         }
     });
     let failures = failures.into_inner().expect("no thread panicked holding the lock");

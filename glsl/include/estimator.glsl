@@ -80,6 +80,18 @@ const int REASON_NONE = 0;
 const int REASON_LEVEL = 1;
 const int REASON_DISCONTINUITY = 2;
 const int REASON_SINGULAR = 3;
+// add_light on a child (ADD_VALUES): its values were taken.
+const int VALUES_ADDED = -1;
+const float MAX_FINITE = 3.4028235e38;
+// A triangle above this level is estimated again with each light's ranges over 16 children, for
+// the lights whose range exceeds this share of eps (`REFINE_ABOVE`, `REFINE_SHARE` in Rust).
+const float REFINE_ABOVE = 8.0;
+const float REFINE_SHARE = 0.125;
+// add_light's modes: a patch's bounds; a child's values only; a patch's bounds with its ranges
+// from its children's values.
+const int ADD_BOUNDS = 0;
+const int ADD_VALUES = 1;
+const int ADD_REFINED = 2;
 
 // ---------------------------------------------------------------------------------------------
 // Rust semantics
@@ -1674,12 +1686,60 @@ P vec3 terminator_jump(vec3 spec_w, vec3 spec_sup, vec2 param, LightSetup st, fl
     return spec_w * spec_sup * (lobe_band_share(param, st, beta) * SAFETY);
 }
 
+// The shaded diffuse part max(E' c, 0) per unit weight lies in [inf, sup] (`diffuse_values` in
+// Rust): (sup, inf).
+P vec2 diffuse_values(LightSetup setup, Jet diffuse) {
+    P float att = setup.inv_d > 0.0 ? setup.inv_d * setup.inv_d : 1.0;
+    P float inf = setup.att_inf * rmax(setup.nl_cos.y, 0.0) * (1.0 - 1.0e-5);
+    P float sup = setup.area ? diffuse.m : rmin(diffuse.m, att * rmax(setup.nl_cos.x, 0.0));
+    return vec2(sup, inf);
+}
+
+// Child k (0..3) of the midpoint subdivision of the triangle with corners c (`midpoint_child`).
+void midpoint_child(inout vec3 c[3], int k) {
+    P vec3 ab = (c[0] + c[1]) * 0.5;
+    P vec3 bc = (c[1] + c[2]) * 0.5;
+    P vec3 ca = (c[2] + c[0]) * 0.5;
+    if (k == 0) {
+        c[1] = ab;
+        c[2] = ca;
+    } else if (k == 1) {
+        c[0] = ab;
+        c[2] = bc;
+    } else if (k == 2) {
+        c[0] = ca;
+        c[1] = bc;
+    } else {
+        c[0] = bc;
+        c[1] = ca;
+        c[2] = ab;
+    }
+}
+
+vec3 rmax3(vec3 a, vec3 b) {
+    return vec3(rmax(a.x, b.x), rmax(a.y, b.y), rmax(a.z, b.z));
+}
+
+// The values of a light's two parts per unit weight over the children of a patch (`ChildValues`
+// in Rust), and whether every child could be bounded.
+struct ChildValues {
+    float diffuse_sup;
+    float diffuse_inf;
+    vec3 specular_sup;
+    bool ok;
+};
+
 // Adds one light's bounds to the sums; returns a fallback reason (REASON_NONE if none), as
 // `add_light` in Rust. `polygon` >= 0: the polygonal light of that index (`position` and
 // `radiance` unused); else `point`: a point light at `position`, or a directional light whose
 // travel direction is `position`.
+//
+// `mode` ADD_VALUES: `frame` is a child of a patch (`values_over_children` in Rust); its values
+// join `values` and VALUES_ADDED is returned, or REASON_NONE where the light adds 0 on it, or the
+// reason it cannot be bounded. ADD_REFINED: the patch's ranges take `values` where they hold.
 int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 position,
-              vec3 radiance, int polygon, float top, uint n_max, float eps) {
+              vec3 radiance, int polygon, float top, uint n_max, float eps, int mode,
+              inout ChildValues values) {
     bool area = polygon >= 0;
     AreaGeometry geometry;
     GpuPolygonLight light;
@@ -1891,6 +1951,7 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     P vec3 range_d = vec3(0.0);
     P vec3 range_s = vec3(0.0);
     P vec3 spec_sup = vec3(0.0);
+    P vec2 later_diffuse = vec2(0.0);
     // Relaxed: how far n.l can be from 0 on a crossed sub-triangle, at level 1 and per 1/L.
     P float band1 = 0.0;
     P float bandn = 0.0;
@@ -1916,7 +1977,16 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     Jet spec_n[3];
     P vec3 kink_n;
     est_term = T_ALL;
-    light_jets(frame, material, param, setup, frame.sn, rmin(view1, viewn), diff_n, spec_n, kink_n);
+    // (A child's values take GGX's V at the band 0, where its value is 1/k, its sup.)
+    light_jets(frame, material, param, setup, frame.sn, mode == ADD_VALUES ? 0.0 : rmin(view1, viewn), diff_n,
+               spec_n, kink_n);
+    if (mode == ADD_VALUES) {
+        P vec2 diffuse = diffuse_values(setup, diff_n);
+        values.diffuse_sup = rmax(values.diffuse_sup, diffuse.x);
+        values.diffuse_inf = rmin(values.diffuse_inf, diffuse.y);
+        values.specular_sup = rmax3(values.specular_sup, vec3(spec_n[0].m, spec_n[1].m, spec_n[2].m));
+        return VALUES_ADDED;
+    }
     for (int level = 0; level < 2; ++level) {
         Scale s = level == 0 ? frame.s1 : frame.sn;
         P float view_at = level == 0 ? view1 : rmin(view1, viewn);
@@ -1959,9 +2029,9 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
         spec_sup = spec_m;
         // Each part lies in [inf, sup] and so does its interpolant, the shaded diffuse part in
         // [inf E' cos psi_max, sup E' max(cos psi_min, 0)] (see Rust).
-        P float diff_inf = setup.att_inf * rmax(setup.nl_cos.y, 0.0) * (1.0 - 1.0e-5);
-        P float diff_sup = setup.area ? diff.m : rmin(diff.m, att * rmax(setup.nl_cos.x, 0.0));
-        range_d = diff_w * (rmax(diff_sup - diff_inf, 0.0) * SAFETY);
+        P vec2 diffuse = diffuse_values(setup, diff);
+        later_diffuse = diffuse;
+        range_d = diff_w * (rmax(diffuse.x - diffuse.y, 0.0) * SAFETY);
         range_s = spec_w * spec_m * SAFETY;
         if (setup.straddle && level == 1) {
             // Relaxed: the diffuse kink adds 1/4 sup E' osc(n.l) (see Rust).
@@ -1973,6 +2043,16 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
             lin1_s = spec_w * (kink * (TERMINATOR_KINK * SAFETY * view1));
             linn_s = spec_w * (kink * (TERMINATOR_KINK * SAFETY * viewn));
         }
+    }
+    // A triangle that needs a high level: the parts' values over the 16 children, where this
+    // light's range is not small (see Rust).
+    bool significant = rmax(max_el(range_d), max_el(range_s)) > REFINE_SHARE * eps;
+    if (mode == ADD_REFINED && values.ok && !setup.area && significant) {
+        P float diff_sup = rmin(later_diffuse.x, values.diffuse_sup);
+        P float diff_inf = rmax(later_diffuse.y, values.diffuse_inf);
+        range_d = diff_w * (rmax(diff_sup - diff_inf, 0.0) * SAFETY);
+        spec_sup = rmin3(spec_sup, values.specular_sup);
+        range_s = spec_w * spec_sup * SAFETY;
     }
     P vec3 other;
     if (area) {
@@ -2128,15 +2208,11 @@ int worse(int a, int b) {
     return b > a ? b : a;
 }
 
-// Estimate::level of the triangle (p0, p1, p2) with vertex normals n0, n1, n2 seen from
-// `eye`: >= 1, or FALLBACK_LEVEL when it must be shaded per pixel. Never NaN.
-float required_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye,
-                     uint material_index, vec2 param, float epsilon, float n_max_value) {
-    uint n_max = uint(clamp(n_max_value, 1.0, 64.0));
-    P float eps = epsilon > 0.0 ? epsilon : 0.0;
-    P float top = pattern_level(n_max, n_max);
-    GpuMaterial material = materials[material_index];
-    Frame frame = make_frame(p0, p1, p2, n0, n1, n2, eye);
+// One estimate of the triangle in `frame` (`light_sums` and `decide` in Rust): the level before
+// the n_max test, and the reason to fall back (REASON_NONE if none); with `refine`, each point
+// or directional light's ranges over the patch's 16 children.
+float level_pass(Frame frame, GpuMaterial material, vec2 param, float eps, uint n_max, float top, bool refine,
+                 out int reason_out) {
     est_bad = false;
     if (SPLIT == 0) {
         for (int t = 0; t < TERM_COUNT; ++t) {
@@ -2161,16 +2237,51 @@ float required_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 
     // Point lights first, then directional ones (the buffer's order, and the twin's).
     for (int i = 0; i < POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT; ++i) {
         GpuLight light = lights[i];
-        reason = worse(reason, add_light(frame, material, param, i < POINT_LIGHT_COUNT,
-                                         light.position.xyz, light.radiance.rgb, -1, top, n_max, eps));
+        ChildValues values = ChildValues(0.0, MAX_FINITE, vec3(0.0), true);
+        bool saved_bad = est_bad;
+        // With `refine`, the 16 children first (their values only, under their own guard), then
+        // the patch: one call site, so that the estimator is inlined once.
+        for (int r = refine ? 0 : 16; r <= 16; ++r) {
+            Frame at = frame;
+            int mode = ADD_BOUNDS;
+            if (r < 16) {
+                if (r == 0) {
+                    est_bad = false;
+                }
+                vec3 q[3] = frame.vertices;
+                midpoint_child(q, r / 4);
+                midpoint_child(q, r % 4);
+                vec3 m[3] = frame.normals;
+                midpoint_child(m, r / 4);
+                midpoint_child(m, r % 4);
+                at = make_frame(q[0], q[1], q[2], m[0], m[1], m[2], frame.eye);
+                mode = ADD_VALUES;
+            } else if (refine) {
+                values.ok = values.ok && !est_bad;
+                est_bad = saved_bad;
+                mode = ADD_REFINED;
+            }
+            int added = add_light(at, material, param, i < POINT_LIGHT_COUNT, light.position.xyz,
+                                  light.radiance.rgb, -1, top, n_max, eps, mode, values);
+            if (mode != ADD_VALUES) {
+                reason = worse(reason, added);
+            } else if (added == REASON_NONE) {
+                values.diffuse_inf = 0.0;
+            } else if (added != VALUES_ADDED) {
+                values.ok = false;
+            }
+        }
     }
     for (int i = 0; i < POLYGON_LIGHT_COUNT; ++i) {
-        reason = worse(reason, add_light(frame, material, param, false, vec3(0.0), vec3(0.0), i, top, n_max, eps));
+        ChildValues none = ChildValues(0.0, 0.0, vec3(0.0), false);
+        reason = worse(reason, add_light(frame, material, param, false, vec3(0.0), vec3(0.0), i, top, n_max,
+                                         eps, ADD_BOUNDS, none));
     }
     if (est_bad) {
         reason = worse(reason, REASON_SINGULAR);
     }
 
+    reason_out = reason;
     if (reason != REASON_NONE) {
         return FALLBACK_LEVEL;
     }
@@ -2232,11 +2343,36 @@ float required_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 
             }
         }
     }
+    return level;
+}
+
+// Estimate::level of the triangle (p0, p1, p2) with vertex normals n0, n1, n2 seen from
+// `eye`: >= 1, or FALLBACK_LEVEL when it must be shaded per pixel. Never NaN. A triangle above
+// REFINE_ABOVE (for its level) is estimated again with the ranges over its children.
+float required_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye,
+                     uint material_index, vec2 param, float epsilon, float n_max_value) {
+    uint n_max = uint(clamp(n_max_value, 1.0, 64.0));
+    P float eps = epsilon > 0.0 ? epsilon : 0.0;
+    P float top = pattern_level(n_max, n_max);
+    GpuMaterial material = materials[material_index];
+    Frame frame = make_frame(p0, p1, p2, n0, n1, n2, eye);
+    int reason = REASON_NONE;
+    P float level = 0.0;
+    // One call site in a loop: a second one would inline the whole estimator twice.
+    for (int pass = 0; pass < 2; ++pass) {
+        level = level_pass(frame, material, param, eps, n_max, top, pass == 1, reason);
+        // Rust refines when `Estimate::level` (FALLBACK_LEVEL above n_max) exceeds REFINE_ABOVE
+        // (`!(<=)`: true for NaN, as Rust's fallback level).
+        if (!(reason == REASON_NONE && (!(level <= REFINE_ABOVE) || !(level <= top)))) {
+            break;
+        }
+    }
     // false for NaN and infinity
-    if (!(level <= top)) {
+    if (reason != REASON_NONE || !(level <= top)) {
         return FALLBACK_LEVEL;
     }
     return level;
 }
+
 
 #endif
