@@ -923,6 +923,21 @@ fn children(t: &TriangleInput) -> [TriangleInput; 4] {
     ]
 }
 
+/// The largest level the estimator asks for on `tris` with `case`'s material and lights
+/// (infinite where one falls back).
+fn worst_level(tris: &[TriangleInput], case: &Case, settings: &EstimatorSettings) -> f32 {
+    tris.iter()
+        .map(|t| {
+            let c = estimate(t, &case.material, &case.lights, settings);
+            if c.fallback {
+                f32::INFINITY
+            } else {
+                c.level
+            }
+        })
+        .fold(0.0, f32::max)
+}
+
 /// Where the estimator's excess over the oracle lies (`docs/estimator.md` §11), on the property
 /// test's triangles (Conservative, Heuristic): evaluations, fallbacks counted at `n_max`, of
 /// - every triangle the oracle tessellates, and the least any estimator could reach there
@@ -987,18 +1002,7 @@ fn where_the_excess_lies() {
             for (depth, out) in relaxed_children.iter_mut().enumerate() {
                 if !forced_here && best > 2.0 {
                     tris = tris.iter().flat_map(children).collect();
-                    let worst = tris
-                        .iter()
-                        .map(|t| {
-                            let c = estimate(t, &case.material, &case.lights, &relaxed_settings);
-                            if c.fallback {
-                                f32::INFINITY
-                            } else {
-                                c.level
-                            }
-                        })
-                        .fold(0.0, f32::max);
-                    best = best.min(worst * (2u32 << depth) as f32);
+                    best = best.min(worst_level(&tris, &case, &relaxed_settings) * (2u32 << depth) as f32);
                 }
                 let level_max = pattern_level(case.n_max, case.n_max);
                 *out += count(
@@ -1044,18 +1048,7 @@ fn where_the_excess_lies() {
                     break;
                 }
                 tris = tris.iter().flat_map(children).collect();
-                let worst = tris
-                    .iter()
-                    .map(|t| {
-                        let c = estimate(t, &case.material, &case.lights, &settings);
-                        if c.fallback {
-                            f32::INFINITY
-                        } else {
-                            c.level
-                        }
-                    })
-                    .fold(0.0, f32::max);
-                *out = est.level.min(worst * (2u32 << depth) as f32);
+                *out = est.level.min(worst_level(&tris, &case, &settings) * (2u32 << depth) as f32);
             }
             let split_level =
                 |l: f32| (!est.fallback && l <= level_max).then(|| uniform_level(l, case.n_max).max(1));

@@ -5007,6 +5007,40 @@ mod tests {
         (radiance * irradiance).to_array()
     }
 
+    /// A light for a patch of `size` at `centre` with mean normal `base`: a point light 3–30
+    /// away, one closer than the patch's size (`tangent` spreads it along the patch), one near
+    /// grazing, or a directional light.
+    fn random_light(
+        rng: &mut crate::test_rng::Rng,
+        centre: Vec3,
+        base: Vec3,
+        tangent: Vec3,
+        size: f32,
+    ) -> Light {
+        match rng.below(4) {
+            0 => Light::Point {
+                position: centre + tilt(rng, base, 0.0, 1.4) * (3.0 + 27.0 * rng.f()),
+                color: Vec3::ONE,
+                intensity: rng.range(5.0, 500.0),
+            },
+            1 => Light::Point {
+                position: centre + base * size * rng.range(0.3, 1.5) + tangent * size * rng.range(-1.0, 1.0),
+                color: Vec3::ONE,
+                intensity: rng.range(0.01, 1.0),
+            },
+            2 => Light::Point {
+                position: centre + tilt(rng, base, 1.35, 1.55) * (1.0 + 4.0 * rng.f()),
+                color: Vec3::ONE,
+                intensity: rng.range(1.0, 20.0),
+            },
+            _ => Light::Directional {
+                direction: -tilt(rng, base, 0.0, 1.5),
+                color: Vec3::ONE,
+                intensity: rng.range(0.3, 3.0),
+            },
+        }
+    }
+
     /// A random material of kind `brdf` (0 Lambert, 1 Blinn-Phong, 2 GGX): colours 0.05–1,
     /// shininess log-uniform 1–10⁴, roughness 0.02–1 and one in eight exactly 0.
     fn random_material(rng: &mut crate::test_rng::Rng, brdf: usize) -> MaterialKind {
@@ -5029,8 +5063,8 @@ mod tests {
     /// The values over the 16 children (`values_over_children`, what a triangle above
     /// `REFINE_ABOVE` takes its ranges from) hold the shaded parts at 200 random points of each
     /// of 3 000 random patches (sizes 0.05–1, normals spread up to 0.8 rad, point lights far,
-    /// closer than the patch's size and grazing, directional lights, the three BRDFs, Relaxed:
-    /// lights across the terminator included): the diffuse part within `[inf, sup]`, the
+    /// closer than the patch's size and grazing, directional lights: [`random_light`]; the
+    /// three BRDFs, Relaxed): the diffuse part within `[inf, sup]`, the
     /// specular part at most its sup, per channel. Prints how much lower than the patch's own
     /// the children's sups are, and asserts that they are lower by a fifth on a tenth of the
     /// patches and that the sampled parts come within 20 % of them somewhere (neither vacuous
@@ -5048,28 +5082,7 @@ mod tests {
             let base = tilt(&mut rng, eye_dir, 0.0, 1.2);
             let spread = (rng.range(-7.0, -0.2)).exp();
             let normals = [0; 3].map(|_| tilt(&mut rng, base, 0.0, spread) * (0.7 + 0.6 * rng.f()));
-            let light = match rng.below(4) {
-                0 => Light::Point {
-                    position: centre + tilt(&mut rng, base, 0.0, 1.4) * (3.0 + 27.0 * rng.f()),
-                    color: Vec3::ONE,
-                    intensity: rng.range(5.0, 500.0),
-                },
-                1 => Light::Point {
-                    position: centre + tilt(&mut rng, base, 0.0, 1.4) * size * rng.range(0.3, 1.5),
-                    color: Vec3::ONE,
-                    intensity: rng.range(0.01, 1.0),
-                },
-                2 => Light::Point {
-                    position: centre + tilt(&mut rng, base, 1.35, 1.75) * (1.0 + 4.0 * rng.f()),
-                    color: Vec3::ONE,
-                    intensity: rng.range(1.0, 20.0),
-                },
-                _ => Light::Directional {
-                    direction: -tilt(&mut rng, base, 0.0, 1.7),
-                    color: Vec3::ONE,
-                    intensity: rng.range(0.3, 3.0),
-                },
-            };
+            let light = random_light(&mut rng, centre, base, eye_dir.any_orthonormal_vector(), size);
             let material = random_material(&mut rng, brdf);
             let tri = TriangleInput { positions, normals, eye };
             let frame = Frame::new(&tri);
@@ -5521,30 +5534,7 @@ mod tests {
             let base = tilt(&mut rng, eye_dir, 0.0, 1.2);
             let spread = (rng.range(-7.0, -0.2)).exp();
             let normals = [0; 3].map(|_| tilt(&mut rng, base, 0.0, spread) * (0.7 + 0.6 * rng.f()));
-            let light = match rng.below(4) {
-                0 => Light::Point {
-                    position: centre + tilt(&mut rng, base, 0.0, 1.4) * (3.0 + 27.0 * rng.f()),
-                    color: Vec3::ONE,
-                    intensity: rng.range(5.0, 500.0),
-                },
-                1 => Light::Point {
-                    position: centre
-                        + base * size * rng.range(0.3, 1.5)
-                        + tangent * size * rng.range(-1.0, 1.0),
-                    color: Vec3::ONE,
-                    intensity: rng.range(0.01, 1.0),
-                },
-                2 => Light::Point {
-                    position: centre + tilt(&mut rng, base, 1.35, 1.55) * (1.0 + 4.0 * rng.f()),
-                    color: Vec3::ONE,
-                    intensity: rng.range(1.0, 20.0),
-                },
-                _ => Light::Directional {
-                    direction: -tilt(&mut rng, base, 0.0, 1.5),
-                    color: Vec3::ONE,
-                    intensity: rng.range(0.3, 3.0),
-                },
-            };
+            let light = random_light(&mut rng, centre, base, tangent, size);
             let material = random_material(&mut rng, brdf);
             let tri = TriangleInput { positions, normals, eye };
             let frame = Frame::new(&tri);
