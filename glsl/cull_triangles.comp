@@ -30,19 +30,19 @@ void main() {
         }
     } else if (shaded_per_pixel(p0, p1, p2)) {
         triangle_levels[triangle] = FALLBACK_LEVEL;
-        uint back = atomicAdd(level_dispatches[2u * draw.mesh_index + 1u].w, 1u);
+        uint back = atomicAdd(level_dispatches[level_dispatch(PATCH_DISPATCH)].w, 1u);
         visible_triangles[draw.patch_base + draw.triangle_count - 1u - back] = triangle;
         // Each PRE_PASS_GROUP-th back face opens one more workgroup of the patch step.
         if (back % PRE_PASS_GROUP == 0u) {
-            atomicAdd(level_dispatches[2u * draw.mesh_index + 1u].x, 1u);
+            atomicAdd(level_dispatches[level_dispatch(PATCH_DISPATCH)].x, 1u);
         }
     } else {
-        uint slot = atomicAdd(level_dispatches[2u * draw.mesh_index].w, 1u);
+        uint slot = atomicAdd(level_dispatches[level_dispatch(ESTIMATE_DISPATCH)].w, 1u);
         visible_triangles[draw.patch_base + slot] = triangle;
         // Each PRE_PASS_GROUP-th triangle to estimate opens one more workgroup of both steps.
         if (slot % PRE_PASS_GROUP == 0u) {
-            atomicAdd(level_dispatches[2u * draw.mesh_index].x, 1u);
-            atomicAdd(level_dispatches[2u * draw.mesh_index + 1u].x, 1u);
+            atomicAdd(level_dispatches[level_dispatch(ESTIMATE_DISPATCH)].x, 1u);
+            atomicAdd(level_dispatches[level_dispatch(PATCH_DISPATCH)].x, 1u);
         }
     }
 }

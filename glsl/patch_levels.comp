@@ -16,13 +16,13 @@ layout(local_size_x = PRE_PASS_GROUP) in;
 // estimated triangles come first, then those of the back faces, listed from the end; ~0u past
 // either list's count.
 uint listed_triangle() {
-    uvec4 estimated = level_dispatches[2u * draw.mesh_index];
+    uvec4 estimated = level_dispatches[level_dispatch(ESTIMATE_DISPATCH)];
     if (gl_WorkGroupID.x < estimated.x) {
         uint local = gl_GlobalInvocationID.x;
         return local < estimated.w ? visible_triangles[draw.patch_base + local] : ~0u;
     }
     uint back = (gl_WorkGroupID.x - estimated.x) * PRE_PASS_GROUP + gl_LocalInvocationID.x;
-    return back < level_dispatches[2u * draw.mesh_index + 1u].w
+    return back < level_dispatches[level_dispatch(PATCH_DISPATCH)].w
         ? visible_triangles[draw.patch_base + draw.triangle_count - 1u - back]
         : ~0u;
 }

@@ -53,13 +53,26 @@ layout(set = 0, binding = 9, std430) buffer VisibleTriangles { uint visible_tria
 // The workgroup size of the pre-pass's steps (`render::PRE_PASS_GROUP` in Rust; tests/layout.rs
 // checks the compiled modules against it).
 #define PRE_PASS_GROUP 64
-// Per mesh, the culling step's two indirect dispatches and the lengths of its two lists
+// Per mesh, the pre-pass's three indirect dispatches and the lengths of their lists
 // (`VkDispatchIndirectCommand` in xyz, the length in w; the host resets each to (0, 1, 1, 0)):
-// level_dispatches[2 mesh] of the estimator step, one workgroup per PRE_PASS_GROUP triangles to
-// estimate, w their count; level_dispatches[2 mesh + 1] of the patch step, those workgroups first,
-// then one per PRE_PASS_GROUP back faces, w their count. Only those run: on a CPU rasteriser every
-// SIMD batch of a workgroup runs the estimator's whole code, returned lanes or not.
+// level_dispatch(ESTIMATE_DISPATCH) of the estimator step, one workgroup per PRE_PASS_GROUP
+// triangles to estimate, w their count; level_dispatch(PATCH_DISPATCH) of the patch step, those
+// workgroups first, then one per PRE_PASS_GROUP back faces, w their count; both counted by the
+// culling step. level_dispatch(REFINE_DISPATCH) of the refining step over the triangles the
+// estimator step lists in refine_triangles, w their count. Only those run: on a CPU rasteriser
+// every SIMD batch of a workgroup runs the estimator's whole code, returned lanes or not.
 layout(set = 0, binding = 19, std430) buffer LevelDispatches { uvec4 level_dispatches[]; };
+const uint LEVEL_DISPATCHES = 3u;
+const uint ESTIMATE_DISPATCH = 0u;
+const uint PATCH_DISPATCH = 1u;
+const uint REFINE_DISPATCH = 2u;
+uint level_dispatch(uint which) {
+    return LEVEL_DISPATCHES * draw.mesh_index + which;
+}
+// The triangles whose estimate is refined (estimator.glsl, estimate_pass), listed per mesh from
+// draw.patch_base on by the estimator step (triangle_levels.comp) for its refining step, so that
+// the children's work runs side by side on those triangles only.
+layout(set = 0, binding = 20, std430) buffer RefineTriangles { uint refine_triangles[]; };
 // Per mesh, the patch step's counts of its interpolated and fallback lists (below):
 // patch_counts[2 mesh] and [2 mesh + 1], zeroed by the host.
 layout(set = 0, binding = 10, std430) buffer PatchCounts { uint patch_counts[]; };

@@ -678,6 +678,51 @@ P float hull_distance(vec3 a, vec3 u[3]) {
     return r;
 }
 
+// The distance from the origin to the segment p q (see Rust: segment_distance).
+P float segment_distance(vec3 p, vec3 q) {
+    P vec3 pq = q - p;
+    P float length2 = len2(pq);
+    P float t = length2 > 0.0 ? rmin(rmax(-dot3(p, pq) / length2, 0.0), 1.0) : 0.0;
+    return len(p + pq * t);
+}
+
+// A lower bound on the distance from the origin to the triangle c0 c1 c2: its nearest edge, its
+// plane's distance where the origin projects inside, a sliver's longest edge less its height
+// (see Rust: origin_distance).
+P float origin_distance(vec3 c0, vec3 c1, vec3 c2) {
+    P float nearest[3] = float[3](segment_distance(c0, c1), segment_distance(c1, c2), segment_distance(c2, c0));
+    P float lengths[3] = float[3](len2(c1 - c0), len2(c2 - c1), len2(c0 - c2));
+    P float edge_min = rmin(rmin(nearest[0], nearest[1]), nearest[2]);
+    int longest = (lengths[0] >= lengths[1] && lengths[0] >= lengths[2]) ? 0 : (lengths[1] >= lengths[2] ? 1 : 2);
+    P vec3 normal = cross3(c1 - c0, c2 - c0);
+    P float area2 = len2(normal);
+    if (area2 >= 0.01 * lengths[longest] * lengths[longest] && area2 > 0.0) {
+        bool inside = dot3(normal, cross3(c1 - c0, -c0)) >= 0.0 && dot3(normal, cross3(c2 - c1, -c1)) >= 0.0
+            && dot3(normal, cross3(c0 - c2, -c2)) >= 0.0;
+        if (inside) {
+            return rmin(edge_min, abs(dot3(c0, normal)) / sqrt(area2));
+        }
+        return edge_min;
+    }
+    P float height = lengths[longest] > 0.0 ? sqrt(area2) / sqrt(lengths[longest]) : 0.0;
+    return rmin(edge_min, nearest[longest] - height);
+}
+
+// The angle range of unit fields a, b narrowed by the interpolant of a - b at the corners, whose
+// level-1 error is at most curvature/2 (see Rust: narrowed).
+P vec2 narrowed(vec2 range, vec3 a[3], vec3 b[3], float curvature) {
+    P vec3 c0 = a[0] - b[0];
+    P vec3 c1 = a[1] - b[1];
+    P vec3 c2 = a[2] - b[2];
+    P float error = 0.5 * curvature + 1.0e-5;
+    P float lo = origin_distance(c0, c1, c2) - error;
+    P float hi = rmax(rmax(len(c0), len(c1)), len(c2)) + error;
+    P float lo_angle = lo > 0.0 ? 2.0 * est_asin(rmin(0.5 * lo, 1.0)) - ANGLE_PAD : 0.0;
+    P float hi_angle = hi < 2.0 ? 2.0 * est_asin(0.5 * hi) + ANGLE_PAD : PI;
+    P float low = rmax(range.x, lo_angle);
+    return vec2(low, rmax(rmin(range.y, hi_angle), low));
+}
+
 // Largest angle between a and the spherical triangle u when below pi/2, else PI.
 P float hull_max_angle(vec3 a, vec3 u[3]) {
     P float m = rmax(rmax(angle(a, u[0]), angle(a, u[1])), angle(a, u[2])) + ANGLE_PAD;
@@ -1912,6 +1957,20 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
             }
             setup.psi_nh.x = rmin(lo, setup.psi_nh.y);
         }
+        // The same angle from the interpolant of n - h at the corners (see Rust: narrowed).
+        if (!area) {
+            P vec3 h_units[3];
+            for (int k = 0; k < 3; ++k) {
+                P vec3 l_unit = point ? unit(l_vectors[k]) : l_vectors[k];
+                h_units[k] = unit(l_unit + unit(v_vectors[k]));
+            }
+            P float n_w = frame.s1.b / frame.r_n;
+            P float l_w = frame.s1.a * inv_d;
+            P float v_w = frame.s1.a / frame.e_min;
+            P float h_w = (l_w + v_w) / m_min;
+            P float curvature = K23 * (n_w * n_w + h_w * h_w) + K23 * (l_w * l_w + v_w * v_w) / m_min;
+            setup.psi_nh = narrowed(setup.psi_nh, frame.unit_normals, h_units, curvature);
+        }
         // A polygon's sampled specular part is bounded by its range: kinks do not matter.
         if (area) {
         } else if (MATERIAL_KIND == MATERIAL_BLINN_PHONG) {
@@ -2234,42 +2293,49 @@ float level_pass(Frame frame, GpuMaterial material, vec2 param, float eps, uint 
         }
     }
     int reason = REASON_NONE;
-    // Point lights first, then directional ones (the buffer's order, and the twin's).
-    for (int i = 0; i < POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT; ++i) {
+    // Point lights first, then directional ones (the buffer's order, and the twin's). With
+    // `refine`, each light takes 17 turns: its 16 children first (their values only, under their
+    // own guard), then the patch. One loop and one call site: a second call would inline the
+    // whole estimator twice, and a loop over the children inside the loop over the lights made
+    // the estimator step twice as slow on lavapipe even where `refine` is a constant false
+    // (docs/speedups.md, step 20); every branch tests `refine` first, so that there the
+    // children's code folds away.
+    int turns = refine ? 17 : 1;
+    ChildValues values = ChildValues(0.0, MAX_FINITE, vec3(0.0), true);
+    bool saved_bad = est_bad;
+    for (int turn = 0; turn < (POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT) * turns; ++turn) {
+        int i = refine ? turn / 17 : turn;
+        int r = refine ? turn % 17 : 16;
         GpuLight light = lights[i];
-        ChildValues values = ChildValues(0.0, MAX_FINITE, vec3(0.0), true);
-        bool saved_bad = est_bad;
-        // With `refine`, the 16 children first (their values only, under their own guard), then
-        // the patch: one call site, so that the estimator is inlined once.
-        for (int r = refine ? 0 : 16; r <= 16; ++r) {
-            Frame at = frame;
-            int mode = ADD_BOUNDS;
-            if (r < 16) {
-                if (r == 0) {
-                    est_bad = false;
-                }
-                vec3 q[3] = frame.vertices;
-                midpoint_child(q, r / 4);
-                midpoint_child(q, r % 4);
-                vec3 m[3] = frame.normals;
-                midpoint_child(m, r / 4);
-                midpoint_child(m, r % 4);
-                at = make_frame(q[0], q[1], q[2], m[0], m[1], m[2], frame.eye);
-                mode = ADD_VALUES;
-            } else if (refine) {
-                values.ok = values.ok && !est_bad;
-                est_bad = saved_bad;
-                mode = ADD_REFINED;
+        Frame at = frame;
+        int mode = ADD_BOUNDS;
+        if (refine && r < 16) {
+            if (r == 0) {
+                values = ChildValues(0.0, MAX_FINITE, vec3(0.0), true);
+                saved_bad = est_bad;
+                est_bad = false;
             }
-            int added = add_light(at, material, param, i < POINT_LIGHT_COUNT, light.position.xyz,
-                                  light.radiance.rgb, -1, top, n_max, eps, mode, values);
-            if (mode != ADD_VALUES) {
-                reason = worse(reason, added);
-            } else if (added == REASON_NONE) {
-                values.diffuse_inf = 0.0;
-            } else if (added != VALUES_ADDED) {
-                values.ok = false;
-            }
+            vec3 q[3] = frame.vertices;
+            midpoint_child(q, r / 4);
+            midpoint_child(q, r % 4);
+            vec3 m[3] = frame.normals;
+            midpoint_child(m, r / 4);
+            midpoint_child(m, r % 4);
+            at = make_frame(q[0], q[1], q[2], m[0], m[1], m[2], frame.eye);
+            mode = ADD_VALUES;
+        } else if (refine) {
+            values.ok = values.ok && !est_bad;
+            est_bad = saved_bad;
+            mode = ADD_REFINED;
+        }
+        int added = add_light(at, material, param, i < POINT_LIGHT_COUNT, light.position.xyz,
+                              light.radiance.rgb, -1, top, n_max, eps, mode, values);
+        if (mode != ADD_VALUES) {
+            reason = worse(reason, added);
+        } else if (added == REASON_NONE) {
+            values.diffuse_inf = 0.0;
+        } else if (added != VALUES_ADDED) {
+            values.ok = false;
         }
     }
     for (int i = 0; i < POLYGON_LIGHT_COUNT; ++i) {
@@ -2346,30 +2412,40 @@ float level_pass(Frame frame, GpuMaterial material, vec2 param, float eps, uint 
     return level;
 }
 
-// Estimate::level of the triangle (p0, p1, p2) with vertex normals n0, n1, n2 seen from
-// `eye`: >= 1, or FALLBACK_LEVEL when it must be shaded per pixel. Never NaN. A triangle above
-// REFINE_ABOVE (for its level) is estimated again with the ranges over its children.
-float required_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye,
-                     uint material_index, vec2 param, float epsilon, float n_max_value) {
+// One estimate of the triangle (p0, p1, p2) with vertex normals n0, n1, n2 seen from `eye`:
+// >= 1, or FALLBACK_LEVEL when it must be shaded per pixel; never NaN. With `refine`, each light's
+// ranges are taken over the triangle's children. `refine_next`: whether this estimate (without
+// `refine`) is one that Rust estimates again with it: its `Estimate::level` (FALLBACK_LEVEL above
+// n_max) exceeds REFINE_ABOVE (`!(<=)`: true for NaN, as Rust's fallback level).
+float estimate_pass(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye, uint material_index,
+                    vec2 param, float epsilon, float n_max_value, bool refine, out bool refine_next) {
     uint n_max = uint(clamp(n_max_value, 1.0, 64.0));
     P float eps = epsilon > 0.0 ? epsilon : 0.0;
     P float top = pattern_level(n_max, n_max);
     GpuMaterial material = materials[material_index];
     Frame frame = make_frame(p0, p1, p2, n0, n1, n2, eye);
     int reason = REASON_NONE;
-    P float level = 0.0;
-    // One call site in a loop: a second one would inline the whole estimator twice.
-    for (int pass = 0; pass < 2; ++pass) {
-        level = level_pass(frame, material, param, eps, n_max, top, pass == 1, reason);
-        // Rust refines when `Estimate::level` (FALLBACK_LEVEL above n_max) exceeds REFINE_ABOVE
-        // (`!(<=)`: true for NaN, as Rust's fallback level).
-        if (!(reason == REASON_NONE && (!(level <= REFINE_ABOVE) || !(level <= top)))) {
-            break;
-        }
-    }
+    P float level = level_pass(frame, material, param, eps, n_max, top, refine, reason);
+    refine_next = !refine && reason == REASON_NONE && (!(level <= REFINE_ABOVE) || !(level <= top));
     // false for NaN and infinity
     if (reason != REASON_NONE || !(level <= top)) {
         return FALLBACK_LEVEL;
+    }
+    return level;
+}
+
+// Estimate::level of the triangle: estimate_pass, and again with `refine` where it asks for it.
+// One call site in a loop: a second one would inline the whole estimator twice.
+float required_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye,
+                     uint material_index, vec2 param, float epsilon, float n_max_value) {
+    P float level = 0.0;
+    bool again = false;
+    for (int pass = 0; pass < 2; ++pass) {
+        level = estimate_pass(p0, p1, p2, n0, n1, n2, eye, material_index, param, epsilon, n_max_value,
+                              pass == 1, again);
+        if (!again) {
+            break;
+        }
     }
     return level;
 }

@@ -93,13 +93,26 @@ vec2 parameter_range_of(GpuMaterial m, vec2 p, vec2 q, vec2 r, float bound) {
     return vec2(a, b);
 }
 
+// The parameter range of the draw's material over the triangle with texture coordinates t.
+vec2 draw_parameter_range(vec2 t0, vec2 t1, vec2 t2) {
+    GpuMaterial material = materials[draw.material_index];
+    return parameter_range_of(material, t0, t1, t2, material_lod_bound(t0, t1, t2));
+}
+
 // The estimator's level of the draw's triangle (positions p, normals n, texture coordinates t),
 // not culled: >= 1, or FALLBACK_LEVEL for per-pixel shading.
 float estimated_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2) {
-    GpuMaterial material = materials[draw.material_index];
-    vec2 range = parameter_range_of(material, t0, t1, t2, material_lod_bound(t0, t1, t2));
-    return required_level(p0, p1, p2, n0, n1, n2, draw.eye.xyz, draw.material_index, range,
-                          draw.viewport.z, draw.viewport.w);
+    return required_level(p0, p1, p2, n0, n1, n2, draw.eye.xyz, draw.material_index,
+                          draw_parameter_range(t0, t1, t2), draw.viewport.z, draw.viewport.w);
+}
+
+// One of the two passes of estimated_level (estimate_pass): the compute pre-pass runs the
+// second, with `refine`, as a step of its own over the triangles the first lists.
+float estimated_level_pass(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2,
+                           bool refine, out bool refine_next) {
+    return estimate_pass(p0, p1, p2, n0, n1, n2, draw.eye.xyz, draw.material_index,
+                         draw_parameter_range(t0, t1, t2), draw.viewport.z, draw.viewport.w, refine,
+                         refine_next);
 }
 
 // Whether the draw's triangle, not culled, is a back face of a two-sided mesh

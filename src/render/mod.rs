@@ -371,6 +371,8 @@ struct ListPipelines<P> {
 struct PrePass {
     cull: Pipeline,
     levels: Pipeline,
+    /// triangle_levels.comp specialised as its refining step (`REFINE_STEP`).
+    refine: Pipeline,
     patches: Pipeline,
 }
 
@@ -477,9 +479,13 @@ pub struct Renderer {
     /// Per mesh: its triangles the pre-pass did not cull, those to estimate from its first
     /// triangle on, the back faces of a two-sided mesh from its last triangle down.
     _visible_triangles: Buffer,
-    /// Per mesh: the indirect dispatches of the pre-pass's estimator and patch steps over the
-    /// triangles its culling step listed (`VkDispatchIndirectCommand` and the list's length, 4
-    /// words each), reset from `level_dispatch_reset` before each pre-pass.
+    /// Per mesh: the triangles whose estimate the pre-pass's refining step refines, listed by its
+    /// estimator step.
+    _refine_triangles: Buffer,
+    /// Per mesh: the indirect dispatches of the pre-pass's estimator, patch and refining steps
+    /// over the triangles its culling and estimator steps listed (`VkDispatchIndirectCommand`
+    /// and the list's length, 4 words each, `LEVEL_DISPATCHES` per mesh), reset from
+    /// `level_dispatch_reset` before each pre-pass.
     level_dispatches: Buffer,
     /// `level_dispatches` before the culling step: (0, 1, 1, 0), no workgroups yet.
     level_dispatch_reset: Buffer,
@@ -628,6 +634,8 @@ impl Renderer {
         )?;
         let visible_triangle_buffer =
             device_words(context, "visible triangles", triangle_count, vk::BufferUsageFlags::empty())?;
+        let refine_triangle_buffer =
+            device_words(context, "triangles to refine", triangle_count, vk::BufferUsageFlags::empty())?;
         let patch_count_buffer = device_words(
             context,
             "interpolated and fallback patch counts",
@@ -637,14 +645,14 @@ impl Renderer {
         let level_dispatch_buffer = device_words(
             context,
             "pre-pass dispatches",
-            8 * draws.len(),
+            4 * LEVEL_DISPATCHES as usize * draws.len(),
             vk::BufferUsageFlags::INDIRECT_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
         )?;
         let level_dispatch_reset = Buffer::with_data(
             context,
             "pre-pass dispatch reset",
             vk::BufferUsageFlags::TRANSFER_SRC,
-            &vec![[0u32, 1, 1, 0]; 2 * draws.len().max(1)],
+            &vec![[0u32, 1, 1, 0]; LEVEL_DISPATCHES as usize * draws.len().max(1)],
         )?;
         let patch_list = |name| device_words(context, name, triangle_count, vk::BufferUsageFlags::empty());
         let interpolated_patch_buffer = patch_list("interpolated patches")?;
@@ -699,7 +707,7 @@ impl Renderer {
         )?;
 
         let bindings =
-            std::array::from_fn::<_, 20, _>(|b| shader_binding(b as u32, vk::DescriptorType::STORAGE_BUFFER));
+            std::array::from_fn::<_, 21, _>(|b| shader_binding(b as u32, vk::DescriptorType::STORAGE_BUFFER));
         let push = [vk::PushConstantRange::default()
             .stage_flags(PUSH_STAGES)
             .size(std::mem::size_of::<DrawConstants>() as u32)];
@@ -716,7 +724,7 @@ impl Renderer {
             context,
             "forward descriptors",
             1,
-            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 20 }],
+            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 21 }],
         )?;
         let descriptor_set = pool.allocate(layout.set_layouts[0])?;
         bind_storage_buffers(
@@ -744,6 +752,7 @@ impl Renderer {
                 flat_patch_buffer.raw,
                 flat_draw_buffer.raw,
                 level_dispatch_buffer.raw,
+                refine_triangle_buffer.raw,
             ],
         );
 
@@ -788,6 +797,7 @@ impl Renderer {
             _triangle_levels: triangle_level_buffer,
             _triangle_neighbours: neighbour_buffer,
             _visible_triangles: visible_triangle_buffer,
+            _refine_triangles: refine_triangle_buffer,
             patch_counts: patch_count_buffer,
             level_dispatches: level_dispatch_buffer,
             level_dispatch_reset,
@@ -970,7 +980,7 @@ impl Renderer {
         let mut constants = draw_constants(view, extent);
         constants.patches_per_draw = self.patches_per_draw(view.n_max);
         self.bind_set_at(cmd, vk::PipelineBindPoint::COMPUTE, 0, self.descriptor_set);
-        for step in [PrePassStep::Cull, PrePassStep::Levels, PrePassStep::Patches] {
+        for step in [PrePassStep::Cull, PrePassStep::Levels, PrePassStep::Refine, PrePassStep::Patches] {
             for draw in &self.draws {
                 let cell = variants[draw.pipeline].multirate_cell(view);
                 let Some(pre_pass) = cell.get().and_then(|m| m.pre_pass.as_ref()) else {
@@ -980,6 +990,7 @@ impl Renderer {
                 let pipeline = match step {
                     PrePassStep::Cull => &pre_pass.cull,
                     PrePassStep::Levels => &pre_pass.levels,
+                    PrePassStep::Refine => &pre_pass.refine,
                     PrePassStep::Patches => &pre_pass.patches,
                 };
                 self.set_draw_constants(&mut constants, draw);
@@ -1002,15 +1013,21 @@ impl Renderer {
                         PrePassStep::Cull => {
                             device.cmd_dispatch(cmd, constants.triangle_count.div_ceil(PRE_PASS_GROUP), 1, 1)
                         }
-                        // The later steps cover the triangles the culling step listed, in the
-                        // workgroups it counted.
-                        PrePassStep::Levels | PrePassStep::Patches => device.cmd_dispatch_indirect(
-                            cmd,
-                            self.level_dispatches.raw,
-                            LEVEL_DISPATCH_STRIDE
-                                * (2 * vk::DeviceSize::from(draw.mesh_index)
-                                    + vk::DeviceSize::from(matches!(step, PrePassStep::Patches))),
-                        ),
+                        // The later steps cover the triangles the culling step (or, for the
+                        // refining step, the estimator step) listed, in the workgroups it counted.
+                        PrePassStep::Levels | PrePassStep::Refine | PrePassStep::Patches => {
+                            let which: vk::DeviceSize = match step {
+                                PrePassStep::Patches => 1,
+                                PrePassStep::Refine => 2,
+                                _ => 0,
+                            };
+                            device.cmd_dispatch_indirect(
+                                cmd,
+                                self.level_dispatches.raw,
+                                LEVEL_DISPATCH_STRIDE
+                                    * (LEVEL_DISPATCHES * vk::DeviceSize::from(draw.mesh_index) + which),
+                            )
+                        }
                     }
                 }
             }
@@ -1021,7 +1038,13 @@ impl Renderer {
                     S::COMPUTE_SHADER | S::DRAW_INDIRECT,
                     storage | A::INDIRECT_COMMAND_READ,
                 ),
-                PrePassStep::Levels => {
+                PrePassStep::Levels => barrier(
+                    S::COMPUTE_SHADER,
+                    A::SHADER_STORAGE_WRITE,
+                    S::COMPUTE_SHADER | S::DRAW_INDIRECT,
+                    storage | A::INDIRECT_COMMAND_READ,
+                ),
+                PrePassStep::Refine => {
                     barrier(S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE, S::COMPUTE_SHADER, storage)
                 }
                 PrePassStep::Patches => barrier(
@@ -1498,11 +1521,13 @@ fn device_words(
 }
 
 /// The steps of the triangle-level pre-pass, in order: list the visible triangles, estimate
-/// their levels, combine each with its neighbours' into its patch's tessellation levels.
+/// their levels (listing those to refine), refine those, combine each level with its neighbours'
+/// into its patch's tessellation levels.
 #[derive(Clone, Copy)]
 enum PrePassStep {
     Cull,
     Levels,
+    Refine,
     Patches,
 }
 
@@ -1514,8 +1539,12 @@ const LAVAPIPE_PRIMITIVE_ID_CONTROL_POINTS: u32 = 1020;
 /// glsl/include/bindings.glsl, the `local_size_x` of its three compute shaders).
 pub const PRE_PASS_GROUP: u32 = 64;
 
-/// Bytes per dispatch in `Renderer::level_dispatches` (`uvec4 level_dispatches[]`), two per mesh.
+/// Bytes per dispatch in `Renderer::level_dispatches` (`uvec4 level_dispatches[]`).
 const LEVEL_DISPATCH_STRIDE: vk::DeviceSize = 16;
+
+/// Dispatches per mesh in `Renderer::level_dispatches` (`LEVEL_DISPATCHES` in
+/// glsl/include/bindings.glsl): the estimator, patch and refining steps'.
+const LEVEL_DISPATCHES: vk::DeviceSize = 3;
 
 /// The push constants of `view` on a target of `extent` (per draw: material, mesh, first
 /// triangle).
@@ -1741,11 +1770,14 @@ impl Modules {
                 let module = variant_module(context, "triangle_levels.comp", features)?;
                 let name = format!("triangle levels, material kind {}", features.material_kind);
                 let levels = Pipeline::compute(context, &name, layout, &module, Some(&specialization))?;
+                let refining = specialization.clone().boolean(12, true);
+                let name = format!("triangle levels refined, material kind {}", features.material_kind);
+                let refine = Pipeline::compute(context, &name, layout, &module, Some(&refining))?;
                 let module = variant_module(context, "cull_triangles.comp", features)?;
                 let cull = Pipeline::compute(context, "triangle culling", layout, &module, None)?;
                 let module = variant_module(context, "patch_levels.comp", features)?;
                 let patches = Pipeline::compute(context, "patch levels", layout, &module, None)?;
-                ("multirate_levels.tesc", 3, Some(PrePass { cull, levels, patches }))
+                ("multirate_levels.tesc", 3, Some(PrePass { cull, levels, refine, patches }))
             }
         };
         let multirate_tesc = variant_module(context, control, features)?;
