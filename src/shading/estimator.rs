@@ -947,14 +947,11 @@ fn mirror_lower_angle(n: &Cone, a: &Cone, b: &Cone, b_vectors: Option<[Vec3; 3]>
     lo.max(0.5 * (apart - spread) - ANGLE_PAD)
 }
 
-/// Largest angle between `a` and the spherical triangle spanned by unit `u`, valid when it
-/// is below π/2 (then `n̂·a` is quasi-concave on the cone and its minimum sits at a corner);
-/// `π` otherwise.
 /// `range` narrowed to the angles that unit fields `â`, `b̂` (corner values `a`, `b`) can make
 /// over the patch, given `curvature ≥ sup|D²(â − b̂)|` at level 1: `|â − b̂| = 2 sin(ψ/2)` lies
 /// within `½·curvature` (the level-1 interpolation bound) of the linear interpolant of the
 /// corners' differences, whose norm ranges from the triangle's distance to the origin to its
-/// farthest corner (`docs/estimator.md` §2, "The angle between two fields, to second order").
+/// farthest corner (`docs/estimator.md` §2, "`n·h` from the corners' differences, to second order").
 /// `1.0e-5` covers the rounding of the corners; a NaN leaves `range` as it is.
 fn narrowed(range: (f32, f32), a: [Vec3; 3], b: [Vec3; 3], curvature: f32) -> (f32, f32) {
     let corners = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
@@ -1007,6 +1004,9 @@ fn origin_distance(c: [Vec3; 3]) -> f32 {
     edge_min.min(nearest[longest] - height)
 }
 
+/// Largest angle between `a` and the spherical triangle spanned by unit `u`, valid when it
+/// is below π/2 (then `n̂·a` is quasi-concave on the cone and its minimum sits at a corner);
+/// `π` otherwise.
 fn hull_max_angle(a: Vec3, u: [Vec3; 3]) -> f32 {
     let m = angle(a, u[0]).max(angle(a, u[1])).max(angle(a, u[2])) + ANGLE_PAD;
     if m < FRAC_PI_2 {
