@@ -12,7 +12,9 @@
 //! Stages without the line are compiled once with every feature off.
 //!
 //! The SPIR-V lands in `$OUT_DIR/spirv/<stage>[.<variant>].spv`, and `$OUT_DIR/spirv/variants.rs`
-//! lists every module for `src/shaders.rs` to embed.
+//! lists every module for `src/shaders.rs` to embed. A module is compiled again only when its
+//! preprocessed text (or the compile settings) changed since the last build in that folder: the
+//! optimiser takes most of a build, and most edits touch a few stages.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -114,8 +116,12 @@ fn combinations(varied: &[usize]) -> Vec<[u32; AXES.len()]> {
     all
 }
 
-fn compile(job: &Job, include_dir: &Path, out_dir: &Path) -> Result<(), String> {
-    let compiler = shaderc::Compiler::new().expect("shaderc compiler");
+/// What a module's SPIR-V depends on besides its preprocessed text: the compile settings below.
+/// Change it whenever they change, so that no cached module outlives them. (A new shaderc
+/// library is not seen here, nor by cargo: after upgrading it, `cargo clean`.)
+const SETTINGS: &str = "vulkan1.3 glsl warnings-as-errors debug-info performance without-source";
+
+fn options<'a>(job: &Job, include_dir: &Path) -> shaderc::CompileOptions<'a> {
     let mut options = shaderc::CompileOptions::new().expect("shaderc options");
     options.set_target_env(shaderc::TargetEnv::Vulkan, shaderc::EnvVersion::Vulkan1_3 as u32);
     options.set_source_language(shaderc::SourceLanguage::GLSL);
@@ -134,14 +140,50 @@ fn compile(job: &Job, include_dir: &Path, out_dir: &Path) -> Result<(), String> 
             .map_err(|e| format!("{requester}: cannot include {}: {e}", path.display()))?;
         Ok(shaderc::ResolvedInclude { resolved_name: path.display().to_string(), content })
     });
+    options
+}
+
+/// The module's cache key: a hash of its stage kind, the settings and its preprocessed text
+/// (every include expanded, every variant define applied), so that editing a header recompiles
+/// only the stages that include it, and only where the edit survives preprocessing.
+fn cache_key(job: &Job, include_dir: &Path, compiler: &shaderc::Compiler) -> Result<String, String> {
+    use std::hash::{Hash as _, Hasher as _};
     let name = job.module_name();
-    let artifact = compiler
-        .compile_into_spirv(&job.source, job.kind, &job.stage.display().to_string(), "main", Some(&options))
+    let expanded = compiler
+        .preprocess(&job.source, &job.stage.display().to_string(), "main", Some(&options(job, include_dir)))
         .map_err(|e| format!("{name}: {e}"))?;
+    let mut hasher = std::collections::hash_map::DefaultHasher::new();
+    (job.kind as u32, SETTINGS, expanded.as_text()).hash(&mut hasher);
+    Ok(format!("{:016x}", hasher.finish()))
+}
+
+/// Compiles `job` unless `$OUT_DIR/spirv` holds its module under the same cache key (a
+/// `.spv.key` file beside the `.spv`, written after it). Returns whether it compiled.
+fn compile(job: &Job, include_dir: &Path, out_dir: &Path) -> Result<bool, String> {
+    let compiler = shaderc::Compiler::new().expect("shaderc compiler");
+    let name = job.module_name();
     let out = out_dir.join(format!("{name}.spv"));
+    let key_file = out_dir.join(format!("{name}.spv.key"));
+    let key = cache_key(job, include_dir, &compiler)?;
+    if out.is_file() && std::fs::read_to_string(&key_file).is_ok_and(|cached| cached == key) {
+        return Ok(false);
+    }
+    let artifact = compiler
+        .compile_into_spirv(
+            &job.source,
+            job.kind,
+            &job.stage.display().to_string(),
+            "main",
+            Some(&options(job, include_dir)),
+        )
+        .map_err(|e| format!("{name}: {e}"))?;
+    // No key may vouch for a module while it is being replaced.
+    let _ = std::fs::remove_file(&key_file);
     let words = without_source(artifact.as_binary());
     let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
-    std::fs::write(&out, bytes).map_err(|e| format!("cannot write {}: {e}", out.display()))
+    std::fs::write(&out, bytes).map_err(|e| format!("cannot write {}: {e}", out.display()))?;
+    std::fs::write(&key_file, key).map_err(|e| format!("cannot write {}: {e}", key_file.display()))?;
+    Ok(true)
 }
 
 /// The module without its source-level debug instructions (OpSourceContinued, OpSource,
@@ -215,6 +257,7 @@ fn main() {
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(jobs.len().max(1));
     let next = std::sync::atomic::AtomicUsize::new(0);
     let failures = std::sync::Mutex::new(Vec::new());
+    let compiled = std::sync::atomic::AtomicUsize::new(0);
     std::thread::scope(|scope| {
         for _ in 0..threads {
             std::thread::Builder::new()
@@ -222,8 +265,14 @@ fn main() {
                 .spawn_scoped(scope, || loop {
                     let index = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                     let Some(job) = jobs.get(index) else { break };
-                    if let Err(error) = compile(job, &include_dir, &out_dir) {
-                        failures.lock().expect("no thread panicked holding the lock").push(error);
+                    match compile(job, &include_dir, &out_dir) {
+                        Ok(true) => {
+                            compiled.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                        }
+                        Ok(false) => {}
+                        Err(error) => {
+                            failures.lock().expect("no thread panicked holding the lock").push(error)
+                        }
                     }
                 })
                 .expect("a compiling thread starts");
@@ -238,6 +287,8 @@ fn main() {
         }
         panic!("{} shader(s) failed to compile:\n{}", failures.len(), failures.join("\n"));
     }
+    // Shown by `cargo build -vv`: how much of the build the cache saved.
+    println!("{} of {} shader modules compiled, the others cached", compiled.into_inner(), jobs.len());
     let table = out_dir.join("variants.rs");
     std::fs::write(&table, variant_table(&jobs))
         .unwrap_or_else(|e| panic!("cannot write {}: {e}", table.display()));

@@ -71,14 +71,22 @@ fn bench_writes_complete_rows_plots_images_and_a_capture() {
     }
     assert!(number(&rows[1], "vertex_evaluations") > 0.0);
     assert!(number(&rows[2], "subvertex_evaluations") > 0.0);
+    let steps = multirate::render::PrePassStep::ALL.map(|step| format!("{}_ms_median", step.name()));
     for row in &rows[..3] {
         assert_eq!(row["pre_pass_ms_median"], "NA", "{row:?}");
+        for step in &steps {
+            assert_eq!(row[step.as_str()], "NA", "{row:?}");
+        }
     }
     for row in &rows[3..] {
         assert!(number(row, "epsilon") == 0.05 || number(row, "epsilon") == 0.2, "{row:?}");
         assert_eq!(row["estimator"], "compute", "the default placement");
         let pre_pass = number(row, "pre_pass_ms_median");
         assert!(pre_pass > 0.0 && pre_pass <= number(row, "gpu_ms_p90"), "{row:?}");
+        // The steps run back to back within the pre-pass: their medians add up to about its.
+        let step_sum: f64 = steps.iter().map(|step| number(row, step)).sum();
+        assert!(steps.iter().all(|step| number(row, step) >= 0.0), "{row:?}");
+        assert!(step_sum <= 1.5 * pre_pass && number(row, "estimate_ms_median") > 0.0, "{row:?}");
         assert_eq!(number(row, "n_max"), 8.0);
         let fraction = number(row, "fallback_fraction");
         assert!((0.0..=1.0).contains(&fraction), "{row:?}");

@@ -15,7 +15,10 @@ pub mod trace;
 
 use crate::analysis::metrics::{self, fallback_mask, fallback_pixels, scaled_difference, ImageError};
 use crate::error::Result;
-use crate::render::{output, Analysis, Estimator, EvaluationCounts, Measurement, Mode, Renderer, View};
+use crate::render::{
+    output, Analysis, Estimator, EvaluationCounts, Measurement, Mode, PrePassStep, Renderer, View,
+    PRE_PASS_STEPS,
+};
 use crate::scene::Scene;
 use crate::shading::estimator::{Discontinuity, Split};
 use crate::vk::target::{FloatImage, RenderTarget};
@@ -113,6 +116,9 @@ pub struct Row {
     pub gpu_ms: Timing,
     /// `--estimator compute`: the part of `gpu_ms` the triangle-level pre-pass took.
     pub pre_pass_ms: Option<Timing>,
+    /// `--estimator compute`: the median milliseconds of each pre-pass step
+    /// (`PrePassStep::ALL`'s order: cull, estimate, refine, patches).
+    pub pre_pass_steps_ms: Option<[f64; PRE_PASS_STEPS]>,
     /// `pixel` median time over this row's: the paper's speedup ratio (×100 %).
     pub speedup: f64,
     pub evaluations: EvaluationCounts,
@@ -386,6 +392,7 @@ fn measure_in_turns(
             let part = renderer.measure(target, view, warmup, frames)?;
             measurement.frames.extend(part.frames);
             measurement.pre_pass.extend(part.pre_pass);
+            measurement.pre_pass_steps.extend(part.pre_pass_steps);
             measurement.statistics = part.statistics.or(measurement.statistics);
         }
         measured += frames;
@@ -420,6 +427,8 @@ fn row(
         frames: config.frames,
         gpu_ms,
         pre_pass_ms: (!measurement.pre_pass.is_empty()).then(|| Timing::of(&measurement.pre_pass_ms())),
+        pre_pass_steps_ms: (!measurement.pre_pass_steps.is_empty())
+            .then(|| PrePassStep::ALL.map(|step| Timing::of(&measurement.pre_pass_step_ms(step)).median)),
         speedup: reference.gpu_ms / gpu_ms.median,
         evaluations,
         evaluation_ratio: evaluations.total() as f64 / reference.evaluations.max(1) as f64,
@@ -474,7 +483,8 @@ fn write_row_images(
 
 /// The CSV header; `csv_line` writes the fields in this order.
 pub const CSV_HEADER: &str = "scene,triangles,mode,epsilon,n_max,estimator,width,height,frames,\
-gpu_ms_median,gpu_ms_p10,gpu_ms_p90,pre_pass_ms_median,speedup,evaluations,vertex_evaluations,subvertex_evaluations,\
+gpu_ms_median,gpu_ms_p10,gpu_ms_p90,pre_pass_ms_median,cull_ms_median,estimate_ms_median,refine_ms_median,\
+patches_ms_median,speedup,evaluations,vertex_evaluations,subvertex_evaluations,\
 fragment_evaluations,culled_patches,evaluation_ratio,l_inf,l_inf_same_triangle,other_triangle_pixels,pixels_over_epsilon,mean_l2,psnr_db,flip,fallback_fraction,\
 vs_invocations,tcs_patches,tes_invocations,clipping_primitives,fs_invocations,device,driver";
 
@@ -511,6 +521,10 @@ pub fn csv_line(row: &Row) -> String {
         format!("{:.4}", row.gpu_ms.p10),
         format!("{:.4}", row.gpu_ms.p90),
         optional(row.pre_pass_ms.map(|t| format!("{:.4}", t.median))),
+        optional(row.pre_pass_steps_ms.map(|steps| format!("{:.4}", steps[0]))),
+        optional(row.pre_pass_steps_ms.map(|steps| format!("{:.4}", steps[1]))),
+        optional(row.pre_pass_steps_ms.map(|steps| format!("{:.4}", steps[2]))),
+        optional(row.pre_pass_steps_ms.map(|steps| format!("{:.4}", steps[3]))),
         format!("{:.4}", row.speedup),
         row.evaluations.total().to_string(),
         row.evaluations.vertices.to_string(),
@@ -573,6 +587,10 @@ mod tests {
         assert_eq!(quoted("a,b"), "\"a,b\"");
         assert_eq!(quoted("say \"x\", y"), "\"say \"\"x\"\", y\"");
         assert_eq!(quoted("plain"), "plain");
-        assert_eq!(CSV_HEADER.split(',').count(), 35);
+        assert_eq!(CSV_HEADER.split(',').count(), 39);
+        for step in PrePassStep::ALL {
+            let column = format!("{}_ms_median", step.name());
+            assert!(CSV_HEADER.split(',').any(|c| c == column), "{column}");
+        }
     }
 }

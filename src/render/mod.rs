@@ -207,6 +207,9 @@ pub struct Measurement {
     /// `Estimator::Compute`: when the triangle-level pre-pass (culling, triangle levels, patch
     /// levels and lists; part of the frame) ran in every measured frame; empty otherwise.
     pub pre_pass: Vec<GpuInterval>,
+    /// `Estimator::Compute`: when each of its steps ran (`PrePassStep::ALL`'s order), in every
+    /// measured frame; empty otherwise.
+    pub pre_pass_steps: Vec<[GpuInterval; PRE_PASS_STEPS]>,
     /// Pipeline statistics of the last frame, where the device has them.
     pub statistics: Option<PipelineStatistics>,
 }
@@ -220,6 +223,11 @@ impl Measurement {
     /// Pre-pass milliseconds of every measured frame (empty without a pre-pass).
     pub fn pre_pass_ms(&self) -> Vec<f64> {
         self.pre_pass.iter().map(GpuInterval::milliseconds).collect()
+    }
+
+    /// Milliseconds of pre-pass step `step` in every measured frame (empty without a pre-pass).
+    pub fn pre_pass_step_ms(&self, step: PrePassStep) -> Vec<f64> {
+        self.pre_pass_steps.iter().map(|steps| steps[step as usize].milliseconds()).collect()
     }
 }
 
@@ -908,11 +916,12 @@ impl Renderer {
         view: &View,
         after: AfterPass,
     ) {
-        self.record_timed(variants, cmd, target, view, after, &|_| {});
+        self.record_timed(variants, cmd, target, view, after, &|_, _| {});
     }
 
-    /// `record_with`, calling `stamp(false)` before and `stamp(true)` after the pre-pass
-    /// (both back to back where there is none).
+    /// `record_with`, calling `stamp(Timed::PrePass, false)` before and `stamp(Timed::PrePass,
+    /// true)` after the pre-pass (both back to back where there is none), and the same around
+    /// each of its steps.
     fn record_timed(
         &self,
         variants: &[Variant],
@@ -920,13 +929,13 @@ impl Renderer {
         target: &RenderTarget,
         view: &View,
         after: AfterPass,
-        stamp: &dyn Fn(bool),
+        stamp: &dyn Fn(Timed, bool),
     ) {
-        stamp(false);
+        stamp(Timed::PrePass, false);
         if view.mode == Mode::Multirate && view.estimator == Estimator::Compute {
-            self.record_triangle_levels(variants, cmd, view, target.extent());
+            self.record_triangle_levels(variants, cmd, view, target.extent(), stamp);
         }
-        stamp(true);
+        stamp(Timed::PrePass, true);
         if view.mode == Mode::PixelDeferred {
             let instrumentation = variants.first().map_or(Instrumentation::None, |v| v.instrumentation);
             self.record_deferred(instrumentation, cmd, target, view, after);
@@ -948,6 +957,7 @@ impl Renderer {
         cmd: vk::CommandBuffer,
         view: &View,
         extent: vk::Extent2D,
+        stamp: &dyn Fn(Timed, bool),
     ) {
         use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
         let device = &self.context.device;
@@ -980,7 +990,8 @@ impl Renderer {
         let mut constants = draw_constants(view, extent);
         constants.patches_per_draw = self.patches_per_draw(view.n_max);
         self.bind_set_at(cmd, vk::PipelineBindPoint::COMPUTE, 0, self.descriptor_set);
-        for step in [PrePassStep::Cull, PrePassStep::Levels, PrePassStep::Refine, PrePassStep::Patches] {
+        for step in PrePassStep::ALL {
+            stamp(Timed::Step(step), false);
             for draw in &self.draws {
                 let cell = variants[draw.pipeline].multirate_cell(view);
                 let Some(pre_pass) = cell.get().and_then(|m| m.pre_pass.as_ref()) else {
@@ -1054,6 +1065,7 @@ impl Renderer {
                     A::INDIRECT_COMMAND_READ | A::SHADER_STORAGE_READ,
                 ),
             }
+            stamp(Timed::Step(step), true);
         }
     }
 
@@ -1277,9 +1289,11 @@ impl Renderer {
         frames: u32,
     ) -> Result<Measurement> {
         self.prepare(view, target)?;
-        // Pass 0: the whole frame; pass 1: the pre-pass, within it.
-        let timer = GpuTimer::new(&self.context, 2, FRAMES_IN_FLIGHT as u32)?;
+        // Pass 0: the whole frame; pass 1: the pre-pass, within it; then its steps, where it
+        // has them (every query read must have been written).
         let pre_pass = view.mode == Mode::Multirate && view.estimator == Estimator::Compute;
+        let passes = if pre_pass { 2 + PRE_PASS_STEPS as u32 } else { 2 };
+        let timer = GpuTimer::new(&self.context, passes, FRAMES_IN_FLIGHT as u32)?;
         let mut ring = FrameRing::new(&self.context, FRAMES_IN_FLIGHT)?;
         let mut measurement = Measurement::default();
         let mut frame_in_slot = [0u32; FRAMES_IN_FLIGHT];
@@ -1290,6 +1304,8 @@ impl Renderer {
                 measurement.frames.push(intervals[0]);
                 if pre_pass {
                     measurement.pre_pass.push(intervals[1]);
+                    let steps = PrePassStep::ALL.map(|step| intervals[Timed::Step(step).pass() as usize]);
+                    measurement.pre_pass_steps.push(steps);
                 }
                 measurement.statistics = timer.read_statistics(slot as u32)?;
             }
@@ -1303,7 +1319,12 @@ impl Renderer {
                 timer.reset(cmd, slot);
                 timer.timestamp(cmd, slot, 0, false);
                 timer.statistics(cmd, slot, true);
-                let stamp = |end: bool| timer.timestamp(cmd, slot, 1, end);
+                // A step starts once the one before it has finished (the barrier between them
+                // holds the next dispatch, not a top-of-pipe timestamp): its timestamps settle.
+                let stamp = |timed: Timed, end: bool| match timed {
+                    Timed::PrePass => timer.timestamp(cmd, slot, timed.pass(), end),
+                    Timed::Step(_) => timer.settled_timestamp(cmd, slot, timed.pass(), end),
+                };
                 self.record_timed(&self.variants, cmd, target, view, AfterPass::Sampled, &stamp);
                 timer.statistics(cmd, slot, false);
                 timer.timestamp(cmd, slot, 0, true);
@@ -1523,12 +1544,48 @@ fn device_words(
 /// The steps of the triangle-level pre-pass, in order: list the visible triangles, estimate
 /// their levels (listing those to refine), refine those, combine each level with its neighbours'
 /// into its patch's tessellation levels.
-#[derive(Clone, Copy)]
-enum PrePassStep {
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PrePassStep {
     Cull,
     Levels,
     Refine,
     Patches,
+}
+
+impl PrePassStep {
+    /// Every step, in the order they run.
+    pub const ALL: [PrePassStep; PRE_PASS_STEPS] =
+        [PrePassStep::Cull, PrePassStep::Levels, PrePassStep::Refine, PrePassStep::Patches];
+
+    /// Its name in `bench`'s columns (`<name>_ms_median`).
+    pub fn name(self) -> &'static str {
+        match self {
+            PrePassStep::Cull => "cull",
+            PrePassStep::Levels => "estimate",
+            PrePassStep::Refine => "refine",
+            PrePassStep::Patches => "patches",
+        }
+    }
+}
+
+/// How many steps the pre-pass has.
+pub const PRE_PASS_STEPS: usize = 4;
+
+/// What a timestamp pair of `measure` times: the whole frame, the pre-pass, or one of its steps.
+#[derive(Clone, Copy)]
+enum Timed {
+    PrePass,
+    Step(PrePassStep),
+}
+
+impl Timed {
+    /// Its pass in `measure`'s `GpuTimer` (pass 0 is the whole frame).
+    fn pass(self) -> u32 {
+        match self {
+            Timed::PrePass => 1,
+            Timed::Step(step) => 2 + step as u32,
+        }
+    }
 }
 
 /// Lavapipe (Mesa 22.3) restarts `gl_PrimitiveID` in the tessellation stages every this many
