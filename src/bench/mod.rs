@@ -521,10 +521,9 @@ pub fn csv_line(row: &Row) -> String {
         format!("{:.4}", row.gpu_ms.p10),
         format!("{:.4}", row.gpu_ms.p90),
         optional(row.pre_pass_ms.map(|t| format!("{:.4}", t.median))),
-        optional(row.pre_pass_steps_ms.map(|steps| format!("{:.4}", steps[0]))),
-        optional(row.pre_pass_steps_ms.map(|steps| format!("{:.4}", steps[1]))),
-        optional(row.pre_pass_steps_ms.map(|steps| format!("{:.4}", steps[2]))),
-        optional(row.pre_pass_steps_ms.map(|steps| format!("{:.4}", steps[3]))),
+        PrePassStep::ALL
+            .map(|step| optional(row.pre_pass_steps_ms.map(|ms| format!("{:.4}", ms[step as usize]))))
+            .join(","),
         format!("{:.4}", row.speedup),
         row.evaluations.total().to_string(),
         row.evaluations.vertices.to_string(),

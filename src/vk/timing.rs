@@ -104,7 +104,7 @@ impl GpuTimer {
     /// outside render passes.
     pub fn timestamp(&self, cmd: vk::CommandBuffer, slot: u32, pass: u32, end: bool) {
         let stage = if end { vk::PipelineStageFlags2::ALL_COMMANDS } else { vk::PipelineStageFlags2::NONE };
-        let query = 2 * (self.passes * slot + pass) + u32::from(end);
+        let query = self.query(slot, pass, end);
         // SAFETY: `cmd` is recording; the query was reset for this frame.
         unsafe { self.context.device.cmd_write_timestamp2(cmd, stage, self.timestamps, query) };
     }
@@ -116,7 +116,7 @@ impl GpuTimer {
     /// does; without it, the time of the dispatches after a boundary showed up in the step
     /// before it (the refining step read 0.1 ms instead of 3).
     pub fn settled_timestamp(&self, cmd: vk::CommandBuffer, slot: u32, pass: u32, end: bool) {
-        let query = 2 * (self.passes * slot + pass) + u32::from(end);
+        let query = self.query(slot, pass, end);
         let all = vk::PipelineStageFlags2::ALL_COMMANDS;
         let flush = [vk::MemoryBarrier2::default().src_stage_mask(all).dst_stage_mask(all)];
         // SAFETY: `cmd` is recording outside a render pass; the query was reset for this frame.
@@ -125,6 +125,11 @@ impl GpuTimer {
             device.cmd_write_timestamp2(cmd, all, self.timestamps, query);
             device.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&flush));
         };
+    }
+
+    /// The timestamp query of the start or end of `pass` in frame `slot`.
+    fn query(&self, slot: u32, pass: u32, end: bool) -> u32 {
+        2 * (self.passes * slot + pass) + u32::from(end)
     }
 
     /// Starts (`begin == true`) or ends the statistics query of frame `slot`.
