@@ -8,7 +8,9 @@
 //! - multirate draws patches whose levels are all 1 without the tessellator and shades their
 //!   corners once each;
 //! - the back faces of a two-sided mesh fall back to per-pixel shading after the front faces:
-//!   hidden, they shade nothing and reach the tessellator only beside a tessellated edge.
+//!   hidden, they shade nothing and reach the tessellator only beside a tessellated edge;
+//! - the patches shaded per pixel shade each pixel they show once, and nothing else, whatever
+//!   the order in which the pre-pass listed them.
 
 mod common;
 
@@ -217,7 +219,8 @@ fn back_faces_of_a_two_sided_mesh_fall_back_and_shade_only_where_seen() {
     assert_eq!(kept_counts.fragments, culled_counts.fragments, "nor a fragment: the front faces hide them");
     assert_eq!(kept_image.pixels, culled_image.pixels, "the same image");
     // Only the back faces beside a tessellated edge reach the tessellator (their outer levels
-    // must match it); the others are drawn as they are, like the flat patches.
+    // must match it), twice: their depth, then their shading; the others are drawn as they
+    // are, like the flat patches.
     let patches = |renderer: &Renderer| {
         let measured = renderer.measure(&target, &view, 0, 1).expect("measure");
         measured.statistics.expect("statistics").tessellation_control_patches
@@ -227,6 +230,31 @@ fn back_faces_of_a_two_sided_mesh_fall_back_and_shade_only_where_seen() {
     });
     let beside_tessellated = beside_tessellated.count() as u64;
     assert!(beside_tessellated < back_faces, "{beside_tessellated} of {back_faces}");
-    assert_eq!(patches(&keeping), patches(&culling) + beside_tessellated);
+    assert_eq!(patches(&keeping), patches(&culling) + 2 * beside_tessellated);
+    assert_validation_clean(&context);
+}
+
+#[test]
+fn patches_shaded_per_pixel_shade_exactly_the_pixels_they_show() {
+    // The two-sided teapot at its own ε: front faces whose level exceeds n_max and its back
+    // faces are shaded per pixel, drawn from lists that the pre-pass fills by atomics in no
+    // fixed order. Their depth goes first, so a fragment is shaded only where its patch is the
+    // nearest surface: the count is the number of pixels that show such a patch, in any order
+    // (with the early depth test alone it was that plus the overlaps drawn far to near, and
+    // varied between runs).
+    let scene = Scene::load(&repo_path("scenes/teapot.toml")).expect("scene");
+    assert!(scene.meshes.iter().any(|m| m.two_sided), "the teapot is drawn two-sided");
+    let context = validated_context();
+    let renderer = Renderer::new(&context, &scene).expect("renderer");
+    let target = RenderTarget::new(&context, vk::Extent2D { width: 320, height: 240 }).expect("target");
+    let view = View { mode: Mode::Multirate, ..View::of_scene(&scene) };
+    let levels = renderer.record_levels(&target, &view).expect("levels");
+    let per_pixel = |id: u32| id != 0 && levels[id as usize - 1][0] == 0.0;
+    for run in 0..2 {
+        let analysis = renderer.analyze(&target, &view).expect("analyze");
+        let shown = analysis.triangles.iter().filter(|&&id| per_pixel(id)).count() as u64;
+        assert!(shown > 500, "run {run}: {shown} pixels show a patch shaded per pixel");
+        assert_eq!(analysis.evaluations.fragments, shown, "run {run}");
+    }
     assert_validation_clean(&context);
 }

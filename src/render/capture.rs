@@ -13,7 +13,8 @@ use crate::error::{Error, Result};
 use crate::shaders;
 use crate::vk::memory::Buffer;
 use crate::vk::pipeline::{
-    bind_storage_buffers, DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderModule, Stage,
+    bind_storage_buffers, DepthUse, DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout,
+    ShaderModule, Stage,
 };
 use crate::vk::target::begin_rendering;
 use crate::vk::Context;
@@ -257,6 +258,7 @@ impl TessellationCapture {
                 front_face: vk::FrontFace::COUNTER_CLOCKWISE,
                 color_formats: &[],
                 depth_format: None,
+                depth_use: DepthUse::Nearest,
                 rasterizer_discard: true,
                 dynamic_cull_mode: false,
             },

@@ -25,8 +25,8 @@ use crate::shading::estimator::{Discontinuity, Split};
 use crate::vk::frames::FrameRing;
 use crate::vk::memory::Buffer;
 use crate::vk::pipeline::{
-    bind_storage_buffers, shader_binding, DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout,
-    ShaderModule, Specialization, Stage,
+    bind_storage_buffers, shader_binding, DepthUse, DescriptorPool, GraphicsPipelineDesc, Pipeline,
+    PipelineLayout, ShaderModule, Specialization, Stage,
 };
 use crate::vk::target::{
     AfterPass, Attachments, FloatImage, RenderTarget, COLOR_FORMAT, DEPTH_FORMAT, ID_FORMAT,
@@ -365,14 +365,21 @@ struct Multirate {
 /// `Estimator::Compute`: the pipelines of the pre-pass's fallback and flat patch lists.
 #[derive(Clone, Copy)]
 struct ListPipelines<P> {
-    /// The fallback patches, shaded per pixel (multirate.frag).
+    /// The fallback patches, shaded per pixel (multirate.frag) where they are the nearest
+    /// surface once every list has been drawn into the depth attachment (DepthUse::Primed).
     fallback: P,
+    /// The fallback patches' depth (DepthUse::Prime), before the fallback patches are shaded: the
+    /// lists are filled by atomics in no fixed order, and the early depth test alone would let
+    /// the per-pixel shading of overlapping fallback patches depend on that order.
+    fallback_prime: P,
     /// The flat patches (all levels 1), without tessellation stages: multirate_flat.vert shades
     /// their corners.
     flat: P,
     /// The flat patches shaded per pixel: multirate_flat.vert passes their corners on to
-    /// multirate.frag.
+    /// multirate.frag (DepthUse::Primed).
     flat_fallback: P,
+    /// Their depth (DepthUse::Prime).
+    flat_fallback_prime: P,
 }
 
 /// The steps of the triangle-level pre-pass (`Estimator::Compute`).
@@ -398,8 +405,10 @@ impl Variant {
                 first: m.draw.raw,
                 lists: m.lists.as_ref().map(|l| ListPipelines {
                     fallback: l.fallback.raw,
+                    fallback_prime: l.fallback_prime.raw,
                     flat: l.flat.raw,
                     flat_fallback: l.flat_fallback.raw,
+                    flat_fallback_prime: l.flat_fallback_prime.raw,
                 }),
             }),
         }
@@ -1103,12 +1112,7 @@ impl Renderer {
                 device.cmd_draw_indirect(cmd, self.flat_draws.raw, offset, 1, stride);
             }
         };
-        flat_draw(constants, lists.flat, 0, 0);
-        let tessellated = [
-            (interpolated, &self.patch_draws[0], 0),
-            (lists.fallback, &self.patch_draws[1], FLAG_FALLBACK_PATCHES),
-        ];
-        for (pipeline, buffer, flag) in tessellated {
+        let tessellated_draw = |constants: &mut DrawConstants, pipeline, which: usize, flag| {
             constants.flags = (constants.flags & !FLAG_FALLBACK_PATCHES) | flag;
             // SAFETY: as above.
             unsafe {
@@ -1116,10 +1120,17 @@ impl Renderer {
                 self.push_draw_constants(cmd, constants);
                 for k in 0..commands {
                     let offset = vk::DeviceSize::from((draw.first_triangle + k) * stride);
-                    device.cmd_draw_indirect(cmd, buffer.raw, offset, 1, stride);
+                    device.cmd_draw_indirect(cmd, self.patch_draws[which].raw, offset, 1, stride);
                 }
             }
-        }
+        };
+        flat_draw(constants, lists.flat, 0, 0);
+        tessellated_draw(constants, interpolated, 0, 0);
+        // The per-pixel patches' depth first, then their shading where they are the nearest
+        // surface: each covered pixel is shaded once, whatever the lists' order.
+        tessellated_draw(constants, lists.fallback_prime, 1, FLAG_FALLBACK_PATCHES);
+        flat_draw(constants, lists.flat_fallback_prime, 1, FLAG_FALLBACK_PATCHES);
+        tessellated_draw(constants, lists.fallback, 1, FLAG_FALLBACK_PATCHES);
         flat_draw(constants, lists.flat_fallback, 1, FLAG_FALLBACK_PATCHES);
         constants.flags &= !FLAG_FALLBACK_PATCHES;
     }
@@ -1717,6 +1728,7 @@ fn scene_pipeline<'a>(
         dynamic_cull_mode: true,
         color_formats: instrumentation.color_formats(),
         depth_format: Some(DEPTH_FORMAT),
+        depth_use: DepthUse::Nearest,
         rasterizer_discard: false,
     }
 }
@@ -1853,15 +1865,16 @@ impl Modules {
             )?),
             None => None,
         };
-        let graphics = |name: &str, fragment: &ShaderModule| {
+        // `fragment` None: a depth prime (DepthUse::Prime).
+        let graphics = |name: &str, fragment: Option<&ShaderModule>, depth_use| {
             let stage = |stage, module| Stage { stage, module, specialization: Some(&specialization) };
             use vk::ShaderStageFlags as S;
-            let stages = vec![
+            let mut stages = vec![
                 stage(S::VERTEX, pull_vert.as_ref().unwrap_or(&self.patch_vert)),
                 stage(S::TESSELLATION_CONTROL, &multirate_tesc),
                 stage(S::TESSELLATION_EVALUATION, &multirate_tese),
-                stage(S::FRAGMENT, fragment),
             ];
+            stages.extend(fragment.map(|module| stage(S::FRAGMENT, module)));
             let scene = scene_pipeline(name, stages, layout, variant.instrumentation);
             let pulled = pull_vert.is_some();
             Pipeline::graphics(
@@ -1872,24 +1885,26 @@ impl Modules {
                     polygon_mode: variant.polygon_mode,
                     vertex_bindings: if pulled { &[] } else { scene.vertex_bindings },
                     vertex_attributes: if pulled { &[] } else { scene.vertex_attributes },
+                    depth_use,
                     ..scene
                 },
             )
         };
         if pre_pass.is_none() {
-            let draw = graphics(&name, &multirate_frag)?;
+            let draw = graphics(&name, Some(&multirate_frag), DepthUse::Nearest)?;
             return Ok(Multirate { draw, lists: None, pre_pass });
         }
         let interpolated_frag = variant_module(context, "multirate_interpolated.frag", features)?;
-        let draw = graphics(&format!("{name}, interpolated patches"), &interpolated_frag)?;
-        let fallback = graphics(&format!("{name}, fallback patches"), &multirate_frag)?;
+        let draw =
+            graphics(&format!("{name}, interpolated patches"), Some(&interpolated_frag), DepthUse::Nearest)?;
+        let fallback =
+            graphics(&format!("{name}, fallback patches"), Some(&multirate_frag), DepthUse::Primed)?;
+        let fallback_prime = graphics(&format!("{name}, fallback patches' depth"), None, DepthUse::Prime)?;
         let flat_vert = variant_module(context, "multirate_flat.vert", features)?;
-        let flat = |name: &str, fragment: &ShaderModule| {
+        let flat = |name: &str, fragment: Option<&ShaderModule>, depth_use| {
             let stage = |stage, module| Stage { stage, module, specialization: Some(&specialization) };
-            let stages = vec![
-                stage(vk::ShaderStageFlags::VERTEX, &flat_vert),
-                stage(vk::ShaderStageFlags::FRAGMENT, fragment),
-            ];
+            let mut stages = vec![stage(vk::ShaderStageFlags::VERTEX, &flat_vert)];
+            stages.extend(fragment.map(|module| stage(vk::ShaderStageFlags::FRAGMENT, module)));
             let scene = scene_pipeline(name, stages, layout, variant.instrumentation);
             Pipeline::graphics(
                 context,
@@ -1897,12 +1912,17 @@ impl Modules {
                     polygon_mode: variant.polygon_mode,
                     vertex_bindings: &[],
                     vertex_attributes: &[],
+                    depth_use,
                     ..scene
                 },
             )
         };
-        let flat_fallback = flat(&format!("{name}, flat patches shaded per pixel"), &multirate_frag)?;
-        let flat = flat(&format!("{name}, flat patches"), &interpolated_frag)?;
-        Ok(Multirate { draw, lists: Some(ListPipelines { fallback, flat, flat_fallback }), pre_pass })
+        let flat_fallback =
+            flat(&format!("{name}, flat patches shaded per pixel"), Some(&multirate_frag), DepthUse::Primed)?;
+        let flat_fallback_prime =
+            flat(&format!("{name}, flat patches shaded per pixel, their depth"), None, DepthUse::Prime)?;
+        let flat = flat(&format!("{name}, flat patches"), Some(&interpolated_frag), DepthUse::Nearest)?;
+        let lists = ListPipelines { fallback, fallback_prime, flat, flat_fallback, flat_fallback_prime };
+        Ok(Multirate { draw, lists: Some(lists), pre_pass })
     }
 }

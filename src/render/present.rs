@@ -5,7 +5,8 @@ use crate::error::{Result, VkContext as _};
 use crate::shaders;
 use crate::vk::memory::transition;
 use crate::vk::pipeline::{
-    DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderModule, Specialization, Stage,
+    DepthUse, DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderModule, Specialization,
+    Stage,
 };
 use crate::vk::target::{begin_rendering, RenderTarget};
 use crate::vk::Context;
@@ -70,6 +71,7 @@ impl PresentPass {
                 front_face: vk::FrontFace::COUNTER_CLOCKWISE,
                 color_formats: &[format],
                 depth_format: None,
+                depth_use: DepthUse::Nearest,
                 rasterizer_discard: false,
                 dynamic_cull_mode: false,
             },

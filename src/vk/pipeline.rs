@@ -150,8 +150,23 @@ pub struct GraphicsPipelineDesc<'a> {
     /// pipeline that discards rasterisation.
     pub color_formats: &'a [vk::Format],
     pub depth_format: Option<vk::Format>,
+    /// What the pipeline does with the depth attachment, where there is one.
+    pub depth_use: DepthUse,
     /// Stop after the last pre-rasterisation stage (captures that only write buffers).
     pub rasterizer_discard: bool,
+}
+
+/// How a graphics pipeline uses its depth attachment: a depth prime and the shading pass after
+/// it shade every pixel once, whatever the order of their primitives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DepthUse {
+    /// The nearer fragment wins: test `LESS`, write.
+    Nearest,
+    /// Depth only: test `LESS`, write, no colour (the stages hold no fragment shader).
+    Prime,
+    /// After a prime of the same primitives: only the fragments at the depth it left
+    /// (`EQUAL`), no write.
+    Primed,
 }
 
 /// A graphics or compute pipeline.
@@ -198,17 +213,23 @@ impl Pipeline {
             .line_width(1.0);
         let multisample = vk::PipelineMultisampleStateCreateInfo::default()
             .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let has_depth = desc.depth_format.is_some();
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-            .depth_test_enable(desc.depth_format.is_some())
-            .depth_write_enable(desc.depth_format.is_some())
-            .depth_compare_op(vk::CompareOp::LESS);
+            .depth_test_enable(has_depth)
+            .depth_write_enable(has_depth && desc.depth_use != DepthUse::Primed)
+            .depth_compare_op(match desc.depth_use {
+                DepthUse::Nearest | DepthUse::Prime => vk::CompareOp::LESS,
+                DepthUse::Primed => vk::CompareOp::EQUAL,
+            });
+        // Without a fragment shader the colour outputs are undefined: a prime writes none.
+        let color_writes = match desc.depth_use {
+            DepthUse::Prime => vk::ColorComponentFlags::empty(),
+            DepthUse::Nearest | DepthUse::Primed => vk::ColorComponentFlags::RGBA,
+        };
         let blend_attachments: Vec<vk::PipelineColorBlendAttachmentState> = desc
             .color_formats
             .iter()
-            .map(|_| {
-                vk::PipelineColorBlendAttachmentState::default()
-                    .color_write_mask(vk::ColorComponentFlags::RGBA)
-            })
+            .map(|_| vk::PipelineColorBlendAttachmentState::default().color_write_mask(color_writes))
             .collect();
         let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
         let dynamic_states =
