@@ -83,9 +83,11 @@ const int REASON_SINGULAR = 3;
 // add_light on a child (ADD_VALUES): its values were taken.
 const int VALUES_ADDED = -1;
 const float MAX_FINITE = 3.4028235e38;
-// A triangle above this level is estimated again with each light's ranges over 16 children, for
-// the lights whose range exceeds this share of eps (`REFINE_ABOVE`, `REFINE_SHARE` in Rust).
+// A triangle above this level is estimated again with each light's ranges over REFINE_CHILDREN
+// children (one midpoint subdivision), for the lights whose range exceeds this share of eps
+// (`REFINE_ABOVE`, `REFINE_CHILDREN`, `REFINE_SHARE` in Rust).
 const float REFINE_ABOVE = 8.0;
+const int REFINE_CHILDREN = 4;
 const float REFINE_SHARE = 0.125;
 // add_light's modes: a patch's bounds; a child's values only; a patch's bounds with its ranges
 // from its children's values.
@@ -2103,7 +2105,7 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
             linn_s = spec_w * (kink * (TERMINATOR_KINK * SAFETY * viewn));
         }
     }
-    // A triangle that needs a high level: the parts' values over the 16 children, where this
+    // A triangle that needs a high level: the parts' values over the children, where this
     // light's range is not small (see Rust).
     bool significant = rmax(max_el(range_d), max_el(range_s)) > REFINE_SHARE * eps;
     if (mode == ADD_REFINED && values.ok && !setup.area && significant) {
@@ -2269,7 +2271,7 @@ int worse(int a, int b) {
 
 // One estimate of the triangle in `frame` (`light_sums` and `decide` in Rust): the level before
 // the n_max test, and the reason to fall back (REASON_NONE if none); with `refine`, each point
-// or directional light's ranges over the patch's 16 children.
+// or directional light's ranges over the patch's REFINE_CHILDREN children.
 float level_pass(Frame frame, GpuMaterial material, vec2 param, float eps, uint n_max, float top, bool refine,
                  out int reason_out) {
     est_bad = false;
@@ -2294,33 +2296,31 @@ float level_pass(Frame frame, GpuMaterial material, vec2 param, float eps, uint 
     }
     int reason = REASON_NONE;
     // Point lights first, then directional ones (the buffer's order, and the twin's). With
-    // `refine`, each light takes 17 turns: its 16 children first (their values only, under their
-    // own guard), then the patch. One loop and one call site: a second call would inline the
+    // `refine`, each light takes REFINE_CHILDREN + 1 turns: its children first (their values
+    // only, under their own guard), then the patch. One loop and one call site: a second call would inline the
     // whole estimator twice, and a loop over the children inside the loop over the lights made
     // the estimator step twice as slow on lavapipe even where `refine` is a constant false
     // (docs/speedups.md, step 20); every branch tests `refine` first, so that there the
     // children's code folds away.
-    int turns = refine ? 17 : 1;
+    int turns = refine ? REFINE_CHILDREN + 1 : 1;
     ChildValues values = ChildValues(0.0, MAX_FINITE, vec3(0.0), true);
     bool saved_bad = est_bad;
     for (int turn = 0; turn < (POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT) * turns; ++turn) {
-        int i = refine ? turn / 17 : turn;
-        int r = refine ? turn % 17 : 16;
+        int i = refine ? turn / (REFINE_CHILDREN + 1) : turn;
+        int r = refine ? turn % (REFINE_CHILDREN + 1) : REFINE_CHILDREN;
         GpuLight light = lights[i];
         Frame at = frame;
         int mode = ADD_BOUNDS;
-        if (refine && r < 16) {
+        if (refine && r < REFINE_CHILDREN) {
             if (r == 0) {
                 values = ChildValues(0.0, MAX_FINITE, vec3(0.0), true);
                 saved_bad = est_bad;
                 est_bad = false;
             }
             vec3 q[3] = frame.vertices;
-            midpoint_child(q, r / 4);
-            midpoint_child(q, r % 4);
+            midpoint_child(q, r);
             vec3 m[3] = frame.normals;
-            midpoint_child(m, r / 4);
-            midpoint_child(m, r % 4);
+            midpoint_child(m, r);
             at = make_frame(q[0], q[1], q[2], m[0], m[1], m[2], frame.eye);
             mode = ADD_VALUES;
         } else if (refine) {
