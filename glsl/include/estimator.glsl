@@ -2297,11 +2297,11 @@ float level_pass(Frame frame, GpuMaterial material, vec2 param, float eps, uint 
     int reason = REASON_NONE;
     // Point lights first, then directional ones (the buffer's order, and the twin's). With
     // `refine`, each light takes REFINE_CHILDREN + 1 turns: its children first (their values
-    // only, under their own guard), then the patch. One loop and one call site: a second call would inline the
-    // whole estimator twice, and a loop over the children inside the loop over the lights made
-    // the estimator step twice as slow on lavapipe even where `refine` is a constant false
-    // (docs/speedups.md, step 20); every branch tests `refine` first, so that there the
-    // children's code folds away.
+    // only, under their own guard), then the patch. One loop and one call site: a second call
+    // would inline the whole estimator twice, and a loop over the children inside the loop over
+    // the lights made the estimator step twice as slow on lavapipe even where `refine` is a
+    // constant false (docs/speedups.md, step 20); every branch tests `refine` first, so that
+    // there the children's code folds away.
     int turns = refine ? REFINE_CHILDREN + 1 : 1;
     ChildValues values = ChildValues(0.0, MAX_FINITE, vec3(0.0), true);
     bool saved_bad = est_bad;

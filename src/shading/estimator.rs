@@ -310,9 +310,9 @@ pub fn estimate_textured(
 /// time with each light's ranges taken over the patch's [`REFINE_CHILDREN`] children
 /// ([`values_over_children`]).
 const REFINE_ABOVE: f32 = 8.0;
-/// The children a refined light takes its ranges over: one midpoint subdivision. Two (16
-/// children) lower the property test's evaluations by another 2 % for four times the
-/// refining step's work (`docs/estimator.md` §3, "Ranges over the children").
+/// The children a refined light takes its ranges over: the four of one midpoint subdivision
+/// ([`midpoint_child`]). Two subdivisions (16 children) lowered the property test's evaluations
+/// by another 2 % for four times the refining step's work (`docs/speedups.md` step 24).
 const REFINE_CHILDREN: usize = 4;
 /// ...for the lights whose diffuse or specular range exceeds this share of `ε` in a channel.
 const REFINE_SHARE: f32 = 0.125;
@@ -1961,8 +1961,8 @@ fn midpoint_child(c: [Vec3; 3], k: usize) -> [Vec3; 3] {
 }
 
 /// The parts' values of a point or directional light over the [`REFINE_CHILDREN`] children of
-/// the patch (its midpoint subdivision), each child planned and its jets' sups taken as for a patch of
-/// its own: the largest sups and the smallest inf. `None` where a child cannot be bounded (a
+/// the patch (its midpoint subdivision), each child planned and its jets' sups taken as for a
+/// patch of its own: the largest sups and the smallest inf. `None` where a child cannot be bounded (a
 /// singularity, a kink its own cones cannot exclude, or a bound that saturates): the patch's
 /// own values stand then.
 fn values_over_children(
