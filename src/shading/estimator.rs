@@ -1962,9 +1962,9 @@ fn midpoint_child(c: [Vec3; 3], k: usize) -> [Vec3; 3] {
 
 /// The parts' values of a point or directional light over the [`REFINE_CHILDREN`] children of
 /// the patch (its midpoint subdivision), each child planned and its jets' sups taken as for a
-/// patch of its own: the largest sups and the smallest inf. `None` where a child cannot be bounded (a
-/// singularity, a kink its own cones cannot exclude, or a bound that saturates): the patch's
-/// own values stand then.
+/// patch of its own: the largest sups and the smallest inf. `None` where a child cannot be
+/// bounded (a singularity, a kink its own cones cannot exclude, or a bound that saturates): the
+/// patch's own values stand then.
 fn values_over_children(
     frame: &Frame,
     material: &MaterialKind,
@@ -5182,8 +5182,8 @@ mod tests {
     /// three BRDFs, Relaxed): the diffuse part within `[inf, sup]`, the
     /// specular part at most its sup, per channel. Prints how much lower than the patch's own
     /// the children's sups are, and asserts that they are lower by a tenth on a tenth of the
-    /// patches (0.81 of the patch's there with 4 children, 0.70 with 16) and that the sampled parts come within 20 % of them somewhere (neither vacuous
-    /// nor never useful).
+    /// patches (0.81 of the patch's there with 4 children, 0.70 with 16) and that the sampled
+    /// parts come within 20 % of them somewhere (neither vacuous nor never useful).
     #[test]
     fn values_over_children_hold_the_sampled_parts() {
         let mut rng = crate::test_rng::Rng(0x0c41_1d5e_7a1b);
