@@ -185,6 +185,10 @@ const OP_CONSTANT: u32 = 43;
 const OP_EXECUTION_MODE_ID: u32 = 331;
 const EXECUTION_MODE_LOCAL_SIZE: u32 = 17;
 const EXECUTION_MODE_LOCAL_SIZE_ID: u32 = 38;
+const OP_SPEC_CONSTANT: u32 = 50;
+const OP_SPEC_CONSTANT_COMPOSITE: u32 = 51;
+const DECORATION_BUILT_IN: u32 = 11;
+const BUILT_IN_WORKGROUP_SIZE: u32 = 25;
 const GLSL_STD_450_POW: u32 = 26;
 /// brdf.glsl's polygonal-light constants (count, samples, technique, MIS v).
 const POLYGON_SPEC_IDS: std::ops::RangeInclusive<u32> = 8..=11;
@@ -199,7 +203,12 @@ struct Contents {
     /// A compute shader's `local_size_x` (SPIR-V 1.6 gives it as the id of a constant).
     local_size_x: Option<u32>,
     local_size_x_id: Option<u32>,
+    /// Constants' and specialization constants' (default) values by id.
     constants: HashMap<u32, u32>,
+    /// The `WorkgroupSize` built-in (`local_size_x_id` in GLSL): its id, and each
+    /// specialization-constant composite's first component by id.
+    workgroup_size: Option<u32>,
+    composites_x: HashMap<u32, u32>,
 }
 
 fn contents(spirv: &[u8]) -> Contents {
@@ -214,6 +223,9 @@ fn contents(spirv: &[u8]) -> Contents {
         contents.instructions += 1;
         match opcode {
             OP_DECORATE if operands[1] == DECORATION_SPEC_ID => contents.spec_ids.push(operands[2]),
+            OP_DECORATE if operands[1] == DECORATION_BUILT_IN && operands[2] == BUILT_IN_WORKGROUP_SIZE => {
+                contents.workgroup_size = Some(operands[0])
+            }
             OP_IMAGE_SAMPLE_FIRST..=OP_IMAGE_SAMPLE_LAST | OP_IMAGE_QUERY_SIZE_LOD => {
                 contents.texture_reads += 1
             }
@@ -224,8 +236,11 @@ fn contents(spirv: &[u8]) -> Contents {
             OP_EXECUTION_MODE_ID if operands[1] == EXECUTION_MODE_LOCAL_SIZE_ID => {
                 contents.local_size_x_id = Some(operands[2])
             }
-            OP_CONSTANT if operands.len() == 3 => {
+            OP_CONSTANT | OP_SPEC_CONSTANT if operands.len() == 3 => {
                 contents.constants.insert(operands[1], operands[2]);
+            }
+            OP_SPEC_CONSTANT_COMPOSITE if operands.len() >= 3 => {
+                contents.composites_x.insert(operands[1], operands[2]);
             }
             _ => {}
         }
@@ -233,6 +248,10 @@ fn contents(spirv: &[u8]) -> Contents {
     }
     if let Some(id) = contents.local_size_x_id {
         contents.local_size_x = contents.constants.get(&id).copied();
+    }
+    // The built-in, where present, is the size (SPIR-V: it overrides LocalSize).
+    if let Some(x) = contents.workgroup_size.and_then(|id| contents.composites_x.get(&id)) {
+        contents.local_size_x = contents.constants.get(x).copied();
     }
     contents
 }
@@ -293,8 +312,9 @@ fn every_shading_variant_holds_only_its_features() {
 #[test]
 fn pre_pass_workgroups_have_the_size_the_host_dispatches() {
     // The host sizes the culling step's dispatch, and the culling step the later steps', by
-    // render::PRE_PASS_GROUP.
-    let pre_pass = ["cull_triangles.comp", "triangle_levels.comp", "patch_levels.comp"];
+    // render::PRE_PASS_GROUP (the refining step's by blocks; PRE_PASS_GROUP is its default size,
+    // a CPU device's pipeline takes render::REFINE_BLOCK).
+    let pre_pass = ["cull_triangles.comp", "triangle_levels.comp", "refine_levels.comp", "patch_levels.comp"];
     let mut checked = 0;
     for module in shaders::ALL.iter().filter(|m| pre_pass.contains(&m.stage)) {
         let size = contents(module.spirv).local_size_x;

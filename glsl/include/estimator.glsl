@@ -1776,6 +1776,14 @@ struct ChildValues {
     bool ok;
 };
 
+#ifdef CHILDREN_GIVEN
+// Where the including stage took the children's turns itself (triangle_levels.comp's refining
+// step, side by side in a workgroup): light `light`'s values over the patch's children, combined
+// in the children's order as level_pass combines them, and whether a child's bound went bad.
+// level_pass uses it for the first GIVEN_LIGHTS point and directional lights.
+ChildValues given_child_values(int light, out bool bad);
+#endif
+
 // Adds one light's bounds to the sums; returns a fallback reason (REASON_NONE if none), as
 // `add_light` in Rust. `polygon` >= 0: the polygonal light of that index (`position` and
 // `radiance` unused); else `point`: a point light at `position`, or a directional light whose
@@ -2312,6 +2320,11 @@ float level_pass(Frame frame, GpuMaterial material, vec2 param, float eps, uint 
         Frame at = frame;
         int mode = ADD_BOUNDS;
         if (refine && r < REFINE_CHILDREN) {
+#ifdef CHILDREN_GIVEN
+            if (i < GIVEN_LIGHTS) {
+                continue;
+            }
+#endif
             if (r == 0) {
                 values = ChildValues(0.0, MAX_FINITE, vec3(0.0), true);
                 saved_bad = est_bad;
@@ -2324,6 +2337,12 @@ float level_pass(Frame frame, GpuMaterial material, vec2 param, float eps, uint 
             at = make_frame(q[0], q[1], q[2], m[0], m[1], m[2], frame.eye);
             mode = ADD_VALUES;
         } else if (refine) {
+#ifdef CHILDREN_GIVEN
+            if (i < GIVEN_LIGHTS) {
+                saved_bad = est_bad;
+                values = given_child_values(i, est_bad);
+            }
+#endif
             values.ok = values.ok && !est_bad;
             est_bad = saved_bad;
             mode = ADD_REFINED;

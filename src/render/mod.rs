@@ -386,7 +386,7 @@ struct ListPipelines<P> {
 struct PrePass {
     cull: Pipeline,
     levels: Pipeline,
-    /// triangle_levels.comp specialised as its refining step (`REFINE_STEP`).
+    /// refine_levels.comp, the refining step.
     refine: Pipeline,
     patches: Pipeline,
 }
@@ -1607,6 +1607,24 @@ const LAVAPIPE_PRIMITIVE_ID_CONTROL_POINTS: u32 = 1020;
 /// glsl/include/bindings.glsl, the `local_size_x` of its three compute shaders).
 pub const PRE_PASS_GROUP: u32 = 64;
 
+/// Listed triangles per block of the pre-pass's refining step (`REFINE_BLOCK` in
+/// glsl/refine_levels.comp and glsl/triangle_levels.comp): a workgroup takes their children's
+/// turns side by side, then estimates each of them.
+pub const REFINE_BLOCK: u32 = 8;
+
+/// The refining step's workgroup size on `info`'s device. A GPU runs invocations as threads:
+/// `PRE_PASS_GROUP` of them share a block's children's turns (a GPU gains the most here: one
+/// thread taking a triangle's turns in a row made the step 4.6 × the estimator step on an H200,
+/// `docs/gpu.md`). A CPU device runs each SIMD batch through the whole estimator, idle lanes
+/// or not: there the workgroup is the block alone, one batch.
+fn refine_lanes(info: &crate::vk::context::DeviceInfo) -> u32 {
+    if info.cpu {
+        REFINE_BLOCK
+    } else {
+        PRE_PASS_GROUP
+    }
+}
+
 /// Bytes per dispatch in `Renderer::level_dispatches` (`uvec4 level_dispatches[]`).
 const LEVEL_DISPATCH_STRIDE: vk::DeviceSize = 16;
 
@@ -1839,7 +1857,8 @@ impl Modules {
                 let module = variant_module(context, "triangle_levels.comp", features)?;
                 let name = format!("triangle levels, material kind {}", features.material_kind);
                 let levels = Pipeline::compute(context, &name, layout, &module, Some(&specialization))?;
-                let refining = specialization.clone().boolean(12, true);
+                let module = variant_module(context, "refine_levels.comp", features)?;
+                let refining = specialization.clone().int(13, refine_lanes(&context.info) as i32);
                 let name = format!("triangle levels refined, material kind {}", features.material_kind);
                 let refine = Pipeline::compute(context, &name, layout, &module, Some(&refining))?;
                 let module = variant_module(context, "cull_triangles.comp", features)?;

@@ -43,6 +43,9 @@ pub struct DeviceInfo {
     pub timestamp_period_ns: f32,
     pub timestamp_valid_bits: u32,
     pub max_tessellation_level: u32,
+    /// A CPU device (lavapipe): it runs a workgroup's invocations in SIMD batches, each batch
+    /// through all the code any of its lanes takes, rather than as independent threads.
+    pub cpu: bool,
 }
 
 impl DeviceInfo {
@@ -573,6 +576,7 @@ fn device_info_of(
         timestamp_period_ns: properties.limits.timestamp_period,
         timestamp_valid_bits: families.get(queue_family as usize).map_or(0, |f| f.timestamp_valid_bits),
         max_tessellation_level: properties.limits.max_tessellation_generation_level,
+        cpu: properties.device_type == vk::PhysicalDeviceType::CPU,
     }
 }
 

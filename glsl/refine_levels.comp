@@ -1,0 +1,121 @@
+#version 460
+// variants: material_kind polygon_lights textured
+// `multirate` mode, `--estimator compute`, the refining step between the estimator step
+// (triangle_levels.comp) and the patch step: the estimator step lists the triangles whose
+// estimate Rust refines (estimate_pass, `refine_next`) in refine_triangles, and this step
+// estimates those again with each light's ranges over their REFINE_CHILDREN children and writes
+// the level that stands. A workgroup takes the listed triangles REFINE_BLOCK at a time: first its
+// invocations take the block's children's turns side by side (one turn per triangle, light and
+// child, for the first GIVEN_LIGHTS point and directional lights), then REFINE_BLOCK of them
+// estimate one triangle each with those values (estimator.glsl, given_child_values). One
+// invocation taking all its triangle's turns in a row made the step 4.6 times as long as the
+// estimator step on an NVIDIA H200 (docs/gpu.md).
+#define CHILDREN_GIVEN
+#define GIVEN_LIGHTS 8
+#include "triangle_level.glsl"
+
+// The workgroup's size: PRE_PASS_GROUP on a GPU; REFINE_BLOCK on a CPU device, so that the
+// block's estimates fill one SIMD batch and no batch runs the estimator with every lane idle (a
+// CPU rasteriser runs each batch through the whole code; `render::refine_lanes`).
+layout(local_size_x_id = 13) in;
+layout(local_size_x = PRE_PASS_GROUP) in;
+
+// Listed triangles per block (`render::REFINE_BLOCK`; triangle_levels.comp opens one workgroup
+// per block, up to maxComputeWorkGroupCount[0]'s least value, so a workgroup may take several).
+const uint REFINE_BLOCK = 8u;
+
+// The children's turns of one block: add_light's answer, whether the child's bound went bad,
+// and the child's values (ChildValues from its initial values), at child_turn(t, i, r).
+const uint BLOCK_TURNS = REFINE_BLOCK * uint(GIVEN_LIGHTS * REFINE_CHILDREN);
+shared int turn_added[BLOCK_TURNS];
+shared bool turn_bad[BLOCK_TURNS];
+shared vec2 turn_diffuse[BLOCK_TURNS];
+shared vec3 turn_specular[BLOCK_TURNS];
+// The block's triangle this invocation estimates.
+uint given_slot;
+
+uint child_turn(uint slot, int light, int child) {
+    return (slot * uint(GIVEN_LIGHTS) + uint(light)) * uint(REFINE_CHILDREN) + uint(child);
+}
+
+ChildValues given_child_values(int light, out bool bad) {
+    ChildValues values = ChildValues(0.0, MAX_FINITE, vec3(0.0), true);
+    bad = false;
+    for (int r = 0; r < REFINE_CHILDREN; ++r) {
+        uint k = child_turn(given_slot, light, r);
+        int added = turn_added[k];
+        if (added == VALUES_ADDED) {
+            values.diffuse_sup = rmax(values.diffuse_sup, turn_diffuse[k].x);
+            values.diffuse_inf = rmin(values.diffuse_inf, turn_diffuse[k].y);
+            values.specular_sup = rmax3(values.specular_sup, turn_specular[k]);
+        } else if (added == REASON_NONE) {
+            values.diffuse_inf = 0.0;
+        } else {
+            values.ok = false;
+        }
+        bad = bad || turn_bad[k];
+    }
+    return values;
+}
+
+// The children's turns of the block of listed triangles from `block` on, spread over the
+// workgroup's invocations; as level_pass takes them (estimate_pass's frame, eps, n_max and top).
+void take_children_turns(uint block, uint count) {
+    int given = min(POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT, GIVEN_LIGHTS);
+    uint per_triangle = uint(given * REFINE_CHILDREN);
+    uint n_max = uint(clamp(draw.viewport.w, 1.0, 64.0));
+    P float eps = draw.viewport.z > 0.0 ? draw.viewport.z : 0.0;
+    P float top = pattern_level(n_max, n_max);
+    GpuMaterial material = materials[draw.material_index];
+    for (uint k = gl_LocalInvocationID.x; k < REFINE_BLOCK * per_triangle; k += gl_WorkGroupSize.x) {
+        uint t = k / per_triangle;
+        int i = int(k % per_triangle) / REFINE_CHILDREN;
+        int r = int(k % per_triangle) % REFINE_CHILDREN;
+        if (block + t >= count) {
+            break;
+        }
+        uint triangle = refine_triangles[draw.patch_base + block + t];
+        uint a = scene_indices[3u * triangle];
+        uint b = scene_indices[3u * triangle + 1u];
+        uint c = scene_indices[3u * triangle + 2u];
+        vec3 q[3] = vec3[3](scene_vec3(a, 0u), scene_vec3(b, 0u), scene_vec3(c, 0u));
+        vec3 m[3] = vec3[3](scene_vec3(a, 3u), scene_vec3(b, 3u), scene_vec3(c, 3u));
+        midpoint_child(q, r);
+        midpoint_child(m, r);
+        Frame child = make_frame(q[0], q[1], q[2], m[0], m[1], m[2], draw.eye.xyz);
+        GpuLight light = lights[i];
+        ChildValues values = ChildValues(0.0, MAX_FINITE, vec3(0.0), true);
+        est_bad = false;
+        int added = add_light(child, material, draw_parameter_range(scene_uv(a), scene_uv(b), scene_uv(c)),
+                              i < POINT_LIGHT_COUNT, light.position.xyz, light.radiance.rgb, -1, top, n_max, eps,
+                              ADD_VALUES, values);
+        uint at = child_turn(t, i, r);
+        turn_added[at] = added;
+        turn_bad[at] = est_bad;
+        turn_diffuse[at] = vec2(values.diffuse_sup, values.diffuse_inf);
+        turn_specular[at] = values.specular_sup;
+    }
+}
+
+void main() {
+    uint count = level_dispatches[level_dispatch(REFINE_DISPATCH)].w;
+    uint slot = gl_LocalInvocationID.x;
+    for (uint block = gl_WorkGroupID.x * REFINE_BLOCK; block < count; block += gl_NumWorkGroups.x * REFINE_BLOCK) {
+        memoryBarrierShared();
+        barrier();
+        take_children_turns(block, count);
+        memoryBarrierShared();
+        barrier();
+        if (slot < REFINE_BLOCK && block + slot < count) {
+            given_slot = slot;
+            uint triangle = refine_triangles[draw.patch_base + block + slot];
+            uint a = scene_indices[3u * triangle];
+            uint b = scene_indices[3u * triangle + 1u];
+            uint c = scene_indices[3u * triangle + 2u];
+            bool again;
+            triangle_levels[triangle] = estimated_level_pass(scene_vec3(a, 0u), scene_vec3(b, 0u), scene_vec3(c, 0u),
+                                                             scene_vec3(a, 3u), scene_vec3(b, 3u), scene_vec3(c, 3u),
+                                                             scene_uv(a), scene_uv(b), scene_uv(c), true, again);
+        }
+    }
+}
