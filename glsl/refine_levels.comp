@@ -20,8 +20,8 @@
 layout(local_size_x_id = 13) in;
 layout(local_size_x = PRE_PASS_GROUP) in;
 
-// Listed triangles per block (`render::REFINE_BLOCK`; triangle_levels.comp opens one workgroup
-// per block, up to maxComputeWorkGroupCount[0]'s least value, so a workgroup may take several).
+// Listed triangles per block (`render::REFINE_BLOCK`, a CPU device's workgroup size; the loop
+// below covers every block whatever workgroups triangle_levels.comp's count opened).
 const uint REFINE_BLOCK = 8u;
 
 // The children's turns of one block: add_light's answer, whether the child's bound went bad,

@@ -1777,7 +1777,7 @@ struct ChildValues {
 };
 
 #ifdef CHILDREN_GIVEN
-// Where the including stage took the children's turns itself (triangle_levels.comp's refining
+// Where the including stage took the children's turns itself (refine_levels.comp, the refining
 // step, side by side in a workgroup): light `light`'s values over the patch's children, combined
 // in the children's order as level_pass combines them, and whether a child's bound went bad.
 // level_pass uses it for the first GIVEN_LIGHTS point and directional lights.
