@@ -1,5 +1,5 @@
 #version 460
-// variants: material_kind polygon_lights textured count_evaluations record_levels
+// variants: material_kind polygon_lights textured count_evaluations
 // `multirate` mode, `--estimator tcs`: the control stage estimates the levels itself.
 //
 // The patch holds 12 control points: the triangle, then for each edge k (the edge of
@@ -7,7 +7,24 @@
 // triangle's own vertex order (src/scene/adjacency.rs). The four estimates are spread over four
 // invocations, one triangle each (triangle_level.glsl), and shared through the per-vertex output
 // `neighbourhood_level` after a barrier; invocation 0 then combines them (multirate_patch.glsl).
+//
+// Its analysis pipelines share one instrumented module (the `count_evaluations` variant, which
+// also passes each triangle's index on): whether it records the levels or counts the culled
+// patches is a specialization constant. Both are a store or an atomic beside the estimator,
+// the whole of this stage; as separate variants they made three copies of the build's largest
+// stage. The timed module keeps neither: lavapipe ran the code specialised off (a quarter
+// slower on the bunny).
 #include "multirate_patch.glsl"
+
+#if TRIANGLE_IDS
+// The level-recording pipeline writes each triangle's levels (bindings.glsl, level_records).
+layout(constant_id = 14) const bool RECORD_LEVELS = false;
+// The counting pipeline counts the patches culled before their estimate.
+layout(constant_id = 15) const bool COUNT_CULLED_PATCHES = false;
+#else
+const bool RECORD_LEVELS = false;
+const bool COUNT_CULLED_PATCHES = false;
+#endif
 
 layout(vertices = 4) out;
 
@@ -19,6 +36,28 @@ layout(location = 1) out vec3 out_normal[];
 layout(location = 2) out vec2 out_uv[];
 // Per invocation t: the level of triangle t (0: the patch's own, 1 to 3: across edges 0 to 2).
 layout(location = 5) out float neighbourhood_level[];
+
+// Sets the patch's levels for the triangle of scene index `triangle` with level `own`, its
+// neighbours' levels across edges 0, 1, 2, and its parameter-map lod bound.
+void set_patch_levels(float own, vec3 neighbours, float own_lod_bound, uint triangle) {
+    if (own == CULLED_LEVEL) {
+        gl_TessLevelOuter[0] = 0.0;
+        gl_TessLevelOuter[1] = 0.0;
+        gl_TessLevelOuter[2] = 0.0;
+        gl_TessLevelInner[0] = 0.0;
+        patch_level = 0.0;
+        parameter_lod_bound = 0.0;
+        if (RECORD_LEVELS) {
+            level_records[triangle] = CULLED_RECORD;
+        }
+        return;
+    }
+    PatchLevels levels = patch_levels(own, neighbours, draw.viewport.w);
+    write_patch_levels(levels, own_lod_bound);
+    if (RECORD_LEVELS) {
+        level_records[triangle] = level_record(levels);
+    }
+}
 
 void main() {
     int t = gl_InvocationID;
@@ -34,7 +73,7 @@ void main() {
     barrier();
     if (t == 0) {
         float own = neighbourhood_level[0];
-        if (COUNT_EVALUATIONS && own == CULLED_LEVEL) {
+        if (COUNT_CULLED_PATCHES && own == CULLED_LEVEL) {
             atomicAdd(counters.culled_patches, 1u);
         }
         // Note: lavapipe (Mesa 22.3) restarts gl_PrimitiveID every 1020 control points within a

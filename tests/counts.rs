@@ -4,7 +4,8 @@
 //!   Vulkan allows), and the timestamps around the pass are positive;
 //! - the counting variant: the same sub-vertex counts, one fragment evaluation per covered
 //!   pixel in `pixel` mode, three vertex evaluations in `vertex` mode, and a scene that falls
-//!   back everywhere counts exactly the fragments of `pixel` mode;
+//!   back everywhere counts exactly the fragments of `pixel` mode, and the same with the
+//!   estimator in the control stage (whose counter is a specialization constant);
 //! - multirate draws patches whose levels are all 1 without the tessellator and shades their
 //!   corners once each;
 //! - the back faces of a two-sided mesh fall back to per-pixel shading after the front faces:
@@ -18,7 +19,7 @@ use ash::vk;
 use common::{assert_validation_clean, repo_path, validated_context};
 use multirate::analysis::tessellator::uniform_vertex_count;
 use multirate::render::cull::CULLED_LEVEL;
-use multirate::render::{EvaluationCounts, Mode, Renderer, View};
+use multirate::render::{Estimator, EvaluationCounts, Mode, Renderer, View};
 use multirate::scene::Scene;
 use multirate::vk::target::RenderTarget;
 
@@ -130,6 +131,10 @@ fn a_scene_that_falls_back_everywhere_counts_the_fragments_of_pixel_mode() {
     let culled = (levels.len() - drawn.len()) as u64;
     assert!(culled > 0, "part of the plane is outside the view");
     assert_eq!(fallback, EvaluationCounts { culled_patches: culled, ..pixel });
+    // The control stage's placement counts the same (its counter is a specialization constant).
+    let in_the_control_stage = View { estimator: Estimator::Tcs, ..multirate.clone() };
+    let counted = renderer.count_evaluations(&target, &in_the_control_stage).expect("count tcs");
+    assert_eq!(counted, fallback, "the control stage's placement");
 
     // Pipeline statistics are no substitute here: lavapipe's fragment-invocation count
     // includes the helper lanes of every 2×2 quad. `multirate bench --scene

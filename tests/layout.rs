@@ -323,3 +323,24 @@ fn pre_pass_workgroups_have_the_size_the_host_dispatches() {
     }
     assert!(checked >= pre_pass.len(), "only {checked} pre-pass modules");
 }
+
+#[test]
+fn only_the_instrumented_control_stage_is_specialised_to_record_or_count() {
+    // multirate.tesc's analysis pipelines share its instrumented module, which the host
+    // specialises with constants 14 (record the levels) and 15 (count the culled patches); the
+    // timed module must not carry them (lavapipe runs code that is specialised off).
+    let instrumentation = [14, 15];
+    let (mut timed, mut instrumented) = (0, 0);
+    for module in shaders::ALL.iter().filter(|m| m.stage == "multirate.tesc") {
+        let found = contents(module.spirv);
+        let has = |id: &u32| found.spec_ids.contains(id);
+        if module.features().count_evaluations {
+            assert!(instrumentation.iter().all(has), "{:?}: {:?}", module.features(), found.spec_ids);
+            instrumented += 1;
+        } else {
+            assert!(!instrumentation.iter().any(has), "{:?}: {:?}", module.features(), found.spec_ids);
+            timed += 1;
+        }
+    }
+    assert_eq!((timed, instrumented), (12, 12), "a timed and an instrumented module per feature set");
+}

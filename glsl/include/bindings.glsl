@@ -11,7 +11,7 @@
 
 layout(set = 0, binding = 0, std430) readonly buffer Lights { GpuLight lights[]; };
 layout(set = 0, binding = 1, std430) readonly buffer Materials { GpuMaterial materials[]; };
-// Written only by the level-recording variant of multirate.tesc (RECORD_LEVELS): per
+// Written only by the level-recording pipelines (patch_levels.comp, multirate.tesc): per
 // triangle, x = the level it shades at (0: per-pixel fallback), yzw = its outer levels.
 layout(set = 0, binding = 2, std430) writeonly buffer LevelRecords { vec4 level_records[]; };
 layout(push_constant, std430) uniform Push { DrawConstants draw; };

@@ -12,9 +12,6 @@
 #define MULTIRATE_PATCH_GLSL
 #include "triangle_level.glsl"
 
-// The analysis variant records each triangle's levels (bindings.glsl, level_records).
-const bool RECORD_LEVELS = VARIANT_RECORD_LEVELS != 0;
-
 layout(location = 3) patch out float patch_level;
 layout(location = 4) patch out float parameter_lod_bound;
 #if TRIANGLE_IDS
@@ -33,28 +30,6 @@ void write_patch_levels(PatchLevels levels, float own_lod_bound) {
     // parameter range covers, for the sampler's fixed-point level of detail).
     GpuMaterial material = materials[draw.material_index];
     parameter_lod_bound = TEXTURED && material.maps.y >= 0 ? own_lod_bound - 0.02 : 0.0;
-}
-
-// Sets the patch's levels for the triangle of scene index `triangle` with level `own`, its
-// neighbours' levels across edges 0, 1, 2, and its parameter-map lod bound.
-void set_patch_levels(float own, vec3 neighbours, float own_lod_bound, uint triangle) {
-    if (own == CULLED_LEVEL) {
-        gl_TessLevelOuter[0] = 0.0;
-        gl_TessLevelOuter[1] = 0.0;
-        gl_TessLevelOuter[2] = 0.0;
-        gl_TessLevelInner[0] = 0.0;
-        patch_level = 0.0;
-        parameter_lod_bound = 0.0;
-        if (RECORD_LEVELS) {
-            level_records[triangle] = CULLED_RECORD;
-        }
-        return;
-    }
-    PatchLevels levels = patch_levels(own, neighbours, draw.viewport.w);
-    write_patch_levels(levels, own_lod_bound);
-    if (RECORD_LEVELS) {
-        level_records[triangle] = level_record(levels);
-    }
 }
 
 #endif

@@ -315,7 +315,8 @@ struct Variant {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Instrumentation {
     None,
-    /// multirate.tesc writes each triangle's levels (RECORD_LEVELS).
+    /// The pre-pass (patch_levels.comp, `VARIANT_RECORD_LEVELS`) or multirate.tesc (its
+    /// specialization constant RECORD_LEVELS) writes each triangle's levels.
     RecordLevels,
     /// Every shading run adds to the evaluation counters (COUNT_EVALUATIONS), and the fragment
     /// stages write which triangle each pixel shows (`Attachments::ColorAndIds`,
@@ -1851,8 +1852,21 @@ impl Modules {
         let (split, discontinuity) = (split_id(view.split), discontinuity_id(view.discontinuity));
         let specialization = specialization.clone().int(3, split).int(4, discontinuity);
         let features = variant.features;
-        let (control, control_points, pre_pass) = match view.estimator {
-            Estimator::Tcs => ("multirate.tesc", PATCH_SIZE as u32, None),
+        let (multirate_tesc, control_points, pre_pass, specialization) = match view.estimator {
+            // The analysis pipelines share multirate.tesc's instrumented module (its
+            // `count_evaluations` variant); what it records or counts is specialised.
+            Estimator::Tcs => {
+                let instrumented = Features {
+                    count_evaluations: variant.instrumentation != Instrumentation::None,
+                    record_levels: false,
+                    ..features
+                };
+                let module = variant_module(context, "multirate.tesc", instrumented)?;
+                let specialization = specialization
+                    .boolean(14, variant.instrumentation == Instrumentation::RecordLevels)
+                    .boolean(15, variant.instrumentation == Instrumentation::CountEvaluations);
+                (module, PATCH_SIZE as u32, None, specialization)
+            }
             Estimator::Compute => {
                 let module = variant_module(context, "triangle_levels.comp", features)?;
                 let name = format!("triangle levels, material kind {}", features.material_kind);
@@ -1865,10 +1879,10 @@ impl Modules {
                 let cull = Pipeline::compute(context, "triangle culling", layout, &module, None)?;
                 let module = variant_module(context, "patch_levels.comp", features)?;
                 let patches = Pipeline::compute(context, "patch levels", layout, &module, None)?;
-                ("multirate_levels.tesc", 3, Some(PrePass { cull, levels, refine, patches }))
+                let module = variant_module(context, "multirate_levels.tesc", features)?;
+                (module, 3, Some(PrePass { cull, levels, refine, patches }), specialization)
             }
         };
-        let multirate_tesc = variant_module(context, control, features)?;
         let multirate_tese = variant_module(context, "multirate.tese", features)?;
         let multirate_frag = variant_module(context, "multirate.frag", features)?;
         let name = format!(
