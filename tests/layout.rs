@@ -325,6 +325,23 @@ fn pre_pass_workgroups_have_the_size_the_host_dispatches() {
 }
 
 #[test]
+fn both_sides_of_the_refining_step_block_the_triangles_as_the_host_does() {
+    // The estimator step opens a refining workgroup per block, the refining step takes the
+    // block's triangles, and a CPU device's refining workgroup is the block: the three
+    // definitions must agree (a folded GLSL constant leaves no trace in the SPIR-V to read).
+    for stage in ["triangle_levels.comp", "refine_levels.comp"] {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("glsl").join(stage);
+        let source = std::fs::read_to_string(&path).expect("the stage's source");
+        let defined: Vec<u32> = source
+            .lines()
+            .filter_map(|line| line.trim().strip_prefix("const uint REFINE_BLOCK = "))
+            .map(|value| value.trim_end_matches(';').trim_end_matches('u').parse().expect("a uint literal"))
+            .collect();
+        assert_eq!(defined, [multirate::render::REFINE_BLOCK], "{stage}'s REFINE_BLOCK");
+    }
+}
+
+#[test]
 fn only_the_instrumented_control_stage_is_specialised_to_record_or_count() {
     // multirate.tesc's analysis pipelines share its instrumented module, which the host
     // specialises with constants 14 (record the levels) and 15 (count the culled patches); the

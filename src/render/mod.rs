@@ -1610,7 +1610,7 @@ pub const PRE_PASS_GROUP: u32 = 64;
 
 /// Listed triangles per block of the pre-pass's refining step (`REFINE_BLOCK` in
 /// glsl/refine_levels.comp and glsl/triangle_levels.comp): a workgroup takes their children's
-/// turns side by side, then estimates each of them.
+/// turns side by side, then estimates each of them. `tests/layout.rs` checks that the three agree.
 pub const REFINE_BLOCK: u32 = 8;
 
 /// The refining step's workgroup size on `info`'s device. A GPU runs invocations as threads:
