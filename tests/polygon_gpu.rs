@@ -40,7 +40,9 @@ use multirate::shading::polygon::{
     MAX_POLYGON_VERTICES,
 };
 use multirate::vk::memory::Buffer;
-use multirate::vk::pipeline::{bind_storage_buffers, DescriptorPool, Pipeline, PipelineLayout, ShaderModule};
+use multirate::vk::pipeline::{
+    bind_storage_buffers, DescriptorPool, Optimization, Pipeline, PipelineLayout, ShaderModule,
+};
 use std::time::Instant;
 
 /// Random cases compared.
@@ -245,7 +247,9 @@ fn run_on_gpu(context: &std::sync::Arc<multirate::vk::Context>, cases: &[Case]) 
     bind_storage_buffers(context, set, 0, &[input.raw, output.raw]);
     let module = ShaderModule::new(context, "polygon_check.comp", shaders::single("polygon_check.comp"))
         .expect("shader module");
-    let pipeline = Pipeline::compute(context, "polygon check", &layout, &module, None).expect("pipeline");
+    let pipeline =
+        Pipeline::compute(context, "polygon check", &layout, &module, None, Optimization::Optimized)
+            .expect("pipeline");
     let device = &context.device;
     context
         .run_once(|cmd| {

@@ -13,8 +13,8 @@ use crate::error::{Error, Result};
 use crate::shaders;
 use crate::vk::memory::Buffer;
 use crate::vk::pipeline::{
-    bind_storage_buffers, DepthUse, DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout,
-    ShaderModule, Stage,
+    bind_storage_buffers, DepthUse, DescriptorPool, GraphicsPipelineDesc, Optimization, Pipeline,
+    PipelineLayout, ShaderModule, Stage,
 };
 use crate::vk::target::begin_rendering;
 use crate::vk::Context;
@@ -261,6 +261,7 @@ impl TessellationCapture {
                 depth_use: DepthUse::Nearest,
                 rasterizer_discard: true,
                 dynamic_cull_mode: false,
+                optimization: Optimization::Optimized,
             },
         )?;
         Ok(TessellationCapture {

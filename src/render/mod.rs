@@ -25,8 +25,8 @@ use crate::shading::estimator::{Discontinuity, Split};
 use crate::vk::frames::FrameRing;
 use crate::vk::memory::Buffer;
 use crate::vk::pipeline::{
-    bind_storage_buffers, shader_binding, DepthUse, DescriptorPool, GraphicsPipelineDesc, Pipeline,
-    PipelineLayout, ShaderModule, Specialization, Stage,
+    bind_storage_buffers, shader_binding, DepthUse, DescriptorPool, GraphicsPipelineDesc, Optimization,
+    Pipeline, PipelineLayout, ShaderModule, Specialization, Stage,
 };
 use crate::vk::target::{
     AfterPass, Attachments, FloatImage, RenderTarget, COLOR_FORMAT, DEPTH_FORMAT, ID_FORMAT,
@@ -296,11 +296,13 @@ impl View {
     }
 }
 
-/// The pipelines of one material kind, one per mode.
+/// The pipelines of one material kind, one per mode, each built on first use by
+/// `Renderer::prepare` (or the analysis and recording frames): lavapipe takes seconds for each,
+/// and a frame, a test or a tool seldom needs more than one mode.
 struct Variant {
-    pixel: Pipeline,
-    vertex: Pipeline,
-    tessellated: Pipeline,
+    pixel: OnceCell<Pipeline>,
+    vertex: OnceCell<Pipeline>,
+    tessellated: OnceCell<Pipeline>,
     /// Indexed by estimator placement, `split` and `discontinuity` (their specialization
     /// constants); built on first use by `Renderer::prepare`, since the estimator makes them
     /// slow to compile.
@@ -330,6 +332,14 @@ impl Instrumentation {
         match self {
             Instrumentation::CountEvaluations => Attachments::ColorAndIds,
             Instrumentation::None | Instrumentation::RecordLevels => Attachments::Color,
+        }
+    }
+
+    /// Only the timed pipelines are worth the driver's optimisation.
+    fn optimization(self) -> Optimization {
+        match self {
+            Instrumentation::None => Optimization::Optimized,
+            Instrumentation::RecordLevels | Instrumentation::CountEvaluations => Optimization::Unoptimized,
         }
     }
 
@@ -393,15 +403,26 @@ struct PrePass {
 }
 
 impl Variant {
-    /// The pipeline of `view` (None: a multirate pipeline not yet prepared).
+    /// A variant of `features` (its `instrumentation` compiled in), no pipeline built yet.
+    fn new(features: Features, instrumentation: Instrumentation, polygon_mode: vk::PolygonMode) -> Variant {
+        Variant {
+            pixel: OnceCell::new(),
+            vertex: OnceCell::new(),
+            tessellated: OnceCell::new(),
+            multirate: Default::default(),
+            features: instrumentation.features(features),
+            instrumentation,
+            polygon_mode,
+        }
+    }
+
+    /// The pipeline of `view` (None: not yet prepared).
     fn for_view(&self, view: &View) -> Option<MeshPipelines> {
         let one = |pipeline: &Pipeline| MeshPipelines { first: pipeline.raw, lists: None };
         match view.mode {
-            Mode::Pixel => Some(one(&self.pixel)),
+            Mode::Pixel | Mode::Vertex | Mode::Fixed(_) => self.single_cell(view.mode)?.get().map(one),
             // Drawn by `record_deferred`, with its own pipelines.
             Mode::PixelDeferred => None,
-            Mode::Vertex => Some(one(&self.vertex)),
-            Mode::Fixed(_) => Some(one(&self.tessellated)),
             Mode::Multirate => self.multirate_cell(view).get().map(|m| MeshPipelines {
                 first: m.draw.raw,
                 lists: m.lists.as_ref().map(|l| ListPipelines {
@@ -412,6 +433,16 @@ impl Variant {
                     flat_fallback_prime: l.flat_fallback_prime.raw,
                 }),
             }),
+        }
+    }
+
+    /// The cell of a mode drawn by one pipeline: pixel, vertex or fixed.
+    fn single_cell(&self, mode: Mode) -> Option<&OnceCell<Pipeline>> {
+        match mode {
+            Mode::Pixel => Some(&self.pixel),
+            Mode::Vertex => Some(&self.vertex),
+            Mode::Fixed(_) => Some(&self.tessellated),
+            Mode::PixelDeferred | Mode::Multirate => None,
         }
     }
 
@@ -540,7 +571,7 @@ pub struct Renderer {
     variants: Vec<Variant>,
     /// The same pipelines drawing edges only, built by `enable_wireframe`.
     wireframe_variants: Option<Vec<Variant>>,
-    /// Kept for the level-recording variants, built on demand.
+    /// The modules every variant shares; the variants' pipelines are built on first use.
     modules: Modules,
     /// Per material kind of the scene: its shader features and specialization constants.
     specializations: Vec<(Features, Specialization)>,
@@ -795,14 +826,7 @@ impl Renderer {
             };
             let specialization = Specialization::default().int(1, point_count).int(2, directional_count);
             let specialization = polygon_specialization(specialization, scene, polygon_count);
-            variants.push(modules.variant(
-                context,
-                &layout,
-                features,
-                &specialization,
-                Instrumentation::None,
-                vk::PolygonMode::FILL,
-            )?);
+            variants.push(Variant::new(features, Instrumentation::None, vk::PolygonMode::FILL));
             specializations.push((features, specialization));
         }
         context.name(descriptor_set, "forward descriptor set");
@@ -862,6 +886,19 @@ impl Renderer {
     /// Builds what `view` needs that is built on first use (the multirate pipelines, the
     /// deferred passes) and sizes the deferred id target for `target`.
     pub fn prepare(&self, view: &View, target: &RenderTarget) -> Result<()> {
+        self.prepare_frame(view, target)?;
+        let wireframe = self.wireframe_variants.as_ref().filter(|_| view.wireframe);
+        for variants in std::iter::once(&self.variants).chain(wireframe) {
+            self.prepare_variants(variants, view)?;
+        }
+        Ok(())
+    }
+
+    /// What a frame of `view` needs whichever variants draw it: the deferred passes, sized for
+    /// `target`, and in multirate mode the device's tessellation patterns checked against the
+    /// effective-level table. The analysis and recording frames prepare only their own
+    /// variants' multirate pipelines: the timed ones are as slow to build and would go unused.
+    fn prepare_frame(&self, view: &View, target: &RenderTarget) -> Result<()> {
         if view.mode == Mode::PixelDeferred {
             self.prepare_deferred(target.extent())?;
         }
@@ -871,10 +908,6 @@ impl Renderer {
                 capture::check_patterns(&self.context, view.n_max)?
             {
                 self.use_measured_table(&words)?;
-            }
-            let wireframe = self.wireframe_variants.as_ref().filter(|_| view.wireframe);
-            for variants in std::iter::once(&self.variants).chain(wireframe) {
-                self.prepare_variants(variants, view)?;
             }
         }
         Ok(())
@@ -893,13 +926,22 @@ impl Renderer {
         Ok(())
     }
 
+    /// Builds the pipelines of `view`'s mode in each of `variants` that it lacks.
     fn prepare_variants(&self, variants: &[Variant], view: &View) -> Result<()> {
+        let (context, layout) = (&self.context, &self.layout);
         for (variant, (_, specialization)) in variants.iter().zip(&self.specializations) {
-            let cell = variant.multirate_cell(view);
-            if cell.get().is_none() {
-                let pipeline =
-                    self.modules.multirate(&self.context, &self.layout, variant, specialization, view)?;
-                let _ = cell.set(pipeline);
+            if let Some(cell) = variant.single_cell(view.mode) {
+                if cell.get().is_none() {
+                    let pipeline =
+                        self.modules.single(context, layout, variant, specialization, view.mode)?;
+                    let _ = cell.set(pipeline);
+                }
+            } else if view.mode == Mode::Multirate {
+                let cell = variant.multirate_cell(view);
+                if cell.get().is_none() {
+                    let pipeline = self.modules.multirate(context, layout, variant, specialization, view)?;
+                    let _ = cell.set(pipeline);
+                }
             }
         }
         Ok(())
@@ -912,8 +954,7 @@ impl Renderer {
             return Ok(false);
         }
         if self.wireframe_variants.is_none() {
-            self.wireframe_variants =
-                Some(self.build_variants(Instrumentation::None, vk::PolygonMode::LINE)?);
+            self.wireframe_variants = Some(self.new_variants(Instrumentation::None, vk::PolygonMode::LINE));
         }
         Ok(true)
     }
@@ -1263,9 +1304,9 @@ impl Renderer {
     /// triangle of the scene (meshes in order), `[level, outer0, outer1, outer2]` as the
     /// control stage chose them (level 0: per-pixel fallback).
     pub fn record_levels(&self, target: &RenderTarget, view: &View) -> Result<Vec<[f32; 4]>> {
-        let recording =
-            self.instrumented_variants(&self.recording_variants, Instrumentation::RecordLevels)?;
+        let recording = self.instrumented_variants(&self.recording_variants, Instrumentation::RecordLevels);
         let view = View { mode: Mode::Multirate, ..view.clone() };
+        self.prepare_frame(&view, target)?;
         self.prepare_variants(recording, &view)?;
         target.render_and_read(&self.context, |cmd| {
             self.record_with(recording, cmd, target, &view, AfterPass::Readback);
@@ -1383,18 +1424,15 @@ impl Renderer {
                 missing: "vertexPipelineStoresAndAtomics, fragmentStoresAndAtomics and geometryShader",
             });
         }
-        let analysis =
-            self.instrumented_variants(&self.counting_variants, Instrumentation::CountEvaluations)?;
+        let analysis = self.instrumented_variants(&self.counting_variants, Instrumentation::CountEvaluations);
         target.prepare_ids(&self.context)?;
         if !self.emitters.is_empty() && self.analysis_emitter.get().is_none() {
             let emitter =
                 self.modules.emitter(&self.context, &self.layout, Instrumentation::CountEvaluations)?;
             let _ = self.analysis_emitter.set(emitter);
         }
-        self.prepare(view, target)?;
-        if view.mode == Mode::Multirate {
-            self.prepare_variants(analysis, view)?;
-        }
+        self.prepare_frame(view, target)?;
+        self.prepare_variants(analysis, view)?;
         Ok(analysis)
     }
 
@@ -1444,37 +1482,21 @@ impl Renderer {
         }
     }
 
-    /// The variants with `instrumentation`, built into `cell` on first use.
+    /// The variants with `instrumentation`, made in `cell` on first use (their pipelines are
+    /// built when a view first needs them).
     fn instrumented_variants<'a>(
         &self,
         cell: &'a OnceCell<Vec<Variant>>,
         instrumentation: Instrumentation,
-    ) -> Result<&'a [Variant]> {
-        if let Some(variants) = cell.get() {
-            return Ok(variants);
-        }
-        let variants = self.build_variants(instrumentation, vk::PolygonMode::FILL)?;
-        Ok(cell.get_or_init(|| variants))
+    ) -> &'a [Variant] {
+        cell.get_or_init(|| self.new_variants(instrumentation, vk::PolygonMode::FILL))
     }
 
     /// One variant per feature set the scene uses, with `instrumentation` and `polygon_mode`.
-    fn build_variants(
-        &self,
-        instrumentation: Instrumentation,
-        polygon_mode: vk::PolygonMode,
-    ) -> Result<Vec<Variant>> {
+    fn new_variants(&self, instrumentation: Instrumentation, polygon_mode: vk::PolygonMode) -> Vec<Variant> {
         self.specializations
             .iter()
-            .map(|(features, specialization)| {
-                self.modules.variant(
-                    &self.context,
-                    &self.layout,
-                    *features,
-                    specialization,
-                    instrumentation,
-                    polygon_mode,
-                )
-            })
+            .map(|(features, _)| Variant::new(*features, instrumentation, polygon_mode))
             .collect()
     }
 
@@ -1749,26 +1771,22 @@ fn scene_pipeline<'a>(
         depth_format: Some(DEPTH_FORMAT),
         depth_use: DepthUse::Nearest,
         rasterizer_discard: false,
+        optimization: instrumentation.optimization(),
     }
 }
 
 impl Modules {
-    /// The pixel, vertex and tessellated pipelines of one material kind.
-    fn variant(
+    /// The pipeline of `variant` that draws `mode` alone: pixel, vertex or fixed.
+    fn single(
         &self,
         context: &Arc<Context>,
         layout: &PipelineLayout,
-        features: Features,
+        variant: &Variant,
         specialization: &Specialization,
-        instrumentation: Instrumentation,
-        polygon_mode: vk::PolygonMode,
-    ) -> Result<Variant> {
-        let features = instrumentation.features(features);
+        mode: Mode,
+    ) -> Result<Pipeline> {
+        let (features, instrumentation) = (variant.features, variant.instrumentation);
         let kind = features.material_kind;
-        let pixel_frag = variant_module(context, "pixel.frag", features)?;
-        let gouraud_vert = variant_module(context, "gouraud.vert", features)?;
-        let color_frag = variant_module(context, "color.frag", features)?;
-        let shade_tese = variant_module(context, "shade.tese", features)?;
         let stage = |stage, module, specialised: bool| Stage {
             stage,
             module,
@@ -1785,38 +1803,46 @@ impl Modules {
                 &GraphicsPipelineDesc {
                     topology,
                     patch_control_points: control_points,
-                    polygon_mode,
+                    polygon_mode: variant.polygon_mode,
                     ..scene_pipeline(&name, stages, layout, instrumentation)
                 },
             )
         };
         use vk::ShaderStageFlags as S;
-        Ok(Variant {
-            pixel: build(
-                format!("pixel mode, material kind {kind}"),
-                vec![stage(S::VERTEX, &self.forward_vert, false), stage(S::FRAGMENT, &pixel_frag, true)],
-                None,
-            )?,
-            vertex: build(
-                format!("vertex mode, material kind {kind}"),
-                vec![stage(S::VERTEX, &gouraud_vert, true), stage(S::FRAGMENT, &color_frag, false)],
-                None,
-            )?,
-            tessellated: build(
-                format!("fixed mode, material kind {kind}"),
-                vec![
-                    stage(S::VERTEX, &self.patch_vert, false),
-                    stage(S::TESSELLATION_CONTROL, &self.fixed_tesc, false),
-                    stage(S::TESSELLATION_EVALUATION, &shade_tese, true),
-                    stage(S::FRAGMENT, &color_frag, false),
-                ],
-                Some(3),
-            )?,
-            multirate: Default::default(),
-            features,
-            instrumentation,
-            polygon_mode,
-        })
+        match mode {
+            Mode::Pixel => {
+                let pixel_frag = variant_module(context, "pixel.frag", features)?;
+                build(
+                    format!("pixel mode, material kind {kind}"),
+                    vec![stage(S::VERTEX, &self.forward_vert, false), stage(S::FRAGMENT, &pixel_frag, true)],
+                    None,
+                )
+            }
+            Mode::Vertex => {
+                let gouraud_vert = variant_module(context, "gouraud.vert", features)?;
+                let color_frag = variant_module(context, "color.frag", features)?;
+                build(
+                    format!("vertex mode, material kind {kind}"),
+                    vec![stage(S::VERTEX, &gouraud_vert, true), stage(S::FRAGMENT, &color_frag, false)],
+                    None,
+                )
+            }
+            Mode::Fixed(_) => {
+                let shade_tese = variant_module(context, "shade.tese", features)?;
+                let color_frag = variant_module(context, "color.frag", features)?;
+                build(
+                    format!("fixed mode, material kind {kind}"),
+                    vec![
+                        stage(S::VERTEX, &self.patch_vert, false),
+                        stage(S::TESSELLATION_CONTROL, &self.fixed_tesc, false),
+                        stage(S::TESSELLATION_EVALUATION, &shade_tese, true),
+                        stage(S::FRAGMENT, &color_frag, false),
+                    ],
+                    Some(3),
+                )
+            }
+            Mode::PixelDeferred | Mode::Multirate => unreachable!("{mode:?} is not drawn by one pipeline"),
+        }
     }
 }
 
@@ -1870,15 +1896,20 @@ impl Modules {
             Estimator::Compute => {
                 let module = variant_module(context, "triangle_levels.comp", features)?;
                 let name = format!("triangle levels, material kind {}", features.material_kind);
-                let levels = Pipeline::compute(context, &name, layout, &module, Some(&specialization))?;
+                let optimization = variant.instrumentation.optimization();
+                let levels =
+                    Pipeline::compute(context, &name, layout, &module, Some(&specialization), optimization)?;
                 let module = variant_module(context, "refine_levels.comp", features)?;
                 let refining = specialization.clone().int(13, refine_lanes(&context.info) as i32);
                 let name = format!("triangle levels refined, material kind {}", features.material_kind);
-                let refine = Pipeline::compute(context, &name, layout, &module, Some(&refining))?;
+                let refine =
+                    Pipeline::compute(context, &name, layout, &module, Some(&refining), optimization)?;
                 let module = variant_module(context, "cull_triangles.comp", features)?;
-                let cull = Pipeline::compute(context, "triangle culling", layout, &module, None)?;
+                let cull =
+                    Pipeline::compute(context, "triangle culling", layout, &module, None, optimization)?;
                 let module = variant_module(context, "patch_levels.comp", features)?;
-                let patches = Pipeline::compute(context, "patch levels", layout, &module, None)?;
+                let patches =
+                    Pipeline::compute(context, "patch levels", layout, &module, None, optimization)?;
                 let module = variant_module(context, "multirate_levels.tesc", features)?;
                 (module, 3, Some(PrePass { cull, levels, refine, patches }), specialization)
             }

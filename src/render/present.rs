@@ -5,8 +5,8 @@ use crate::error::{Result, VkContext as _};
 use crate::shaders;
 use crate::vk::memory::transition;
 use crate::vk::pipeline::{
-    DepthUse, DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderModule, Specialization,
-    Stage,
+    DepthUse, DescriptorPool, GraphicsPipelineDesc, Optimization, Pipeline, PipelineLayout, ShaderModule,
+    Specialization, Stage,
 };
 use crate::vk::target::{begin_rendering, RenderTarget};
 use crate::vk::Context;
@@ -74,6 +74,7 @@ impl PresentPass {
                 depth_use: DepthUse::Nearest,
                 rasterizer_discard: false,
                 dynamic_cull_mode: false,
+                optimization: Optimization::Optimized,
             },
         )?;
         // SAFETY: live sampler handle.
