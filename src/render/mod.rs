@@ -296,9 +296,36 @@ impl View {
     }
 }
 
+/// The modes drawn by one pipeline per material kind.
+#[derive(Clone, Copy, Debug)]
+enum SingleMode {
+    Pixel,
+    Vertex,
+    Fixed,
+}
+
+impl SingleMode {
+    fn of(mode: Mode) -> Option<SingleMode> {
+        match mode {
+            Mode::Pixel => Some(SingleMode::Pixel),
+            Mode::Vertex => Some(SingleMode::Vertex),
+            Mode::Fixed(_) => Some(SingleMode::Fixed),
+            Mode::PixelDeferred | Mode::Multirate => None,
+        }
+    }
+}
+
+/// Sets `cell` from `build` unless it is already set.
+fn build_once<T>(cell: &OnceCell<T>, build: impl FnOnce() -> Result<T>) -> Result<()> {
+    if cell.get().is_none() {
+        let _ = cell.set(build()?);
+    }
+    Ok(())
+}
+
 /// The pipelines of one material kind, one per mode, each built on first use by
-/// `Renderer::prepare` (or the analysis and recording frames): lavapipe takes seconds for each,
-/// and a frame, a test or a tool seldom needs more than one mode.
+/// `Renderer::prepare` (or the analysis and recording frames): a frame, a test or a tool seldom
+/// needs more than one mode, and the analysis and recording variants never draw the others.
 struct Variant {
     pixel: OnceCell<Pipeline>,
     vertex: OnceCell<Pipeline>,
@@ -420,7 +447,9 @@ impl Variant {
     fn for_view(&self, view: &View) -> Option<MeshPipelines> {
         let one = |pipeline: &Pipeline| MeshPipelines { first: pipeline.raw, lists: None };
         match view.mode {
-            Mode::Pixel | Mode::Vertex | Mode::Fixed(_) => self.single_cell(view.mode)?.get().map(one),
+            Mode::Pixel | Mode::Vertex | Mode::Fixed(_) => {
+                self.single_cell(SingleMode::of(view.mode)?).get().map(one)
+            }
             // Drawn by `record_deferred`, with its own pipelines.
             Mode::PixelDeferred => None,
             Mode::Multirate => self.multirate_cell(view).get().map(|m| MeshPipelines {
@@ -436,13 +465,11 @@ impl Variant {
         }
     }
 
-    /// The cell of a mode drawn by one pipeline: pixel, vertex or fixed.
-    fn single_cell(&self, mode: Mode) -> Option<&OnceCell<Pipeline>> {
+    fn single_cell(&self, mode: SingleMode) -> &OnceCell<Pipeline> {
         match mode {
-            Mode::Pixel => Some(&self.pixel),
-            Mode::Vertex => Some(&self.vertex),
-            Mode::Fixed(_) => Some(&self.tessellated),
-            Mode::PixelDeferred | Mode::Multirate => None,
+            SingleMode::Pixel => &self.pixel,
+            SingleMode::Vertex => &self.vertex,
+            SingleMode::Fixed => &self.tessellated,
         }
     }
 
@@ -930,18 +957,14 @@ impl Renderer {
     fn prepare_variants(&self, variants: &[Variant], view: &View) -> Result<()> {
         let (context, layout) = (&self.context, &self.layout);
         for (variant, (_, specialization)) in variants.iter().zip(&self.specializations) {
-            if let Some(cell) = variant.single_cell(view.mode) {
-                if cell.get().is_none() {
-                    let pipeline =
-                        self.modules.single(context, layout, variant, specialization, view.mode)?;
-                    let _ = cell.set(pipeline);
-                }
+            if let Some(mode) = SingleMode::of(view.mode) {
+                build_once(variant.single_cell(mode), || {
+                    self.modules.single(context, layout, variant, specialization, mode)
+                })?;
             } else if view.mode == Mode::Multirate {
-                let cell = variant.multirate_cell(view);
-                if cell.get().is_none() {
-                    let pipeline = self.modules.multirate(context, layout, variant, specialization, view)?;
-                    let _ = cell.set(pipeline);
-                }
+                build_once(variant.multirate_cell(view), || {
+                    self.modules.multirate(context, layout, variant, specialization, view)
+                })?;
             }
         }
         Ok(())
@@ -1426,10 +1449,10 @@ impl Renderer {
         }
         let analysis = self.instrumented_variants(&self.counting_variants, Instrumentation::CountEvaluations);
         target.prepare_ids(&self.context)?;
-        if !self.emitters.is_empty() && self.analysis_emitter.get().is_none() {
-            let emitter =
-                self.modules.emitter(&self.context, &self.layout, Instrumentation::CountEvaluations)?;
-            let _ = self.analysis_emitter.set(emitter);
+        if !self.emitters.is_empty() {
+            build_once(&self.analysis_emitter, || {
+                self.modules.emitter(&self.context, &self.layout, Instrumentation::CountEvaluations)
+            })?;
         }
         self.prepare_frame(view, target)?;
         self.prepare_variants(analysis, view)?;
@@ -1776,14 +1799,14 @@ fn scene_pipeline<'a>(
 }
 
 impl Modules {
-    /// The pipeline of `variant` that draws `mode` alone: pixel, vertex or fixed.
+    /// The pipeline of `variant` that draws `mode`.
     fn single(
         &self,
         context: &Arc<Context>,
         layout: &PipelineLayout,
         variant: &Variant,
         specialization: &Specialization,
-        mode: Mode,
+        mode: SingleMode,
     ) -> Result<Pipeline> {
         let (features, instrumentation) = (variant.features, variant.instrumentation);
         let kind = features.material_kind;
@@ -1810,7 +1833,7 @@ impl Modules {
         };
         use vk::ShaderStageFlags as S;
         match mode {
-            Mode::Pixel => {
+            SingleMode::Pixel => {
                 let pixel_frag = variant_module(context, "pixel.frag", features)?;
                 build(
                     format!("pixel mode, material kind {kind}"),
@@ -1818,7 +1841,7 @@ impl Modules {
                     None,
                 )
             }
-            Mode::Vertex => {
+            SingleMode::Vertex => {
                 let gouraud_vert = variant_module(context, "gouraud.vert", features)?;
                 let color_frag = variant_module(context, "color.frag", features)?;
                 build(
@@ -1827,7 +1850,7 @@ impl Modules {
                     None,
                 )
             }
-            Mode::Fixed(_) => {
+            SingleMode::Fixed => {
                 let shade_tese = variant_module(context, "shade.tese", features)?;
                 let color_frag = variant_module(context, "color.frag", features)?;
                 build(
@@ -1841,7 +1864,6 @@ impl Modules {
                     Some(3),
                 )
             }
-            Mode::PixelDeferred | Mode::Multirate => unreachable!("{mode:?} is not drawn by one pipeline"),
         }
     }
 }
