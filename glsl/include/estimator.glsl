@@ -2310,16 +2310,25 @@ float level_pass(Frame frame, GpuMaterial material, vec2 param, float eps, uint 
     // the lights made the estimator step twice as slow on lavapipe even where `refine` is a
     // constant false (docs/speedups.md, step 20); every branch tests `refine` first, so that
     // there the children's code folds away.
+    // The polygonal lights take the last turns, one each, through the same call site (-1 where
+    // the variant has none, so that their code folds away).
     int turns = refine ? REFINE_CHILDREN + 1 : 1;
+    int light_turns = (POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT) * turns;
     ChildValues values = ChildValues(0.0, MAX_FINITE, vec3(0.0), true);
     bool saved_bad = est_bad;
-    for (int turn = 0; turn < (POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT) * turns; ++turn) {
+    for (int turn = 0; turn < light_turns + POLYGON_LIGHT_COUNT; ++turn) {
+        int polygon = POLYGON_LIGHT_COUNT > 0 && turn >= light_turns ? turn - light_turns : -1;
         int i = refine ? turn / (REFINE_CHILDREN + 1) : turn;
         int r = refine ? turn % (REFINE_CHILDREN + 1) : REFINE_CHILDREN;
-        GpuLight light = lights[i];
+        GpuLight light = GpuLight(vec4(0.0), vec4(0.0));
+        if (polygon < 0) {
+            light = lights[i];
+        }
         Frame at = frame;
         int mode = ADD_BOUNDS;
-        if (refine && r < REFINE_CHILDREN) {
+        if (polygon >= 0) {
+            values = ChildValues(0.0, 0.0, vec3(0.0), false);
+        } else if (refine && r < REFINE_CHILDREN) {
 #ifdef CHILDREN_GIVEN
             if (i < GIVEN_LIGHTS) {
                 continue;
@@ -2347,8 +2356,8 @@ float level_pass(Frame frame, GpuMaterial material, vec2 param, float eps, uint 
             est_bad = saved_bad;
             mode = ADD_REFINED;
         }
-        int added = add_light(at, material, param, i < POINT_LIGHT_COUNT, light.position.xyz,
-                              light.radiance.rgb, -1, top, n_max, eps, mode, values);
+        int added = add_light(at, material, param, polygon < 0 && i < POINT_LIGHT_COUNT, light.position.xyz,
+                              light.radiance.rgb, polygon, top, n_max, eps, mode, values);
         if (mode != ADD_VALUES) {
             reason = worse(reason, added);
         } else if (added == REASON_NONE) {
@@ -2356,11 +2365,6 @@ float level_pass(Frame frame, GpuMaterial material, vec2 param, float eps, uint 
         } else if (added != VALUES_ADDED) {
             values.ok = false;
         }
-    }
-    for (int i = 0; i < POLYGON_LIGHT_COUNT; ++i) {
-        ChildValues none = ChildValues(0.0, 0.0, vec3(0.0), false);
-        reason = worse(reason, add_light(frame, material, param, false, vec3(0.0), vec3(0.0), i, top, n_max,
-                                         eps, ADD_BOUNDS, none));
     }
     if (est_bad) {
         reason = worse(reason, REASON_SINGULAR);
