@@ -860,15 +860,29 @@ struct MeasuredSupremum {
     patch: f64,
     all: f64,
     osc: f64,
+    /// `(patch, all)` from a second-order Taylor model on the patch's 1, 4 and 16 children:
+    /// the Hessian at each child's centroid plus its radius times the measured sup of the
+    /// third derivative over it. The centre is exact and the remainder measured (not
+    /// bounded): what an estimator exact to second order at a point could reach at best.
+    taylor: [(f64, f64); 3],
 }
 
 impl MeasuredSupremum {
     /// The smallest `n` whose bound, the measured one times `looseness`, or else the range,
     /// is within ε: the level a bound `looseness` times the true supremum would choose.
     fn level(&self, case: &Case, looseness: f64) -> Option<u32> {
+        self.level_of((looseness * self.patch, looseness * self.all), case)
+    }
+
+    /// The level that the Taylor model on `4^depth` children chooses.
+    fn taylor_level(&self, case: &Case, depth: usize) -> Option<u32> {
+        self.level_of(self.taylor[depth], case)
+    }
+
+    fn level_of(&self, (patch, all): (f64, f64), case: &Case) -> Option<u32> {
         (1..=case.n_max).find(|&n| {
             let l = f64::from(pattern_level(n, n));
-            let bound = looseness * if n == 1 { self.patch } else { self.all / (l * l) };
+            let bound = if n == 1 { patch } else { all / (l * l) };
             bound.min(self.osc) <= f64::from(case.epsilon)
         })
     }
@@ -888,31 +902,52 @@ impl MeasuredSupremum {
 fn measured_supremum(case: &Case) -> MeasuredSupremum {
     use multirate::analysis::oracle::shade_at;
     let f = |s: f64, t: f64| shade_at(&case.tri, &case.material, &case.lights, [1.0 - s - t, s, t]);
-    let (grid, h) = (24, 0.01);
-    let mut hessians: Vec<[[f64; 3]; 3]> = Vec::new();
+    let h = 0.01;
+    // Per channel `[∂ss, ∂tt, ∂st]` at `(s, t)`, and the value there.
+    let hessian = |s: f64, t: f64| {
+        let c = f(s, t);
+        let along = |ds: f64, dt: f64| {
+            let (p, m) = (f(s + ds, t + dt), f(s - ds, t - dt));
+            [0, 1, 2].map(|k| (p[k] - 2.0 * c[k] + m[k]) / (h * h))
+        };
+        let (ss, tt, dd) = (along(h, 0.0), along(0.0, h), along(h, h));
+        ([0, 1, 2].map(|k| [ss[k], tt[k], 0.5 * (dd[k] - ss[k] - tt[k])]), c)
+    };
+    let form = |hk: &[f64; 3], d: (f64, f64)| {
+        (hk[0] * d.0 * d.0 + hk[1] * d.1 * d.1 + 2.0 * hk[2] * d.0 * d.1).abs()
+    };
+    let grid = 24;
+    let mut points: Vec<GridHessian> = Vec::new();
     let (mut lo, mut hi) = ([f64::MAX; 3], [f64::MIN; 3]);
     for i in 0..=grid {
         for j in 0..=(grid - i) {
-            let (s, t) = (f64::from(i) / f64::from(grid), f64::from(j) / f64::from(grid));
-            let c = f(s, t);
-            let along = |ds: f64, dt: f64| {
-                let (p, m) = (f(s + ds, t + dt), f(s - ds, t - dt));
-                [0, 1, 2].map(|k| (p[k] - 2.0 * c[k] + m[k]) / (h * h))
-            };
-            let (ss, tt, dd) = (along(h, 0.0), along(0.0, h), along(h, h));
+            let (hk, c) = hessian(i as f64 / grid as f64, j as f64 / grid as f64);
             for k in 0..3 {
                 lo[k] = lo[k].min(c[k]);
                 hi[k] = hi[k].max(c[k]);
             }
-            hessians.push([0, 1, 2].map(|k| [ss[k], tt[k], 0.5 * (dd[k] - ss[k] - tt[k])]));
+            points.push(((i, j), hk));
         }
     }
-    let sup = |d: (f64, f64), k: usize| {
-        hessians
-            .iter()
-            .map(|hk| (hk[k][0] * d.0 * d.0 + hk[k][1] * d.1 * d.1 + 2.0 * hk[k][2] * d.0 * d.1).abs())
-            .fold(0.0, f64::max)
-    };
+    let sup = |d: (f64, f64), k: usize| points.iter().map(|(_, hk)| form(&hk[k], d)).fold(0.0, f64::max);
+    let (patch, all) = equation_one(sup);
+    let taylor = [0, 1, 2].map(|depth| {
+        let children = taylor_children(depth, &points, grid, &hessian);
+        equation_one(|d: (f64, f64), k: usize| {
+            let length2 = d.0 * d.0 + d.1 * d.1;
+            children
+                .iter()
+                .map(|c| form(&c.centre[k], d) + c.radius * c.third[k] * length2)
+                .fold(0.0, f64::max)
+        })
+    });
+    let osc = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
+    MeasuredSupremum { patch, all, osc, taylor }
+}
+
+/// Equation (1)'s coefficient from `sup(d, channel) ≥ sup_y |D²f(y)[d, d]|` (`d` in the patch's
+/// `(s, t)` coordinates): on the patch alone (level 1) and over every shape (levels ≥ 2).
+fn equation_one(sup: impl Fn((f64, f64), usize) -> f64) -> (f64, f64) {
     let (mut all, mut patch) = (0.0f64, 0.0f64);
     for (index, shape) in SHAPES.iter().enumerate() {
         let widen = |(s, t): (f32, f32)| (f64::from(s), f64::from(t));
@@ -938,8 +973,85 @@ fn measured_supremum(case: &Case) -> MeasuredSupremum {
             }
         }
     }
-    let osc = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
-    MeasuredSupremum { patch, all, osc }
+    (patch, all)
+}
+
+/// A point `(i, j)` of the 24-per-edge grid and, per channel, `[∂ss, ∂tt, ∂st]` there.
+type GridHessian = ((usize, usize), [[f64; 3]; 3]);
+
+/// One child of the patch for [`MeasuredSupremum::taylor`]: the Hessian at its centroid, its
+/// radius about it, and per channel the measured `sup |D³f[e, u, u]|` over it (unit `e`, `u`).
+struct TaylorChild {
+    centre: [[f64; 3]; 3],
+    radius: f64,
+    third: [f64; 3],
+}
+
+/// The `4^depth` midpoint children of the patch in `(s, t)`, with the third derivative measured
+/// from the differences of the grid's Hessians between neighbours in (or on) each child.
+fn taylor_children(
+    depth: u32,
+    points: &[GridHessian],
+    grid: usize,
+    hessian: &impl Fn(f64, f64) -> ([[f64; 3]; 3], [f64; 3]),
+) -> Vec<TaylorChild> {
+    let mut children = vec![[(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)]];
+    for _ in 0..depth {
+        children = children
+            .iter()
+            .flat_map(|&[a, b, c]: &[(f64, f64); 3]| {
+                let mid = |p: (f64, f64), q: (f64, f64)| ((p.0 + q.0) / 2.0, (p.1 + q.1) / 2.0);
+                let (ab, bc, ca) = (mid(a, b), mid(b, c), mid(c, a));
+                [[a, ab, ca], [ab, b, bc], [ca, bc, c], [bc, ca, ab]]
+            })
+            .collect();
+    }
+    let at = |(i, j): (usize, usize)| (i as f64 / grid as f64, j as f64 / grid as f64);
+    let index: std::collections::HashMap<(usize, usize), usize> =
+        points.iter().enumerate().map(|(n, (ij, _))| (*ij, n)).collect();
+    let directions: Vec<(f64, f64)> = (0..12)
+        .map(|m| (std::f64::consts::PI * f64::from(m) / 12.0).sin_cos())
+        .map(|(y, x)| (x, y))
+        .collect();
+    children
+        .iter()
+        .map(|&[a, b, c]| {
+            let inside = |p: (f64, f64)| {
+                let cross =
+                    |o: (f64, f64), q: (f64, f64)| (q.0 - o.0) * (p.1 - o.1) - (q.1 - o.1) * (p.0 - o.0);
+                let signs = [cross(a, b), cross(b, c), cross(c, a)];
+                signs.iter().all(|&x| x >= -1e-9) || signs.iter().all(|&x| x <= 1e-9)
+            };
+            let centroid = ((a.0 + b.0 + c.0) / 3.0, (a.1 + b.1 + c.1) / 3.0);
+            let radius = [a, b, c]
+                .iter()
+                .map(|p| ((p.0 - centroid.0).powi(2) + (p.1 - centroid.1).powi(2)).sqrt())
+                .fold(0.0, f64::max);
+            let mut third = [0.0f64; 3];
+            for ((i, j), h1) in points {
+                if !inside(at((*i, *j))) {
+                    continue;
+                }
+                for (di, dj) in [(1, 0), (0, 1), (1, 1)] {
+                    let Some(&n) = index.get(&(i + di, j + dj)) else { continue };
+                    let (other, h2) = &points[n];
+                    if !inside(at(*other)) {
+                        continue;
+                    }
+                    let step = (((di * di + dj * dj) as f64).sqrt()) / grid as f64;
+                    for k in 0..3 {
+                        for &u in &directions {
+                            let diff = [h1[k][0] - h2[k][0], h1[k][1] - h2[k][1], h1[k][2] - h2[k][2]];
+                            let value =
+                                (diff[0] * u.0 * u.0 + diff[1] * u.1 * u.1 + 2.0 * diff[2] * u.0 * u.1).abs();
+                            third[k] = third[k].max(value / step);
+                        }
+                    }
+                }
+            }
+            TaylorChild { centre: hessian(centroid.0, centroid.1).0, radius, third }
+        })
+        .collect()
 }
 
 /// The midpoint subdivision of a patch: four children, the attributes affine as in the patch.
@@ -982,7 +1094,9 @@ fn worst_level(tris: &[TriangleInput], case: &Case, settings: &EstimatorSettings
 ///   for a level above 2 (level `2ᵈ·max` of theirs, a prototype: a child's range bounds do not
 ///   hold for sub-triangles across children, so it is not a bound); the estimator; bounds
 ///   [`LOOSENESS`] times the measured supremum (how tight a bound must be for a given ratio),
-///   and the estimator's own bound over the measured supremum, triangle by triangle;
+///   a Taylor model exact at a point with a measured remainder on 1, 4 and 16 children
+///   ([`MeasuredSupremum::taylor`]), and the estimator's own bound over the measured
+///   supremum, triangle by triangle;
 /// - Relaxed, the same prototype on 4, 16 and 64 children of every triangle whose level is
 ///   above 2, the triangles the estimator sends per pixel for their level included: how far
 ///   bounds on sub-triangles (issue item 3) could go at most with the present jets.
@@ -1009,6 +1123,7 @@ fn where_the_excess_lies() {
         let mut relaxed_children = [0u64; 3];
         let mut sup_violations = 0;
         let mut loose = [0u64; LOOSENESS.len()];
+        let mut taylor = [0u64; 3];
         let mut looseness: Vec<f64> = Vec::new();
         let mut deciding: std::collections::BTreeMap<&str, u64> = std::collections::BTreeMap::new();
         // The Relaxed excess by the oracle's level (up to 1, 4, 8, n_max) and by whether the
@@ -1078,6 +1193,9 @@ fn where_the_excess_lies() {
             for (out, &k) in loose.iter_mut().zip(&LOOSENESS) {
                 *out += count(measured.level(&case, k));
             }
+            for (depth, out) in taylor.iter_mut().enumerate() {
+                *out += count(measured.taylor_level(&case, depth));
+            }
             // The estimator's second-order bound against the measured supremum, where both
             // ask for a level above 1 from the interpolation bound (not the range).
             let real = measured.real_level(&case);
@@ -1132,8 +1250,11 @@ fn where_the_excess_lies() {
             LOOSENESS.iter().zip(&loose).map(|(k, &e)| format!("x{k}: x{:.2}", x(e, smooth[0]))).collect();
         let _ = writeln!(
             text,
-            "   smooth: a bound k times the measured supremum, {}; the estimator's bound over the measured supremum (level ratio squared, {} triangles): {}",
+            "   smooth: a bound k times the measured supremum, {}; a Taylor model on 1, 4, 16 children with a measured remainder: x{:.2}, x{:.2}, x{:.2}; the estimator's bound over the measured supremum (level ratio squared, {} triangles): {}",
             scaled.join(", "),
+            x(taylor[0], smooth[0]),
+            x(taylor[1], smooth[0]),
+            x(taylor[2], smooth[0]),
             looseness.len(),
             quartiles(&mut looseness),
         );
