@@ -20,6 +20,25 @@ pub enum Error {
     ValidationLayerMissing,
     #[error("GPU memory allocation for {what} failed: {source}")]
     Allocation { what: String, source: gpu_allocator::AllocationError },
+    /// A buffer or image whose memory could not be had: the resource, the bytes it needs and
+    /// the heap it would come from.
+    #[error(
+        "GPU memory for {what} ({} MiB) cannot be allocated: {reason}; the device's {heap} heap \
+         holds {} MiB",
+        mib(*.size),
+        mib(*.heap_size)
+    )]
+    ResourceMemory { what: String, size: u64, heap: &'static str, heap_size: u64, reason: String },
+    /// An image larger than the device allows along a side.
+    #[error(
+        "{what} is {width}×{height} texels, more than the device's maxImageDimension2D ({max}) \
+         along a side"
+    )]
+    ImageTooLarge { what: String, width: u32, height: u32, max: u32 },
+    /// A scene that does not fit the device or the shaders, found before anything was created
+    /// on the GPU (`render::limits`).
+    #[error("{}: {what}: more than {limit} allows", scene.display())]
+    SceneLimit { scene: PathBuf, what: String, limit: String },
     #[error(transparent)]
     Scene(#[from] crate::scene::SceneError),
     #[error("{}: {message}", path.display())]
@@ -34,6 +53,11 @@ pub enum Error {
          so multirate cannot bound its error on it; the pixel, vertex and fixed:N modes still work"
     )]
     Patterns { device: String, inner: f32, outer: [f32; 3] },
+}
+
+/// `bytes` in MiB with one decimal, for messages.
+pub fn mib(bytes: u64) -> String {
+    format!("{:.1}", bytes as f64 / (1024.0 * 1024.0))
 }
 
 /// Shorthand for results of this crate.

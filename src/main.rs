@@ -11,6 +11,9 @@ use multirate::vk::target::RenderTarget;
 use multirate::vk::{Context, ContextOptions};
 use std::path::{Path, PathBuf};
 
+#[path = "cli/soak.rs"]
+mod soak;
+
 /// Error-bounded multirate shading on the hardware tessellator.
 ///
 /// Without a subcommand: opens a window on the default scene in multirate mode where a display
@@ -40,6 +43,37 @@ enum Command {
     /// The paper's experiments (Table 1, Figs. 2, 6, 9, 10, 11, the ε sweep): writes
     /// DOCS/results.md and its tables, CSVs and plots into DOCS/results.
     Experiments(ExperimentArgs),
+    /// A long run with the validation layer on: the window on a script that cycles through
+    /// every mode, key and size, minimised spells included (--bench: a bench of one scene at
+    /// one resolution instead). Prints resident and device memory after the warm-up and at
+    /// the end; fails on any validation message or a growth over --max-growth.
+    Soak(SoakArgs),
+}
+
+#[derive(Args)]
+struct SoakArgs {
+    /// Scene file (TOML), or an OBJ model with its MTL materials (camera and lights added).
+    #[arg(long, default_value_os_t = default_scene())]
+    scene: PathBuf,
+    /// Frames presented by the window; with --bench, measured frames per configuration.
+    #[arg(long, default_value_t = 10_000)]
+    frames: u32,
+    /// The window's initial size, or with --bench the resolution, as WxH (default: the
+    /// scene's).
+    #[arg(long, value_parser = parse_resolution)]
+    size: Option<(u32, u32)>,
+    /// Soak `bench` (the pixel reference and --modes, timed in turns) instead of the window.
+    #[arg(long)]
+    bench: bool,
+    /// --bench: the modes measured besides the pixel reference.
+    #[arg(long, value_delimiter = ',', default_value = "pixel,vertex,fixed:1,fixed:2,fixed:4,multirate")]
+    modes: Vec<Mode>,
+    /// The largest growth of each memory figure from the first sample to the last, in percent.
+    #[arg(long, default_value_t = 1.0)]
+    max_growth: f64,
+    /// Also write the figures as JSON into this file.
+    #[arg(long)]
+    json: Option<PathBuf>,
 }
 
 #[derive(Args)]
@@ -609,6 +643,9 @@ fn main() -> Result<()> {
         Some(Command::Analyze(args)) => analyze(args, &cli.gpu),
         Some(Command::Bench(args)) => run_bench(args, &cli.gpu),
         Some(Command::Experiments(args)) => run_experiments(args, &cli.gpu),
+        Some(Command::Soak(args)) => {
+            soak::soak(args, &cli.gpu).with_context(|| format!("soaking {}", args.scene.display()))
+        }
         Some(Command::View(args)) => view(&args.scene, &args.shading, &cli.gpu)
             .with_context(|| format!("viewing {}", args.scene.display())),
         None if has_display() => {

@@ -1,22 +1,30 @@
 //! The interactive viewer: a winit window whose frames are rendered into the float target by
 //! the same passes as headless rendering, then tone mapped into the swapchain.
 //! Drag with the left button to orbit, scroll to zoom, Esc to quit. Keys pick the mode: P
-//! pixel, V vertex, F fixed:N, M multirate, + and - change N; H toggles the tessellation-level
-//! heat map, W the wireframe; [ and ] halve and double ε. The title shows the mode (with ε and
-//! n_max in multirate), the GPU time of the render from timestamps, and the shading
-//! evaluations as a share of `pixel` mode's (counted at most every `RECOUNT_EVERY`, and when
-//! the mode or ε changes). A `ViewScript` drives the same loop without a person, for tests.
+//! pixel, D pixel-deferred, V vertex, F fixed:N, M multirate, + and - change N; E moves
+//! multirate's estimator between the control stage and the compute pre-pass; [ and ] halve
+//! and double ε, < and > halve and double n_max; H toggles the tessellation-level heat map, W
+//! the wireframe. The title shows the mode (with ε and n_max in multirate), the GPU time of
+//! the render from timestamps, and the shading evaluations as a share of `pixel` mode's
+//! (counted at most every `RECOUNT_EVERY`, and when the mode or ε changes). A zero-sized
+//! (minimised) window draws nothing and keeps its swapchain until it is restored.
+//!
+//! A [`ViewScript`] drives the same loop without a person: key presses, resizes, minimising
+//! and memory samples at given turns of the loop. [`ViewScript::soak`] builds the long one
+//! that `multirate soak` runs and tests/window.rs checks.
 
 use crate::error::{Error, Result, VkContext as _};
 use crate::render::camera::Orbit;
 use crate::render::present::PresentPass;
 use crate::render::{Estimator, Mode, Renderer, View, MAX_LEVEL};
 use crate::scene::Scene;
+use crate::vk::budget::MemoryUse;
 use crate::vk::swapchain::{Acquired, Swapchain};
 use crate::vk::target::{AfterPass, RenderTarget};
 use crate::vk::timing::GpuTimer;
 use crate::vk::{Context, ContextOptions};
 use ash::vk;
+use std::collections::{BTreeMap, BTreeSet};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 use winit::application::ApplicationHandler;
@@ -26,20 +34,152 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{Key, NamedKey};
 use winit::window::{Window, WindowId};
 
-/// Scripted actions for automated runs: key presses and a resize at given frames, and the
-/// frame to close at.
-#[derive(Clone, Debug)]
+/// One scripted action.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ScriptEvent {
+    /// A key press, by the text it types ("p", "+", "[", "<", ...).
+    Key(&'static str),
+    /// Asks the window system for this inner size (X servers refuse a zero side: minimise
+    /// instead).
+    Resize(u32, u32),
+    /// Minimises the window (where a window manager does so) and hands the viewer the
+    /// zero-sized `Resized` event a minimised window gets on other systems: X servers keep an
+    /// iconified window's size and refuse a zero-sized one, and Xvfb has no window manager.
+    Minimise,
+    /// Restores the window, and hands the viewer `Resized` with the window's size.
+    Restore,
+    /// Takes the memory figures ([`MemoryUse`]) into [`ViewReport::memory`].
+    SampleMemory,
+}
+
+impl ScriptEvent {
+    /// A short name for counting: "key p", "resize", "minimise", "restore", "sample memory".
+    fn kind(&self) -> String {
+        match self {
+            ScriptEvent::Key(key) => format!("key {key}"),
+            ScriptEvent::Resize(..) => "resize".into(),
+            ScriptEvent::Minimise => "minimise".into(),
+            ScriptEvent::Restore => "restore".into(),
+            ScriptEvent::SampleMemory => "sample memory".into(),
+        }
+    }
+}
+
+/// Scripted actions for automated runs, at turns of the loop (one per redraw, whether it
+/// presents a frame or not, so that a minimised window's turns count too), and the frame to
+/// close at.
+#[derive(Clone, Debug, Default)]
 pub struct ViewScript {
-    pub keys: Vec<(u32, &'static str)>,
-    pub resize_at_frame: u32,
-    pub resize_to: (u32, u32),
+    /// (turn, event), in turn order; events of one turn run in list order after its redraw.
+    pub events: Vec<(u32, ScriptEvent)>,
+    /// The window closes once this many frames were presented.
     pub close_at_frame: u32,
+}
+
+/// The keys one soak cycle presses, in order, one every [`SOAK_STEP`] turns, with the window
+/// events between them: every mode, N up and down, ε and n_max halved and doubled, the
+/// estimator both ways, the heat map and the wireframe on and off, three sizes and a
+/// minimised spell. A cycle ends in the state it started in (once n_max is off its clamp).
+const SOAK_CYCLE: &[SoakStep] = &[
+    SoakStep::Key("p"),
+    SoakStep::Key("d"),
+    SoakStep::Key("v"),
+    SoakStep::Key("f"),
+    SoakStep::Key("+"),
+    SoakStep::Key("-"),
+    SoakStep::Key("-"),
+    SoakStep::Key("+"),
+    SoakStep::Key("m"),
+    SoakStep::Key("["),
+    SoakStep::Key("]"),
+    SoakStep::Key("]"),
+    SoakStep::Key("["),
+    SoakStep::Key("<"),
+    SoakStep::Key(">"),
+    SoakStep::Key(">"),
+    SoakStep::Key("<"),
+    SoakStep::Key("e"),
+    SoakStep::Key("h"),
+    SoakStep::Key("w"),
+    SoakStep::Larger,
+    SoakStep::Key("d"),
+    SoakStep::Key("m"),
+    SoakStep::Key("h"),
+    SoakStep::Key("w"),
+    SoakStep::Key("e"),
+    SoakStep::Smallest,
+    SoakStep::Key("f"),
+    SoakStep::Key("m"),
+    SoakStep::Initial,
+    SoakStep::Minimise,
+    SoakStep::Restore,
+];
+
+/// Turns between two steps of a soak cycle.
+pub const SOAK_STEP: u32 = 4;
+
+/// A step of [`SOAK_CYCLE`].
+#[derive(Clone, Copy)]
+enum SoakStep {
+    Key(&'static str),
+    /// The initial size × 3/2.
+    Larger,
+    /// 1 × 1.
+    Smallest,
+    Initial,
+    Minimise,
+    Restore,
+}
+
+impl ViewScript {
+    /// A soak of at least `frames` presented frames in a window of `size`: `SOAK_CYCLE`
+    /// repeated. The first cycle warms up (it builds every pipeline on first use and fills the
+    /// caches); memory is sampled at the end of each cycle, so that the first sample follows
+    /// a visit to every mode and all samples are taken in the same state.
+    pub fn soak(frames: u32, size: (u32, u32)) -> ViewScript {
+        let cycle_turns = SOAK_CYCLE.len() as u32 * SOAK_STEP;
+        let minimised_turns = SOAK_STEP; // from Minimise to Restore
+        let presented_per_cycle = cycle_turns - minimised_turns;
+        // One cycle to warm up, and one more than needed for the turns a resize may cost (an
+        // out-of-date swapchain skips a frame).
+        let cycles = 2 + frames.div_ceil(presented_per_cycle);
+        let larger = (size.0 + size.0 / 2, size.1 + size.1 / 2);
+        let mut events = Vec::new();
+        for cycle in 0..cycles {
+            let base = cycle * cycle_turns;
+            for (index, step) in SOAK_CYCLE.iter().enumerate() {
+                let event = match *step {
+                    SoakStep::Key(key) => ScriptEvent::Key(key),
+                    SoakStep::Larger => ScriptEvent::Resize(larger.0, larger.1),
+                    SoakStep::Smallest => ScriptEvent::Resize(1, 1),
+                    SoakStep::Initial => ScriptEvent::Resize(size.0, size.1),
+                    SoakStep::Minimise => ScriptEvent::Minimise,
+                    SoakStep::Restore => ScriptEvent::Restore,
+                };
+                events.push((base + index as u32 * SOAK_STEP, event));
+            }
+            events.push((base + cycle_turns - 1, ScriptEvent::SampleMemory));
+        }
+        ViewScript { events, close_at_frame: frames }
+    }
+}
+
+/// Memory figures taken during a run.
+#[derive(Clone, Copy, Debug)]
+pub struct MemorySample {
+    /// Frames presented when it was taken.
+    pub frame: u32,
+    pub memory: MemoryUse,
 }
 
 /// What a viewer session did.
 #[derive(Clone, Debug, Default)]
 pub struct ViewReport {
     pub frames_presented: u32,
+    /// Turns of the loop (redraws), presented or not.
+    pub turns: u32,
+    /// Turns that drew nothing because the window was zero-sized (minimised).
+    pub turns_minimised: u32,
     /// The view when the window closed.
     pub final_view: Option<View>,
     pub swapchain_recreations: u32,
@@ -47,6 +187,23 @@ pub struct ViewReport {
     pub validation_messages: usize,
     /// The window title when it closed.
     pub final_title: String,
+    /// Presented frames by mode ("pixel", "fixed:4", "multirate (tcs)", ...).
+    pub frames_by_mode: BTreeMap<String, u32>,
+    /// Presented frames with the heat map, and with the wireframe, on.
+    pub heat_map_frames: u32,
+    pub wireframe_frames: u32,
+    /// The n_max values multirate frames were presented with.
+    pub n_max_values: BTreeSet<u32>,
+    /// The smallest and largest ε multirate frames were presented with.
+    pub epsilon_range: Option<(f32, f32)>,
+    /// Scripted events run, by kind ("key p", "resize", "minimise", ...).
+    pub events: BTreeMap<String, u32>,
+    /// Memory figures, one per [`ScriptEvent::SampleMemory`].
+    pub memory: Vec<MemorySample>,
+    /// From the window's creation to its close.
+    pub duration: Duration,
+    /// The Vulkan device's name.
+    pub device: String,
 }
 
 /// How often the viewer counts shading evaluations while the view only moves.
@@ -68,6 +225,7 @@ pub fn view(
         scene,
         options: options.clone(),
         script,
+        next_event: 0,
         state: None,
         report: ViewReport::default(),
         error: None,
@@ -75,6 +233,7 @@ pub fn view(
         fixed_level: if let Mode::Fixed(level) = mode { level } else { 4 },
         gpu_ms: None,
         share: None,
+        started: Instant::now(),
     };
     event_loop.run_app(&mut app).map_err(|e| Error::Window(format!("event loop: {e}")))?;
     if let Some(error) = app.error {
@@ -108,6 +267,8 @@ struct WindowState {
     target: RenderTarget,
     renderer: Renderer,
     swapchain: Swapchain,
+    /// The window's size as the last `Resized` event gave it (zero when minimised).
+    size: PhysicalSize<u32>,
     needs_recreate: bool,
     context: Arc<Context>,
     window: Arc<Window>,
@@ -168,6 +329,8 @@ struct App {
     orbit: Orbit,
     options: ContextOptions,
     script: Option<ViewScript>,
+    /// The first event of `script` not run yet.
+    next_event: usize,
     state: Option<WindowState>,
     report: ViewReport,
     error: Option<Error>,
@@ -178,6 +341,8 @@ struct App {
     gpu_ms: Option<f64>,
     /// The last evaluation count: when, for which view, and its share of `pixel` mode's.
     share: Option<EvaluationShare>,
+    /// When the window was created.
+    started: Instant,
 }
 
 /// Shading evaluations of a view as a share of `pixel` mode's at the same camera.
@@ -220,6 +385,7 @@ impl App {
             target,
             renderer,
             swapchain,
+            size: window.inner_size(),
             needs_recreate: false,
             context,
             window,
@@ -229,11 +395,14 @@ impl App {
     /// Renders and presents one frame; returns whether an image was presented.
     fn draw_frame(&mut self) -> Result<bool> {
         let Some(state) = self.state.as_mut() else { return Ok(false) };
-        let size = extent_of(state.window.inner_size());
+        let size = extent_of(state.size);
         if size.width == 0 || size.height == 0 {
-            return Ok(false); // minimised: nothing to draw into
+            // Minimised: nothing to draw into, and the swapchain stays as it is until the
+            // window is restored.
+            self.report.turns_minimised += 1;
+            return Ok(false);
         }
-        if state.needs_recreate || state.swapchain.images.is_empty() || size != state.swapchain.extent {
+        if state.needs_recreate || state.swapchain.images.is_empty() {
             if !state.swapchain.recreate(size)? {
                 return Ok(false);
             }
@@ -264,7 +433,11 @@ impl App {
             self.share = Some(EvaluationShare { at: Instant::now(), view: view.clone(), percent });
         }
         let index = match state.swapchain.acquire(frame.image_available)? {
-            Acquired::Image(index) => index,
+            Acquired::Image { index, suboptimal } => {
+                // Drawn and presented all the same: the acquire semaphore is signalled.
+                state.needs_recreate |= suboptimal;
+                index
+            }
             Acquired::OutOfDate => {
                 state.needs_recreate = true;
                 return Ok(false);
@@ -334,29 +507,88 @@ impl App {
         }
     }
 
+    /// Runs the script's events due by the current turn, and closes the window once enough
+    /// frames were presented.
     fn run_script(&mut self, event_loop: &ActiveEventLoop) {
-        let frames = self.report.frames_presented;
-        let keys: Vec<&'static str> = self
-            .script
+        let Some(script) = &self.script else { return };
+        let due: Vec<ScriptEvent> = script.events[self.next_event..]
             .iter()
-            .flat_map(|script| script.keys.iter().filter(|(at, _)| *at == frames).map(|(_, key)| *key))
+            .take_while(|(turn, _)| *turn <= self.report.turns)
+            .map(|(_, event)| *event)
             .collect();
-        for key in keys {
-            self.on_key(key);
+        if self.report.frames_presented >= script.close_at_frame {
+            return event_loop.exit();
         }
-        let (Some(script), Some(state)) = (&self.script, &self.state) else { return };
-        if frames == script.resize_at_frame {
-            let _ =
-                state.window.request_inner_size(PhysicalSize::new(script.resize_to.0, script.resize_to.1));
+        self.next_event += due.len();
+        for event in due {
+            *self.report.events.entry(event.kind()).or_default() += 1;
+            self.run_event(event);
         }
-        if frames >= script.close_at_frame {
-            event_loop.exit();
+    }
+
+    fn run_event(&mut self, event: ScriptEvent) {
+        match event {
+            ScriptEvent::Key(key) => self.on_key(key),
+            ScriptEvent::Resize(width, height) => {
+                if let Some(state) = &self.state {
+                    let _ = state.window.request_inner_size(PhysicalSize::new(width, height));
+                }
+            }
+            ScriptEvent::Minimise => {
+                if let Some(state) = &self.state {
+                    state.window.set_minimized(true);
+                }
+                self.on_resized(PhysicalSize::new(0, 0));
+            }
+            ScriptEvent::Restore => {
+                let Some(state) = &self.state else { return };
+                state.window.set_minimized(false);
+                let size = state.window.inner_size();
+                self.on_resized(size);
+            }
+            ScriptEvent::SampleMemory => {
+                if let Some(state) = &self.state {
+                    let memory = MemoryUse::now(&state.context);
+                    self.report.memory.push(MemorySample { frame: self.report.frames_presented, memory });
+                }
+            }
+        }
+    }
+
+    fn on_resized(&mut self, size: PhysicalSize<u32>) {
+        if let Some(state) = self.state.as_mut() {
+            state.size = size;
+            state.needs_recreate = true;
+        }
+    }
+
+    /// Counts a presented frame in the report.
+    fn count_frame(&mut self) {
+        let report = &mut self.report;
+        report.frames_presented += 1;
+        if let Some(state) = &self.state {
+            let extent = state.swapchain.extent;
+            report.final_extent = (extent.width, extent.height);
+        }
+        let view = &self.view;
+        let mode = match view.mode {
+            Mode::Multirate => format!("{} ({})", view.mode, view.estimator),
+            mode => mode.to_string(),
+        };
+        *report.frames_by_mode.entry(mode).or_default() += 1;
+        report.heat_map_frames += u32::from(view.heat_map);
+        report.wireframe_frames += u32::from(view.wireframe);
+        if view.mode == Mode::Multirate {
+            report.n_max_values.insert(view.n_max);
+            let (low, high) = report.epsilon_range.unwrap_or((view.epsilon, view.epsilon));
+            report.epsilon_range = Some((low.min(view.epsilon), high.max(view.epsilon)));
         }
     }
 
     /// Mode keys: P pixel, D pixel-deferred, V vertex, F fixed:N, M multirate, + / - change N
-    /// (and switch to fixed:N); [ / ] halve / double multirate's ε (within 10⁻⁴ to 10); E moves
-    /// multirate's estimator between the control stage and the compute pre-pass.
+    /// (and switch to fixed:N); [ / ] halve / double multirate's ε (within 10⁻⁴ to 10); < / >
+    /// (or , / .) halve / double its n_max (within 1 to `MAX_LEVEL`); E moves multirate's
+    /// estimator between the control stage and the compute pre-pass.
     fn on_key(&mut self, text: &str) {
         let level = match self.view.mode {
             Mode::Fixed(level) => level,
@@ -375,6 +607,14 @@ impl App {
             "[" | "]" => {
                 let factor = if text == "[" { 0.5 } else { 2.0 };
                 self.view.epsilon = (self.view.epsilon * factor).clamp(1.0e-4, 10.0);
+                return;
+            }
+            "<" | "," => {
+                self.view.n_max = (self.view.n_max / 2).max(1);
+                return;
+            }
+            ">" | "." => {
+                self.view.n_max = (self.view.n_max * 2).min(MAX_LEVEL);
                 return;
             }
             "e" => {
@@ -418,6 +658,7 @@ impl ApplicationHandler for App {
             Ok(state) => {
                 state.window.request_redraw();
                 self.state = Some(state);
+                self.started = Instant::now();
             }
             Err(error) => self.fail(event_loop, error),
         }
@@ -433,11 +674,7 @@ impl ApplicationHandler for App {
                     _ => {}
                 }
             }
-            WindowEvent::Resized(_) => {
-                if let Some(state) = self.state.as_mut() {
-                    state.needs_recreate = true;
-                }
-            }
+            WindowEvent::Resized(size) => self.on_resized(size),
             WindowEvent::MouseInput { state: pressed, button: MouseButton::Left, .. } => {
                 self.drag = (pressed == ElementState::Pressed).then_some((f64::NAN, f64::NAN));
             }
@@ -459,17 +696,14 @@ impl ApplicationHandler for App {
             WindowEvent::RedrawRequested => {
                 match self.draw_frame() {
                     Ok(true) => {
-                        self.report.frames_presented += 1;
-                        if let Some(state) = &self.state {
-                            let extent = state.swapchain.extent;
-                            self.report.final_extent = (extent.width, extent.height);
-                        }
+                        self.count_frame();
                         self.update_title();
-                        self.run_script(event_loop);
                     }
                     Ok(false) => {}
                     Err(error) => return self.fail(event_loop, error),
                 }
+                self.report.turns += 1;
+                self.run_script(event_loop);
                 if let Some(state) = &self.state {
                     state.window.request_redraw();
                 }
@@ -486,8 +720,10 @@ impl ApplicationHandler for App {
 
     fn exiting(&mut self, _event_loop: &ActiveEventLoop) {
         self.report.final_view = Some(self.view.clone());
+        self.report.duration = self.started.elapsed();
         if let Some(state) = &self.state {
             self.report.validation_messages = state.context.validation().count();
+            self.report.device = state.context.info.name.clone();
         }
     }
 }
@@ -515,4 +751,33 @@ fn evaluation_percent(renderer: &Renderer, target: &RenderTarget, view: &View) -
     let pixel = View { mode: Mode::Pixel, ..shaded.clone() };
     let (Some(counts), Some(reference)) = (count(&shaded)?, count(&pixel)?) else { return Ok(None) };
     Ok(Some(100.0 * counts.total() as f64 / reference.total().max(1) as f64))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_soak_script_cycles_every_key_size_and_minimised_spell() {
+        let script = ViewScript::soak(10_000, (64, 48));
+        assert_eq!(script.close_at_frame, 10_000);
+        assert!(script.events.windows(2).all(|pair| pair[0].0 <= pair[1].0), "in turn order");
+        let count = |wanted: ScriptEvent| script.events.iter().filter(|(_, e)| *e == wanted).count();
+        let cycles = count(ScriptEvent::SampleMemory);
+        let presented_per_cycle = (SOAK_CYCLE.len() - 1) * SOAK_STEP as usize;
+        assert!((cycles - 2) * presented_per_cycle >= 10_000, "enough cycles: {cycles}");
+        for key in ["p", "d", "v", "f", "m", "e", "h", "w", "+", "-", "[", "]", "<", ">"] {
+            assert!(count(ScriptEvent::Key(key)) >= cycles, "{key}");
+        }
+        assert_eq!(count(ScriptEvent::Resize(96, 72)), cycles);
+        assert_eq!(count(ScriptEvent::Resize(1, 1)), cycles);
+        assert_eq!(count(ScriptEvent::Resize(64, 48)), cycles);
+        assert_eq!(count(ScriptEvent::Minimise), cycles);
+        // Each minimised spell ends in a restore before anything else happens.
+        for (index, (turn, event)) in script.events.iter().enumerate() {
+            if *event == ScriptEvent::Minimise {
+                assert_eq!(script.events[index + 1], (turn + SOAK_STEP, ScriptEvent::Restore));
+            }
+        }
+    }
 }

@@ -1,9 +1,22 @@
 //! The `multirate` binary end to end: a successful render with validation, and bad inputs
-//! that must fail with a message naming the file and the problem, never a panic.
+//! that must fail with a message naming the file and the problem, never a panic. Also, through
+//! the library (lavapipe, validation layer on and silent): scenes over a device limit, and
+//! allocations over a heap, refused with an error naming the scene or resource and the limit
+//! before Vulkan sees them.
 
 mod common;
 
-use common::repo_path;
+use ash::vk;
+use common::{assert_validation_clean, repo_path, validated_context};
+use gpu_allocator::MemoryLocation;
+use multirate::error::mib;
+use multirate::render::limits::SceneSizes;
+use multirate::render::Renderer;
+use multirate::scene::Scene;
+use multirate::vk::context::DeviceLimits;
+use multirate::vk::memory::{Buffer, Image};
+use multirate::vk::Context;
+use multirate::Error;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -241,4 +254,128 @@ fn first_run_shows_multirate_and_the_trade() {
         let bytes = std::fs::metadata(dir.join(image)).map(|m| m.len()).unwrap_or(0);
         assert!(bytes > 1000, "{image}: {bytes} bytes");
     }
+}
+
+/// Every device limit `render::limits` checks, lowered below what a shipped scene needs: the
+/// renderer refuses the scene, naming its file and the limit, before creating anything.
+#[test]
+fn scenes_over_a_device_limit_are_refused_before_the_gpu_sees_them() {
+    let context = validated_context();
+    let real = context.limits;
+    let bunny = Scene::load(&repo_path("scenes/bunny.toml")).expect("load the bunny");
+    let spots = Scene::load(&repo_path("scenes/bunny_spots.toml")).expect("load the spotted bunny");
+    let needed = SceneSizes::of(&bunny).device_local_bytes();
+    let cases: [(&Scene, DeviceLimits, &[&str]); 5] = [
+        (
+            &bunny,
+            DeviceLimits { max_storage_buffer_range: 1024, ..real },
+            &["the buffer \"scene vertices\"", "maxStorageBufferRange (1024 bytes)"],
+        ),
+        (
+            &bunny,
+            DeviceLimits { max_draw_indexed_index_value: 99, ..real },
+            &["maxDrawIndexedIndexValue (99"],
+        ),
+        (
+            &bunny,
+            DeviceLimits { max_compute_work_group_count_x: 1, ..real },
+            &["maxComputeWorkGroupCount[0] (1)"],
+        ),
+        (
+            &spots,
+            DeviceLimits { max_image_dimension_2d: 16, ..real },
+            &["spots_albedo.png", "maxImageDimension2D (16)"],
+        ),
+        (&bunny, DeviceLimits { device_local_heap: needed - 1, ..real }, &["device-local heap"]),
+    ];
+    for (scene, limits, expected) in cases {
+        let message = match Renderer::with_limits(&context, scene, &limits) {
+            Ok(_) => panic!("{} renders under {limits:?}", scene.path.display()),
+            Err(error @ Error::SceneLimit { .. }) => error.to_string(),
+            Err(other) => panic!("not a limit error: {other}"),
+        };
+        assert!(message.starts_with(&format!("{}: ", scene.path.display())), "{message}");
+        for text in expected {
+            assert!(message.contains(text), "{text:?} missing from: {message}");
+        }
+    }
+    assert_eq!(allocations(&context), [], "a refused scene allocated memory");
+    // Within the device's own limits the scene is accepted, and what it allocates is what
+    // `SceneSizes` counted: each of its buffers (up to the driver's rounding) and textures, and
+    // nothing unaccounted for.
+    let renderer = Renderer::new(&context, &spots).expect("the spotted bunny fits lavapipe");
+    let allocated = allocations(&context);
+    let size_of = |name: &str| {
+        let mut found = allocated.iter().filter(|(n, _)| n == name);
+        let (_, size) = found.next().unwrap_or_else(|| panic!("no allocation named {name:?}"));
+        assert!(found.next().is_none(), "two allocations named {name:?}");
+        *size
+    };
+    let sizes = SceneSizes::of(&spots);
+    for buffer in sizes.buffers() {
+        let size = size_of(buffer.name);
+        assert!((buffer.bytes..buffer.bytes + 256).contains(&size), "{buffer:?}: {size} bytes allocated");
+    }
+    for texture in &sizes.textures {
+        assert!(size_of(&texture.name) >= texture.bytes, "{texture:?}");
+    }
+    let counted: Vec<&str> = sizes
+        .buffers()
+        .iter()
+        .map(|b| b.name)
+        .chain(sizes.textures.iter().map(|t| t.name.as_str()))
+        .chain(["white texture", "evaluation counters"])
+        .collect();
+    for (name, _) in &allocated {
+        assert!(counted.contains(&name.as_str()), "{name:?} is not in SceneSizes");
+    }
+    drop(renderer);
+    assert_validation_clean(&context);
+}
+
+/// Name and size of every live allocation of `context`.
+fn allocations(context: &Context) -> Vec<(String, u64)> {
+    let allocator = context.allocator.lock().expect("allocator lock");
+    allocator.generate_report().allocations.into_iter().map(|a| (a.name, a.size)).collect()
+}
+
+/// A buffer of twice the device-local heap and an image wider than the device allows are
+/// refused with the resource's name, its size and the heap's, and Vulkan never sees them.
+#[test]
+fn resources_over_the_device_limits_name_the_resource_its_size_and_the_heap() {
+    let context = validated_context();
+    let heap = context.limits.device_local_heap;
+    let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
+    let message =
+        match Buffer::new(&context, "oversized test buffer", 2 * heap, usage, MemoryLocation::GpuOnly) {
+            Ok(_) => panic!("a buffer of twice the heap ({heap} bytes) was allocated"),
+            Err(error @ Error::ResourceMemory { .. }) => error.to_string(),
+            Err(other) => panic!("not a memory error: {other}"),
+        };
+    for text in [
+        "oversized test buffer".to_string(),
+        format!("({} MiB)", mib(2 * heap)),
+        "more than the heap holds".to_string(),
+        format!("device-local heap holds {} MiB", mib(heap)),
+    ] {
+        assert!(message.contains(&text), "{text:?} missing from: {message}");
+    }
+    let max = context.limits.max_image_dimension_2d;
+    let extent = vk::Extent2D { width: max + 1, height: 1 };
+    let image = Image::new(
+        &context,
+        "too wide an image",
+        extent,
+        vk::Format::R8G8B8A8_UNORM,
+        vk::ImageUsageFlags::SAMPLED,
+        vk::ImageAspectFlags::COLOR,
+    );
+    let message = match image {
+        Ok(_) => panic!("an image {} texels wide was created", max + 1),
+        Err(error @ Error::ImageTooLarge { .. }) => error.to_string(),
+        Err(other) => panic!("not an image size error: {other}"),
+    };
+    assert!(message.contains("too wide an image"), "{message}");
+    assert!(message.contains(&format!("maxImageDimension2D ({max})")), "{message}");
+    assert_validation_clean(&context);
 }

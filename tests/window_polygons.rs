@@ -8,14 +8,14 @@ use common::VirtualDisplay;
 use multirate::render::{Mode, View};
 use multirate::scene::Scene;
 use multirate::vk::ContextOptions;
-use multirate::window::{view, ViewScript};
+use multirate::window::{view, ScriptEvent, ViewScript};
 
 #[test]
 fn polygon_light_scene_renders_in_the_window() {
     let _display = VirtualDisplay::ensure();
     let scene = Scene::load(&common::repo_path("scenes/plane_polygons.toml")).expect("scene loads");
-    let script =
-        ViewScript { keys: vec![(2, "p")], resize_at_frame: 1, resize_to: (320, 180), close_at_frame: 4 };
+    let events = vec![(1, ScriptEvent::Resize(320, 180)), (2, ScriptEvent::Key("p"))];
+    let script = ViewScript { events, close_at_frame: 4 };
     let start = View { mode: Mode::Multirate, ..View::of_scene(&scene) };
     let report = view(scene, start, &ContextOptions { validate: true, device_name: None }, Some(script))
         .expect("the viewer runs");

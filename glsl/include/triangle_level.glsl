@@ -3,7 +3,8 @@
 // triangle_levels.comp). Both run this same code, so both give the same levels.
 //
 // A triangle that cannot be seen is culled before the estimator runs: it lies wholly outside
-// one plane of the view frustum, or it faces away from the eye on a one-sided mesh. Its level is
+// one plane of the view frustum, its image is a segment (degenerate_image), or it faces away
+// from the eye on a one-sided mesh. Its level is
 // CULLED_LEVEL, and the control stage gives its patch outer level 0. A back face of a two-sided
 // mesh is not estimated either: it is shaded per pixel (visible_level). Rust twin of both:
 // `src/render/cull.rs` (bit-identical: `precise`, no fused multiply-adds).
@@ -20,6 +21,10 @@ const uint FLAG_ONE_SIDED = 4u;
 // Back faces are culled here only when the eye is more than this sine away from their plane;
 // the rasteriser culls the nearly edge-on rest, so culling never differs from `pixel` mode.
 const float BACKFACE_MARGIN_SQUARED = 1.0e-6;
+// The sine below which a triangle's image counts as a segment (degenerate_image): 2⁻¹⁸, some 64
+// times the relative rounding of a float area, so that the image of a triangle that is not
+// culled has an area that rounds to a number of the right sign.
+const float DEGENERATE_IMAGE_SINE = 3.814697265625e-6;
 
 // Clip-space position of world point p, summed in a fixed order (`cull::clip_of` in Rust).
 P vec4 clip_of(vec3 p) {
@@ -38,6 +43,48 @@ bool faces_away(vec3 p0, vec3 p1, vec3 p2) {
     return facing < 0.0 && facing * facing > margin;
 }
 
+// The image edge from the corner at clip position a to the one at b, times a.w·b.w
+// (`cull::scaled_edge` in Rust): b.xy/b.w − a.xy/a.w without a division.
+P vec2 scaled_edge(vec4 a, vec4 b) {
+    P vec2 edge = b.xy * a.w - a.xy * b.w;
+    return edge;
+}
+
+// |v.x| + |v.y|, a norm between |v| and √2·|v| that needs no square root.
+P float norm1(vec2 v) {
+    P float n = abs(v.x) + abs(v.y);
+    return n;
+}
+
+// Whether the triangle's image, in front of the eye, is a segment or a point to floating-point
+// precision (`cull::degenerate_image` in Rust): twice its area is at most
+// DEGENERATE_IMAGE_SINE times the product of two of its edges at one corner (measured in |·|₁).
+// The rasteriser can still cover a sample of such an image (from its snapped corners) while
+// its interpolation, from the float corners, divides by an area that rounded to zero: not a
+// number at every attribute. Such a triangle shows no surface; `pixel` mode shows at most
+// single pixels of it.
+bool degenerate_image(vec4 a, vec4 b, vec4 c) {
+    if (!(a.w > 0.0 && b.w > 0.0 && c.w > 0.0)) {
+        return false;
+    }
+    // Twice the image's signed area times a.w·b.w·c.w: the determinant of the rows (x, y, w).
+    P float area = (a.x * (b.y * c.w - c.y * b.w) - b.x * (a.y * c.w - c.y * a.w))
+        + c.x * (a.y * b.w - b.y * a.w);
+    P float size = abs(area);
+    P vec2 ab = scaled_edge(a, b);
+    P vec2 bc = scaled_edge(b, c);
+    P vec2 ca = scaled_edge(c, a);
+    // At corner a the edges are ab/(a.w·b.w) and ca/(c.w·a.w): the area over their product,
+    // times a.w·b.w·c.w, is size·a.w over |ab|·|ca|; likewise at b and c.
+    P float at_a = DEGENERATE_IMAGE_SINE * (norm1(ab) * norm1(ca));
+    P float at_b = DEGENERATE_IMAGE_SINE * (norm1(bc) * norm1(ab));
+    P float at_c = DEGENERATE_IMAGE_SINE * (norm1(ca) * norm1(bc));
+    P float size_a = size * a.w;
+    P float size_b = size * b.w;
+    P float size_c = size * c.w;
+    return size_a <= at_a || size_b <= at_b || size_c <= at_c;
+}
+
 // Whether no point of the triangle can be visible (`cull::culled` in Rust).
 bool patch_culled(vec3 p0, vec3 p1, vec3 p2) {
     P vec4 a = clip_of(p0);
@@ -48,6 +95,9 @@ bool patch_culled(vec3 p0, vec3 p1, vec3 p2) {
     if ((a.x > a.w && b.x > b.w && c.x > c.w) || (a.x < -a.w && b.x < -b.w && c.x < -c.w)
         || (a.y > a.w && b.y > b.w && c.y > c.w) || (a.y < -a.w && b.y < -b.w && c.y < -c.w)
         || (a.z > a.w && b.z > b.w && c.z > c.w) || (a.z < 0.0 && b.z < 0.0 && c.z < 0.0)) {
+        return true;
+    }
+    if (degenerate_image(a, b, c)) {
         return true;
     }
     return (draw.flags & FLAG_ONE_SIDED) != 0u && faces_away(p0, p1, p2);

@@ -222,6 +222,10 @@ pub struct Progress<'a> {
     pub done: usize,
     pub total: usize,
     pub label: &'a str,
+    /// Timing turns of the current scene and resolution finished (0 outside its timing):
+    /// each leaves every configuration rendered once more, so that a soak samples memory
+    /// after each in the same state (`multirate soak --bench`).
+    pub turns_done: usize,
 }
 
 /// The `pixel` reference's time and evaluations, for one scene at one resolution.
@@ -281,7 +285,7 @@ pub fn run(
         let mut untimed = Vec::with_capacity(group.len());
         for (job, view) in group.iter().zip(&views) {
             let label = job.label(scenes);
-            progress(Progress { done, total, label: &label });
+            progress(Progress { done, total, label: &label, turns_done: 0 });
             done += 1;
             let (analysis, heat_and_mask) = analyze_with_heat(renderer, target, view)?;
             let reference = reference_frame.get_or_insert_with(|| analysis.clone());
@@ -311,7 +315,7 @@ pub fn run(
         drop(reference_frame);
         let label = format!("{} {}x{}: timing in turns", bench_scene.name, extent.width, extent.height);
         let measurements = measure_in_turns(renderer, target, &views, config, &mut |turn| {
-            progress(Progress { done: done + turn, total, label: &label })
+            progress(Progress { done: done + turn, total, label: &label, turns_done: turn })
         })?;
         done += turns;
         let reference = Reference {
@@ -332,12 +336,12 @@ pub fn run(
             result.measurements.push(measurement);
         }
     }
-    progress(Progress { done: total, total, label: "done" });
+    progress(Progress { done: total, total, label: "done", turns_done: 0 });
     Ok(result)
 }
 
 /// Measured frames per configuration and turn in [`measure_in_turns`].
-const FRAMES_PER_TURN: u32 = 2;
+pub const FRAMES_PER_TURN: u32 = 2;
 
 /// What a configuration gives besides its time, measured against the reference image.
 struct Untimed {

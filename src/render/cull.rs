@@ -1,5 +1,6 @@
-//! Culling before the estimate: which triangles of the multirate pass cannot be seen and get
-//! outer level 0 without running the estimator, and which are shaded per pixel without it (the
+//! Culling before the estimate: which triangles of the multirate pass cannot be seen (outside
+//! the frustum, an image that is a segment, a back face of a one-sided mesh) and get outer
+//! level 0 without running the estimator, and which are shaded per pixel without it (the
 //! back faces of two-sided meshes). The Rust twin of `patch_culled` and `visible_level` in
 //! `glsl/include/triangle_level.glsl`, operation for operation (no fused multiply-adds on
 //! either side), so that the level records of the GPU and of `analysis::report` agree bit for
@@ -11,6 +12,11 @@ use glam::{Mat4, Vec3, Vec4};
 /// away from their plane; the rasteriser culls the nearly edge-on rest, so what is drawn never
 /// differs from `pixel` mode, which leaves all back-face culling to the rasteriser.
 pub const BACKFACE_MARGIN_SQUARED: f32 = 1.0e-6;
+
+/// The sine below which a triangle's image counts as a segment ([`degenerate_image`]): 2⁻¹⁸, some
+/// 64 times the relative rounding of a float area, so that the image of a triangle that is not
+/// culled has an area that rounds to a number of the right sign.
+pub const DEGENERATE_IMAGE_SINE: f32 = 1.0 / 262_144.0;
 
 /// The level of a culled triangle (`CULLED_LEVEL` in triangle_level.glsl): below every real
 /// level, so that a culled neighbour asks for no more than level 1 on the shared edge. The
@@ -31,7 +37,8 @@ fn cross3(a: Vec3, b: Vec3) -> Vec3 {
 }
 
 /// Whether the triangle `p` lies wholly outside one plane of the view frustum of `view_proj`,
-/// or, on a one-sided mesh, faces away from `eye` (front faces wind anticlockwise).
+/// its image is a segment ([`degenerate_image`]), or, on a one-sided mesh, it faces away from
+/// `eye` (front faces wind anticlockwise).
 pub fn culled(view_proj: &Mat4, eye: Vec3, p: [Vec3; 3], one_sided: bool) -> bool {
     let c = p.map(|p| clip_of(view_proj, p));
     let all = |outside: &dyn Fn(&Vec4) -> bool| c.iter().all(outside);
@@ -42,6 +49,9 @@ pub fn culled(view_proj: &Mat4, eye: Vec3, p: [Vec3; 3], one_sided: bool) -> boo
         || all(&|c| c.z > c.w)
         || all(&|c| c.z < 0.0)
     {
+        return true;
+    }
+    if degenerate_image(c[0], c[1], c[2]) {
         return true;
     }
     one_sided && faces_away(eye, p)
@@ -55,6 +65,41 @@ pub fn faces_away(eye: Vec3, p: [Vec3; 3]) -> bool {
     let facing = dot3(normal, to_eye);
     let margin = BACKFACE_MARGIN_SQUARED * dot3(normal, normal) * dot3(to_eye, to_eye);
     facing < 0.0 && facing * facing > margin
+}
+
+/// The image edge from the corner at clip position `a` to the one at `b`, times `a.w·b.w`:
+/// `b.xy/b.w − a.xy/a.w` without a division.
+fn scaled_edge(a: Vec4, b: Vec4) -> [f32; 2] {
+    [b.x * a.w - a.x * b.w, b.y * a.w - a.y * b.w]
+}
+
+/// `|v.x| + |v.y|`, a norm between `|v|` and `√2·|v|` that needs no square root.
+fn norm1(v: [f32; 2]) -> f32 {
+    v[0].abs() + v[1].abs()
+}
+
+/// Whether the image of the triangle at clip positions `a`, `b`, `c`, in front of the eye, is a
+/// segment or a point to floating-point precision: twice its area is at most
+/// [`DEGENERATE_IMAGE_SINE`] times the product of its two edges at one corner (in `|·|₁`). The
+/// rasteriser can still cover a sample of such an image (from its snapped corners) while its
+/// interpolation, from the float corners, divides by an area that rounded to zero: not a number
+/// at every attribute. Such a triangle shows no surface; `pixel` mode shows at most single
+/// pixels of it. A triangle with a corner at or behind the eye's plane is left to clipping.
+pub fn degenerate_image(a: Vec4, b: Vec4, c: Vec4) -> bool {
+    if !(a.w > 0.0 && b.w > 0.0 && c.w > 0.0) {
+        return false;
+    }
+    // Twice the image's signed area times a.w·b.w·c.w: the determinant of the rows (x, y, w).
+    let area =
+        (a.x * (b.y * c.w - c.y * b.w) - b.x * (a.y * c.w - c.y * a.w)) + c.x * (a.y * b.w - b.y * a.w);
+    let size = area.abs();
+    let (ab, bc, ca) = (scaled_edge(a, b), scaled_edge(b, c), scaled_edge(c, a));
+    // At corner a the edges are ab/(a.w·b.w) and ca/(c.w·a.w): the area over their product,
+    // times a.w·b.w·c.w, is size·a.w over |ab|·|ca|; likewise at b and c.
+    let at_a = DEGENERATE_IMAGE_SINE * (norm1(ab) * norm1(ca));
+    let at_b = DEGENERATE_IMAGE_SINE * (norm1(bc) * norm1(ab));
+    let at_c = DEGENERATE_IMAGE_SINE * (norm1(ca) * norm1(bc));
+    size * a.w <= at_a || size * b.w <= at_b || size * c.w <= at_c
 }
 
 /// Whether a triangle that is not [`culled`] is shaded per pixel without an estimate
@@ -124,5 +169,41 @@ mod tests {
             |h: f32| [Vec3::new(-1.0, -h, 0.0), Vec3::new(0.0, -h, -1.0), Vec3::new(1.0, -h, 0.0)];
         assert!(!culled(&vp, cam.eye, back_face(5.0e-4), true), "sine 1e-4: left to the rasteriser");
         assert!(culled(&vp, cam.eye, back_face(0.05), true), "sine 1e-2: culled");
+    }
+
+    #[test]
+    fn triangles_whose_image_is_a_segment_are_culled_and_thin_ones_kept() {
+        for scale in [1.0e-6f32, 1.0, 1.0e6] {
+            let cam = Camera {
+                eye: camera().eye * scale,
+                near: camera().near * scale,
+                far: camera().far * scale,
+                ..camera()
+            };
+            let vp = view_projection(&cam, 640, 480);
+            let at = |x: f32, y: f32, z: f32| Vec3::new(x, y, z) * scale;
+            let kept = |p: [Vec3; 3]| !culled(&vp, cam.eye, p, false);
+            let (a, b) = (at(-1.0, -0.5, 0.0), at(1.2, 0.7, 0.0));
+            // Collinear corners (the third beyond the second, and between), and coincident ones.
+            assert!(!kept([a, b, a + (b - a) * 1.7]), "collinear, scale {scale}");
+            assert!(!kept([a, a + (b - a) * 0.3, b]), "collinear, scale {scale}");
+            assert!(!kept([a, a, b]) && !kept([a, b, b]), "coincident, scale {scale}");
+            // Seen edge-on: the eye lies in the triangle's plane.
+            assert!(
+                !kept([at(-1.0, 0.0, -1.0), at(1.0, 0.0, -1.0), at(0.0, 0.0, 1.0)]),
+                "edge-on, scale {scale}"
+            );
+            // A needle whose image is a thousandth as wide as it is long is a triangle.
+            let across = at(0.0, 0.0, 1.0e-3) + (b - a).cross(Vec3::Z).normalize() * 2.2e-3 * scale;
+            assert!(kept([a, b, (a + b) * 0.5 + across]), "needle, scale {scale}");
+        }
+    }
+
+    #[test]
+    fn a_corner_behind_the_eye_is_left_to_clipping() {
+        let cam = camera();
+        let vp = view_projection(&cam, 640, 480);
+        let behind = [Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 9.0)];
+        assert!(!degenerate_image(clip_of(&vp, behind[0]), clip_of(&vp, behind[1]), clip_of(&vp, behind[2])));
     }
 }

@@ -5,11 +5,13 @@ pub mod camera;
 pub mod capture;
 pub mod cull;
 pub mod deferred;
+pub mod limits;
 pub mod output;
 pub mod present;
 pub mod textures;
 
 use deferred::{deferred_set_bindings, Deferred};
+use limits::SceneSizes;
 use textures::{gpu_material, material_set_bindings, SceneTextures};
 
 use crate::analysis::tessellator::uniform_vertex_count;
@@ -22,6 +24,7 @@ use crate::scene::adjacency::{adjacency_patches, neighbours, PATCH_SIZE};
 use crate::scene::{Camera, Light, MaterialKind, PolygonSampling, Scene};
 use crate::shaders::{self, Features};
 use crate::shading::estimator::{Discontinuity, Split};
+use crate::vk::context::DeviceLimits;
 use crate::vk::frames::FrameRing;
 use crate::vk::memory::Buffer;
 use crate::vk::pipeline::{
@@ -618,7 +621,17 @@ pub struct Renderer {
 }
 
 impl Renderer {
+    /// Uploads `scene` and prepares its pipelines, once the scene was found to fit the device
+    /// and the shaders (`limits::check`).
     pub fn new(context: &Arc<Context>, scene: &Scene) -> Result<Renderer> {
+        Renderer::with_limits(context, scene, &context.limits)
+    }
+
+    /// [`Renderer::new`], checking the scene against `limits` where they are lower than the
+    /// device's own (the tests reach each check with a small scene that way); never against
+    /// higher ones.
+    pub fn with_limits(context: &Arc<Context>, scene: &Scene, limits: &DeviceLimits) -> Result<Renderer> {
+        limits::check(&scene.path, &SceneSizes::of(scene), &limits.min(&context.limits))?;
         let mut vertices = Vec::new();
         let mut indices = Vec::new();
         let mut patch_indices = Vec::new();
@@ -678,6 +691,7 @@ impl Renderer {
             });
         }
 
+        // Every buffer below is in `SceneSizes::buffers`, which `limits::check` checked.
         // Storage too: the deferred pass fetches triangles by id.
         let vertex_buffer = Buffer::with_data(
             context,

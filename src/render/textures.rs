@@ -31,6 +31,53 @@ fn levels_of(levels: &[MipLevel]) -> Vec<LevelData<'_>> {
     levels.iter().map(|l| LevelData { width: l.width, height: l.height, texels: &l.texels }).collect()
 }
 
+/// One image of a material's textures, as [`SceneTextures::upload`] uploads it.
+pub struct TextureUpload<'a> {
+    /// The image's name: what it is and the file it comes from.
+    pub name: String,
+    pub format: vk::Format,
+    /// Its mip chain, level 0 first.
+    pub levels: &'a [MipLevel],
+    /// The material whose set binds it, and the binding (0 albedo, 1 parameter, 2 pyramid).
+    pub material: usize,
+    pub binding: usize,
+}
+
+/// Every image the scene's textures upload besides the white stand-in, material by material
+/// (a texture that several materials share is uploaded for each).
+pub fn uploads(scene: &Scene) -> Vec<TextureUpload<'_>> {
+    let mut uploads = Vec::new();
+    for (material, m) in scene.materials.iter().enumerate() {
+        if let Some(albedo) = &m.maps.albedo {
+            uploads.push(TextureUpload {
+                name: format!("albedo map {}", albedo.path.display()),
+                format: vk::Format::R8G8B8A8_SRGB,
+                levels: &albedo.levels,
+                material,
+                binding: 0,
+            });
+        }
+        if let Some(map) = &m.maps.parameter {
+            let path = map.texture.path.display();
+            uploads.push(TextureUpload {
+                name: format!("parameter map {path}"),
+                format: vk::Format::R8_UNORM,
+                levels: &map.texture.levels,
+                material,
+                binding: 1,
+            });
+            uploads.push(TextureUpload {
+                name: format!("min/max pyramid of {path}"),
+                format: vk::Format::R8G8_UNORM,
+                levels: &map.pyramid.levels,
+                material,
+                binding: 2,
+            });
+        }
+    }
+    uploads
+}
+
 /// The layout of a material set: three combined image samplers, every stage.
 pub fn material_set_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; MATERIAL_BINDINGS as usize] {
     [0, 1, 2].map(|binding| shader_binding(binding, vk::DescriptorType::COMBINED_IMAGE_SAMPLER))
@@ -46,30 +93,10 @@ impl SceneTextures {
         let white = [LevelData { width: 1, height: 1, texels: &[255, 255, 255, 255] }];
         let mut images = vec![upload_image(context, "white texture", vk::Format::R8G8B8A8_UNORM, &white)?];
         // Per material: the image index of its albedo map, parameter map and pyramid (0: white).
-        let mut slots = Vec::with_capacity(scene.materials.len());
-        for material in &scene.materials {
-            let mut slot = [0usize; 3];
-            if let Some(albedo) = &material.maps.albedo {
-                let name = format!("albedo map {}", albedo.path.display());
-                images.push(upload_image(
-                    context,
-                    &name,
-                    vk::Format::R8G8B8A8_SRGB,
-                    &levels_of(&albedo.levels),
-                )?);
-                slot[0] = images.len() - 1;
-            }
-            if let Some(map) = &material.maps.parameter {
-                let name = format!("parameter map {}", map.texture.path.display());
-                let levels = levels_of(&map.texture.levels);
-                images.push(upload_image(context, &name, vk::Format::R8_UNORM, &levels)?);
-                slot[1] = images.len() - 1;
-                let name = format!("min/max pyramid of {}", map.texture.path.display());
-                let levels = levels_of(&map.pyramid.levels);
-                images.push(upload_image(context, &name, vk::Format::R8G8_UNORM, &levels)?);
-                slot[2] = images.len() - 1;
-            }
-            slots.push(slot);
+        let mut slots = vec![[0usize; 3]; scene.materials.len()];
+        for upload in uploads(scene) {
+            images.push(upload_image(context, &upload.name, upload.format, &levels_of(upload.levels))?);
+            slots[upload.material][upload.binding] = images.len() - 1;
         }
         let sampler = Sampler::trilinear_repeat(context, "texture sampler")?;
         let count = scene.materials.len().max(1) as u32;

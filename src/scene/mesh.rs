@@ -140,7 +140,7 @@ impl ObjProblem {
 
 /// Reads, checks, triangulates and transforms the OBJ file at `path`.
 pub(crate) fn load_obj(path: &Path, transform: &Transform) -> Result<TransformedMesh, ObjProblem> {
-    let bytes = std::fs::read(path).map_err(|e| ObjProblem::new(format!("cannot read file: {e}")))?;
+    let bytes = super::read_file(path).map_err(|e| ObjProblem::new(format!("cannot read file: {e}")))?;
     load_obj_bytes(&bytes, transform)
 }
 
@@ -160,10 +160,8 @@ pub(crate) fn parse_obj(
     bytes: &[u8],
     material_loader: &dyn Fn(&Path) -> tobj::MTLLoadResult,
 ) -> Result<ParsedObj, ObjProblem> {
-    let text = std::str::from_utf8(bytes).map_err(|e| {
-        let line = 1 + bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count();
-        ObjProblem::at(line, "is not valid UTF-8 text")
-    })?;
+    let text = std::str::from_utf8(bytes)
+        .map_err(|e| ObjProblem::at(super::first_non_utf8_line(bytes, &e), "is not valid UTF-8 text"))?;
     prescan(text)?;
 
     // `..Default::default()` covers the fields that `tobj` has only with some of its features.

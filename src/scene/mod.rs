@@ -13,7 +13,7 @@
 //! keys are errors. See `scenes/README.md` for the complete schema with every default; in short:
 //!
 //! ```toml
-//! description = "Stanford bunny, Blinn-Phong, two point lights"
+//! description = "Stanford bunny, Blinn-Phong, two point lights"   # optional
 //! source = "free text: where the mesh came from"   # optional
 //! [camera]
 //! eye = [0.0, 0.1, 0.3]
@@ -82,6 +82,8 @@ use serde::Deserialize;
 pub struct Scene {
     /// The TOML (or OBJ) file the scene was loaded from, as given to [`Scene::load`].
     pub path: PathBuf,
+    /// The scene file's `description` (empty where it has none); for an OBJ model, a line that
+    /// names it.
     pub description: String,
     pub camera: Camera,
     pub settings: RenderSettings,
@@ -468,6 +470,25 @@ fn fmt_line(line: Option<usize>) -> String {
     line.map(|l| format!("line {l}: ")).unwrap_or_default()
 }
 
+/// The bytes of the file at `path`, which must be a regular file: a folder, a device such as
+/// `/dev/zero` or a pipe is refused before it is read (they may never end).
+pub(crate) fn read_file(path: &Path) -> std::io::Result<Vec<u8>> {
+    let metadata = std::fs::metadata(path)?;
+    if !metadata.is_file() {
+        let what = if metadata.is_dir() { "a folder" } else { "a device, pipe or socket" };
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!("it is {what}, not a regular file"),
+        ));
+    }
+    std::fs::read(path)
+}
+
+/// The 1-based line of `bytes` on which its first byte that is not UTF-8 lies.
+pub(crate) fn first_non_utf8_line(bytes: &[u8], error: &std::str::Utf8Error) -> usize {
+    1 + bytes[..error.valid_up_to()].iter().filter(|&&b| b == b'\n').count()
+}
+
 impl Scene {
     /// Reads, parses and checks the scene file at `path` and every OBJ file it names. A path
     /// ending in `.obj` is a model rather than a scene file: its materials come from its MTL
@@ -476,13 +497,19 @@ impl Scene {
         if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("obj")) {
             return obj_scene::load(path);
         }
-        let text = std::fs::read_to_string(path)
-            .map_err(|error| SceneError::Io { path: path.to_path_buf(), error })?;
-        let file: SceneFile = toml::from_str(&text).map_err(|e| {
+        let bytes = read_file(path).map_err(|error| SceneError::Io { path: path.to_path_buf(), error })?;
+        let text = std::str::from_utf8(&bytes).map_err(|e| SceneError::Parse {
+            path: path.to_path_buf(),
+            message: "is not valid UTF-8 text".into(),
+            line: Some(first_non_utf8_line(&bytes, &e)),
+            column: None,
+            text: String::new(),
+        })?;
+        let file: SceneFile = toml::from_str(text).map_err(|e| {
             let (line, column, snippet) = match e.span() {
                 Some(span) => {
-                    let (l, c) = line_column(&text, span.start);
-                    (Some(l), Some(c), line_text(&text, l))
+                    let (l, c) = line_column(text, span.start);
+                    (Some(l), Some(c), line_text(text, l))
                 }
                 None => (None, None, String::new()),
             };
@@ -546,7 +573,8 @@ fn line_text(text: &str, line: usize) -> String {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct SceneFile {
-    description: String,
+    /// Optional: what the scene shows (free text); empty in [`Scene::description`] without it.
+    description: Option<String>,
     /// Optional: where the meshes come from (free text, for the people who read the file).
     source: Option<String>,
     camera: CameraFile,
@@ -942,7 +970,7 @@ fn build(path: &Path, file: SceneFile) -> Result<Scene, SceneError> {
 
     Ok(Scene {
         path: path.to_path_buf(),
-        description: file.description,
+        description: file.description.unwrap_or_default(),
         camera,
         settings,
         materials,

@@ -49,7 +49,7 @@ const FOV_Y_DEGREES: f32 = 40.0;
 
 /// Reads the OBJ file at `path` and what it refers to, and makes a scene of it.
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
-    let bytes = std::fs::read(path).map_err(|error| SceneError::Io { path: path.to_path_buf(), error })?;
+    let bytes = super::read_file(path).map_err(|error| SceneError::Io { path: path.to_path_buf(), error })?;
     let folder = path.parent().unwrap_or(Path::new(""));
     let warnings = RefCell::new(Vec::new());
     let libraries: RefCell<Vec<Library>> = RefCell::new(Vec::new());
@@ -217,15 +217,13 @@ fn model_error(path: &Path, problem: ObjProblem) -> SceneError {
 /// The MTL file at `path` parsed, `None` when it cannot be read, an error naming the line when
 /// a number in it is malformed or not finite.
 fn read_library(path: &Path) -> Result<Option<tobj::MTLLoadResult>, SceneError> {
-    let Ok(bytes) = std::fs::read(path) else {
+    let Ok(bytes) = super::read_file(path) else {
         return Ok(None);
     };
     let error =
         |line: Option<usize>, problem: String| SceneError::Model { path: path.to_path_buf(), line, problem };
-    let text = std::str::from_utf8(&bytes).map_err(|e| {
-        let line = 1 + bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count();
-        error(Some(line), "is not valid UTF-8 text".into())
-    })?;
+    let text = std::str::from_utf8(&bytes)
+        .map_err(|e| error(Some(super::first_non_utf8_line(&bytes, &e)), "is not valid UTF-8 text".into()))?;
     check_numbers(text).map_err(|p| error(p.line, p.message))?;
     let parsed = tobj::load_mtl_buf(&mut text.as_bytes())
         .map_err(|e| error(None, format!("cannot be parsed as a material library: {e}")))?;
@@ -428,11 +426,23 @@ fn frame(path: &Path, meshes: &[Mesh]) -> Result<(Camera, Vec<Light>), SceneErro
     let (lo, hi) = super::bounds_of(meshes.iter().flat_map(|m| m.positions.iter().copied()));
     let centre = (lo + hi) * 0.5;
     let radius = meshes.iter().flat_map(|m| &m.positions).map(|p| p.distance(centre)).fold(0.0, f32::max);
-    if !(radius > 0.0 && radius.is_finite()) {
+    if radius <= 0.0 {
         return Err(model_error(
             path,
             ObjProblem::new("all its vertices are at one point: there is nothing to see"),
         ));
+    }
+    let too_large = || {
+        model_error(
+            path,
+            ObjProblem::new(format!(
+                "is too large to frame: its bounding sphere's radius {radius:e} puts the camera and \
+                 lights beyond f32's range"
+            )),
+        )
+    };
+    if !radius.is_finite() {
+        return Err(too_large());
     }
     let half_fov = (0.5 * FOV_Y_DEGREES).to_radians();
     // The bounding sphere just fits the vertical field of view, with a little margin.
@@ -467,6 +477,13 @@ fn frame(path: &Path, meshes: &[Mesh]) -> Result<(Camera, Vec<Light>), SceneErro
             intensity: 0.4,
         },
     ];
+    let finite = |light: &Light| match light {
+        Light::Point { position, intensity, .. } => position.is_finite() && intensity.is_finite(),
+        _ => true,
+    };
+    if !(camera.eye.is_finite() && camera.far.is_finite() && camera.near > 0.0 && lights.iter().all(finite)) {
+        return Err(too_large());
+    }
     Ok((camera, lights))
 }
 

@@ -99,6 +99,26 @@ fn source_is_optional() {
     assert_eq!(without.materials, with.materials);
 }
 
+/// `description` is optional too: without it the scene loads, its meshes and materials as with
+/// it, and its description is empty.
+#[test]
+fn description_is_optional() {
+    let dir = TempDir::new("no_description");
+    let with = load_text(&dir, MINIMAL).1.unwrap();
+    let without = load_text(&dir, &minimal_with("description = \"one quad\"\n", "")).1.unwrap();
+    assert_eq!(with.description, "one quad");
+    assert_eq!(without.description, "");
+    assert_eq!(without.meshes.len(), 1);
+    assert_eq!(without.meshes[0].indices.len(), 6, "the quad's two triangles");
+    assert_eq!(without.meshes, with.meshes);
+    assert_eq!(without.materials, with.materials);
+    assert_eq!(without.camera, with.camera);
+    // With neither `description` nor `source` the file still loads.
+    let bare = minimal_with("description = \"one quad\"\nsource = \"written by the test\"\n", "");
+    let bare = load_text(&dir, &bare).1.unwrap();
+    assert_eq!(bare.meshes, with.meshes);
+}
+
 #[test]
 fn minimal_scene_loads_with_defaults() {
     let dir = TempDir::new("minimal");

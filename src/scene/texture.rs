@@ -19,6 +19,7 @@
 use std::path::{Path, PathBuf};
 
 use glam::{IVec2, Vec2, Vec3};
+use image::{ImageDecoder, ImageFormat};
 
 /// The largest width or height a texture may have, in texels.
 pub const MAX_TEXTURE_SIZE: u32 = 16384;
@@ -117,6 +118,16 @@ pub enum TextureError {
     /// Zero width or height.
     #[error("{}: the image is empty ({width}×{height})", path.display())]
     Empty { path: PathBuf, width: u32, height: u32 },
+    /// An image of a format the `image` crate reads but textures do not take.
+    #[error("{}: is {format} image; textures must be PNG, JPEG or TGA", path.display())]
+    Format { path: PathBuf, format: String },
+    /// The file is shorter than any complete image of the size its header declares.
+    #[error(
+        "{}: declares {width}×{height} texels, which take at least {least} bytes in this format, \
+         but the file has {bytes}: it is truncated or corrupt",
+        path.display()
+    )]
+    Truncated { path: PathBuf, width: u32, height: u32, bytes: usize, least: u64 },
     /// [`Texture::from_level0`] was given a texel array of the wrong length.
     #[error("{}: {actual} bytes of texels given, {expected} expected", path.display())]
     TexelCount { path: PathBuf, expected: usize, actual: usize },
@@ -125,15 +136,38 @@ pub enum TextureError {
 impl Texture {
     /// Reads the PNG, JPEG or TGA file at `path` (any colour type and bit depth) as a texture of `usage`:
     /// albedo takes the image as RGBA8, a parameter takes its luma as 8 bits. Builds the chain.
+    ///
+    /// The size the file's header declares is checked before anything of that size is
+    /// allocated: against [`MAX_TEXTURE_SIZE`], and against the file's length (a file too short
+    /// to hold an image of that size in its format is refused as truncated).
     pub fn load(path: &Path, usage: TextureUsage) -> Result<Texture, TextureError> {
         let bytes =
-            std::fs::read(path).map_err(|error| TextureError::Io { path: path.to_path_buf(), error })?;
+            super::read_file(path).map_err(|error| TextureError::Io { path: path.to_path_buf(), error })?;
         let decode_error = |error| TextureError::Decode { path: path.to_path_buf(), error };
         // The contents name the format where they can (TGA has no signature: its extension does).
         let format = image::guess_format(&bytes)
-            .or_else(|e| image::ImageFormat::from_path(path).map_err(|_| e))
+            .or_else(|e| ImageFormat::from_path(path).map_err(|_| e))
             .map_err(decode_error)?;
-        let image = image::load_from_memory_with_format(&bytes, format).map_err(decode_error)?;
+        if !matches!(format, ImageFormat::Png | ImageFormat::Jpeg | ImageFormat::Tga) {
+            let format = format!("{} {format:?}", if format == ImageFormat::OpenExr { "an" } else { "a" });
+            return Err(TextureError::Format { path: path.to_path_buf(), format });
+        }
+        let decoder = image::ImageReader::with_format(std::io::Cursor::new(&bytes), format)
+            .into_decoder()
+            .map_err(decode_error)?;
+        let (width, height) = decoder.dimensions();
+        check_size(path, usage, width, height)?;
+        let least = least_file_size(format, &bytes, width, height);
+        if (bytes.len() as u64) < least {
+            return Err(TextureError::Truncated {
+                path: path.to_path_buf(),
+                width,
+                height,
+                bytes: bytes.len(),
+                least,
+            });
+        }
+        let image = image::DynamicImage::from_decoder(decoder).map_err(decode_error)?;
         let (width, height) = (image.width(), image.height());
         let texels = match usage {
             TextureUsage::Albedo => image.to_rgba8().into_raw(),
@@ -151,15 +185,7 @@ impl Texture {
         height: u32,
         texels: Vec<u8>,
     ) -> Result<Texture, TextureError> {
-        if width == 0 || height == 0 {
-            return Err(TextureError::Empty { path, width, height });
-        }
-        if width > MAX_TEXTURE_SIZE || height > MAX_TEXTURE_SIZE {
-            return Err(TextureError::TooLarge { path, width, height });
-        }
-        if usage == TextureUsage::Parameter && !(width.is_power_of_two() && height.is_power_of_two()) {
-            return Err(TextureError::NotPowerOfTwo { path, width, height });
-        }
+        check_size(&path, usage, width, height)?;
         let expected = width as usize * height as usize * usage.bytes_per_texel();
         if texels.len() != expected {
             return Err(TextureError::TexelCount { path, expected, actual: texels.len() });
@@ -222,6 +248,55 @@ impl Texture {
         let a = bilinear(&self.levels[fine as usize], uv, &fetch);
         let b = bilinear(&self.levels[coarse as usize], uv, &fetch);
         a * (1.0 - delta) + b * delta
+    }
+}
+
+/// Checks a texture's size for `usage`: not empty, at most [`MAX_TEXTURE_SIZE`] a side, and
+/// powers of two for a parameter map.
+fn check_size(path: &Path, usage: TextureUsage, width: u32, height: u32) -> Result<(), TextureError> {
+    let path = path.to_path_buf();
+    if width == 0 || height == 0 {
+        return Err(TextureError::Empty { path, width, height });
+    }
+    if width > MAX_TEXTURE_SIZE || height > MAX_TEXTURE_SIZE {
+        return Err(TextureError::TooLarge { path, width, height });
+    }
+    if usage == TextureUsage::Parameter && !(width.is_power_of_two() && height.is_power_of_two()) {
+        return Err(TextureError::NotPowerOfTwo { path, width, height });
+    }
+    Ok(())
+}
+
+/// The fewest bytes in which a complete `format` file (`bytes`, for its header) can hold a
+/// `width`×`height` image: its densest encoding of its smallest texel. A shorter file is
+/// truncated or corrupt, and is refused before a buffer of the declared size is allocated.
+fn least_file_size(format: ImageFormat, bytes: &[u8], width: u32, height: u32) -> u64 {
+    let (w, h) = (u64::from(width), u64::from(height));
+    match format {
+        // Rows of the header's bits per texel after a filter byte each, deflated at most
+        // 1032:1 (a 258-byte match coded in two bits).
+        ImageFormat::Png => (h * (1 + (w * png_bits_per_texel(bytes)).div_ceil(8))).div_ceil(1032),
+        // At least one bit, the Huffman code of its DC difference, per 8×8 block of the
+        // full-resolution component (arithmetic coding, which could go below, is not decoded).
+        ImageFormat::Jpeg => (w.div_ceil(8) * h.div_ceil(8)).div_ceil(8),
+        // The 18-byte header, then run-length packets of up to 128 texels of at least a byte.
+        _ => 18 + 2 * (w * h).div_ceil(128),
+    }
+}
+
+/// Bits per texel a PNG file's header declares (bit depth × channels), 1 where it has none.
+fn png_bits_per_texel(bytes: &[u8]) -> u64 {
+    match bytes.get(12..26) {
+        Some([b'I', b'H', b'D', b'R', .., depth, colour]) => {
+            let channels = match colour {
+                2 => 3,
+                4 => 2,
+                6 => 4,
+                _ => 1,
+            };
+            u64::from(*depth).max(1) * channels
+        }
+        _ => 1,
     }
 }
 

@@ -32,6 +32,9 @@ pub struct OptionalFeatures {
     pub vertex_pipeline_stores: bool,
     /// Storage-buffer writes and atomics in fragment shaders.
     pub fragment_stores: bool,
+    /// `VK_EXT_memory_budget`, enabled where present: the driver's memory use per heap
+    /// (`vk::budget`).
+    pub memory_budget: bool,
 }
 
 /// Facts about the chosen device, for reports.
@@ -53,6 +56,83 @@ impl DeviceInfo {
     /// tests know.
     pub fn is_lavapipe(&self) -> bool {
         self.name.contains("llvmpipe")
+    }
+}
+
+/// The device's limits that a scene and its resources must fit, read once when the context is
+/// created: `render::limits` checks each scene against them before creating anything on the
+/// GPU, and `vk::memory` each buffer and image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DeviceLimits {
+    /// `maxStorageBufferRange`: the most bytes one storage-buffer binding covers.
+    pub max_storage_buffer_range: u64,
+    /// `maxBufferSize` (Vulkan 1.3): the most bytes one buffer may hold.
+    pub max_buffer_size: u64,
+    /// `maxMemoryAllocationSize` (Vulkan 1.1): the most bytes one memory allocation may hold.
+    pub max_memory_allocation_size: u64,
+    /// `maxDrawIndexedIndexValue`: the largest vertex index an indexed draw may use.
+    pub max_draw_indexed_index_value: u64,
+    /// `maxComputeWorkGroupCount[0]`: the most workgroups one dispatch may open along x.
+    pub max_compute_work_group_count_x: u64,
+    /// `maxImageDimension2D`: the most texels along either side of a 2D image.
+    pub max_image_dimension_2d: u32,
+    /// Bytes of the largest device-local memory heap.
+    pub device_local_heap: u64,
+    /// Bytes of the largest heap with a host-visible memory type (staging and read-back).
+    pub host_visible_heap: u64,
+}
+
+impl DeviceLimits {
+    /// The limits of `device`.
+    fn of(instance: &ash::Instance, device: vk::PhysicalDevice) -> DeviceLimits {
+        let mut vulkan11 = vk::PhysicalDeviceVulkan11Properties::default();
+        let mut vulkan13 = vk::PhysicalDeviceVulkan13Properties::default();
+        let mut properties =
+            vk::PhysicalDeviceProperties2::default().push_next(&mut vulkan11).push_next(&mut vulkan13);
+        // SAFETY: plain queries on a Vulkan 1.3 physical device.
+        let memory = unsafe {
+            instance.get_physical_device_properties2(device, &mut properties);
+            instance.get_physical_device_memory_properties(device)
+        };
+        let limits = properties.properties.limits;
+        let heaps = &memory.memory_heaps[..memory.memory_heap_count as usize];
+        let types = &memory.memory_types[..memory.memory_type_count as usize];
+        let largest_heap = |wanted: vk::MemoryPropertyFlags| {
+            types
+                .iter()
+                .filter(|t| t.property_flags.contains(wanted))
+                .map(|t| heaps[t.heap_index as usize].size)
+                .max()
+                .unwrap_or(0)
+        };
+        DeviceLimits {
+            max_storage_buffer_range: u64::from(limits.max_storage_buffer_range),
+            max_buffer_size: vulkan13.max_buffer_size,
+            max_memory_allocation_size: vulkan11.max_memory_allocation_size,
+            max_draw_indexed_index_value: u64::from(limits.max_draw_indexed_index_value),
+            max_compute_work_group_count_x: u64::from(limits.max_compute_work_group_count[0]),
+            max_image_dimension_2d: limits.max_image_dimension2_d,
+            device_local_heap: largest_heap(vk::MemoryPropertyFlags::DEVICE_LOCAL),
+            host_visible_heap: largest_heap(vk::MemoryPropertyFlags::HOST_VISIBLE),
+        }
+    }
+
+    /// The smaller of each limit of `self` and `other`.
+    pub fn min(&self, other: &DeviceLimits) -> DeviceLimits {
+        DeviceLimits {
+            max_storage_buffer_range: self.max_storage_buffer_range.min(other.max_storage_buffer_range),
+            max_buffer_size: self.max_buffer_size.min(other.max_buffer_size),
+            max_memory_allocation_size: self.max_memory_allocation_size.min(other.max_memory_allocation_size),
+            max_draw_indexed_index_value: self
+                .max_draw_indexed_index_value
+                .min(other.max_draw_indexed_index_value),
+            max_compute_work_group_count_x: self
+                .max_compute_work_group_count_x
+                .min(other.max_compute_work_group_count_x),
+            max_image_dimension_2d: self.max_image_dimension_2d.min(other.max_image_dimension_2d),
+            device_local_heap: self.device_local_heap.min(other.device_local_heap),
+            host_visible_heap: self.host_visible_heap.min(other.host_visible_heap),
+        }
     }
 }
 
@@ -93,6 +173,8 @@ pub struct Context {
     pub allocator: ManuallyDrop<Mutex<Allocator>>,
     pub features: OptionalFeatures,
     pub info: DeviceInfo,
+    /// The device's limits, read once here.
+    pub limits: DeviceLimits,
     pub surface_instance: Option<ash::khr::surface::Instance>,
     debug_instance: Option<ash::ext::debug_utils::Instance>,
     debug_device: Option<ash::ext::debug_utils::Device>,
@@ -258,11 +340,18 @@ impl Context {
         };
 
         // SAFETY: plain queries on a valid physical device.
-        let (supported, properties) = unsafe {
+        let (supported, properties, supported_extensions) = unsafe {
             (
                 instance.get_physical_device_features(chosen.device),
                 instance.get_physical_device_properties(chosen.device),
+                instance.enumerate_device_extension_properties(chosen.device),
             )
+        };
+        let has_extension = |wanted: &CStr| {
+            supported_extensions
+                .iter()
+                .flatten()
+                .any(|e| e.extension_name_as_c_str().is_ok_and(|n| n == wanted))
         };
         let features = OptionalFeatures {
             pipeline_statistics: supported.pipeline_statistics_query == vk::TRUE,
@@ -270,6 +359,7 @@ impl Context {
             geometry_shader: supported.geometry_shader == vk::TRUE,
             vertex_pipeline_stores: supported.vertex_pipeline_stores_and_atomics == vk::TRUE,
             fragment_stores: supported.fragment_stores_and_atomics == vk::TRUE,
+            memory_budget: has_extension(ash::ext::memory_budget::NAME),
         };
         let enabled = vk::PhysicalDeviceFeatures::default()
             .tessellation_shader(true)
@@ -288,8 +378,11 @@ impl Context {
         let queue_info = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(chosen.queue_family)
             .queue_priorities(&priorities)];
-        let device_extensions: Vec<*const i8> =
+        let mut device_extensions: Vec<*const i8> =
             if surface.is_some() { vec![ash::khr::swapchain::NAME.as_ptr()] } else { Vec::new() };
+        if features.memory_budget {
+            device_extensions.push(ash::ext::memory_budget::NAME.as_ptr());
+        }
         let device_info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queue_info)
             .enabled_extension_names(&device_extensions)
@@ -321,6 +414,7 @@ impl Context {
         let debug_device =
             debug_instance.as_ref().map(|_| ash::ext::debug_utils::Device::new(&instance, &device));
         let info = device_info_of(&instance, chosen.device, &properties, chosen.queue_family);
+        let limits = DeviceLimits::of(&instance, chosen.device);
         let context = Arc::new(Context {
             entry,
             instance,
@@ -331,6 +425,7 @@ impl Context {
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             features,
             info,
+            limits,
             surface_instance,
             debug_instance,
             debug_device,

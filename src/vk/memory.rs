@@ -2,7 +2,7 @@
 //! each holds an `Arc<Context>` so the device outlives it.
 
 use super::context::Context;
-use crate::error::{Error, Result, VkContext};
+use crate::error::{mib, Error, Result, VkContext};
 use ash::vk;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 use gpu_allocator::MemoryLocation;
@@ -26,29 +26,26 @@ impl Buffer {
         location: MemoryLocation,
     ) -> Result<Buffer> {
         let device = &context.device;
-        let info = vk::BufferCreateInfo::default()
-            .size(size.max(4))
-            .usage(usage)
-            .sharing_mode(vk::SharingMode::EXCLUSIVE);
-        // SAFETY: valid create info; the buffer is destroyed in `Drop`.
+        let bytes = size.max(4);
+        check_heap(context, name, bytes, location)?;
+        let most = context.limits.max_buffer_size;
+        if bytes > most {
+            let reason = format!("more than the device's maxBufferSize ({} MiB)", mib(most));
+            return Err(memory_error(context, name, bytes, location, reason));
+        }
+        let info =
+            vk::BufferCreateInfo::default().size(bytes).usage(usage).sharing_mode(vk::SharingMode::EXCLUSIVE);
+        // SAFETY: valid create info (its size checked above); the buffer is destroyed in `Drop`.
         let raw = unsafe { device.create_buffer(&info, None) }.while_("creating a buffer")?;
         // SAFETY: `raw` is a live buffer of this device.
         let requirements = unsafe { device.get_buffer_memory_requirements(raw) };
-        let allocation = context.allocator.lock().expect("allocator lock is never poisoned").allocate(
-            &AllocationCreateDesc {
-                name,
-                requirements,
-                location,
-                linear: true,
-                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-            },
-        );
+        let allocation = allocate(context, name, requirements, location, true);
         let allocation = match allocation {
             Ok(allocation) => allocation,
-            Err(source) => {
+            Err(error) => {
                 // SAFETY: the buffer was never bound or used.
                 unsafe { device.destroy_buffer(raw, None) };
-                return Err(Error::Allocation { what: name.to_string(), source });
+                return Err(error);
             }
         };
         let buffer = Buffer { context: context.clone(), raw, size, allocation: Some(allocation) };
@@ -162,6 +159,11 @@ impl Image {
         aspect: vk::ImageAspectFlags,
     ) -> Result<Image> {
         let device = &context.device;
+        let max = context.limits.max_image_dimension_2d;
+        if extent.width > max || extent.height > max {
+            let (width, height) = (extent.width, extent.height);
+            return Err(Error::ImageTooLarge { what: name.to_string(), width, height, max });
+        }
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
             .format(format)
@@ -177,21 +179,14 @@ impl Image {
         let raw = unsafe { device.create_image(&info, None) }.while_("creating an image")?;
         // SAFETY: `raw` is a live image of this device.
         let requirements = unsafe { device.get_image_memory_requirements(raw) };
-        let allocation = context.allocator.lock().expect("allocator lock is never poisoned").allocate(
-            &AllocationCreateDesc {
-                name,
-                requirements,
-                location: MemoryLocation::GpuOnly,
-                linear: false,
-                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-            },
-        );
+        let allocation = check_heap(context, name, requirements.size, MemoryLocation::GpuOnly)
+            .and_then(|()| allocate(context, name, requirements, MemoryLocation::GpuOnly, false));
         let allocation = match allocation {
             Ok(allocation) => allocation,
-            Err(source) => {
+            Err(error) => {
                 // SAFETY: the image was never bound or used.
                 unsafe { device.destroy_image(raw, None) };
-                return Err(Error::Allocation { what: name.to_string(), source });
+                return Err(error);
             }
         };
         let mut image = Image {
@@ -233,6 +228,53 @@ impl Drop for Image {
             let _ = self.context.allocator.lock().map(|mut a| a.free(allocation));
         }
     }
+}
+
+/// Which heap memory of `location` comes from, and its size.
+fn heap_of(context: &Context, location: MemoryLocation) -> (&'static str, u64) {
+    match location {
+        MemoryLocation::GpuOnly => ("device-local", context.limits.device_local_heap),
+        _ => ("host-visible", context.limits.host_visible_heap),
+    }
+}
+
+/// The error of `size` bytes of `location` for `name` that cannot be had, and why.
+fn memory_error(context: &Context, name: &str, size: u64, location: MemoryLocation, reason: String) -> Error {
+    let (heap, heap_size) = heap_of(context, location);
+    Error::ResourceMemory { what: name.to_string(), size, heap, heap_size, reason }
+}
+
+/// Refuses `size` bytes that no single allocation of `location` can hold: more than the heap,
+/// or than `maxMemoryAllocationSize`. Asking Vulkan for them would be invalid usage rather
+/// than a failure.
+fn check_heap(context: &Context, name: &str, size: u64, location: MemoryLocation) -> Result<()> {
+    let (_, heap_size) = heap_of(context, location);
+    let largest = context.limits.max_memory_allocation_size;
+    let reason = if size > heap_size {
+        "more than the heap holds".to_string()
+    } else if size > largest {
+        format!("more than the device's maxMemoryAllocationSize ({} MiB)", mib(largest))
+    } else {
+        return Ok(());
+    };
+    Err(memory_error(context, name, size, location, reason))
+}
+
+/// Memory of `requirements` from the allocator, for the resource `name`.
+fn allocate(
+    context: &Context,
+    name: &str,
+    requirements: vk::MemoryRequirements,
+    location: MemoryLocation,
+    linear: bool,
+) -> Result<Allocation> {
+    let mut allocator = context.allocator.lock().expect("allocator lock is never poisoned");
+    let scheme = AllocationScheme::GpuAllocatorManaged;
+    let description =
+        AllocationCreateDesc { name, requirements, location, linear, allocation_scheme: scheme };
+    allocator
+        .allocate(&description)
+        .map_err(|source| memory_error(context, name, requirements.size, location, source.to_string()))
 }
 
 /// All mips and layers of one aspect.

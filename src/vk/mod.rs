@@ -1,5 +1,6 @@
 //! Vulkan plumbing, one module per concern. Knows nothing of scenes or shading.
 
+pub mod budget;
 pub mod context;
 pub mod frames;
 pub mod memory;

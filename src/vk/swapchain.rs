@@ -9,9 +9,12 @@ use std::sync::Arc;
 
 /// What acquiring an image gave.
 pub enum Acquired {
-    /// Render into this image, then present it.
-    Image(u32),
-    /// The swapchain no longer matches the surface: recreate it and try again.
+    /// Render into image `index`, then present it. `suboptimal`: the swapchain no longer
+    /// matches the surface exactly; the image is acquired all the same (its semaphore will
+    /// be signalled, so it must be used), and the swapchain is best recreated after presenting.
+    Image { index: u32, suboptimal: bool },
+    /// The swapchain no longer matches the surface: recreate it and try again (nothing was
+    /// acquired).
     OutOfDate,
 }
 
@@ -148,8 +151,8 @@ impl Swapchain {
         // SAFETY: live swapchain and unsignalled semaphore (the caller waits for the previous
         // frame's fence before reusing it).
         match unsafe { self.loader.acquire_next_image(self.raw, u64::MAX, available, vk::Fence::null()) } {
-            Ok((index, false)) => Ok(Acquired::Image(index)),
-            Ok((_, true)) | Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(Acquired::OutOfDate),
+            Ok((index, suboptimal)) => Ok(Acquired::Image { index, suboptimal }),
+            Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(Acquired::OutOfDate),
             Err(result) => Err(crate::Error::Vulkan { what: "acquiring a swapchain image", result }),
         }
     }

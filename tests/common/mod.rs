@@ -153,6 +153,16 @@ impl SplitMix64 {
         z ^ (z >> 31)
     }
 
+    /// Uniform in `0..n` (`n > 0`).
+    pub fn below(&mut self, n: usize) -> usize {
+        (self.next_u64() % n as u64) as usize
+    }
+
+    /// Uniform in [lo, hi), in f64.
+    pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
     /// Uniform in [0, 1).
     pub fn f(&mut self) -> f32 {
         (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
@@ -172,6 +182,14 @@ impl VirtualDisplay {
         if std::env::var_os("DISPLAY").is_some_and(|d| !d.is_empty()) {
             return VirtualDisplay(None);
         }
+        let (display, name) = VirtualDisplay::start();
+        std::env::set_var("DISPLAY", name);
+        display
+    }
+
+    /// Starts an Xvfb of its own on a free display, whatever `DISPLAY` says; returns it and the
+    /// display's name (`:N`).
+    pub fn start() -> (VirtualDisplay, String) {
         let mut child = Command::new("Xvfb")
             .args(["-displayfd", "1", "-screen", "0", "1024x768x24", "-nolisten", "tcp"])
             .stdout(Stdio::piped())
@@ -182,8 +200,7 @@ impl VirtualDisplay {
         BufReader::new(child.stdout.take().expect("piped"))
             .read_line(&mut line)
             .expect("Xvfb reports its display number");
-        std::env::set_var("DISPLAY", format!(":{}", line.trim()));
-        VirtualDisplay(Some(child))
+        (VirtualDisplay(Some(child)), format!(":{}", line.trim()))
     }
 }
 
