@@ -187,7 +187,7 @@ pub struct ViewReport {
     pub validation_messages: usize,
     /// The window title when it closed.
     pub final_title: String,
-    /// Presented frames by mode ("pixel", "fixed:4", "multirate (tcs)", ...).
+    /// Presented frames by mode ("pixel", "fixed:4", "multirate (tcs)", ...), in a scripted run.
     pub frames_by_mode: BTreeMap<String, u32>,
     /// Presented frames with the heat map, and with the wireframe, on.
     pub heat_map_frames: u32,
@@ -569,6 +569,11 @@ impl App {
         if let Some(state) = &self.state {
             let extent = state.swapchain.extent;
             report.final_extent = (extent.width, extent.height);
+        }
+        // What the frames showed is the report of a scripted run only: a person's session
+        // spends nothing on it per frame.
+        if self.script.is_none() {
+            return;
         }
         let view = &self.view;
         let mode = match view.mode {
