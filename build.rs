@@ -11,8 +11,9 @@
 //! the code the scene uses (specialization constants do not remove dead code on every driver).
 //! Stages without the line are compiled once with every feature off.
 //!
-//! The SPIR-V lands in `$OUT_DIR/spirv/<stage>[.<variant>].spv`, and `$OUT_DIR/spirv/variants.rs`
-//! lists every module for `src/shaders.rs` to embed. A module is compiled again only when its
+//! The SPIR-V lands in `$OUT_DIR/spirv/<stage>[.<variant>].spv`, `$OUT_DIR/spirv/variants.rs`
+//! lists every module for `src/shaders.rs` to embed, and `$OUT_DIR/spirv/axes.rs` the axes' names
+//! in order, for it to check against its own. A module is compiled again only when its
 //! preprocessed text (or the compile settings) changed since the last build in that folder: the
 //! optimiser takes most of a build, and most edits touch a few stages.
 
@@ -26,7 +27,8 @@ struct Axis {
     values: u32,
 }
 
-/// In `shaders::Features` order.
+/// In `shaders::Axis::ALL` order (the names are written to `$OUT_DIR/spirv/axes.rs`, which
+/// `src/shaders.rs` checks against it at compile time).
 const AXES: [Axis; 5] = [
     Axis { name: "material_kind", define: "VARIANT_MATERIAL_KIND", values: 3 },
     Axis { name: "polygon_lights", define: "VARIANT_POLYGON_LIGHTS", values: 2 },
@@ -58,6 +60,21 @@ fn files_in(dir: &Path) -> Vec<PathBuf> {
         .collect();
     files.sort();
     files
+}
+
+/// Every header under `dir`, its subfolders' (`estimator/`, `polygon/`) included.
+fn headers_in(dir: &Path) -> Vec<PathBuf> {
+    let mut headers = files_in(dir);
+    let mut folders: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("cannot list {}: {e}", dir.display()))
+        .map(|entry| entry.expect("readable directory entry").path())
+        .filter(|p| p.is_dir())
+        .collect();
+    folders.sort();
+    for folder in folders {
+        headers.extend(headers_in(&folder));
+    }
+    headers
 }
 
 /// The axes (indices into `AXES`) a stage's `// variants:` line names.
@@ -96,8 +113,16 @@ impl Job {
     }
 }
 
-/// Every combination of the values of `varied`, the other axes 0; a pipeline either counts or
-/// records, never both.
+/// Axes never both on: a pipeline either counts or records, never both.
+const EXCLUSIVE_AXES: [&str; 2] = ["count_evaluations", "record_levels"];
+
+/// The index in `AXES` of the axis named `name`.
+fn axis_index(name: &str) -> usize {
+    AXES.iter().position(|a| a.name == name).unwrap_or_else(|| panic!("no variant axis `{name}`"))
+}
+
+/// Every combination of the values of `varied`, the other axes 0, without two of the
+/// `EXCLUSIVE_AXES` on.
 fn combinations(varied: &[usize]) -> Vec<[u32; AXES.len()]> {
     let mut all = vec![[0u32; AXES.len()]];
     for &axis in varied {
@@ -112,7 +137,8 @@ fn combinations(varied: &[usize]) -> Vec<[u32; AXES.len()]> {
             })
             .collect();
     }
-    all.retain(|values| values[3] == 0 || values[4] == 0);
+    let exclusive = EXCLUSIVE_AXES.map(axis_index);
+    all.retain(|values| exclusive.iter().filter(|&&axis| values[axis] != 0).count() <= 1);
     all
 }
 
@@ -229,7 +255,7 @@ fn main() {
 
     println!("cargo:rerun-if-changed={}", glsl.display());
     println!("cargo:rerun-if-changed={}", include_dir.display());
-    for header in files_in(&include_dir) {
+    for header in headers_in(&include_dir) {
         println!("cargo:rerun-if-changed={}", header.display());
     }
 
@@ -292,4 +318,7 @@ fn main() {
     let table = out_dir.join("variants.rs");
     std::fs::write(&table, variant_table(&jobs))
         .unwrap_or_else(|e| panic!("cannot write {}: {e}", table.display()));
+    let axes = out_dir.join("axes.rs");
+    std::fs::write(&axes, format!("{:?}", AXES.map(|a| a.name)))
+        .unwrap_or_else(|e| panic!("cannot write {}: {e}", axes.display()));
 }

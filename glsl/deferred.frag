@@ -13,8 +13,6 @@ layout(set = 2, binding = 0) uniform sampler2D visibility;
 
 layout(location = 0) out vec4 out_color;
 
-const uint FLAG_DERIVATIVE_CHECK = 2u;
-
 void main() {
     vec4 id = texelFetch(visibility, ivec2(gl_FragCoord.xy), 0);
     bool mine = id.w != 0.0 && uint(id.x) == draw.mesh_index + 1u;
@@ -33,7 +31,7 @@ void main() {
         clip[k] = draw.view_proj * vec4(p[k], 1.0);
     }
     BarycentricDerivatives b =
-        barycentric_derivatives(clip[0], clip[1], clip[2], gl_FragCoord.xy, draw.viewport.xy);
+        barycentric_derivatives(clip[0], clip[1], clip[2], gl_FragCoord.xy, draw.viewport_size);
     vec3 position;
     vec3 normal;
     vec2 uv;

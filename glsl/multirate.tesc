@@ -52,7 +52,7 @@ void set_patch_levels(float own, vec3 neighbours, float own_lod_bound, uint tria
         }
         return;
     }
-    PatchLevels levels = patch_levels(own, neighbours, draw.viewport.w);
+    PatchLevels levels = patch_levels(own, neighbours, float(draw.n_max));
     write_patch_levels(levels, own_lod_bound);
     if (RECORD_LEVELS) {
         level_records[triangle] = level_record(levels);

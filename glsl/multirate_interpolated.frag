@@ -1,7 +1,7 @@
 #version 460
 // variants: textured count_evaluations
 // `multirate` mode, `--estimator compute`, the draw of the patches shaded on their sub-vertices
-// (FLAG_INTERPOLATED_PATCHES): the interpolated vertex shading, its diffuse part times the
+// (without FLAG_FALLBACK_PATCHES): the interpolated vertex shading, its diffuse part times the
 // albedo map. The fallback patches are drawn by another draw with multirate.frag. Holding no
 // shading code matters where a branch does not skip the code it guards: lavapipe runs both
 // sides of every branch under a mask, so multirate.frag costs a per-pixel shading for every

@@ -2,7 +2,7 @@
 // variants: record_levels
 // `multirate` mode, `--estimator compute`, third step: one invocation per visible triangle of
 // a mesh combines its level and its neighbours' (triangle_levels, written by
-// triangle_levels.comp) into the tessellation levels of its patch (estimator.glsl,
+// triangle_levels.comp) into the tessellation levels of its patch (estimator/patch_levels.glsl,
 // `patch_levels`), writes them to patch_tess_levels, and appends the triangle to one of the
 // mesh's lists (bindings.glsl): the flat patches (all levels 1, drawn without tessellation,
 // shaded on their corners or per pixel), or the interpolated or the fallback patches, counting
@@ -34,7 +34,7 @@ void main() {
     }
     uvec4 across = triangle_neighbours[triangle];
     vec3 neighbours = vec3(triangle_levels[across.x], triangle_levels[across.y], triangle_levels[across.z]);
-    PatchLevels levels = patch_levels(triangle_levels[triangle], neighbours, draw.viewport.w);
+    PatchLevels levels = patch_levels(triangle_levels[triangle], neighbours, float(draw.n_max));
     patch_tess_levels[triangle] = vec4(levels.fallback ? 0.0 : levels.inner, levels.outer);
     if (VARIANT_RECORD_LEVELS != 0) {
         level_records[triangle] = level_record(levels);
@@ -42,7 +42,7 @@ void main() {
     // A patch that is its own triangle needs no tessellator: the flat list, whose triangles
     // shaded per pixel are listed from the mesh's last triangle down.
     if (levels.inner <= 1.0 && all(lessThanEqual(levels.outer, vec3(1.0)))) {
-        uint flat_draw = 2u * draw.mesh_index + (levels.fallback ? 1u : 0u);
+        uint flat_draw = patch_list(levels.fallback);
         uint entry = atomicAdd(flat_draws[flat_draw].x, 3u) / 3u;
         flat_patches[draw.patch_base + (levels.fallback ? draw.triangle_count - 1u - entry : entry)] = triangle;
         if (entry == 0u) {
@@ -50,7 +50,7 @@ void main() {
         }
         return;
     }
-    uint slot = atomicAdd(patch_counts[2u * draw.mesh_index + (levels.fallback ? 1u : 0u)], 1u);
+    uint slot = atomicAdd(patch_counts[patch_list(levels.fallback)], 1u);
     uint per_draw = max(draw.patches_per_draw, 1u);
     uint command = draw.patch_base + slot / per_draw;
     // The first patch of a draw enables it: one instance, from its first vertex.

@@ -1,6 +1,6 @@
 #version 460
 // Runs the polygonal-light functions of polygon.glsl on test cases, for `tests/polygon_gpu.rs`,
-// which runs the same cases through the Rust twin `src/shading/polygon.rs` and compares.
+// which runs the same cases through the Rust twin `src/shading/polygon/` and compares.
 #include "polygon.glsl"
 
 layout(local_size_x = 64) in;

@@ -7,9 +7,9 @@
 // the level that stands. A workgroup takes the listed triangles REFINE_BLOCK at a time: first its
 // invocations take the block's children's turns side by side (one turn per triangle, light and
 // child, for the first GIVEN_LIGHTS point and directional lights), then REFINE_BLOCK of them
-// estimate one triangle each with those values (estimator.glsl, given_child_values). One
+// estimate one triangle each with those values (estimator/add_light.glsl, given_child_values). One
 // invocation taking all its triangle's turns in a row made the step 4.6 times as long as the
-// estimator step on an NVIDIA H200 (docs/gpu.md).
+// estimator step on an NVIDIA H200 (docs/notebook/gpu.md).
 #define CHILDREN_GIVEN
 #define GIVEN_LIGHTS 8
 #include "triangle_level.glsl"
@@ -63,8 +63,8 @@ ChildValues given_child_values(int light, out bool bad) {
 void take_children_turns(uint block, uint count) {
     int given = min(POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT, GIVEN_LIGHTS);
     uint per_triangle = uint(given * REFINE_CHILDREN);
-    uint n_max = uint(clamp(draw.viewport.w, 1.0, 64.0));
-    P float eps = draw.viewport.z > 0.0 ? draw.viewport.z : 0.0;
+    uint n_max = draw.n_max;
+    P float eps = draw.epsilon > 0.0 ? draw.epsilon : 0.0;
     P float top = pattern_level(n_max, n_max);
     GpuMaterial material = materials[draw.material_index];
     for (uint k = gl_LocalInvocationID.x; k < REFINE_BLOCK * per_triangle; k += gl_WorkGroupSize.x) {

@@ -2,7 +2,7 @@
 //! offsets out of the compiled SPIR-V and checks they match these.
 
 use bytemuck::{Pod, Zeroable};
-use glam::{IVec4, Mat4, Vec4};
+use glam::{IVec4, Mat4, Vec2, Vec4};
 
 /// A light as the shaders read it (std430).
 #[repr(C)]
@@ -51,42 +51,28 @@ pub struct GpuMaterial {
 pub struct DrawConstants {
     pub view_proj: Mat4,
     pub eye: Vec4,
-    /// x, y: target size in pixels; z: epsilon; w: n_max.
-    pub viewport: Vec4,
+    /// The target's size in pixels.
+    pub viewport_size: Vec2,
+    /// Multirate's error bound ε.
+    pub epsilon: f32,
+    /// Multirate's highest level, clamped by the host to `1..=MAX_LEVEL` (the range the shaders
+    /// read it in).
+    pub n_max: u32,
     pub material_index: u32,
     pub mesh_index: u32,
     /// Tessellation level of the `fixed:N` mode.
     pub fixed_level: u32,
     /// Index of the draw's first triangle in the scene (level records).
     pub patch_base: u32,
-    /// Bit 0 ([`FLAG_HEAT_MAP`]): show the level heat map instead of shading; bit 1
-    /// ([`FLAG_DERIVATIVE_CHECK`]): see [`crate::render::View::derivative_check`]; bit 2
-    /// ([`FLAG_ONE_SIDED`]): the mesh's back faces are culled; bit 4
-    /// ([`FLAG_FALLBACK_PATCHES`]): the multirate draw of the fallback patches.
+    /// Bits of [`crate::gpu_interface::flags`].
     pub flags: u32,
     /// Emitter draws: index of the polygonal light drawn.
     pub light_index: u32,
     /// The triangle-level pre-pass: how many triangles the dispatch covers.
     pub triangle_count: u32,
-    /// `--estimator compute`: patches per indirect draw of a patch list (see `PatchDraws`).
+    /// `--estimator compute`: patches per indirect draw of a patch list (see `Renderer::patches_per_draw`).
     pub patches_per_draw: u32,
 }
-
-/// `DrawConstants::flags` bit: colour by tessellation level instead of shading.
-pub const FLAG_HEAT_MAP: u32 = 1;
-
-/// `DrawConstants::flags` bit: the mesh is one-sided; its back-facing triangles are culled
-/// (by the rasteriser, and in multirate mode before their estimate).
-pub const FLAG_ONE_SIDED: u32 = 4;
-
-/// `DrawConstants::flags` bit: the multirate draw (`--estimator compute`) of a mesh's list of
-/// fallback patches, shaded per pixel; without it, of its list of patches shaded on their
-/// sub-vertices.
-pub const FLAG_FALLBACK_PATCHES: u32 = 16;
-
-/// `DrawConstants::flags` bit: `pixel-deferred` writes the analytic against hardware uv
-/// derivative difference instead of shading.
-pub const FLAG_DERIVATIVE_CHECK: u32 = 2;
 
 /// Vertex buffer layout: world-space position, normal and texture coordinates.
 #[repr(C)]

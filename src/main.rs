@@ -4,9 +4,9 @@ use anyhow::{Context as _, Result};
 use clap::{Args, Parser, Subcommand};
 use multirate::analysis::{metrics, report};
 use multirate::bench::{self, BenchConfig, BenchScene};
-use multirate::render::{output, render_headless, Estimator, Mode, Renderer, View, MAX_LEVEL};
+use multirate::render::{output, render_headless, Mode, Placement, Renderer, View, MAX_LEVEL};
 use multirate::scene::Scene;
-use multirate::shading::estimator::{Discontinuity, EstimatorSettings, Split};
+use multirate::shading::estimator::{Discontinuity, Split};
 use multirate::vk::target::RenderTarget;
 use multirate::vk::{Context, ContextOptions};
 use std::path::{Path, PathBuf};
@@ -134,8 +134,8 @@ struct BenchArgs {
     discontinuity: Discontinuity,
     /// multirate: where the estimator runs, each measured: tcs, compute or both
     /// (tcs,compute); default: compute.
-    #[arg(long, value_delimiter = ',')]
-    estimator: Vec<Estimator>,
+    #[arg(long = "estimator", value_name = "ESTIMATOR", value_delimiter = ',')]
+    placements: Vec<Placement>,
 }
 
 fn parse_resolution(text: &str) -> Result<(u32, u32), String> {
@@ -224,8 +224,8 @@ struct ShadingArgs {
     /// multirate: run the estimator in a compute pre-pass (compute, the default: faster frames)
     /// or in the tessellation control stage (tcs, as the seeds describe it); both give the
     /// same levels.
-    #[arg(long, default_value_t = Estimator::default())]
-    estimator: Estimator,
+    #[arg(long = "estimator", value_name = "ESTIMATOR", default_value_t = Placement::default())]
+    placement: Placement,
 }
 
 fn parse_split(text: &str) -> Result<Split, String> {
@@ -249,22 +249,22 @@ impl ShadingArgs {
     fn view(&self, scene: &Scene) -> Result<View> {
         let mut view = View::of_scene(scene);
         view.mode = self.mode;
-        view.split = self.split;
-        view.discontinuity = self.discontinuity;
-        view.estimator = self.estimator;
+        view.estimator.split = self.split;
+        view.estimator.discontinuity = self.discontinuity;
+        view.placement = self.placement;
         if let Some(epsilon) = self.epsilon {
             anyhow::ensure!(
                 epsilon.is_finite() && epsilon > 0.0,
                 "--epsilon must be a positive number (got {epsilon})"
             );
-            view.epsilon = epsilon;
+            view.estimator.epsilon = epsilon;
         }
         if let Some(n_max) = self.nmax {
             anyhow::ensure!(
                 (1..=MAX_LEVEL).contains(&n_max),
                 "--nmax must be in 1..={MAX_LEVEL} (got {n_max})"
             );
-            view.n_max = n_max;
+            view.estimator.n_max = n_max;
         }
         Ok(view)
     }
@@ -367,14 +367,14 @@ fn first_run(gpu: &GpuArgs) -> Result<()> {
         (pixel_frame.evaluations.total(), multirate_frame.evaluations.total());
     let (reference, test) = (pixel_frame.frame(), multirate_frame.frame());
     let error = metrics::image_error(reference, test, scene.settings.exposure);
-    let over = metrics::pixels_over(reference, test, f64::from(multirate.epsilon));
+    let over = metrics::pixels_over(reference, test, f64::from(multirate.estimator.epsilon));
     println!(
         "{}: {}, {width}x{height}, {} triangles, multirate ε = {}, n_max = {} on {}",
         out.display(),
         scene.description,
         scene.triangle_count(),
-        multirate.epsilon,
-        multirate.n_max,
+        multirate.estimator.epsilon,
+        multirate.estimator.n_max,
         context.info.name
     );
     println!(
@@ -388,7 +388,7 @@ fn first_run(gpu: &GpuArgs) -> Result<()> {
     println!(
         "  largest error against pixel: {:.4} where both show the same triangle (ε = {}), {over} pixels over ε; \
          {:.4} over all pixels, where {} pixels show another triangle",
-        error.l_inf_same_triangle, multirate.epsilon, error.l_inf, error.other_triangle_pixels
+        error.l_inf_same_triangle, multirate.estimator.epsilon, error.l_inf, error.other_triangle_pixels
     );
     println!("  level map (blue 1 → red n_max, magenta per-pixel): {}", level_map.display());
     let messages = context.validation().count();
@@ -411,7 +411,7 @@ impl Default for ShadingArgs {
             nmax: None,
             split: Split::Heuristic,
             discontinuity: Discontinuity::Relaxed,
-            estimator: Estimator::default(),
+            placement: Placement::default(),
         }
     }
 }
@@ -419,14 +419,9 @@ impl Default for ShadingArgs {
 fn analyze(args: &AnalyzeArgs, gpu: &GpuArgs) -> Result<()> {
     let scene = load_scene(&args.scene)?;
     let view = args.shading.view(&scene)?;
-    let settings = EstimatorSettings {
-        epsilon: view.epsilon,
-        n_max: view.n_max,
-        split: view.split,
-        discontinuity: view.discontinuity,
-    };
+    let settings = &view.estimator;
     let reports =
-        report::analyze(&scene, &settings, report::Triangles::Visible, args.oracle, args.texture_bounds);
+        report::analyze(&scene, settings, report::Triangles::Visible, args.oracle, args.texture_bounds);
     let measured = if args.measured { Some(measure_triangles(&scene, &view, gpu)?) } else { None };
     std::fs::write(&args.out, report::to_csv(&reports, args.oracle, measured.as_ref()))
         .with_context(|| format!("{}: cannot write the CSV", args.out.display()))?;
@@ -531,7 +526,7 @@ fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
         frames: args.frames,
         split: args.split,
         discontinuity: args.discontinuity,
-        estimators: args.estimator.clone(),
+        placements: args.placements.clone(),
         images: args.images.then(|| args.out.join("images")),
     };
     std::fs::create_dir_all(&args.out).with_context(|| format!("{}: cannot create", args.out.display()))?;

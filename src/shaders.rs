@@ -4,8 +4,8 @@
 //! built from the variant of exactly the features it uses, so a Lambert scene without polygonal
 //! lights or textures runs no polygon, texture or GGX code at all.
 
-/// What code a shader variant contains. Each field is a preprocessor define of `build.rs`
-/// (`VARIANT_MATERIAL_KIND`, ...); a stage compiled without an axis ignores that field.
+/// What code a shader variant contains. Each field is an [`Axis`] of `build.rs`, a preprocessor
+/// define (`VARIANT_MATERIAL_KIND`, ...); a stage compiled without an axis ignores that field.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Features {
     /// 0 Lambert, 1 Blinn-Phong, 2 GGX (`MATERIAL_KIND` in brdf.glsl).
@@ -20,16 +20,82 @@ pub struct Features {
     pub record_levels: bool,
 }
 
+/// A feature axis of `build.rs`: a field of [`Features`], named alike in a stage's
+/// `// variants:` line and in its define (`VARIANT_` and the name in capitals).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Axis {
+    MaterialKind,
+    PolygonLights,
+    Textured,
+    CountEvaluations,
+    RecordLevels,
+}
+
+impl Axis {
+    /// Every axis, in `build.rs`'s order (the order of a module's values).
+    pub const ALL: [Axis; 5] =
+        [Axis::MaterialKind, Axis::PolygonLights, Axis::Textured, Axis::CountEvaluations, Axis::RecordLevels];
+
+    /// Its name in `build.rs` and in the `// variants:` lines.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Axis::MaterialKind => "material_kind",
+            Axis::PolygonLights => "polygon_lights",
+            Axis::Textured => "textured",
+            Axis::CountEvaluations => "count_evaluations",
+            Axis::RecordLevels => "record_levels",
+        }
+    }
+}
+
+/// The names of `build.rs`'s axes, in its order, as it wrote them.
+const BUILT_AXES: [&str; Axis::ALL.len()] = include!(concat!(env!("OUT_DIR"), "/spirv/axes.rs"));
+
+const fn same_str(a: &str, b: &str) -> bool {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
+
+/// Whether [`Axis::ALL`] is in declaration order (an axis's discriminant indexes a module's
+/// values) and names `build.rs`'s axes in its order.
+const fn axes_are_built_in_order() -> bool {
+    let mut i = 0;
+    while i < Axis::ALL.len() {
+        if Axis::ALL[i] as usize != i || !same_str(Axis::ALL[i].name(), BUILT_AXES[i]) {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
+
+const _: () = assert!(axes_are_built_in_order(), "build.rs's AXES differ from shaders::Axis::ALL");
+
 impl Features {
+    /// Its value on `axis`.
+    fn value(&self, axis: Axis) -> u32 {
+        match axis {
+            Axis::MaterialKind => self.material_kind,
+            Axis::PolygonLights => u32::from(self.polygon_lights),
+            Axis::Textured => u32::from(self.textured),
+            Axis::CountEvaluations => u32::from(self.count_evaluations),
+            Axis::RecordLevels => u32::from(self.record_levels),
+        }
+    }
+
     /// The values of `build.rs`'s axes, in its order.
-    fn values(&self) -> [u32; 5] {
-        [
-            self.material_kind,
-            u32::from(self.polygon_lights),
-            u32::from(self.textured),
-            u32::from(self.count_evaluations),
-            u32::from(self.record_levels),
-        ]
+    fn values(&self) -> [u32; Axis::ALL.len()] {
+        Axis::ALL.map(|axis| self.value(axis))
     }
 }
 
@@ -37,22 +103,23 @@ impl Features {
 pub struct Module {
     /// The stage's file name under `glsl/`.
     pub stage: &'static str,
-    /// Bit `i` set: the module varies over axis `i` of [`Features::values`].
+    /// Bit `i` set: the module varies over axis `i` of [`Axis::ALL`].
     varied: u32,
-    values: [u32; 5],
+    /// Its value on each axis of [`Axis::ALL`] (0 where it does not vary).
+    values: [u32; Axis::ALL.len()],
     pub spirv: &'static [u8],
 }
 
 impl Module {
     /// The features this module was compiled with (axes it does not vary over read as off).
     pub fn features(&self) -> Features {
-        let v = self.values;
+        let value = |axis: Axis| self.values[axis as usize];
         Features {
-            material_kind: v[0],
-            polygon_lights: v[1] != 0,
-            textured: v[2] != 0,
-            count_evaluations: v[3] != 0,
-            record_levels: v[4] != 0,
+            material_kind: value(Axis::MaterialKind),
+            polygon_lights: value(Axis::PolygonLights) != 0,
+            textured: value(Axis::Textured) != 0,
+            count_evaluations: value(Axis::CountEvaluations) != 0,
+            record_levels: value(Axis::RecordLevels) != 0,
         }
     }
 

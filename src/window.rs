@@ -14,9 +14,9 @@
 //! that `multirate soak` runs and tests/window.rs checks.
 
 use crate::error::{Error, Result, VkContext as _};
-use crate::render::camera::Orbit;
+use crate::geometry::camera::Orbit;
 use crate::render::present::PresentPass;
-use crate::render::{Estimator, Mode, Renderer, View, MAX_LEVEL};
+use crate::render::{Mode, Placement, Renderer, View, MAX_LEVEL};
 use crate::scene::Scene;
 use crate::vk::budget::MemoryUse;
 use crate::vk::swapchain::{Acquired, Swapchain};
@@ -424,8 +424,8 @@ impl App {
         let mut view = self.view.clone();
         view.camera = self.orbit.apply(&self.scene.camera);
         let settings_changed = self.share.as_ref().is_none_or(|s| {
-            (s.view.mode, s.view.epsilon, s.view.n_max, s.view.estimator)
-                != (view.mode, view.epsilon, view.n_max, view.estimator)
+            (s.view.mode, s.view.estimator.epsilon, s.view.estimator.n_max, s.view.placement)
+                != (view.mode, view.estimator.epsilon, view.estimator.n_max, view.placement)
         });
         if settings_changed || self.share.as_ref().is_some_and(|s| s.at.elapsed() >= RECOUNT_EVERY) {
             // The last frame has finished (fence above), so the target is free to count in.
@@ -492,7 +492,7 @@ impl App {
         if self.view.mode == Mode::Multirate {
             title += &format!(
                 " ε {} n_max {} ({} estimator)",
-                self.view.epsilon, self.view.n_max, self.view.estimator
+                self.view.estimator.epsilon, self.view.estimator.n_max, self.view.placement
             );
         }
         if let Some(ms) = self.gpu_ms {
@@ -577,16 +577,17 @@ impl App {
         }
         let view = &self.view;
         let mode = match view.mode {
-            Mode::Multirate => format!("{} ({})", view.mode, view.estimator),
+            Mode::Multirate => format!("{} ({})", view.mode, view.placement),
             mode => mode.to_string(),
         };
         *report.frames_by_mode.entry(mode).or_default() += 1;
         report.heat_map_frames += u32::from(view.heat_map);
         report.wireframe_frames += u32::from(view.wireframe);
         if view.mode == Mode::Multirate {
-            report.n_max_values.insert(view.n_max);
-            let (low, high) = report.epsilon_range.unwrap_or((view.epsilon, view.epsilon));
-            report.epsilon_range = Some((low.min(view.epsilon), high.max(view.epsilon)));
+            let epsilon = view.estimator.epsilon;
+            report.n_max_values.insert(view.estimator.n_max);
+            let (low, high) = report.epsilon_range.unwrap_or((epsilon, epsilon));
+            report.epsilon_range = Some((low.min(epsilon), high.max(epsilon)));
         }
     }
 
@@ -611,21 +612,21 @@ impl App {
             }
             "[" | "]" => {
                 let factor = if text == "[" { 0.5 } else { 2.0 };
-                self.view.epsilon = (self.view.epsilon * factor).clamp(1.0e-4, 10.0);
+                self.view.estimator.epsilon = (self.view.estimator.epsilon * factor).clamp(1.0e-4, 10.0);
                 return;
             }
             "<" | "," => {
-                self.view.n_max = (self.view.n_max / 2).max(1);
+                self.view.estimator.n_max = (self.view.estimator.n_max / 2).max(1);
                 return;
             }
             ">" | "." => {
-                self.view.n_max = (self.view.n_max * 2).min(MAX_LEVEL);
+                self.view.estimator.n_max = (self.view.estimator.n_max * 2).min(MAX_LEVEL);
                 return;
             }
             "e" => {
-                self.view.estimator = match self.view.estimator {
-                    Estimator::Tcs => Estimator::Compute,
-                    Estimator::Compute => Estimator::Tcs,
+                self.view.placement = match self.view.placement {
+                    Placement::Tcs => Placement::Compute,
+                    Placement::Compute => Placement::Tcs,
                 };
                 return;
             }
@@ -759,30 +760,4 @@ fn evaluation_percent(renderer: &Renderer, target: &RenderTarget, view: &View) -
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_soak_script_cycles_every_key_size_and_minimised_spell() {
-        let script = ViewScript::soak(10_000, (64, 48));
-        assert_eq!(script.close_at_frame, 10_000);
-        assert!(script.events.windows(2).all(|pair| pair[0].0 <= pair[1].0), "in turn order");
-        let count = |wanted: ScriptEvent| script.events.iter().filter(|(_, e)| *e == wanted).count();
-        let cycles = count(ScriptEvent::SampleMemory);
-        let presented_per_cycle = (SOAK_CYCLE.len() - 1) * SOAK_STEP as usize;
-        assert!((cycles - 2) * presented_per_cycle >= 10_000, "enough cycles: {cycles}");
-        for key in ["p", "d", "v", "f", "m", "e", "h", "w", "+", "-", "[", "]", "<", ">"] {
-            assert!(count(ScriptEvent::Key(key)) >= cycles, "{key}");
-        }
-        assert_eq!(count(ScriptEvent::Resize(96, 72)), cycles);
-        assert_eq!(count(ScriptEvent::Resize(1, 1)), cycles);
-        assert_eq!(count(ScriptEvent::Resize(64, 48)), cycles);
-        assert_eq!(count(ScriptEvent::Minimise), cycles);
-        // Each minimised spell ends in a restore before anything else happens.
-        for (index, (turn, event)) in script.events.iter().enumerate() {
-            if *event == ScriptEvent::Minimise {
-                assert_eq!(script.events[index + 1], (turn + SOAK_STEP, ScriptEvent::Restore));
-            }
-        }
-    }
-}
+mod tests;

@@ -18,9 +18,10 @@ mod common;
 use ash::vk;
 use common::{assert_validation_clean, repo_path, validated_context};
 use multirate::analysis::tessellator::uniform_vertex_count;
-use multirate::render::cull::CULLED_LEVEL;
-use multirate::render::{Estimator, EvaluationCounts, Mode, Renderer, View};
+use multirate::geometry::cull::CULLED_LEVEL;
+use multirate::render::{EvaluationCounts, Mode, Placement, Renderer, View};
 use multirate::scene::Scene;
+use multirate::shading::estimator::EstimatorSettings;
 use multirate::vk::target::RenderTarget;
 
 fn one_triangle_scene() -> Scene {
@@ -117,7 +118,9 @@ fn a_scene_that_falls_back_everywhere_counts_the_fragments_of_pixel_mode() {
     let context = validated_context();
     let renderer = Renderer::new(&context, &scene).expect("renderer");
     let target = RenderTarget::new(&context, vk::Extent2D { width: 96, height: 72 }).expect("target");
-    let multirate = View { mode: Mode::Multirate, epsilon: 1e-6, n_max: 2, ..View::of_scene(&scene) };
+    let view = View::of_scene(&scene);
+    let estimator = EstimatorSettings { epsilon: 1e-6, n_max: 2, ..view.estimator };
+    let multirate = View { mode: Mode::Multirate, estimator, ..view };
     let levels = renderer.record_levels(&target, &multirate).expect("levels");
     // (Triangles outside the view are culled and record CULLED_LEVEL.)
     let drawn: Vec<_> = levels.iter().filter(|l| l[0] != CULLED_LEVEL).collect();
@@ -132,7 +135,7 @@ fn a_scene_that_falls_back_everywhere_counts_the_fragments_of_pixel_mode() {
     assert!(culled > 0, "part of the plane is outside the view");
     assert_eq!(fallback, EvaluationCounts { culled_patches: culled, ..pixel });
     // The control stage's placement counts the same (its counter is a specialization constant).
-    let in_the_control_stage = View { estimator: Estimator::Tcs, ..multirate.clone() };
+    let in_the_control_stage = View { placement: Placement::Tcs, ..multirate.clone() };
     let counted = renderer.count_evaluations(&target, &in_the_control_stage).expect("count tcs");
     assert_eq!(counted, fallback, "the control stage's placement");
 
@@ -164,7 +167,7 @@ fn level_one_patches_skip_the_tessellator_and_shade_their_corners() {
     assert_eq!(stats.tessellation_control_patches, tessellated, "only the other patches are tessellated");
     // The flat patches' corners are shaded once each, by the vertex shader.
     let counted = renderer.count_evaluations(&target, &view).expect("count");
-    let flat_only = View { epsilon: 1e3, ..view.clone() };
+    let flat_only = View { estimator: EstimatorSettings { epsilon: 1e3, ..view.estimator }, ..view.clone() };
     let all_flat = renderer.record_levels(&target, &flat_only).expect("levels at a large ε");
     let all_visible = all_flat.iter().filter(|l| l[0] != CULLED_LEVEL).count() as u64;
     assert!(

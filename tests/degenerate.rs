@@ -7,7 +7,7 @@
 //! - no holes: no pixel inside `pixel` mode's coverage is left uncovered, and no covered pixel
 //!   is lost with its whole neighbourhood (a culled patch; on needles narrower than a pixel a
 //!   moved edge may uncover single pixels), but for the pixels of triangles whose image is a
-//!   segment to float precision, which `multirate` culls (`cull::degenerate_image`);
+//!   segment to float precision, which `multirate` culls (`geometry::cull::degenerate_image`);
 //! - `multirate`: every pixel that shows the same triangle as in `pixel` mode is within ε of it.
 
 mod common;
@@ -15,9 +15,11 @@ mod common;
 use ash::vk;
 use common::{assert_validation_clean, cracks, validated_context, SplitMix64};
 use multirate::analysis::metrics;
-use multirate::render::camera::view_projection;
-use multirate::render::{cull, Analysis, Estimator, Mode, Renderer, View};
+use multirate::geometry::camera::view_projection;
+use multirate::geometry::cull;
+use multirate::render::{Analysis, Mode, Placement, Renderer, View};
 use multirate::scene::Scene;
+use multirate::shading::estimator::EstimatorSettings;
 use multirate::vk::target::{FloatImage, RenderTarget};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -200,15 +202,16 @@ fn degenerate_meshes_render_finite_without_holes_in_every_mode_and_placement() {
             View { mode: Mode::Vertex, ..pixel.clone() },
             View { mode: Mode::Fixed(3), ..pixel.clone() },
         ];
-        for estimator in [Estimator::Compute, Estimator::Tcs] {
+        for placement in [Placement::Compute, Placement::Tcs] {
             for (epsilon, n_max) in [(0.075, 8), (1.0e-3, 16), (1.0e3, 1)] {
-                views.push(View { mode: Mode::Multirate, estimator, epsilon, n_max, ..pixel.clone() });
+                let estimator = EstimatorSettings { epsilon, n_max, ..pixel.estimator };
+                views.push(View { mode: Mode::Multirate, placement, estimator, ..pixel.clone() });
             }
         }
         for view in views {
             let label = format!(
                 "{what} {:?} {:?} ε {} n_max {}",
-                view.mode, view.estimator, view.epsilon, view.n_max
+                view.mode, view.placement, view.estimator.epsilon, view.estimator.n_max
             );
             let image = renderer.render(&target, &view).unwrap_or_else(|e| panic!("{label}: {e}"));
             assert_finite(&image, &label);
@@ -218,7 +221,11 @@ fn degenerate_meshes_render_finite_without_holes_in_every_mode_and_placement() {
             if view.mode == Mode::Multirate {
                 let analysis = renderer.analyze(&target, &view).unwrap_or_else(|e| panic!("{label}: {e}"));
                 assert_finite(&analysis.image, &label);
-                let over = metrics::pixels_over(reference.frame(), analysis.frame(), f64::from(view.epsilon));
+                let over = metrics::pixels_over(
+                    reference.frame(),
+                    analysis.frame(),
+                    f64::from(view.estimator.epsilon),
+                );
                 assert_eq!(over, 0, "{label}: {over} pixels of the same triangle over ε");
             }
             checked += 1;

@@ -15,7 +15,7 @@
 //!
 //! Run with `cargo test --release --test estimator_property -- --nocapture` to see the
 //! figures (violations, fallback rates, estimator level over oracle level, shading
-//! evaluations). `docs/estimator.md` quotes them.
+//! evaluations). `docs/estimator.md` §8 quotes them, `docs/notebook/estimator_history.md` their history.
 
 mod common;
 
@@ -25,10 +25,12 @@ use multirate::analysis::oracle::{
     oracle_level, true_error, true_error_sampled, true_error_textured, vertices_at_level,
 };
 use multirate::analysis::tessellator::{triangle_pattern, Pattern};
-use multirate::scene::{with_parameter, Light, LightSampling, MaterialKind, PolygonLight, PolygonSampling};
+use multirate::scene::{
+    with_parameter, Light, LightSampling, MaterialKind, ParameterRange, PolygonLight, PolygonSampling,
+};
 use multirate::shading::estimator::{
-    estimate, estimate_textured, pattern_level, uniform_level, Discontinuity, EstimatorSettings,
-    ParameterRange, Reason, Split, Term, TriangleInput, SHAPES,
+    estimate, estimate_textured, pattern_level, uniform_level, Discontinuity, EstimatorSettings, Reason,
+    Split, Term, TriangleInput, SHAPES,
 };
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -1084,6 +1086,201 @@ fn worst_level(tris: &[TriangleInput], case: &Case, settings: &EstimatorSettings
         .fold(0.0, f32::max)
 }
 
+/// What [`where_the_excess_lies`] counts for one BRDF: shading evaluations, fallbacks counted
+/// at `n_max`.
+#[derive(Default)]
+struct Excess {
+    /// Every triangle the oracle tessellates: the oracle, the estimator, and the least with the
+    /// fallbacks a discontinuity or singularity forces...
+    oracle_all: u64,
+    estimator_all: u64,
+    forced: u64,
+    /// ...the same for Relaxed, and Relaxed's excess in levels above `n_max`.
+    relaxed_all: u64,
+    relaxed_forced: u64,
+    relaxed_level: u64,
+    /// The smooth triangles: the oracle, the measured supremum, 16 children, 4 children, the
+    /// estimator.
+    smooth: [u64; 5],
+    /// Relaxed, the estimator on 4, 16 and 64 children.
+    relaxed_children: [u64; 3],
+    /// Triangles where the measured supremum's level exceeds `ε`.
+    sup_violations: usize,
+    /// Bounds [`LOOSENESS`] times the measured supremum.
+    loose: [u64; LOOSENESS.len()],
+    /// Taylor models on 1, 4 and 16 children.
+    taylor: [u64; 3],
+    /// The estimator's level ratio squared over the measured supremum's.
+    looseness: Vec<f64>,
+    /// The Relaxed excess by the term that needs the highest level.
+    deciding: std::collections::BTreeMap<&'static str, u64>,
+    /// The Relaxed excess by the oracle's level (up to 1, 4, 8, n_max) and by whether the
+    /// estimator tessellates or falls back.
+    by_level: [[u64; 2]; 4],
+}
+
+impl Excess {
+    /// Counts one random triangle.
+    fn add(&mut self, case: &Case, patterns: &[Pattern]) {
+        let settings = conservative(case.epsilon);
+        let est = estimate(&case.tri, &case.material, &case.lights, &settings);
+        let eps = f64::from(case.epsilon);
+        let Some(m) = oracle_level(&case.tri, &case.material, &case.lights, eps, case.n_max, |n| {
+            patterns[n as usize].clone()
+        }) else {
+            return;
+        };
+        let count = |n: Option<u32>| n.map_or(vertices_at_level(case.n_max), vertices_at_level);
+        let chosen = (!est.fallback).then_some(est.n);
+        self.oracle_all += vertices_at_level(m);
+        self.estimator_all += count(chosen);
+        let relaxed_settings = relaxed(case.epsilon);
+        let relaxed = estimate(&case.tri, &case.material, &case.lights, &relaxed_settings);
+        let relaxed_count = count((!relaxed.fallback).then_some(relaxed.n));
+        self.relaxed_all += relaxed_count;
+        // The children of every triangle above level 2, those it sends per pixel for their
+        // level included (the forced fallbacks stay).
+        let forced_here = relaxed.fallback && relaxed.reason != Reason::Level;
+        let mut best = if relaxed.fallback { f32::INFINITY } else { relaxed.level };
+        let mut tris = vec![case.tri];
+        for (depth, out) in self.relaxed_children.iter_mut().enumerate() {
+            if !forced_here && best > 2.0 {
+                tris = tris.iter().flat_map(children).collect();
+                best = best.min(worst_level(&tris, &case, &relaxed_settings) * (2u32 << depth) as f32);
+            }
+            let level_max = pattern_level(case.n_max, case.n_max);
+            *out +=
+                count((!forced_here && best <= level_max).then(|| uniform_level(best, case.n_max).max(1)));
+        }
+        if relaxed.fallback && relaxed.reason == Reason::Level {
+            self.relaxed_level += vertices_at_level(case.n_max) - vertices_at_level(m);
+        }
+        // The Relaxed excess by the term that needs the highest level (forced fallbacks
+        // by their reason; "range" where the parts' ranges alone exceed eps).
+        let excess = relaxed_count.saturating_sub(vertices_at_level(m));
+        self.by_level[[1, 4, 8].iter().take_while(|&&top| m > top).count()][usize::from(relaxed.fallback)] +=
+            excess;
+        if excess > 0 {
+            let name = match relaxed.reason {
+                Reason::Discontinuity => "discontinuity",
+                Reason::Singular => "singular",
+                _ => relaxed.named_terms().fold(("none", 0.0f32), |a, b| if b.1 > a.1 { b } else { a }).0,
+            };
+            *self.deciding.entry(name).or_insert(0) += excess;
+        }
+        self.relaxed_forced += if relaxed.fallback && relaxed.reason != Reason::Level {
+            vertices_at_level(case.n_max)
+        } else {
+            vertices_at_level(m)
+        };
+        if est.fallback && est.reason != Reason::Level {
+            self.forced += vertices_at_level(case.n_max);
+            return;
+        }
+        self.forced += vertices_at_level(m);
+        let measured = measured_supremum(&case);
+        let sup_level = measured.level(&case, 1.0);
+        for (out, &k) in self.loose.iter_mut().zip(&LOOSENESS) {
+            *out += count(measured.level(&case, k));
+        }
+        for (depth, out) in self.taylor.iter_mut().enumerate() {
+            *out += count(measured.taylor_level(&case, depth));
+        }
+        // The estimator's second-order bound against the measured supremum, where both
+        // ask for a level above 1 from the interpolation bound (not the range).
+        let real = measured.real_level(&case);
+        if !est.fallback && est.level > 1.0 && real > 1.0 && sup_level.is_some_and(|n| n > 1) {
+            self.looseness.push(f64::from(est.level * est.level) / (real * real));
+        }
+        if let Some(n) = sup_level {
+            let error = true_error(&case.tri, &case.material, &case.lights, &patterns[n as usize]);
+            self.sup_violations += usize::from(error.iter().any(|&e| e > eps));
+        }
+        let level_max = pattern_level(case.n_max, case.n_max);
+        let mut split = [est.level; 2];
+        let mut tris = vec![case.tri];
+        for (depth, out) in split.iter_mut().enumerate() {
+            if est.fallback || est.level <= 2.0 {
+                break;
+            }
+            tris = tris.iter().flat_map(children).collect();
+            *out = est.level.min(worst_level(&tris, &case, &settings) * (2u32 << depth) as f32);
+        }
+        let split_level =
+            |l: f32| (!est.fallback && l <= level_max).then(|| uniform_level(l, case.n_max).max(1));
+        self.smooth[0] += vertices_at_level(m);
+        self.smooth[1] += count(sup_level);
+        self.smooth[2] += count(split_level(split[1]));
+        self.smooth[3] += count(split_level(split[0]));
+        self.smooth[4] += count(chosen);
+    }
+
+    /// The figures, as lines of `text`.
+    fn report(&mut self, brdf: Brdf, text: &mut String) {
+        let x = |a: u64, b: u64| a as f64 / b.max(1) as f64;
+        let _ = writeln!(
+            text,
+            "{brdf:?}: all the oracle tessellates: estimator x{:.2}, least with the forced fallbacks x{:.2} (Relaxed: x{:.2}, x{:.2}, {:.0} % of its excess in levels above n_max); smooth: oracle {}, supremum of |D2f| x{:.2} ({sup_violations} over eps), 16 children x{:.2}, 4 children x{:.2}, estimator x{:.2}",
+            x(self.estimator_all, self.oracle_all),
+            x(self.forced, self.oracle_all),
+            x(self.relaxed_all, self.oracle_all),
+            x(self.relaxed_forced, self.oracle_all),
+            100.0 * x(self.relaxed_level, self.relaxed_all.saturating_sub(self.oracle_all)),
+            self.smooth[0],
+            x(self.smooth[1], self.smooth[0]),
+            x(self.smooth[2], self.smooth[0]),
+            x(self.smooth[3], self.smooth[0]),
+            x(self.smooth[4], self.smooth[0]),
+            sup_violations = self.sup_violations,
+        );
+        let _ = writeln!(
+            text,
+            "   Relaxed, the estimator on the 4, 16 and 64 children of every triangle above level 2, fallbacks for the level included (prototype, not a bound): x{:.2}, x{:.2}, x{:.2}",
+            x(self.relaxed_children[0], self.oracle_all),
+            x(self.relaxed_children[1], self.oracle_all),
+            x(self.relaxed_children[2], self.oracle_all),
+        );
+        let scaled: Vec<String> = LOOSENESS
+            .iter()
+            .zip(&self.loose)
+            .map(|(k, &e)| format!("x{k}: x{:.2}", x(e, self.smooth[0])))
+            .collect();
+        let _ = writeln!(
+            text,
+            "   smooth: a bound k times the measured supremum, {}; a Taylor model on 1, 4, 16 children with a measured remainder: x{:.2}, x{:.2}, x{:.2}; the estimator's bound over the measured supremum (level ratio squared, {} triangles): {}",
+            scaled.join(", "),
+            x(self.taylor[0], self.smooth[0]),
+            x(self.taylor[1], self.smooth[0]),
+            x(self.taylor[2], self.smooth[0]),
+            self.looseness.len(),
+            quartiles(&mut self.looseness),
+        );
+        let mut shares: Vec<(&str, u64)> = std::mem::take(&mut self.deciding).into_iter().collect();
+        shares.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
+        let total: u64 = shares.iter().map(|s| s.1).sum();
+        let listed: Vec<String> =
+            shares.iter().take(6).map(|(name, e)| format!("{name} {:.0} %", 100.0 * x(*e, total))).collect();
+        let _ = writeln!(
+            text,
+            "   Relaxed excess by the term that needs the highest level: {}",
+            listed.join(", ")
+        );
+        let by_level_total: u64 = self.by_level.iter().flatten().sum();
+        let rows: Vec<String> = ["1", "2-4", "5-8", "9-n_max"]
+            .iter()
+            .zip(&self.by_level)
+            .map(|(m, [kept, fell])| {
+                format!(
+                    "{m}: {:.0} % tessellated, {:.0} % per pixel",
+                    100.0 * x(*kept, by_level_total),
+                    100.0 * x(*fell, by_level_total)
+                )
+            })
+            .collect();
+        let _ = writeln!(text, "   Relaxed excess by the oracle's level: {}", rows.join("; "));
+    }
+}
+
 /// Where the estimator's excess over the oracle lies (`docs/estimator.md` §11), on the property
 /// test's triangles (Conservative, Heuristic): evaluations, fallbacks counted at `n_max`, of
 /// - every triangle the oracle tessellates, and the least any estimator could reach there
@@ -1117,175 +1314,17 @@ fn where_the_excess_lies() {
         (Brdf::Ggx, 0x6f3a_4b5c_6d7e_8f90),
     ] {
         let mut rng = SplitMix64(seed);
-        let (mut oracle_all, mut estimator_all, mut forced) = (0u64, 0u64, 0u64);
-        let (mut relaxed_all, mut relaxed_forced, mut relaxed_level) = (0u64, 0u64, 0u64);
-        let mut smooth = [0u64; 5];
-        let mut relaxed_children = [0u64; 3];
-        let mut sup_violations = 0;
-        let mut loose = [0u64; LOOSENESS.len()];
-        let mut taylor = [0u64; 3];
-        let mut looseness: Vec<f64> = Vec::new();
-        let mut deciding: std::collections::BTreeMap<&str, u64> = std::collections::BTreeMap::new();
-        // The Relaxed excess by the oracle's level (up to 1, 4, 8, n_max) and by whether the
-        // estimator tessellates or falls back.
-        let mut by_level = [[0u64; 2]; 4];
+        let mut excess = Excess::default();
         for _ in 0..DECOMPOSITION_TRIANGLES {
             let case = random_case(&mut rng, brdf);
-            let settings = conservative(case.epsilon);
-            let est = estimate(&case.tri, &case.material, &case.lights, &settings);
-            let eps = f64::from(case.epsilon);
-            let Some(m) = oracle_level(&case.tri, &case.material, &case.lights, eps, case.n_max, |n| {
-                patterns[n as usize].clone()
-            }) else {
-                continue;
-            };
-            let count = |n: Option<u32>| n.map_or(vertices_at_level(case.n_max), vertices_at_level);
-            let chosen = (!est.fallback).then_some(est.n);
-            oracle_all += vertices_at_level(m);
-            estimator_all += count(chosen);
-            let relaxed_settings = relaxed(case.epsilon);
-            let relaxed = estimate(&case.tri, &case.material, &case.lights, &relaxed_settings);
-            let relaxed_count = count((!relaxed.fallback).then_some(relaxed.n));
-            relaxed_all += relaxed_count;
-            // The children of every triangle above level 2, those it sends per pixel for their
-            // level included (the forced fallbacks stay).
-            let forced_here = relaxed.fallback && relaxed.reason != Reason::Level;
-            let mut best = if relaxed.fallback { f32::INFINITY } else { relaxed.level };
-            let mut tris = vec![case.tri];
-            for (depth, out) in relaxed_children.iter_mut().enumerate() {
-                if !forced_here && best > 2.0 {
-                    tris = tris.iter().flat_map(children).collect();
-                    best = best.min(worst_level(&tris, &case, &relaxed_settings) * (2u32 << depth) as f32);
-                }
-                let level_max = pattern_level(case.n_max, case.n_max);
-                *out += count(
-                    (!forced_here && best <= level_max).then(|| uniform_level(best, case.n_max).max(1)),
-                );
-            }
-            if relaxed.fallback && relaxed.reason == Reason::Level {
-                relaxed_level += vertices_at_level(case.n_max) - vertices_at_level(m);
-            }
-            // The Relaxed excess by the term that needs the highest level (forced fallbacks
-            // by their reason; "range" where the parts' ranges alone exceed eps).
-            let excess = relaxed_count.saturating_sub(vertices_at_level(m));
-            by_level[[1, 4, 8].iter().take_while(|&&top| m > top).count()][usize::from(relaxed.fallback)] +=
-                excess;
-            if excess > 0 {
-                let name = match relaxed.reason {
-                    Reason::Discontinuity => "discontinuity",
-                    Reason::Singular => "singular",
-                    _ => relaxed.named_terms().fold(("none", 0.0f32), |a, b| if b.1 > a.1 { b } else { a }).0,
-                };
-                *deciding.entry(name).or_insert(0) += excess;
-            }
-            relaxed_forced += if relaxed.fallback && relaxed.reason != Reason::Level {
-                vertices_at_level(case.n_max)
-            } else {
-                vertices_at_level(m)
-            };
-            if est.fallback && est.reason != Reason::Level {
-                forced += vertices_at_level(case.n_max);
-                continue;
-            }
-            forced += vertices_at_level(m);
-            let measured = measured_supremum(&case);
-            let sup_level = measured.level(&case, 1.0);
-            for (out, &k) in loose.iter_mut().zip(&LOOSENESS) {
-                *out += count(measured.level(&case, k));
-            }
-            for (depth, out) in taylor.iter_mut().enumerate() {
-                *out += count(measured.taylor_level(&case, depth));
-            }
-            // The estimator's second-order bound against the measured supremum, where both
-            // ask for a level above 1 from the interpolation bound (not the range).
-            let real = measured.real_level(&case);
-            if !est.fallback && est.level > 1.0 && real > 1.0 && sup_level.is_some_and(|n| n > 1) {
-                looseness.push(f64::from(est.level * est.level) / (real * real));
-            }
-            if let Some(n) = sup_level {
-                let error = true_error(&case.tri, &case.material, &case.lights, &patterns[n as usize]);
-                sup_violations += usize::from(error.iter().any(|&e| e > eps));
-            }
-            let level_max = pattern_level(case.n_max, case.n_max);
-            let mut split = [est.level; 2];
-            let mut tris = vec![case.tri];
-            for (depth, out) in split.iter_mut().enumerate() {
-                if est.fallback || est.level <= 2.0 {
-                    break;
-                }
-                tris = tris.iter().flat_map(children).collect();
-                *out = est.level.min(worst_level(&tris, &case, &settings) * (2u32 << depth) as f32);
-            }
-            let split_level =
-                |l: f32| (!est.fallback && l <= level_max).then(|| uniform_level(l, case.n_max).max(1));
-            smooth[0] += vertices_at_level(m);
-            smooth[1] += count(sup_level);
-            smooth[2] += count(split_level(split[1]));
-            smooth[3] += count(split_level(split[0]));
-            smooth[4] += count(chosen);
+            excess.add(&case, &patterns);
         }
-        let x = |a: u64, b: u64| a as f64 / b.max(1) as f64;
-        let _ = writeln!(
-            text,
-            "{brdf:?}: all the oracle tessellates: estimator x{:.2}, least with the forced fallbacks x{:.2} (Relaxed: x{:.2}, x{:.2}, {:.0} % of its excess in levels above n_max); smooth: oracle {}, supremum of |D2f| x{:.2} ({sup_violations} over eps), 16 children x{:.2}, 4 children x{:.2}, estimator x{:.2}",
-            x(estimator_all, oracle_all),
-            x(forced, oracle_all),
-            x(relaxed_all, oracle_all),
-            x(relaxed_forced, oracle_all),
-            100.0 * x(relaxed_level, relaxed_all.saturating_sub(oracle_all)),
-            smooth[0],
-            x(smooth[1], smooth[0]),
-            x(smooth[2], smooth[0]),
-            x(smooth[3], smooth[0]),
-            x(smooth[4], smooth[0]),
-        );
-        let _ = writeln!(
-            text,
-            "   Relaxed, the estimator on the 4, 16 and 64 children of every triangle above level 2, fallbacks for the level included (prototype, not a bound): x{:.2}, x{:.2}, x{:.2}",
-            x(relaxed_children[0], oracle_all),
-            x(relaxed_children[1], oracle_all),
-            x(relaxed_children[2], oracle_all),
-        );
-        let scaled: Vec<String> =
-            LOOSENESS.iter().zip(&loose).map(|(k, &e)| format!("x{k}: x{:.2}", x(e, smooth[0]))).collect();
-        let _ = writeln!(
-            text,
-            "   smooth: a bound k times the measured supremum, {}; a Taylor model on 1, 4, 16 children with a measured remainder: x{:.2}, x{:.2}, x{:.2}; the estimator's bound over the measured supremum (level ratio squared, {} triangles): {}",
-            scaled.join(", "),
-            x(taylor[0], smooth[0]),
-            x(taylor[1], smooth[0]),
-            x(taylor[2], smooth[0]),
-            looseness.len(),
-            quartiles(&mut looseness),
-        );
-        let mut shares: Vec<(&str, u64)> = deciding.into_iter().collect();
-        shares.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
-        let total: u64 = shares.iter().map(|s| s.1).sum();
-        let listed: Vec<String> =
-            shares.iter().take(6).map(|(name, e)| format!("{name} {:.0} %", 100.0 * x(*e, total))).collect();
-        let _ = writeln!(
-            text,
-            "   Relaxed excess by the term that needs the highest level: {}",
-            listed.join(", ")
-        );
-        let by_level_total: u64 = by_level.iter().flatten().sum();
-        let rows: Vec<String> = ["1", "2-4", "5-8", "9-n_max"]
-            .iter()
-            .zip(&by_level)
-            .map(|(m, [kept, fell])| {
-                format!(
-                    "{m}: {:.0} % tessellated, {:.0} % per pixel",
-                    100.0 * x(*kept, by_level_total),
-                    100.0 * x(*fell, by_level_total)
-                )
-            })
-            .collect();
-        let _ = writeln!(text, "   Relaxed excess by the oracle's level: {}", rows.join("; "));
-        assert_eq!(sup_violations, 0, "{text}");
-        assert!(smooth[1] < smooth[4], "{text}");
+        excess.report(brdf, &mut text);
+        assert_eq!(excess.sup_violations, 0, "{text}");
+        assert!(excess.smooth[1] < excess.smooth[4], "{text}");
         // The Taylor models, centre plus remainder, lie above the supremum they stand for: a
         // wrong radius, direction or remainder would show here.
-        assert!(taylor.iter().all(|&t| t >= smooth[1]), "{text}");
+        assert!(excess.taylor.iter().all(|&t| t >= excess.smooth[1]), "{text}");
     }
     println!("{text}");
 }

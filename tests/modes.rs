@@ -7,7 +7,7 @@ mod common;
 
 use ash::vk;
 use common::{assert_validation_clean, cracks, on_an_edge, repo_path, validated_context};
-use multirate::render::{Estimator, Mode, Renderer, View};
+use multirate::render::{Mode, Placement, Renderer, View};
 use multirate::scene::Scene;
 use multirate::vk::target::{FloatImage, RenderTarget, EMITTER_ID_BIT};
 
@@ -125,11 +125,11 @@ fn the_analysis_frame_is_the_timed_image_and_the_triangles_it_shows() {
             View { mode: Mode::PixelDeferred, ..pixel.clone() },
             View { mode: Mode::Vertex, ..pixel.clone() },
             View { mode: Mode::Fixed(3), ..pixel.clone() },
-            View { mode: Mode::Multirate, estimator: Estimator::Compute, ..pixel.clone() },
-            View { mode: Mode::Multirate, estimator: Estimator::Tcs, ..pixel.clone() },
+            View { mode: Mode::Multirate, placement: Placement::Compute, ..pixel.clone() },
+            View { mode: Mode::Multirate, placement: Placement::Tcs, ..pixel.clone() },
         ];
         for view in modes {
-            let what = format!("{relative} {} ({})", view.mode, view.estimator);
+            let what = format!("{relative} {} ({})", view.mode, view.placement);
             let timed = renderer.render(&target, &view).expect("render");
             let analysis = renderer.analyze(&target, &view).expect("analyze");
             assert_eq!(coverage_mismatches(&timed, &analysis.image), 0, "{what}");

@@ -15,8 +15,8 @@ use ash::vk;
 use common::{assert_validation_clean, cracks, on_an_edge, repo_path, validated_context};
 use glam::DVec3;
 use multirate::analysis::{metrics, report};
-use multirate::render::cull::CULLED_LEVEL;
-use multirate::render::{Analysis, Estimator, Mode, Renderer, View};
+use multirate::geometry::cull::CULLED_LEVEL;
+use multirate::render::{Analysis, Mode, Placement, Renderer, View};
 use multirate::scene::Scene;
 use multirate::shading::estimator::{Discontinuity, EstimatorSettings, Split};
 use multirate::vk::target::{FloatImage, RenderTarget};
@@ -24,15 +24,6 @@ use std::path::{Path, PathBuf};
 
 const WIDTH: u32 = 160;
 const HEIGHT: u32 = 120;
-
-fn settings(view: &View) -> EstimatorSettings {
-    EstimatorSettings {
-        epsilon: view.epsilon,
-        n_max: view.n_max,
-        split: view.split,
-        discontinuity: view.discontinuity,
-    }
-}
 
 #[test]
 fn control_stage_levels_equal_the_twin() {
@@ -66,17 +57,19 @@ fn control_stage_levels_equal_the_twin() {
         .into_iter()
         .take(settings_to_check)
         {
-            let view = View { epsilon, split, discontinuity, ..View::of_scene(&scene) };
-            assert_eq!(view.estimator, Estimator::Compute, "the default placement");
+            let scene_view = View::of_scene(&scene);
+            let estimator = EstimatorSettings { epsilon, split, discontinuity, ..scene_view.estimator };
+            let view = View { estimator, ..scene_view };
+            assert_eq!(view.placement, Placement::Compute, "the default placement");
             let gpu = renderer.record_levels(&target, &view).expect("levels");
             // Both placements run triangle_level.glsl and must record the same levels.
-            let tcs = View { estimator: Estimator::Tcs, ..view.clone() };
+            let tcs = View { placement: Placement::Tcs, ..view.clone() };
             let tcs = renderer.record_levels(&target, &tcs).expect("levels");
             assert!(tcs == gpu, "{relative} ε {epsilon}: the placements differ");
             placements_compared += 1;
             let twin = report::analyze(
                 &scene,
-                &settings(&view),
+                &view.estimator,
                 report::Triangles::All,
                 false,
                 report::TextureBounds::Pyramid,
@@ -144,7 +137,9 @@ fn assert_same_triangle_pixels_within_epsilon(scenes: &[PathBuf]) {
         let covered = reference.triangles.iter().filter(|&&id| id != 0).count();
         for discontinuity in [Discontinuity::Relaxed, Discontinuity::Conservative] {
             for epsilon in [0.02, 0.075, 0.3] {
-                let view = View { mode: Mode::Multirate, epsilon, discontinuity, ..View::of_scene(&scene) };
+                let scene_view = View::of_scene(&scene);
+                let estimator = EstimatorSettings { epsilon, discontinuity, ..scene_view.estimator };
+                let view = View { mode: Mode::Multirate, estimator, ..scene_view };
                 let what = format!("{name} {discontinuity:?} ε {epsilon}");
                 let analysis = renderer.analyze(&target, &view).expect("analyze multirate");
                 assert!(analysis.image.pixels.iter().flatten().all(|v| v.is_finite()), "{what}: not finite");
@@ -269,7 +264,9 @@ fn extremes_keep_coverage_and_stay_finite() {
         let renderer = Renderer::new(&context, &scene).expect("renderer");
         let reference = render(&renderer, &target, &View::of_scene(&scene));
         for &epsilon in epsilons {
-            let view = View { mode: Mode::Multirate, epsilon, ..View::of_scene(&scene) };
+            let scene_view = View::of_scene(&scene);
+            let estimator = EstimatorSettings { epsilon, ..scene_view.estimator };
+            let view = View { mode: Mode::Multirate, estimator, ..scene_view };
             let image = render(&renderer, &target, &view);
             let mismatched = reference.pixels.iter().zip(&image.pixels).filter(|(a, b)| a[3] != b[3]).count();
             let covered = reference.pixels.iter().filter(|p| p[3] == 1.0).count();
@@ -283,8 +280,14 @@ fn extremes_keep_coverage_and_stay_finite() {
             let levels = renderer.record_levels(&target, &view).expect("levels");
             for record in levels.into_iter().filter(|r| *r != [CULLED_LEVEL, 0.0, 0.0, 0.0]) {
                 assert!(record.iter().all(|v| v.is_finite()), "{}: level {record:?}", path.display());
-                assert!(record[0] == 0.0 || (1.0..=view.n_max as f32).contains(&record[0]), "{record:?}");
-                assert!(record[1..].iter().all(|o| (1.0..=view.n_max as f32).contains(o)), "{record:?}");
+                assert!(
+                    record[0] == 0.0 || (1.0..=view.estimator.n_max as f32).contains(&record[0]),
+                    "{record:?}"
+                );
+                assert!(
+                    record[1..].iter().all(|o| (1.0..=view.estimator.n_max as f32).contains(o)),
+                    "{record:?}"
+                );
             }
         }
     }
@@ -355,7 +358,9 @@ fn a_scene_far_from_the_origin_renders_as_at_the_origin() {
         .fold(0.0f32, f32::max);
     assert!(worst < 1e-3, "pixel mode at 10⁶ differs from the origin by {worst}");
 
-    let view = View { mode: Mode::Multirate, epsilon: 0.075, ..View::of_scene(&far) };
+    let far_view = View::of_scene(&far);
+    let estimator = EstimatorSettings { epsilon: 0.075, ..far_view.estimator };
+    let view = View { mode: Mode::Multirate, estimator, ..far_view };
     assert_multirate_matches(&renderer, &target, &view, &reference, 0);
     assert_validation_clean(&context);
 }
@@ -390,7 +395,7 @@ fn assert_multirate_matches(
     let compared =
         reference.triangles.iter().zip(&analysis.triangles).filter(|(a, b)| a == b && **a != 0).count();
     assert!(compared > 100, "{compared} pixels of the same triangle compared");
-    let over = metrics::pixels_over(reference.frame(), analysis.frame(), f64::from(view.epsilon));
+    let over = metrics::pixels_over(reference.frame(), analysis.frame(), f64::from(view.estimator.epsilon));
     assert_eq!(over, 0, "{over} pixels of the same triangle over ε");
 }
 

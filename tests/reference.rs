@@ -18,7 +18,7 @@ mod common;
 
 use common::{assert_validation_clean, ray_cast, repo_path, validated_context};
 use glam::Vec3;
-use multirate::render::camera::pixel_ray;
+use multirate::geometry::camera::pixel_ray;
 use multirate::render::{render_headless, View};
 use multirate::scene::{Light, Scene};
 use multirate::shading::shade_point;

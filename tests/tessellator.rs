@@ -35,10 +35,9 @@ fn uniform_levels_emit_the_ring_pattern_counts() {
     assert_validation_clean(&context);
 }
 
-use multirate::analysis::pattern_level::entry;
 use multirate::analysis::tessellator::triangle_pattern;
 use multirate::render::capture::{check_patterns, measured_table, pattern_check_levels, PatternTable};
-use multirate::shading::estimator::pattern_level;
+use multirate::shading::estimator::{pattern_level, pattern_level_entry as entry};
 
 #[test]
 fn model_reproduces_the_driver() {

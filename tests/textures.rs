@@ -11,6 +11,7 @@ use ash::vk;
 use common::{assert_validation_clean, interior_tessellated, repo_path, validated_context};
 use multirate::render::{Mode, Renderer, View};
 use multirate::scene::Scene;
+use multirate::shading::estimator::EstimatorSettings;
 use multirate::vk::target::{FloatImage, RenderTarget};
 
 fn render(renderer: &Renderer, target: &RenderTarget, view: &View) -> FloatImage {
@@ -141,7 +142,9 @@ fn extreme_texturing_stays_within_epsilon() {
     let renderer = Renderer::new(&context, &scene).expect("renderer");
     let reference = render(&renderer, &target, &View::of_scene(&scene));
     for epsilon in [0.01, 0.1] {
-        let view = View { mode: Mode::Multirate, epsilon, ..View::of_scene(&scene) };
+        let scene_view = View::of_scene(&scene);
+        let estimator = EstimatorSettings { epsilon, ..scene_view.estimator };
+        let view = View { mode: Mode::Multirate, estimator, ..scene_view };
         let image = render(&renderer, &target, &view);
         let heat = render(&renderer, &target, &View { heat_map: true, ..view.clone() });
         let mask = interior_tessellated(&heat);

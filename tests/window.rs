@@ -55,7 +55,7 @@ fn window_opens_resizes_and_closes_cleanly() {
     let script = ViewScript { events, close_at_frame: 12 };
     let scene = Scene::load(&scene).expect("scene loads");
     let start = View { mode: Mode::Fixed(3), ..View::of_scene(&scene) };
-    let (epsilon, n_max) = (start.epsilon, start.n_max);
+    let (epsilon, n_max) = (start.estimator.epsilon, start.estimator.n_max);
     let report = view(scene, start, &ContextOptions { validate: true, device_name: None }, Some(script))
         .expect("the viewer runs");
     assert!(report.frames_presented >= 12, "{report:?}");
@@ -66,8 +66,8 @@ fn window_opens_resizes_and_closes_cleanly() {
     assert_eq!(last.mode, Mode::Fixed(4), "keys switch modes: {report:?}");
     assert!(last.heat_map, "H toggled the heat map on");
     assert!(last.wireframe, "W toggled the wireframe on (lavapipe has fillModeNonSolid)");
-    assert_eq!(last.epsilon, epsilon * 0.5, "[ halves ε twice, ] doubles it once");
-    assert_eq!(last.n_max, (n_max / 4).max(1) * 2, "< halves n_max twice, > doubles it once");
+    assert_eq!(last.estimator.epsilon, epsilon * 0.5, "[ halves ε twice, ] doubles it once");
+    assert_eq!(last.estimator.n_max, (n_max / 4).max(1) * 2, "< halves n_max twice, > doubles it once");
     // The title: mode, GPU time from timestamps, evaluations against `pixel` (fixed:4 shades
     // sub-vertices only, a fraction of the covered pixels here).
     let title = &report.final_title;

@@ -1,4 +1,6 @@
-// The forward passes' resource interface: one descriptor set and the per-draw push constants.
+// The forward passes' resource interface: the per-draw push constants and three descriptor
+// sets, declared in binding order. Each binding has a Rust twin of the same name in
+// `src/gpu_interface/bindings.rs` (`forward`), which tests/layout.rs checks against the SPIR-V.
 #ifndef BINDINGS_GLSL
 #define BINDINGS_GLSL
 #include "types.glsl"
@@ -9,16 +11,10 @@
 #error "build.rs defines the VARIANT_ macros"
 #endif
 
-layout(set = 0, binding = 0, std430) readonly buffer Lights { GpuLight lights[]; };
-layout(set = 0, binding = 1, std430) readonly buffer Materials { GpuMaterial materials[]; };
-// Written only by the level-recording pipelines (patch_levels.comp, multirate.tesc): per
-// triangle, x = the level it shades at (0: per-pixel fallback), yzw = its outer levels.
-layout(set = 0, binding = 2, std430) writeonly buffer LevelRecords { vec4 level_records[]; };
 layout(push_constant, std430) uniform Push { DrawConstants draw; };
-layout(set = 0, binding = 4, std430) readonly buffer PolygonLights { GpuPolygonLight polygon_lights[]; };
 
-// The counting variant (COUNT_EVALUATIONS) adds one to these for every run of the full shading
-// function, by where it ran. The timed variants contain no counting.
+// The counting variant (COUNT_EVALUATIONS) adds one to EvaluationCounters for every run of the
+// full shading function, by where it ran. The timed variants contain no counting.
 const bool COUNT_EVALUATIONS = VARIANT_COUNT_EVALUATIONS != 0;
 // The same variant also writes which triangle each pixel shows (triangle_id.glsl), for error
 // metrics that compare only pixels where two images show the same triangle
@@ -30,13 +26,24 @@ const bool COUNT_EVALUATIONS = VARIANT_COUNT_EVALUATIONS != 0;
 #define TRIANGLE_ID_LOCATION 6
 const uint ID_FROM_PRIMITIVE = 0xffffffffu;
 const uint EMITTER_ID_BIT = 0x80000000u;
+
+// The workgroup size of the pre-pass's steps (`render::PRE_PASS_GROUP` in Rust; tests/layout.rs
+// checks the compiled modules against it).
+#define PRE_PASS_GROUP 64
+
+// Set 0: the scene's storage buffers.
+layout(set = 0, binding = 0, std430) readonly buffer Lights { GpuLight lights[]; };
+layout(set = 0, binding = 1, std430) readonly buffer Materials { GpuMaterial materials[]; };
+// Written only by the level-recording pipelines (patch_levels.comp, multirate.tesc): per
+// triangle, x = the level it shades at (0: per-pixel fallback), yzw = its outer levels.
+layout(set = 0, binding = 2, std430) writeonly buffer LevelRecords { vec4 level_records[]; };
 layout(set = 0, binding = 3, std430) buffer EvaluationCounters {
     uint vertex_evaluations;    // vertex mode: triangle vertices (vertex shader)
     uint subvertex_evaluations; // tessellated modes: sub-vertices (evaluation shader)
     uint pixel_evaluations;     // pixel mode, and multirate's per-pixel fallback
     uint culled_patches;        // multirate: triangles culled before their estimate
 } counters;
-
+layout(set = 0, binding = 4, std430) readonly buffer PolygonLights { GpuPolygonLight polygon_lights[]; };
 // The multirate pass with the estimator in a compute pre-pass (triangle_levels.comp): per
 // triangle of the scene its level (triangle_level.glsl) and the triangles across its edges 0,
 // 1, 2 (itself where it has none); the pre-pass reads the scene's vertices (8 floats each:
@@ -50,9 +57,35 @@ layout(set = 0, binding = 8, std430) readonly buffer SceneIndices { uint scene_i
 // faces of a two-sided mesh from its last triangle down, so that the estimator's invocations run
 // side by side on the triangles they estimate only.
 layout(set = 0, binding = 9, std430) buffer VisibleTriangles { uint visible_triangles[]; };
-// The workgroup size of the pre-pass's steps (`render::PRE_PASS_GROUP` in Rust; tests/layout.rs
-// checks the compiled modules against it).
-#define PRE_PASS_GROUP 64
+// Per mesh, the patch step's counts of its interpolated and fallback lists (below):
+// patch_counts[patch_list(false)] and [patch_list(true)], zeroed by the host.
+layout(set = 0, binding = 10, std430) buffer PatchCounts { uint patch_counts[]; };
+// The effective levels of the hardware patterns (estimator/patch_levels.glsl, `pattern_level`): Rust's
+// `PATTERN_LEVELS` words. A buffer rather than a constant array: lavapipe copies a shader's
+// array into every invocation's private memory before the first read.
+layout(set = 0, binding = 11, std430) readonly buffer PatternLevels { uint pattern_level_words[]; };
+// The pre-pass's last step (patch_levels.comp): per visible triangle the tessellation levels of
+// its patch, x = the inner level (0: per-pixel fallback), yzw = the outer levels; and per mesh,
+// from its first triangle on, two lists of its tessellated visible triangles, those shaded on
+// sub-vertices and those shaded per pixel (counted in patch_counts). Each list is drawn by
+// indirect draws of draw.patches_per_draw patches each: the k-th is the VkDrawIndirectCommand at
+// entry (first triangle + k) of the list's draws, with vertexCount = 3 per patch; the host
+// zeroes them before each pre-pass (instanceCount 0: nothing drawn), and multirate_pull.vert
+// turns vertices back into list entries.
+layout(set = 0, binding = 12, std430) buffer PatchTessLevels { vec4 patch_tess_levels[]; };
+layout(set = 0, binding = 13, std430) buffer InterpolatedPatches { uint interpolated_patches[]; };
+layout(set = 0, binding = 14, std430) buffer FallbackPatches { uint fallback_patches[]; };
+layout(set = 0, binding = 15, std430) buffer InterpolatedDraws { uvec4 interpolated_draws[]; };
+layout(set = 0, binding = 16, std430) buffer FallbackDraws { uvec4 fallback_draws[]; };
+// Per mesh, a third list: the visible triangles whose patch is the triangle itself (inner and
+// outer levels all 1), drawn without tessellation. Those shaded on their corners are listed from
+// the mesh's first triangle on and drawn by flat_draws[patch_list(false)]; those shaded per
+// pixel from its last triangle down, by flat_draws[patch_list(true)] (vertexCount = 3 per
+// triangle, counted as they are listed; the host zeroes them, and the first entry sets
+// instanceCount to 1). multirate_flat.vert shades the corners as the evaluation stage would, or,
+// in the per-pixel draw (FLAG_FALLBACK_PATCHES), passes them on for multirate.frag to shade.
+layout(set = 0, binding = 17, std430) buffer FlatPatches { uint flat_patches[]; };
+layout(set = 0, binding = 18, std430) buffer FlatDraws { uvec4 flat_draws[]; };
 // Per mesh, the pre-pass's three indirect dispatches and the lengths of their lists
 // (`VkDispatchIndirectCommand` in xyz, the length in w; the host resets each to (0, 1, 1, 0)):
 // level_dispatch(ESTIMATE_DISPATCH) of the estimator step, one workgroup per PRE_PASS_GROUP
@@ -62,50 +95,28 @@ layout(set = 0, binding = 9, std430) buffer VisibleTriangles { uint visible_tria
 // estimator step lists in refine_triangles, w their count. Only those run: on a CPU rasteriser
 // every SIMD batch of a workgroup runs the estimator's whole code, returned lanes or not.
 layout(set = 0, binding = 19, std430) buffer LevelDispatches { uvec4 level_dispatches[]; };
+// The triangles whose estimate is refined (estimator/estimate.glsl, estimate_pass), listed per mesh from
+// draw.patch_base on by the estimator step (triangle_levels.comp) for its refining step, so that
+// the children's work runs side by side on those triangles only.
+layout(set = 0, binding = 20, std430) buffer RefineTriangles { uint refine_triangles[]; };
+
+// The per-mesh slots of the pre-pass's indirect buffers (`src/gpu_interface/slots.rs`).
 const uint LEVEL_DISPATCHES = 3u;
 const uint ESTIMATE_DISPATCH = 0u;
 const uint PATCH_DISPATCH = 1u;
 const uint REFINE_DISPATCH = 2u;
+const uint PATCH_LISTS = 2u;
+const uint INTERPOLATED_LIST = 0u;
+const uint FALLBACK_LIST = 1u;
+
 uint level_dispatch(uint which) {
     return LEVEL_DISPATCHES * draw.mesh_index + which;
 }
-// The triangles whose estimate is refined (estimator.glsl, estimate_pass), listed per mesh from
-// draw.patch_base on by the estimator step (triangle_levels.comp) for its refining step, so that
-// the children's work runs side by side on those triangles only.
-layout(set = 0, binding = 20, std430) buffer RefineTriangles { uint refine_triangles[]; };
-// Per mesh, the patch step's counts of its interpolated and fallback lists (below):
-// patch_counts[2 mesh] and [2 mesh + 1], zeroed by the host.
-layout(set = 0, binding = 10, std430) buffer PatchCounts { uint patch_counts[]; };
-// The effective levels of the hardware patterns (estimator.glsl, `pattern_level`): Rust's
-// `PATTERN_LEVELS` words. A buffer rather than a constant array: lavapipe copies a shader's
-// array into every invocation's private memory before the first read.
-layout(set = 0, binding = 11, std430) readonly buffer PatternLevels { uint pattern_level_words[]; };
-// The pre-pass's last step (patch_levels.comp): per visible triangle the tessellation levels of
-// its patch, x = the inner level (0: per-pixel fallback), yzw = the outer levels; and per mesh,
-// from its first triangle on, two lists of its tessellated visible triangles, those shaded on
-// sub-vertices and those shaded per pixel (counted in patch_counts[2 mesh] and
-// [2 mesh + 1]). Each list
-// is drawn by indirect draws of draw.patches_per_draw patches each: the k-th is the
-// VkDrawIndirectCommand at entry (first triangle + k) of the list's draws, with vertexCount = 3
-// per patch; the host zeroes them before each pre-pass (instanceCount 0: nothing drawn), and
-// multirate_pull.vert turns vertices back into list entries.
-layout(set = 0, binding = 12, std430) buffer PatchTessLevels { vec4 patch_tess_levels[]; };
-layout(set = 0, binding = 13, std430) buffer InterpolatedPatches { uint interpolated_patches[]; };
-layout(set = 0, binding = 14, std430) buffer FallbackPatches { uint fallback_patches[]; };
-layout(set = 0, binding = 15, std430) buffer InterpolatedDraws { uvec4 interpolated_draws[]; };
-layout(set = 0, binding = 16, std430) buffer FallbackDraws { uvec4 fallback_draws[]; };
-// Per mesh, a third list: the visible triangles whose patch is the triangle itself (inner and
-// outer levels all 1), drawn without tessellation. Those shaded on their corners are listed from
-// the mesh's first triangle on and drawn by flat_draws[2 mesh]; those shaded per pixel from its
-// last triangle down, by flat_draws[2 mesh + 1] (vertexCount = 3 per triangle, counted as they
-// are listed; the host zeroes them, and the first entry sets instanceCount to 1).
-// multirate_flat.vert shades the corners as the evaluation stage would, or, in the per-pixel
-// draw (FLAG_FALLBACK_PATCHES), passes them on for multirate.frag to shade.
-layout(set = 0, binding = 17, std430) buffer FlatPatches { uint flat_patches[]; };
-layout(set = 0, binding = 18, std430) buffer FlatDraws { uvec4 flat_draws[]; };
-// DrawConstants.flags bit: this draw is of the fallback list (else of the interpolated one), or
-// of the flat triangles shaded per pixel.
-const uint FLAG_FALLBACK_PATCHES = 16u;
+
+// The draw's slot in patch_counts and flat_draws: of its fallback list, or its interpolated one.
+uint patch_list(bool fallback) {
+    return PATCH_LISTS * draw.mesh_index + (fallback ? FALLBACK_LIST : INTERPOLATED_LIST);
+}
 
 // One Vertex of scene_vertices (src/gpu_types.rs): position, normal, uv.
 const uint VERTEX_FLOATS = 8u;
@@ -120,7 +131,7 @@ vec2 scene_uv(uint vertex) {
     return vec2(scene_vertices[base], scene_vertices[base + 1u]);
 }
 
-// The textures of the draw's material (set 1, bound per draw); a white 1x1 texture where the
+// Set 1: the textures of the draw's material (bound per draw); a white 1x1 texture where the
 // material has none. GpuMaterial.maps says which are real.
 layout(set = 1, binding = 0) uniform sampler2D albedo_map;
 layout(set = 1, binding = 1) uniform sampler2D parameter_map;
@@ -129,5 +140,7 @@ layout(set = 1, binding = 1) uniform sampler2D parameter_map;
 layout(set = 1, binding = 2) uniform sampler2D parameter_pyramid;
 // Whether any material of the scene has a texture: without, no texture code is compiled in.
 const bool TEXTURED = VARIANT_TEXTURED != 0;
+
+// Set 2, the deferred pass's visibility buffer, is declared by its only reader, deferred.frag.
 
 #endif

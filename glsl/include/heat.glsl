@@ -4,8 +4,6 @@
 #define HEAT_GLSL
 #include "bindings.glsl"
 
-const uint FLAG_HEAT_MAP = 1u;
-
 bool heat_map_on() {
     return (draw.flags & FLAG_HEAT_MAP) != 0u;
 }
@@ -15,7 +13,7 @@ vec3 heat_color(float level) {
     if (level <= 0.0) {
         return vec3(1.0, 0.0, 1.0);
     }
-    float t = clamp((level - 1.0) / max(draw.viewport.w - 1.0, 1.0), 0.0, 1.0);
+    float t = clamp((level - 1.0) / max(float(draw.n_max) - 1.0, 1.0), 0.0, 1.0);
     return t < 0.5 ? mix(vec3(0.0, 0.2, 1.0), vec3(0.0, 1.0, 0.2), 2.0 * t)
                    : mix(vec3(0.0, 1.0, 0.2), vec3(1.0, 0.1, 0.0), 2.0 * t - 1.0);
 }

@@ -5,7 +5,7 @@
 // (precise) code, and the edge's outer level is a symmetric function of the two, so shared edges
 // get the same level and no T-junction cracks appear. The inner level is chosen so that the whole
 // pattern, including the transition strips next to raised edges, keeps the error bound
-// (src/shading/estimator.rs, `pattern_level`). A triangle that cannot be tessellated finely
+// (src/shading/estimator/patch_levels.rs, `pattern_level`). A triangle that cannot be tessellated finely
 // enough falls back to per-pixel shading (patch_level = 0) but keeps the edge levels its
 // neighbours expect; a culled triangle gets outer level 0 and is not drawn.
 #ifndef MULTIRATE_PATCH_GLSL

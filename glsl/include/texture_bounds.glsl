@@ -2,7 +2,7 @@
 // coordinates, read from its min/max pyramid: an R8G8_UNORM image whose level k texel holds the
 // (min, max) of the texture's level-0 texels in the aligned 2^k x 2^k block, with the same
 // mip chain sizes as the texture. Width and height are powers of two.
-// Rust twin: `MinMaxPyramid::query` in `src/scene/texture.rs`. Keep the two in step, operation
+// Rust twin: `MinMaxPyramid::query` in `src/scene/texture/bounds.rs`. Keep the two in step, operation
 // for operation (the same f32 operations in the same order), so both give the same range. Every
 // product but the last two is by a power of two, so it is exact and a fused multiply-add changes
 // nothing; the last two are `precise`.

@@ -51,9 +51,9 @@ vec3 albedo_at_grad(GpuMaterial m, vec2 uv, vec2 duv_dx, vec2 duv_dy) {
 float subvertex_lod(GpuMaterial m, vec3 p[3], vec2 uv[3], vec3 position, float level, float lod_bound) {
     vec2 size = vec2(textureSize(parameter_map, 0));
     vec4 clip = draw.view_proj * vec4(position, 1.0);
-    vec2 pixel = (clip.xy / clip.w * 0.5 + 0.5) * draw.viewport.xy;
+    vec2 pixel = (clip.xy / clip.w * 0.5 + 0.5) * draw.viewport_size;
     BarycentricDerivatives b = barycentric_derivatives(draw.view_proj * vec4(p[0], 1.0),
-        draw.view_proj * vec4(p[1], 1.0), draw.view_proj * vec4(p[2], 1.0), pixel, draw.viewport.xy);
+        draw.view_proj * vec4(p[1], 1.0), draw.view_proj * vec4(p[2], 1.0), pixel, draw.viewport_size);
     vec2 at_subvertex;
     vec2 duv_dx;
     vec2 duv_dy;

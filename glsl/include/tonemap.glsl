@@ -1,5 +1,5 @@
 // Display transform: exposure, the ACES filmic curve (Narkowicz 2015 fit), then sRGB encoding.
-// Rust twin: `src/render/output.rs` (used for PNG files).
+// Rust twin: `src/shading/tonemap.rs` (used for PNG files).
 #ifndef TONEMAP_GLSL
 #define TONEMAP_GLSL
 

@@ -7,7 +7,7 @@
 // from the eye on a one-sided mesh. Its level is
 // CULLED_LEVEL, and the control stage gives its patch outer level 0. A back face of a two-sided
 // mesh is not estimated either: it is shaded per pixel (visible_level). Rust twin of both:
-// `src/render/cull.rs` (bit-identical: `precise`, no fused multiply-adds).
+// `src/geometry/cull.rs` (bit-identical: `precise`, no fused multiply-adds).
 #ifndef TRIANGLE_LEVEL_GLSL
 #define TRIANGLE_LEVEL_GLSL
 #include "estimator.glsl"
@@ -17,7 +17,6 @@
 // neighbours for nothing (uniform_level gives 1).
 const float CULLED_LEVEL = -1.0;
 const vec4 CULLED_RECORD = vec4(CULLED_LEVEL, 0.0, 0.0, 0.0);
-const uint FLAG_ONE_SIDED = 4u;
 // Back faces are culled here only when the eye is more than this sine away from their plane;
 // the rasteriser culls the nearly edge-on rest, so culling never differs from `pixel` mode.
 const float BACKFACE_MARGIN_SQUARED = 1.0e-6;
@@ -153,7 +152,7 @@ vec2 draw_parameter_range(vec2 t0, vec2 t1, vec2 t2) {
 // not culled: >= 1, or FALLBACK_LEVEL for per-pixel shading.
 float estimated_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2) {
     return required_level(p0, p1, p2, n0, n1, n2, draw.eye.xyz, draw.material_index,
-                          draw_parameter_range(t0, t1, t2), draw.viewport.z, draw.viewport.w);
+                          draw_parameter_range(t0, t1, t2), draw.epsilon, float(draw.n_max));
 }
 
 // One of the two passes of estimated_level (estimate_pass): the compute pre-pass runs the
@@ -161,7 +160,7 @@ float estimated_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2
 float estimated_level_pass(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2,
                            bool refine, out bool refine_next) {
     return estimate_pass(p0, p1, p2, n0, n1, n2, draw.eye.xyz, draw.material_index,
-                         draw_parameter_range(t0, t1, t2), draw.viewport.z, draw.viewport.w, refine,
+                         draw_parameter_range(t0, t1, t2), draw.epsilon, float(draw.n_max), refine,
                          refine_next);
 }
 

@@ -1,5 +1,7 @@
 // Structs shared between the shaders and the CPU. Each has a `#[repr(C)]` twin in
 // `src/gpu_types.rs`; a test reads the member offsets out of the compiled SPIR-V and compares.
+// The flag bits of DrawConstants too, twins of `src/gpu_interface/flags.rs` (compared by the
+// same test file).
 #ifndef TYPES_GLSL
 #define TYPES_GLSL
 
@@ -32,16 +34,29 @@ struct GpuMaterial {
 struct DrawConstants {
     mat4 view_proj;      // world to Vulkan clip space
     vec4 eye;            // xyz: camera position in world space
-    vec4 viewport;       // x, y: target size in pixels; z: epsilon; w: n_max
+    vec2 viewport_size;  // the target's size in pixels
+    float epsilon;       // multirate's error bound
+    uint n_max;          // multirate's highest level, in 1..=64 (clamped by the host)
     uint material_index; // index into the material buffer
     uint mesh_index;
     uint fixed_level;    // tessellation level of the fixed:N mode
     uint patch_base;     // index of this draw's first triangle in the scene (level records)
-    uint flags;          // bit 0: show the tessellation level heat map instead of shading;
-                         // bit 2: the mesh is one-sided (back faces are culled)
+    uint flags;          // FLAG_ bits, below
     uint light_index;    // emitter draws: the polygonal light drawn
     uint triangle_count; // the triangle-level pre-pass: triangles of this dispatch
     uint patches_per_draw; // the compute placement: patches per indirect draw of a patch list
 };
+
+// DrawConstants.flags bits (`src/gpu_interface/flags.rs`; declared here only).
+// Show the tessellation level heat map instead of shading (heat.glsl).
+const uint FLAG_HEAT_MAP = 1u;
+// `pixel-deferred` writes the analytic against hardware uv derivative difference instead of
+// shading (deferred.frag).
+const uint FLAG_DERIVATIVE_CHECK = 2u;
+// The mesh is one-sided: its back faces are culled (triangle_level.glsl).
+const uint FLAG_ONE_SIDED = 4u;
+// The multirate draw of a mesh's fallback list (else of its interpolated one), or of its flat
+// triangles shaded per pixel (bindings.glsl).
+const uint FLAG_FALLBACK_PATCHES = 16u;
 
 #endif

@@ -26,7 +26,8 @@ pub fn table_entry(level: f64) -> u32 {
 }
 
 /// Packs table entries in the layout of `estimator::PATTERN_LEVELS`: index
-/// `(inner − 1)·64 + (outer − 1)`, two 16-bit entries per word, the even index low.
+/// `(inner − 1)·64 + (outer − 1)`, two 16-bit entries per word, the even index low
+/// (`estimator::pattern_level_entry` reads them back).
 pub fn pack(entry: impl Fn(u32, u32) -> u32) -> Vec<u32> {
     let mut words = vec![0u32; 2048];
     for inner in 1..=64u32 {
@@ -36,12 +37,6 @@ pub fn pack(entry: impl Fn(u32, u32) -> u32) -> Vec<u32> {
         }
     }
     words
-}
-
-/// The entry `(inner, outer)` of a table packed by [`pack`] (levels clamped to `1..=64`).
-pub fn entry(words: &[u32], inner: u32, outer: u32) -> u32 {
-    let index = (inner.clamp(1, 64) - 1) * 64 + (outer.clamp(1, 64) - 1);
-    (words[(index / 2) as usize] >> (16 * (index % 2))) & 0xffff
 }
 
 /// The facets of the hull of the side-frame configurations, computed once.

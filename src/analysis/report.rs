@@ -7,14 +7,14 @@
 use super::measured::Measured;
 use super::oracle::{oracle_level, true_error_textured, vertices_at_level, SAMPLES_PER_EDGE};
 use super::tessellator::triangle_pattern;
-use crate::render::camera::view_projection;
-use crate::render::cull::{culled, shaded_per_pixel, CULLED_LEVEL};
+use crate::geometry::camera::view_projection;
+use crate::geometry::cull::{culled, shaded_per_pixel, CULLED_LEVEL};
 use crate::scene::adjacency::{adjacency_patches, PATCH_SIZE};
 use crate::scene::texture::PowerSat;
-use crate::scene::{with_parameter, Scene};
+use crate::scene::{with_parameter, ParameterRange, Scene};
 use crate::shading::estimator::{
-    estimate_textured, patch_levels, Estimate, EstimatorSettings, ParameterRange, PatchLevels, TriangleInput,
-    FALLBACK_LEVEL, TERM_NAMES,
+    estimate_textured, patch_levels, Estimate, EstimatorSettings, PatchLevels, TriangleInput, FALLBACK_LEVEL,
+    TERM_NAMES,
 };
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -38,10 +38,10 @@ pub struct TriangleReport {
     /// True L∞ error (max over channels) on the pattern the driver really emits for
     /// `levels` (None for fallback patches).
     pub true_error: Option<f64>,
-    /// Culled before its estimate (`render::cull`): not drawn, outer levels 0. Only
+    /// Culled before its estimate (`geometry::cull`): not drawn, outer levels 0. Only
     /// `Triangles::All` reports culled triangles.
     pub culled: bool,
-    /// A back face of a two-sided mesh (`render::cull::shaded_per_pixel`): shaded per pixel
+    /// A back face of a two-sided mesh (`geometry::cull::shaded_per_pixel`): shaded per pixel
     /// whatever its estimate, which is reported all the same.
     pub back_face: bool,
 }
@@ -72,7 +72,7 @@ pub struct Summary {
 /// Which triangles to analyse.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Triangles {
-    /// Those the control stage does not cull (`render::cull`): in the camera's view frustum,
+    /// Those the control stage does not cull (`geometry::cull`): in the camera's view frustum,
     /// and front-facing where the mesh is one-sided.
     Visible,
     /// All, in scene order (meshes in order): what the GPU's level records hold.

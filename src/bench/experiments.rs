@@ -79,7 +79,7 @@ fn config(options: &ExperimentOptions, modes: Vec<Mode>, resolutions: Vec<(u32, 
         // The renderer's default (the paper shades every triangle the terminator may cross per
         // pixel, which `--discontinuity conservative` reproduces).
         discontinuity: Discontinuity::Relaxed,
-        estimators: Vec::new(),
+        placements: Vec::new(),
         images: None,
     }
 }
@@ -634,7 +634,7 @@ fn comparison(md: &mut String, table: &[Row], grids: &[Row], sweep: &[Row]) {
     };
     let _ = writeln!(
         md,
-        "- Time: {verdict}; Table 1 speedups: {}. The paper's 134–283 % are measured on GPUs, where the estimator runs on shader cores in parallel with the rest of the pipeline and is small next to the per-pixel shading it saves. A CPU rasteriser such as lavapipe runs every stage on the same two cores and runs its vertex and tessellation stages (sub-vertex shading included) on one of them, while fragments and compute use both; it also runs both sides of every branch under a mask. The estimator pre-pass (once per visible triangle) and the sub-vertex shading cost per triangle and per sub-vertex, the per-pixel shading they save per pixel, so multirate gains as the resolution grows (Fig. 10) and loses on meshes of many small triangles (Fig. 11). What each optimisation gained, step by step, and what it taught about lavapipe, is in [speedups.md](speedups.md).",
+        "- Time: {verdict}; Table 1 speedups: {}. The paper's 134–283 % are measured on GPUs, where the estimator runs on shader cores in parallel with the rest of the pipeline and is small next to the per-pixel shading it saves. A CPU rasteriser such as lavapipe runs every stage on the same two cores and runs its vertex and tessellation stages (sub-vertex shading included) on one of them, while fragments and compute use both; it also runs both sides of every branch under a mask. The estimator pre-pass (once per visible triangle) and the sub-vertex shading cost per triangle and per sub-vertex, the per-pixel shading they save per pixel, so multirate gains as the resolution grows (Fig. 10) and loses on meshes of many small triangles (Fig. 11). What each optimisation gained, step by step, and what it taught about lavapipe, is in [notebook/speedups.md](notebook/speedups.md).",
         speedups.join(", ")
     );
     let _ = writeln!(
@@ -650,9 +650,9 @@ fn comparison(md: &mut String, table: &[Row], grids: &[Row], sweep: &[Row]) {
 }
 
 /// The five steps that made multirate faster than per-pixel shading, each as measured against
-/// the build before it when it landed (docs/speedups.md holds the commands and all later steps).
+/// the build before it when it landed (docs/notebook/speedups.md holds the commands and all later steps).
 fn steps(md: &mut String) {
-    let intro = "Measured when each step landed, its build against the one before it in one run on this machine kind (lavapipe, bunny at 1920×1080, ε 0.075, ms; not re-measured by the command above). [speedups.md](speedups.md) has the commands, the other scenes and the later steps, each against the one before.";
+    let intro = "Measured when each step landed, its build against the one before it in one run on this machine kind (lavapipe, bunny at 1920×1080, ε 0.075, ms; not re-measured by the command above). [notebook/speedups.md](notebook/speedups.md) has the commands, the other scenes and the later steps, each against the one before.";
     text_section(md, "What each step gained", Some(intro), &STEPS, "");
 }
 
@@ -685,35 +685,9 @@ fn reading_lavapipe_times(md: &mut String) {
 const READING_LAVAPIPE_TIMES: [&str; 4] = [
     "What holds on any device: shading evaluations (counted, deterministic), culled patches, and the image errors (L∞, pixels over ε, mean L2, FLIP). A GPU rasterises with other sub-pixel precision and breaks depth ties otherwise, so silhouette and tie pixels may differ slightly; nothing else in these columns depends on the device.",
     "What does not transfer: milliseconds, and the ratios between modes. Lavapipe runs every stage on the 2 CPU cores of this machine, its vertex and tessellation stages (the fixed-function tessellator included) on one of them, both sides of every branch under a mask, and pays a fixed cost per frame for clearing and resolving the float targets (what an empty frame costs), which every row here includes. On a GPU the tessellator is hardware, shading is what costs, and the speedup of multirate tracks its share of evaluations far more closely than here.",
-    "What can be read from them: a comparison within one run (an optimisation against the step before it, side by side, as in speedups.md), how a mode scales with resolution and triangle count, and whether a feature slows scenes that do not use it. Differences under about 30 % between runs are lavapipe's noise on two shared cores, not findings.",
+    "What can be read from them: a comparison within one run (an optimisation against the step before it, side by side, as in notebook/speedups.md), how a mode scales with resolution and triangle count, and whether a feature slows scenes that do not use it. Differences under about 30 % between runs are lavapipe's noise on two shared cores, not findings.",
     "What cannot: that multirate is faster or slower than per-pixel shading on a GPU, or by how much. That needs `experiments` and `bench` run on a GPU, with the device named beside every figure.",
 ];
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn plane_grid_has_2n2_upward_triangles() {
-        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-        let plane = Scene::load(&root.join("scenes/plane_lights.toml")).expect("plane scene");
-        let grid = plane_grid(&plane, 5);
-        let mesh = &grid.meshes[0];
-        assert_eq!(grid.triangle_count(), 50);
-        assert_eq!(mesh.positions.len(), 36);
-        for triangle in mesh.indices.chunks_exact(3) {
-            let [a, b, c] = [0, 1, 2].map(|k| mesh.positions[triangle[k] as usize]);
-            let normal = (b - a).cross(c - a);
-            assert!(normal.y > 0.0 && normal.x == 0.0 && normal.z == 0.0, "counter-clockwise from +Y");
-        }
-        let area: f32 = mesh
-            .indices
-            .chunks_exact(3)
-            .map(|t| {
-                let [a, b, c] = [0, 1, 2].map(|k| mesh.positions[t[k] as usize]);
-                (b - a).cross(c - a).length() / 2.0
-            })
-            .sum();
-        assert!((area - 4.0).abs() < 1e-4, "the grid tiles the 2×2 square: {area}");
-    }
-}
+mod tests;

@@ -16,11 +16,11 @@ pub mod trace;
 use crate::analysis::metrics::{self, fallback_mask, fallback_pixels, scaled_difference, ImageError};
 use crate::error::Result;
 use crate::render::{
-    output, Analysis, Estimator, EvaluationCounts, Measurement, Mode, PrePassStep, Renderer, View,
+    output, Analysis, EvaluationCounts, Measurement, Mode, Placement, PrePassStep, Renderer, View,
     PRE_PASS_STEPS,
 };
 use crate::scene::Scene;
-use crate::shading::estimator::{Discontinuity, Split};
+use crate::shading::estimator::{Discontinuity, EstimatorSettings, Split};
 use crate::vk::target::{FloatImage, RenderTarget};
 use crate::vk::timing::PipelineStatistics;
 use crate::vk::Context;
@@ -59,7 +59,7 @@ pub struct BenchConfig {
     pub split: Split,
     pub discontinuity: Discontinuity,
     /// multirate's estimator placements, each measured (empty: the default).
-    pub estimators: Vec<Estimator>,
+    pub placements: Vec<Placement>,
     /// Where to write each row's images (error ×30, heat map, fallback mask), if anywhere.
     pub images: Option<PathBuf>,
 }
@@ -157,7 +157,7 @@ struct Job {
     mode: Mode,
     epsilon: f32,
     n_max: u32,
-    estimator: Estimator,
+    placement: Placement,
 }
 
 impl Job {
@@ -166,8 +166,8 @@ impl Job {
         let name = &scenes[self.scene].name;
         match self.mode {
             Mode::Multirate => {
-                let (epsilon, n_max, estimator) = (self.epsilon, self.n_max, self.estimator);
-                format!("{name} {width}x{height} multirate ε={epsilon} n_max={n_max} estimator {estimator}")
+                let (epsilon, n_max, placement) = (self.epsilon, self.n_max, self.placement);
+                format!("{name} {width}x{height} multirate ε={epsilon} n_max={n_max} estimator {placement}")
             }
             mode => format!("{name} {width}x{height} {mode}"),
         }
@@ -186,25 +186,25 @@ fn jobs(scenes: &[BenchScene], config: &BenchConfig) -> Vec<Job> {
         let epsilons =
             if config.epsilons.is_empty() { vec![settings.epsilon] } else { config.epsilons.clone() };
         let n_maxes = if config.n_maxes.is_empty() { vec![settings.n_max] } else { config.n_maxes.clone() };
-        let estimators =
-            if config.estimators.is_empty() { vec![Estimator::default()] } else { config.estimators.clone() };
+        let placements =
+            if config.placements.is_empty() { vec![Placement::default()] } else { config.placements.clone() };
         for &resolution in &resolutions {
-            let job = |mode, epsilon, n_max, estimator| Job {
+            let job = |mode, epsilon, n_max, placement| Job {
                 scene: index,
                 resolution,
                 mode,
                 epsilon,
                 n_max,
-                estimator,
+                placement,
             };
-            let default = Estimator::default();
+            let default = Placement::default();
             jobs.push(job(Mode::Pixel, settings.epsilon, settings.n_max, default));
             for &mode in config.modes.iter().filter(|&&m| m != Mode::Pixel) {
                 if mode == Mode::Multirate {
                     for &epsilon in &epsilons {
                         for &n_max in &n_maxes {
-                            for &estimator in &estimators {
-                                jobs.push(job(mode, epsilon, n_max, estimator));
+                            for &placement in &placements {
+                                jobs.push(job(mode, epsilon, n_max, placement));
                             }
                         }
                     }
@@ -270,11 +270,13 @@ pub fn run(
             .iter()
             .map(|job| View {
                 mode: job.mode,
-                epsilon: job.epsilon,
-                n_max: job.n_max,
-                split: config.split,
-                discontinuity: config.discontinuity,
-                estimator: job.estimator,
+                estimator: EstimatorSettings {
+                    epsilon: job.epsilon,
+                    n_max: job.n_max,
+                    split: config.split,
+                    discontinuity: config.discontinuity,
+                },
+                placement: job.placement,
                 ..View::of_scene(scene)
             })
             .collect();
@@ -425,7 +427,7 @@ fn row(
         mode: job.mode.to_string(),
         epsilon: multirate.then_some(job.epsilon),
         n_max: multirate.then_some(job.n_max),
-        estimator: multirate.then(|| job.estimator.to_string()),
+        estimator: multirate.then(|| job.placement.to_string()),
         width: job.resolution.0,
         height: job.resolution.1,
         frames: config.frames,
@@ -572,28 +574,4 @@ pub fn to_json(rows: &[Row]) -> String {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn percentiles_interpolate_between_order_statistics() {
-        let timing = Timing::of(&[5.0, 1.0, 4.0, 2.0, 3.0]);
-        assert_eq!(timing.median, 3.0);
-        assert!((timing.p10 - 1.4).abs() < 1e-12);
-        assert!((timing.p90 - 4.6).abs() < 1e-12);
-        assert_eq!(Timing::of(&[7.0]).p90, 7.0);
-        assert!(Timing::of(&[]).median.is_nan());
-    }
-
-    #[test]
-    fn csv_quotes_fields_with_commas() {
-        assert_eq!(quoted("a,b"), "\"a,b\"");
-        assert_eq!(quoted("say \"x\", y"), "\"say \"\"x\"\", y\"");
-        assert_eq!(quoted("plain"), "plain");
-        assert_eq!(CSV_HEADER.split(',').count(), 39);
-        for step in PrePassStep::ALL {
-            let column = format!("{}_ms_median", step.name());
-            assert!(CSV_HEADER.split(',').any(|c| c == column), "{column}");
-        }
-    }
-}
+mod tests;

@@ -204,7 +204,7 @@ fn soak_bench(args: &SoakArgs, options: &ContextOptions) -> Result<Soak> {
         frames: args.frames,
         split: Split::Heuristic,
         discontinuity: Discontinuity::Relaxed,
-        estimators: Vec::new(),
+        placements: Vec::new(),
         images: None,
     };
     let bar = progress_bar();

@@ -10,6 +10,8 @@
 use crate::analysis::pattern_level::{effective_level, pack, table_entry};
 use crate::analysis::tessellator::{triangle_pattern, Pattern};
 use crate::error::{Error, Result};
+use crate::gpu_interface::bindings::capture::{BUFFERS, COORDS, TRIANGLES};
+use crate::gpu_interface::bindings::in_binding_order;
 use crate::shaders;
 use crate::vk::memory::Buffer;
 use crate::vk::pipeline::{
@@ -210,13 +212,13 @@ impl TessellationCapture {
         )?;
         let bindings = [
             vk::DescriptorSetLayoutBinding::default()
-                .binding(0)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .binding(COORDS.binding)
+                .descriptor_type(COORDS.kind.descriptor_type())
                 .descriptor_count(1)
                 .stage_flags(vk::ShaderStageFlags::TESSELLATION_EVALUATION),
             vk::DescriptorSetLayoutBinding::default()
-                .binding(1)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .binding(TRIANGLES.binding)
+                .descriptor_type(TRIANGLES.kind.descriptor_type())
                 .descriptor_count(1)
                 .stage_flags(vk::ShaderStageFlags::GEOMETRY),
         ];
@@ -231,7 +233,8 @@ impl TessellationCapture {
             &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 2 }],
         )?;
         let set = pool.allocate(layout.set_layouts[0])?;
-        bind_storage_buffers(context, set, 0, &[coords.raw, triangles.raw]);
+        let buffers = in_binding_order(&BUFFERS, [(COORDS, coords.raw), (TRIANGLES, triangles.raw)]);
+        bind_storage_buffers(context, set, BUFFERS[0].binding, &buffers);
 
         let vert = ShaderModule::new(context, "capture.vert", shaders::single("capture.vert"))?;
         let tesc = ShaderModule::new(context, "capture.tesc", shaders::single("capture.tesc"))?;
@@ -339,66 +342,4 @@ impl TessellationCapture {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::analysis::pattern_level::entry;
-    use crate::shading::estimator::{pattern_level, PATTERN_LEVELS};
-
-    /// What a device that tessellates as `model` would capture.
-    fn as_captured(model: &Pattern) -> CapturedPattern {
-        let at = |i: u32| model.vertices[i as usize].map(|x| x as f32);
-        CapturedPattern {
-            tess_coords: model.vertices.iter().map(|v| v.map(|x| x as f32)).collect(),
-            triangles: model.triangles.iter().map(|t| [at(t[0]), at(t[2]), at(t[1])]).collect(),
-        }
-    }
-
-    #[test]
-    fn the_model_captured_measures_the_built_in_table() {
-        let n_max = 6;
-        let levels = pattern_check_levels(n_max);
-        let captured: Vec<_> =
-            levels.iter().map(|&(inner, outer)| as_captured(&triangle_pattern(inner, outer))).collect();
-        assert!(captured.iter().zip(&levels).all(|(c, &(i, o))| c.is(&triangle_pattern(i, o))));
-        let words = measured_table("model", &levels, &captured, n_max).expect("the model's table holds");
-        for inner in 1..=64 {
-            for outer in 1..=64 {
-                let built_in = entry(&PATTERN_LEVELS, inner, outer);
-                assert_eq!((pattern_level(inner, outer) * 256.0) as u32, built_in);
-                let expected = if inner <= n_max && outer <= n_max { built_in } else { 0 };
-                assert_eq!(entry(&words, inner, outer), expected, "inner {inner}, outer {outer}");
-            }
-        }
-    }
-
-    #[test]
-    fn other_patterns_get_their_own_levels_or_are_refused() {
-        // A device whose inner level 4 with outer 4 looks like the model's inner level 2.
-        let n_max = 6;
-        let levels = pattern_check_levels(n_max);
-        let captured: Vec<_> = levels
-            .iter()
-            .map(|&(inner, outer)| {
-                let inner = if inner == 4.0 && outer == [4.0; 3] { 2.0 } else { inner };
-                as_captured(&triangle_pattern(inner, outer))
-            })
-            .collect();
-        let words = measured_table("coarse", &levels, &captured, n_max).expect("a coarser table holds");
-        assert_eq!(entry(&words, 4, 4), entry(&PATTERN_LEVELS, 2, 4));
-        assert!(entry(&words, 4, 4) < entry(&PATTERN_LEVELS, 4, 4));
-        assert_eq!(entry(&words, 5, 5), entry(&PATTERN_LEVELS, 5, 5));
-
-        // A mixed pattern coarser than its edges' entries promise: refused, and named.
-        let levels = vec![(2.0, [2.0; 3]), (2.0, [3.0; 3]), (2.0, [2.0, 2.0, 3.0])];
-        let mut captured: Vec<_> =
-            levels.iter().map(|&(inner, outer)| as_captured(&triangle_pattern(inner, outer))).collect();
-        assert!(measured_table("model", &levels, &captured, 3).is_ok());
-        captured[2] = as_captured(&triangle_pattern(1.0, [1.0; 3]));
-        match measured_table("odd", &levels, &captured, 3) {
-            Err(Error::Patterns { device, inner, outer }) => {
-                assert_eq!((device.as_str(), inner, outer), ("odd", 2.0, [2.0, 2.0, 3.0]));
-            }
-            other => panic!("expected a refusal, got {other:?}"),
-        }
-    }
-}
+mod tests;

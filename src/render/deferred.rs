@@ -5,8 +5,14 @@
 //! their screen derivatives analytically (seed 002, `glsl/include/derivatives.glsl`) and shades.
 //! The same id buffer gives `analyze --measured` each pixel's triangle.
 
-use super::{draw_constants, Instrumentation, Renderer, View};
+use super::descriptors::PUSH_STAGES;
+use super::draws::{draw_constants, DrawCall};
+use super::pipelines::{
+    scene_pipeline, variant_module, Instrumentation, MeshPipelines, VERTEX_ATTRIBUTES, VERTEX_BINDINGS,
+};
+use super::{Renderer, View};
 use crate::error::{Error, Result};
+use crate::gpu_interface::bindings::forward;
 use crate::shaders::{self, Features};
 use crate::vk::pipeline::{
     bind_sampled_images, shader_binding, DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout,
@@ -21,7 +27,7 @@ use std::sync::Arc;
 
 /// Set 2 of the forward layout: the id image (the vertices and indices are set 0's).
 pub fn deferred_set_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; 1] {
-    [shader_binding(0, vk::DescriptorType::COMBINED_IMAGE_SAMPLER)]
+    forward::DEFERRED_INPUTS.map(|b| shader_binding(b.binding, b.kind.descriptor_type()))
 }
 
 /// The pipelines, the id target (sized on use) and set 2.
@@ -67,11 +73,11 @@ impl Deferred {
             instrumentation: Instrumentation,
         ) -> GraphicsPipelineDesc<'a> {
             GraphicsPipelineDesc {
-                vertex_bindings: if vertex_input { &super::VERTEX_BINDINGS } else { &[] },
-                vertex_attributes: if vertex_input { &super::VERTEX_ATTRIBUTES[..1] } else { &[] },
+                vertex_bindings: if vertex_input { &VERTEX_BINDINGS } else { &[] },
+                vertex_attributes: if vertex_input { &VERTEX_ATTRIBUTES[..1] } else { &[] },
                 // The id pass culls as the forward passes do; the full-screen passes need not.
                 dynamic_cull_mode: vertex_input,
-                ..super::scene_pipeline(name, stages, layout, instrumentation)
+                ..scene_pipeline(name, stages, layout, instrumentation)
             }
         }
         use vk::ShaderStageFlags as S;
@@ -100,7 +106,7 @@ impl Deferred {
         for (&instrumentation, pipelines) in instrumentations.iter().zip(&mut shade) {
             for (features, specialization) in specializations {
                 let features = instrumentation.features(*features);
-                let deferred_frag = super::variant_module(context, "deferred.frag", features)?;
+                let deferred_frag = variant_module(context, "deferred.frag", features)?;
                 pipelines.push(Pipeline::graphics(
                     context,
                     &desc(
@@ -154,7 +160,8 @@ impl Deferred {
         })?;
         let target = RenderTarget::new(&self.context, extent)?;
         // The device is idle, so the set is not in use.
-        bind_sampled_images(&self.context, self.set, 0, self.sampler.raw, &[target.color.view]);
+        let ids = [target.color.view];
+        bind_sampled_images(&self.context, self.set, forward::VISIBILITY.binding, self.sampler.raw, &ids);
         *self.ids.borrow_mut() = Some(target);
         Ok(())
     }
@@ -165,7 +172,8 @@ impl Renderer {
         if let Some(deferred) = self.deferred.get() {
             return Ok(deferred);
         }
-        let deferred = Deferred::new(&self.context, &self.layout, &self.specializations)?;
+        let deferred =
+            Deferred::new(&self.context, &self.descriptors.layout, &self.pipelines.specializations)?;
         Ok(self.deferred.get_or_init(|| deferred))
     }
 
@@ -177,8 +185,7 @@ impl Renderer {
     /// Records the id pass into the visibility buffer, leaving it ready to be `after`.
     fn record_ids(&self, cmd: vk::CommandBuffer, ids: &RenderTarget, view: &View, after: AfterPass) {
         let deferred = self.deferred.get().expect("prepared");
-        let pick =
-            |_: &super::DrawCall| Some(super::MeshPipelines { first: deferred.visibility.raw, lists: None });
+        let pick = |_: &DrawCall| Some(MeshPipelines { first: deferred.visibility.raw, lists: None });
         self.record_draws(&pick, false, cmd, ids, Attachments::Color, view, [0.0; 4], after);
     }
 
@@ -212,17 +219,17 @@ impl Renderer {
         // SAFETY: recording inside the rendering begun above; every object is owned by `self`
         // and outlives the submission.
         unsafe {
-            self.bind_set(cmd, 0, self.descriptor_set);
+            self.bind_set(cmd, 0, self.descriptors.set);
             self.bind_set(cmd, 2, deferred.set);
             for draw in &self.draws {
                 constants.material_index = draw.material_index;
                 constants.mesh_index = draw.mesh_index;
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, shade[draw.pipeline].raw);
-                self.bind_set(cmd, 1, self.textures.sets[draw.material_index as usize]);
+                self.bind_set(cmd, 1, self.descriptors.textures.sets[draw.material_index as usize]);
                 device.cmd_push_constants(
                     cmd,
-                    self.layout.raw,
-                    super::PUSH_STAGES,
+                    self.descriptors.layout.raw,
+                    PUSH_STAGES,
                     0,
                     bytemuck::bytes_of(&constants),
                 );

@@ -2,6 +2,8 @@
 //! transform as PNG output (exposure, ACES filmic, sRGB).
 
 use crate::error::{Result, VkContext as _};
+use crate::gpu_interface::bindings::present::HDR_IMAGE;
+use crate::gpu_interface::specialization::ENCODE_SRGB;
 use crate::shaders;
 use crate::vk::memory::transition;
 use crate::vk::pipeline::{
@@ -33,8 +35,8 @@ impl PresentPass {
         let sampler = unsafe { context.device.create_sampler(&sampler_info, None) }
             .while_("creating the present sampler")?;
         let binding = [vk::DescriptorSetLayoutBinding::default()
-            .binding(0)
-            .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+            .binding(HDR_IMAGE.binding)
+            .descriptor_type(HDR_IMAGE.kind.descriptor_type())
             .descriptor_count(1)
             .stage_flags(vk::ShaderStageFlags::FRAGMENT)];
         let push = [vk::PushConstantRange::default().stage_flags(vk::ShaderStageFlags::FRAGMENT).size(4)];
@@ -43,12 +45,12 @@ impl PresentPass {
             context,
             "present descriptors",
             1,
-            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, descriptor_count: 1 }],
+            &[vk::DescriptorPoolSize { ty: HDR_IMAGE.kind.descriptor_type(), descriptor_count: 1 }],
         )?;
         let set = pool.allocate(layout.set_layouts[0])?;
         let vertex = ShaderModule::new(context, "fullscreen.vert", shaders::single("fullscreen.vert"))?;
         let fragment = ShaderModule::new(context, "present.frag", shaders::single("present.frag"))?;
-        let specialization = Specialization::default().boolean(0, encode_srgb);
+        let specialization = Specialization::default().boolean(ENCODE_SRGB.id, encode_srgb);
         let pipeline = Pipeline::graphics(
             context,
             &GraphicsPipelineDesc {
@@ -91,8 +93,8 @@ impl PresentPass {
         }];
         let write = [vk::WriteDescriptorSet::default()
             .dst_set(self.set)
-            .dst_binding(0)
-            .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+            .dst_binding(HDR_IMAGE.binding)
+            .descriptor_type(HDR_IMAGE.kind.descriptor_type())
             .image_info(&image_info)];
         // SAFETY: the set is not in use by any pending command buffer (caller waited).
         unsafe { self.context.device.update_descriptor_sets(&write, &[]) };

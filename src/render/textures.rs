@@ -4,6 +4,7 @@
 //! stands in where a material has no texture, so every set is fully written.
 
 use crate::error::Result;
+use crate::gpu_interface::bindings::forward;
 use crate::gpu_types::GpuMaterial;
 use crate::scene::texture::MipLevel;
 use crate::scene::{Material, MaterialKind, ParameterMapping, Scene};
@@ -16,7 +17,7 @@ use glam::{IVec4, Vec3, Vec4};
 use std::sync::Arc;
 
 /// Bindings per material set: albedo map, parameter map, its pyramid.
-const MATERIAL_BINDINGS: u32 = 3;
+const MATERIAL_BINDINGS: u32 = forward::MATERIAL_TEXTURES.len() as u32;
 
 /// The uploaded images, their sampler and each material's descriptor set.
 pub struct SceneTextures {
@@ -38,7 +39,7 @@ pub struct TextureUpload<'a> {
     pub format: vk::Format,
     /// Its mip chain, level 0 first.
     pub levels: &'a [MipLevel],
-    /// The material whose set binds it, and the binding (0 albedo, 1 parameter, 2 pyramid).
+    /// The material whose set binds it, and the binding (`forward::MATERIAL_TEXTURES`).
     pub material: usize,
     pub binding: usize,
 }
@@ -54,7 +55,7 @@ pub fn uploads(scene: &Scene) -> Vec<TextureUpload<'_>> {
                 format: vk::Format::R8G8B8A8_SRGB,
                 levels: &albedo.levels,
                 material,
-                binding: 0,
+                binding: forward::ALBEDO_MAP.binding as usize,
             });
         }
         if let Some(map) = &m.maps.parameter {
@@ -64,14 +65,14 @@ pub fn uploads(scene: &Scene) -> Vec<TextureUpload<'_>> {
                 format: vk::Format::R8_UNORM,
                 levels: &map.texture.levels,
                 material,
-                binding: 1,
+                binding: forward::PARAMETER_MAP.binding as usize,
             });
             uploads.push(TextureUpload {
                 name: format!("min/max pyramid of {path}"),
                 format: vk::Format::R8G8_UNORM,
                 levels: &map.pyramid.levels,
                 material,
-                binding: 2,
+                binding: forward::PARAMETER_PYRAMID.binding as usize,
             });
         }
     }
@@ -80,7 +81,7 @@ pub fn uploads(scene: &Scene) -> Vec<TextureUpload<'_>> {
 
 /// The layout of a material set: three combined image samplers, every stage.
 pub fn material_set_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; MATERIAL_BINDINGS as usize] {
-    [0, 1, 2].map(|binding| shader_binding(binding, vk::DescriptorType::COMBINED_IMAGE_SAMPLER))
+    forward::MATERIAL_TEXTURES.map(|b| shader_binding(b.binding, b.kind.descriptor_type()))
 }
 
 impl SceneTextures {
@@ -114,7 +115,8 @@ impl SceneTextures {
             let set = pool.allocate(layout)?;
             context.name(set, &format!("material {index} textures"));
             // The set was just allocated (idle); views and sampler are kept in `self`.
-            bind_sampled_images(context, set, 0, sampler.raw, &slot.map(|image| images[image].view));
+            let views = slot.map(|image| images[image].view);
+            bind_sampled_images(context, set, forward::MATERIAL_TEXTURES[0].binding, sampler.raw, &views);
             sets.push(set);
         }
         Ok(SceneTextures { _images: images, _sampler: sampler, _pool: pool, sets })

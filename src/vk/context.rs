@@ -238,78 +238,8 @@ impl Context {
             Some(w) => Some(w.display()?),
             None => None,
         };
-
-        // SAFETY: plain queries on a loaded entry.
-        let layers =
-            unsafe { entry.enumerate_instance_layer_properties() }.while_("listing instance layers")?;
-        let has_validation_layer =
-            layers.iter().any(|l| l.layer_name_as_c_str().is_ok_and(|n| n == VALIDATION_LAYER));
-        if options.validate && !has_validation_layer {
-            return Err(Error::ValidationLayerMissing);
-        }
-        // SAFETY: plain query on a loaded entry.
-        let available_extensions = unsafe { entry.enumerate_instance_extension_properties(None) }
-            .while_("listing instance extensions")?;
-        let has_debug_utils = available_extensions
-            .iter()
-            .any(|e| e.extension_name_as_c_str().is_ok_and(|n| n == ash::ext::debug_utils::NAME));
-
-        let mut extensions: Vec<*const i8> = Vec::new();
-        if has_debug_utils {
-            extensions.push(ash::ext::debug_utils::NAME.as_ptr());
-        }
-        if let Some(display) = display {
-            let required = ash_window::enumerate_required_extensions(display)
-                .while_("listing the surface extensions of this window system")?;
-            extensions.extend_from_slice(required);
-        }
-        let layer_names: Vec<*const i8> =
-            if options.validate { vec![VALIDATION_LAYER.as_ptr()] } else { Vec::new() };
-
-        let app_name = CString::new("multirate").expect("no interior NUL");
-        let app_info = vk::ApplicationInfo::default()
-            .application_name(&app_name)
-            .application_version(1)
-            .engine_name(&app_name)
-            .api_version(vk::API_VERSION_1_3);
-        let validation = Arc::new(ValidationLog::default());
-        let mut messenger_info = vk::DebugUtilsMessengerCreateInfoEXT::default()
-            .message_severity(
-                vk::DebugUtilsMessageSeverityFlagsEXT::WARNING | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
-            )
-            .message_type(
-                vk::DebugUtilsMessageTypeFlagsEXT::GENERAL
-                    | vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
-                    | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
-            )
-            .pfn_user_callback(Some(debug_callback))
-            .user_data(Arc::as_ptr(&validation) as *mut c_void);
-        let mut instance_info = vk::InstanceCreateInfo::default()
-            .application_info(&app_info)
-            .enabled_extension_names(&extensions)
-            .enabled_layer_names(&layer_names);
-        if options.validate && has_debug_utils {
-            // Also report problems in vkCreateInstance and vkDestroyInstance themselves.
-            instance_info = instance_info.push_next(&mut messenger_info);
-        }
-        // SAFETY: every pointer in `instance_info` refers to locals that outlive the call.
-        let instance =
-            unsafe { entry.create_instance(&instance_info, None) }.while_("creating the Vulkan instance")?;
-
-        let (debug_instance, messenger) = if has_debug_utils {
-            let debug = ash::ext::debug_utils::Instance::new(&entry, &instance);
-            let messenger = if options.validate {
-                // SAFETY: the callback's user data (`validation`) lives as long as the context.
-                unsafe { debug.create_debug_utils_messenger(&messenger_info, None) }
-                    .while_("creating the validation messenger")?
-            } else {
-                vk::DebugUtilsMessengerEXT::null()
-            };
-            (Some(debug), messenger)
-        } else {
-            (None, vk::DebugUtilsMessengerEXT::null())
-        };
-
+        let created = create_instance(&entry, options, display)?;
+        let instance = created.instance;
         let surface_instance = display.map(|_| ash::khr::surface::Instance::new(&entry, &instance));
         let surface = match window {
             Some(w) => Some(w.create_surface(&entry, &instance)?),
@@ -328,9 +258,9 @@ impl Context {
                     if let (Some(s), Some(surface)) = (&surface_instance, surface) {
                         s.destroy_surface(surface, None);
                     }
-                    if let Some(debug) = &debug_instance {
-                        if messenger != vk::DebugUtilsMessengerEXT::null() {
-                            debug.destroy_debug_utils_messenger(messenger, None);
+                    if let Some(debug) = &created.debug_instance {
+                        if created.messenger != vk::DebugUtilsMessengerEXT::null() {
+                            debug.destroy_debug_utils_messenger(created.messenger, None);
                         }
                     }
                     instance.destroy_instance(None);
@@ -339,58 +269,7 @@ impl Context {
             }
         };
 
-        // SAFETY: plain queries on a valid physical device.
-        let (supported, properties, supported_extensions) = unsafe {
-            (
-                instance.get_physical_device_features(chosen.device),
-                instance.get_physical_device_properties(chosen.device),
-                instance.enumerate_device_extension_properties(chosen.device),
-            )
-        };
-        let has_extension = |wanted: &CStr| {
-            supported_extensions
-                .iter()
-                .flatten()
-                .any(|e| e.extension_name_as_c_str().is_ok_and(|n| n == wanted))
-        };
-        let features = OptionalFeatures {
-            pipeline_statistics: supported.pipeline_statistics_query == vk::TRUE,
-            fill_mode_non_solid: supported.fill_mode_non_solid == vk::TRUE,
-            geometry_shader: supported.geometry_shader == vk::TRUE,
-            vertex_pipeline_stores: supported.vertex_pipeline_stores_and_atomics == vk::TRUE,
-            fragment_stores: supported.fragment_stores_and_atomics == vk::TRUE,
-            memory_budget: has_extension(ash::ext::memory_budget::NAME),
-        };
-        let enabled = vk::PhysicalDeviceFeatures::default()
-            .tessellation_shader(true)
-            .pipeline_statistics_query(features.pipeline_statistics)
-            .fill_mode_non_solid(features.fill_mode_non_solid)
-            .geometry_shader(features.geometry_shader)
-            .vertex_pipeline_stores_and_atomics(features.vertex_pipeline_stores)
-            .fragment_stores_and_atomics(features.fragment_stores);
-        // maintenance4 (required of every Vulkan 1.3 device) allows the LocalSizeId execution mode
-        // that shaderc emits for compute shaders compiled to SPIR-V 1.6.
-        let mut vulkan13 = vk::PhysicalDeviceVulkan13Features::default()
-            .dynamic_rendering(true)
-            .synchronization2(true)
-            .maintenance4(true);
-        let priorities = [1.0f32];
-        let queue_info = [vk::DeviceQueueCreateInfo::default()
-            .queue_family_index(chosen.queue_family)
-            .queue_priorities(&priorities)];
-        let mut device_extensions: Vec<*const i8> =
-            if surface.is_some() { vec![ash::khr::swapchain::NAME.as_ptr()] } else { Vec::new() };
-        if features.memory_budget {
-            device_extensions.push(ash::ext::memory_budget::NAME.as_ptr());
-        }
-        let device_info = vk::DeviceCreateInfo::default()
-            .queue_create_infos(&queue_info)
-            .enabled_extension_names(&device_extensions)
-            .enabled_features(&enabled)
-            .push_next(&mut vulkan13);
-        // SAFETY: the create info only points at locals that outlive the call.
-        let device = unsafe { instance.create_device(chosen.device, &device_info, None) }
-            .while_("creating the logical device")?;
+        let (device, features, properties) = create_device(&instance, &chosen, surface.is_some())?;
         // SAFETY: the family was requested with one queue.
         let queue = unsafe { device.get_device_queue(chosen.queue_family, 0) };
 
@@ -412,7 +291,7 @@ impl Context {
             .while_("creating the upload command pool")?;
 
         let debug_device =
-            debug_instance.as_ref().map(|_| ash::ext::debug_utils::Device::new(&instance, &device));
+            created.debug_instance.as_ref().map(|_| ash::ext::debug_utils::Device::new(&instance, &device));
         let info = device_info_of(&instance, chosen.device, &properties, chosen.queue_family);
         let limits = DeviceLimits::of(&instance, chosen.device);
         let context = Arc::new(Context {
@@ -427,11 +306,11 @@ impl Context {
             info,
             limits,
             surface_instance,
-            debug_instance,
+            debug_instance: created.debug_instance,
             debug_device,
             pattern_check: Mutex::new(PatternCheck { checked_up_to: 0, measured: None }),
-            messenger,
-            validation,
+            messenger: created.messenger,
+            validation: created.validation,
             one_shot_pool: Mutex::new(one_shot_pool),
         });
         Ok((context, surface))
@@ -555,6 +434,153 @@ impl<W: HasDisplayHandle + HasWindowHandle> WindowHandles for W {
     }
 }
 
+/// The instance and, where the loader has `VK_EXT_debug_utils`, the validation messenger that
+/// reports into `validation`.
+struct CreatedInstance {
+    instance: ash::Instance,
+    validation: Arc<ValidationLog>,
+    debug_instance: Option<ash::ext::debug_utils::Instance>,
+    messenger: vk::DebugUtilsMessengerEXT,
+}
+
+/// Creates the instance with the validation layer (when asked for) and the extensions that
+/// presenting to `display` needs.
+fn create_instance(
+    entry: &ash::Entry,
+    options: &ContextOptions,
+    display: Option<RawDisplayHandle>,
+) -> Result<CreatedInstance> {
+    // SAFETY: plain queries on a loaded entry.
+    let layers = unsafe { entry.enumerate_instance_layer_properties() }.while_("listing instance layers")?;
+    let has_validation_layer =
+        layers.iter().any(|l| l.layer_name_as_c_str().is_ok_and(|n| n == VALIDATION_LAYER));
+    if options.validate && !has_validation_layer {
+        return Err(Error::ValidationLayerMissing);
+    }
+    // SAFETY: plain query on a loaded entry.
+    let available_extensions = unsafe { entry.enumerate_instance_extension_properties(None) }
+        .while_("listing instance extensions")?;
+    let has_debug_utils = available_extensions
+        .iter()
+        .any(|e| e.extension_name_as_c_str().is_ok_and(|n| n == ash::ext::debug_utils::NAME));
+
+    let mut extensions: Vec<*const i8> = Vec::new();
+    if has_debug_utils {
+        extensions.push(ash::ext::debug_utils::NAME.as_ptr());
+    }
+    if let Some(display) = display {
+        let required = ash_window::enumerate_required_extensions(display)
+            .while_("listing the surface extensions of this window system")?;
+        extensions.extend_from_slice(required);
+    }
+    let layer_names: Vec<*const i8> =
+        if options.validate { vec![VALIDATION_LAYER.as_ptr()] } else { Vec::new() };
+
+    let app_name = CString::new("multirate").expect("no interior NUL");
+    let app_info = vk::ApplicationInfo::default()
+        .application_name(&app_name)
+        .application_version(1)
+        .engine_name(&app_name)
+        .api_version(vk::API_VERSION_1_3);
+    let validation = Arc::new(ValidationLog::default());
+    let mut messenger_info = vk::DebugUtilsMessengerCreateInfoEXT::default()
+        .message_severity(
+            vk::DebugUtilsMessageSeverityFlagsEXT::WARNING | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
+        )
+        .message_type(
+            vk::DebugUtilsMessageTypeFlagsEXT::GENERAL
+                | vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
+                | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
+        )
+        .pfn_user_callback(Some(debug_callback))
+        .user_data(Arc::as_ptr(&validation) as *mut c_void);
+    let mut instance_info = vk::InstanceCreateInfo::default()
+        .application_info(&app_info)
+        .enabled_extension_names(&extensions)
+        .enabled_layer_names(&layer_names);
+    if options.validate && has_debug_utils {
+        // Also report problems in vkCreateInstance and vkDestroyInstance themselves.
+        instance_info = instance_info.push_next(&mut messenger_info);
+    }
+    // SAFETY: every pointer in `instance_info` refers to locals that outlive the call.
+    let instance =
+        unsafe { entry.create_instance(&instance_info, None) }.while_("creating the Vulkan instance")?;
+
+    let (debug_instance, messenger) = if has_debug_utils {
+        let debug = ash::ext::debug_utils::Instance::new(entry, &instance);
+        let messenger = if options.validate {
+            // SAFETY: the callback's user data (`validation`) lives as long as the context.
+            unsafe { debug.create_debug_utils_messenger(&messenger_info, None) }
+                .while_("creating the validation messenger")?
+        } else {
+            vk::DebugUtilsMessengerEXT::null()
+        };
+        (Some(debug), messenger)
+    } else {
+        (None, vk::DebugUtilsMessengerEXT::null())
+    };
+    Ok(CreatedInstance { instance, validation, debug_instance, messenger })
+}
+
+/// Creates the logical device on `chosen` with tessellation, the optional features it has, and
+/// the swapchain extension when presenting; returns it with those features and its properties.
+fn create_device(
+    instance: &ash::Instance,
+    chosen: &Candidate,
+    presents: bool,
+) -> Result<(ash::Device, OptionalFeatures, vk::PhysicalDeviceProperties)> {
+    // SAFETY: plain queries on a valid physical device.
+    let (supported, properties, supported_extensions) = unsafe {
+        (
+            instance.get_physical_device_features(chosen.device),
+            instance.get_physical_device_properties(chosen.device),
+            instance.enumerate_device_extension_properties(chosen.device),
+        )
+    };
+    let has_extension = |wanted: &CStr| {
+        supported_extensions.iter().flatten().any(|e| e.extension_name_as_c_str().is_ok_and(|n| n == wanted))
+    };
+    let features = OptionalFeatures {
+        pipeline_statistics: supported.pipeline_statistics_query == vk::TRUE,
+        fill_mode_non_solid: supported.fill_mode_non_solid == vk::TRUE,
+        geometry_shader: supported.geometry_shader == vk::TRUE,
+        vertex_pipeline_stores: supported.vertex_pipeline_stores_and_atomics == vk::TRUE,
+        fragment_stores: supported.fragment_stores_and_atomics == vk::TRUE,
+        memory_budget: has_extension(ash::ext::memory_budget::NAME),
+    };
+    let enabled = vk::PhysicalDeviceFeatures::default()
+        .tessellation_shader(true)
+        .pipeline_statistics_query(features.pipeline_statistics)
+        .fill_mode_non_solid(features.fill_mode_non_solid)
+        .geometry_shader(features.geometry_shader)
+        .vertex_pipeline_stores_and_atomics(features.vertex_pipeline_stores)
+        .fragment_stores_and_atomics(features.fragment_stores);
+    // maintenance4 (required of every Vulkan 1.3 device) allows the LocalSizeId execution mode
+    // that shaderc emits for compute shaders compiled to SPIR-V 1.6.
+    let mut vulkan13 = vk::PhysicalDeviceVulkan13Features::default()
+        .dynamic_rendering(true)
+        .synchronization2(true)
+        .maintenance4(true);
+    let priorities = [1.0f32];
+    let queue_info = [vk::DeviceQueueCreateInfo::default()
+        .queue_family_index(chosen.queue_family)
+        .queue_priorities(&priorities)];
+    let mut device_extensions: Vec<*const i8> =
+        if presents { vec![ash::khr::swapchain::NAME.as_ptr()] } else { Vec::new() };
+    if features.memory_budget {
+        device_extensions.push(ash::ext::memory_budget::NAME.as_ptr());
+    }
+    let device_info = vk::DeviceCreateInfo::default()
+        .queue_create_infos(&queue_info)
+        .enabled_extension_names(&device_extensions)
+        .enabled_features(&enabled)
+        .push_next(&mut vulkan13);
+    // SAFETY: the create info only points at locals that outlive the call.
+    let device = unsafe { instance.create_device(chosen.device, &device_info, None) }
+        .while_("creating the logical device")?;
+    Ok((device, features, properties))
+}
+
 fn pick_device(
     instance: &ash::Instance,
     surface: Option<(&ash::khr::surface::Instance, vk::SurfaceKHR)>,
@@ -676,19 +702,4 @@ fn device_info_of(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_device_without_tessellation_is_rejected_with_the_reason() {
-        let properties =
-            vk::PhysicalDeviceProperties { api_version: vk::API_VERSION_1_3, ..Default::default() };
-        let mut features = vk::PhysicalDeviceFeatures::default();
-        let reason = unsuitability(&properties, &features).expect("rejected");
-        assert!(reason.contains("tessellationShader"), "{reason}");
-        features.tessellation_shader = vk::TRUE;
-        assert_eq!(unsuitability(&properties, &features), None);
-        let old = vk::PhysicalDeviceProperties { api_version: vk::API_VERSION_1_1, ..Default::default() };
-        assert!(unsuitability(&old, &features).expect("rejected").contains("1.3 is needed"));
-    }
-}
+mod tests;

@@ -161,7 +161,7 @@ pub struct GraphicsPipelineDesc<'a> {
 /// Whether the driver optimises a pipeline's code. Pipelines that are never timed (the
 /// analysis and level-recording variants) are built `Unoptimized`
 /// (`VK_PIPELINE_CREATE_DISABLE_OPTIMIZATION_BIT`): lavapipe then builds the estimator's
-/// pipelines in about 30 % less time, with the same results (docs/speedups.md, "Build and test
+/// pipelines in about 30 % less time, with the same results (docs/notebook/speedups.md, "Build and test
 /// time").
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Optimization {

@@ -2,8 +2,11 @@
 //! clipper, Lambert's edge sum evaluated plainly, van Oosterom–Strackee fans, ray–plane inside
 //! tests, area quadrature and Monte Carlo estimates with tolerances from their standard errors.
 
+use super::arithmetic::unit_difference;
+use super::closed_form::edge_segment_term;
+use super::ellipse::{ellipse_from_edge, is_degenerate};
 use super::*;
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 use std::f64::consts::PI;
 
 // ---------------------------------------------------------------------------------------------

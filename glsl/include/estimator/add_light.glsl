@@ -1,0 +1,438 @@
+// One light's bounds added to the sums (add_light: light_bounds, then add_bounds_or_ranges with
+// add_grid and add_to_sums), and its values over a patch's children (ChildValues,
+// midpoint_child).
+// Twin: `src/shading/estimator/add_light.rs`; proven equal with the rest of the estimator by
+// `tests/multirate.rs` (`control_stage_levels_equal_the_twin`).
+// A part of estimator.glsl, which includes the parts in dependency order: include that
+// header, not this file.
+
+// The shaded diffuse part max(E' c, 0) per unit weight lies in [inf, sup] (`diffuse_values` in
+// Rust): (sup, inf).
+P vec2 diffuse_values(LightSetup setup, Jet diffuse) {
+    P float att = setup.inv_d > 0.0 ? setup.inv_d * setup.inv_d : 1.0;
+    P float inf = setup.att_inf * rmax(setup.nl_cos.y, 0.0) * (1.0 - 1.0e-5);
+    P float sup = setup.area ? diffuse.m : rmin(diffuse.m, att * rmax(setup.nl_cos.x, 0.0));
+    return vec2(sup, inf);
+}
+
+// Child k (0..3) of the midpoint subdivision of the triangle with corners c (`midpoint_child`).
+void midpoint_child(inout vec3 c[3], int k) {
+    P vec3 ab = (c[0] + c[1]) * 0.5;
+    P vec3 bc = (c[1] + c[2]) * 0.5;
+    P vec3 ca = (c[2] + c[0]) * 0.5;
+    if (k == 0) {
+        c[1] = ab;
+        c[2] = ca;
+    } else if (k == 1) {
+        c[0] = ab;
+        c[2] = bc;
+    } else if (k == 2) {
+        c[0] = ca;
+        c[1] = bc;
+    } else {
+        c[0] = bc;
+        c[1] = ca;
+        c[2] = ab;
+    }
+}
+
+vec3 rmax3(vec3 a, vec3 b) {
+    return vec3(rmax(a.x, b.x), rmax(a.y, b.y), rmax(a.z, b.z));
+}
+
+// The values of a light's two parts per unit weight over the children of a patch (`ChildValues`
+// in Rust), and whether every child could be bounded.
+struct ChildValues {
+    float diffuse_sup;
+    float diffuse_inf;
+    vec3 specular_sup;
+    bool ok;
+};
+
+#ifdef CHILDREN_GIVEN
+// Where the including stage took the children's turns itself (refine_levels.comp, the refining
+// step, side by side in a workgroup): light `light`'s values over the patch's children, combined
+// in the children's order as level_pass combines them, and whether a child's bound went bad.
+// level_pass uses it for the first GIVEN_LIGHTS point and directional lights.
+ChildValues given_child_values(int light, out bool bad);
+#endif
+
+// One light's bounds before they join the sums, its diffuse (_d) and specular (_s) part apart, at
+// level 1 (1) and levels >= 2 (n): all terms in one pass, and for the Uniform split one more pass
+// per term in h_d and h_s (terms that are zero for every light of this material are skipped:
+// they add nothing). The locals of `add_light` in Rust.
+struct LightBounds {
+    vec3 h_d[2][TERM_COUNT];
+    vec3 h_s[2][TERM_COUNT];
+    vec3 tot_d1;
+    vec3 tot_dn;
+    vec3 tot_s1;
+    vec3 tot_sn;
+    vec3 lin1;
+    vec3 linn;
+    vec3 lin1_s;
+    vec3 linn_s;
+    vec3 range_d;
+    vec3 range_s;
+    vec3 spec_sup;
+    vec2 later_diffuse;
+    // Relaxed: how far n.l can be from 0 on a crossed sub-triangle, at level 1 and per 1/L.
+    float band1;
+    float bandn;
+    // sup E' (1 for a directional light).
+    float att;
+    TerminatorBand terminator;
+    // The weight of the diffuse part, and whether n.l may change sign inside the triangle.
+    vec3 diff_w;
+    bool straddle;
+};
+
+// One light's bounds from its jets at level 1 and at levels >= 2 (the first half of `add_light`
+// in Rust). `mode` ADD_VALUES: the jets' values join `values` instead, and VALUES_ADDED is
+// returned; else REASON_NONE.
+int light_bounds(Frame frame, GpuMaterial material, vec2 param, LightSetup setup, vec3 diff_w, vec3 spec_w,
+                 int mode, inout ChildValues values, P out LightBounds bounds) {
+    if (SPLIT == 0) {
+        for (int t = 0; t < TERM_COUNT; ++t) {
+            bounds.h_d[0][t] = vec3(0.0);
+            bounds.h_d[1][t] = vec3(0.0);
+            bounds.h_s[0][t] = vec3(0.0);
+            bounds.h_s[1][t] = vec3(0.0);
+        }
+    }
+    bounds.tot_d1 = vec3(0.0);
+    bounds.tot_dn = vec3(0.0);
+    bounds.tot_s1 = vec3(0.0);
+    bounds.tot_sn = vec3(0.0);
+    bounds.lin1 = vec3(0.0);
+    bounds.linn = vec3(0.0);
+    bounds.lin1_s = vec3(0.0);
+    bounds.linn_s = vec3(0.0);
+    bounds.range_d = vec3(0.0);
+    bounds.range_s = vec3(0.0);
+    bounds.spec_sup = vec3(0.0);
+    bounds.later_diffuse = vec2(0.0);
+    bounds.band1 = 0.0;
+    bounds.bandn = 0.0;
+    bounds.att = setup.inv_d > 0.0 ? setup.inv_d * setup.inv_d : 1.0;
+    bounds.terminator = terminator_band(frame, setup, frame.dn);
+    bounds.diff_w = diff_w;
+    bounds.straddle = setup.straddle;
+    if (setup.straddle) {
+        bounds.band1 = gc(band_at(terminator_band(frame, setup, frame.d1), 1.0));
+        bounds.bandn = gc(band_per_level(bounds.terminator, 0.0));
+    }
+    // Relaxed, GGX: the same for n.v where it may change sign (its kink in V).
+    bool view_kink = MATERIAL_KIND == MATERIAL_GGX && !setup.area && setup.nv_sign == SIGN_BOTH;
+    P float view1 = 0.0;
+    P float viewn = 0.0;
+    if (view_kink) {
+        view1 = view_band(frame, frame.d1);
+        viewn = view_band(frame, frame.dn);
+    }
+    // The jets at levels >= 2, and at level 1 those scaled by rho unless the Uniform split needs
+    // each term or GGX's view kink takes another band (see Rust).
+    bool derive_one = SPLIT == 1 && !view_kink;
+    Jet diff_n;
+    Jet spec_n[3];
+    P vec3 kink_n;
+    est_term = T_ALL;
+    // (A child's values take GGX's V at the band 0, where its value is 1/k, its sup.)
+    light_jets(frame, material, param, setup, frame.sn, mode == ADD_VALUES ? 0.0 : rmin(view1, viewn), diff_n,
+               spec_n, kink_n);
+    if (mode == ADD_VALUES) {
+        P vec2 diffuse = diffuse_values(setup, diff_n);
+        values.diffuse_sup = rmax(values.diffuse_sup, diffuse.x);
+        values.diffuse_inf = rmin(values.diffuse_inf, diffuse.y);
+        values.specular_sup = rmax3(values.specular_sup, vec3(spec_n[0].m, spec_n[1].m, spec_n[2].m));
+        return VALUES_ADDED;
+    }
+    for (int level = 0; level < 2; ++level) {
+        Scale s = level == 0 ? frame.s1 : frame.sn;
+        P float view_at = level == 0 ? view1 : rmin(view1, viewn);
+        Jet diff;
+        Jet spec[3];
+        P vec3 kink;
+        if (SPLIT == 0) {
+            for (int pass = 0; pass < active_term_count(); ++pass) {
+                est_term = active_term(pass);
+                light_jets(frame, material, param, setup, s, view_at, diff, spec, kink);
+                P vec3 spec_h = vec3(spec[0].h, spec[1].h, spec[2].h);
+                bounds.h_d[level][est_term] = diff_w * (diff.h * (0.5 * SAFETY));
+                bounds.h_s[level][est_term] = spec_w * spec_h * (0.5 * SAFETY);
+            }
+        }
+        est_term = T_ALL;
+        if (level == 1) {
+            diff = diff_n;
+            spec = spec_n;
+            kink = kink_n;
+        } else if (derive_one) {
+            diff = scaled_jet(diff_n, frame.rho);
+            spec[0] = scaled_jet(spec_n[0], frame.rho);
+            spec[1] = scaled_jet(spec_n[1], frame.rho);
+            spec[2] = scaled_jet(spec_n[2], frame.rho);
+            kink = kink_n;
+        } else {
+            light_jets(frame, material, param, setup, s, view_at, diff, spec, kink);
+        }
+        P vec3 spec_t = vec3(spec[0].h, spec[1].h, spec[2].h);
+        if (level == 0) {
+            bounds.tot_d1 = diff_w * (diff.h * (0.5 * SAFETY));
+            bounds.tot_s1 = spec_w * spec_t * (0.5 * SAFETY);
+        } else {
+            bounds.tot_dn = diff_w * (diff.h * (0.5 * SAFETY));
+            bounds.tot_sn = spec_w * spec_t * (0.5 * SAFETY);
+        }
+        // (The sups m do not depend on the pass.)
+        P vec3 spec_m = vec3(spec[0].m, spec[1].m, spec[2].m);
+        bounds.spec_sup = spec_m;
+        // Each part lies in [inf, sup] and so does its interpolant, the shaded diffuse part in
+        // [inf E' cos psi_max, sup E' max(cos psi_min, 0)] (see Rust).
+        P vec2 diffuse = diffuse_values(setup, diff);
+        bounds.later_diffuse = diffuse;
+        bounds.range_d = diff_w * (rmax(diffuse.x - diffuse.y, 0.0) * SAFETY);
+        bounds.range_s = spec_w * spec_m * SAFETY;
+        if (setup.straddle && level == 1) {
+            // Relaxed: the diffuse kink adds 1/4 sup E' osc(n.l) (see Rust).
+            bounds.lin1 = diff_w * (TERMINATOR_KINK * SAFETY * gmul(bounds.att, bounds.band1));
+            bounds.linn = diff_w * (TERMINATOR_KINK * SAFETY * gmul(bounds.att, bounds.bandn));
+        }
+        if (view_kink && level == 1) {
+            // Relaxed: the view's kink adds 1/4 sup(specular without V) |V'(0)| osc(n.v).
+            bounds.lin1_s = spec_w * (kink * (TERMINATOR_KINK * SAFETY * view1));
+            bounds.linn_s = spec_w * (kink * (TERMINATOR_KINK * SAFETY * viewn));
+        }
+    }
+    return REASON_NONE;
+}
+
+// Adds the light's bound at each uniform level of GRID_LEVELS up to n_max (the Heuristic split's
+// grid, `LightBounds::add_grid` in Rust): per part and channel the smaller of its interpolation
+// bound there and its range. `low`: the light's lower bound on the level; `zeron`: the
+// n-independent specular parts from `low` on, `whole_lobe + other` below it.
+void add_grid(LightBounds bounds, uint n_max, float low, vec3 zeron, vec3 whole_lobe, vec3 other) {
+    for (int k = 0; k < GRID_LEVEL_COUNT; ++k) {
+        if (GRID_LEVELS[k] > n_max) {
+            break;
+        }
+        P float l = grid_level[k];
+        // The jump at l: the one at `low` where l >= low, else the whole lobe (see Rust).
+        P vec3 zero_l = l >= low ? zeron : whole_lobe + other;
+        // The diffuse kink at l itself (valid below `low` too; at most att bandn, guarded).
+        P vec3 kink_l = bounds.straddle
+            ? bounds.diff_w * (TERMINATOR_KINK * SAFETY * (bounds.att * band_at(bounds.terminator, l)))
+            : vec3(0.0);
+        P vec3 part_d = rmin3(bounds.tot_dn / (l * l) + kink_l, bounds.range_d);
+        P vec3 part_s = rmin3(bounds.tot_sn / (l * l) + bounds.linn_s / l + zero_l, bounds.range_s);
+        sum_grid[k] = sum_grid[k] + (part_d + part_s);
+    }
+}
+
+// Adds the light's level-1 bound, and the parts the solver takes at its levels
+// (`LightBounds::add_to_sums` in Rust): per part and channel its interpolation bound where
+// `interp_d`/`interp_s` (per term for the Uniform split; `zero1`, `zeron`: the specular
+// n-independent parts at level 1 and from the light's lower bound on), else its range.
+void add_to_sums(LightBounds bounds, bvec3 interp_d, bvec3 interp_s, vec3 zero1, vec3 zeron) {
+    const vec3 none = vec3(0.0);
+    sum_one = sum_one + (rmin3(bounds.tot_d1 + bounds.lin1, bounds.range_d)
+                         + rmin3(bounds.tot_s1 + bounds.lin1_s + zero1, bounds.range_s));
+    // Each part adds its interpolation bound or its range (diffuse first, as in Rust).
+    sum_range = sum_range + mix(bounds.range_d, none, interp_d);
+    sum_range = sum_range + mix(bounds.range_s, none, interp_s);
+    sum_tn = sum_tn + mix(none, bounds.tot_dn, interp_d);
+    sum_tn = sum_tn + mix(none, bounds.tot_sn, interp_s);
+    sum_lin1 = sum_lin1 + mix(none, bounds.lin1, interp_d);
+    sum_lin1 = sum_lin1 + mix(none, bounds.lin1_s, interp_s);
+    sum_linn = sum_linn + mix(none, bounds.linn, interp_d);
+    sum_linn = sum_linn + mix(none, bounds.linn_s, interp_s);
+    sum_jumps1 = sum_jumps1 + mix(none, zero1, interp_s);
+    sum_jumps = sum_jumps + mix(none, zeron, interp_s);
+    if (SPLIT == 0) {
+        for (int pass = 0; pass < active_term_count(); ++pass) {
+            int t = active_term(pass);
+            sum_h1[t] = sum_h1[t] + mix(none, bounds.h_d[0][t], interp_d);
+            sum_h1[t] = sum_h1[t] + mix(none, bounds.h_s[0][t], interp_s);
+            sum_hn[t] = sum_hn[t] + mix(none, bounds.h_d[1][t], interp_d);
+            sum_hn[t] = sum_hn[t] + mix(none, bounds.h_s[1][t], interp_s);
+        }
+    }
+}
+
+// The light's parts added to the sums, from its bounds (the end of `add_light` in Rust): per
+// part and channel the smaller of its interpolation bound and its range, the jumps of the specular
+// lobe where n.l changes sign (Relaxed), the light's own lower bound `low` on the level, then the
+// parts at the grid levels (add_grid) and at the solver's (add_to_sums). `other`: the specular
+// part's n-independent term.
+void add_bounds_or_ranges(P inout LightBounds bounds, LightSetup setup, vec2 param, vec3 diff_w, vec3 spec_w,
+                          vec3 other, float top, uint n_max, float eps) {
+    P vec3 spec_sup = bounds.spec_sup;
+    P vec3 zero1 = terminator_jump(spec_w, spec_sup, param, setup, bounds.band1) + other;
+    P vec3 zero_top = terminator_jump(spec_w, spec_sup, param, setup, bounds.bandn / top) + other;
+    // Per part and channel: the smaller of the part's interpolation bound and its range
+    // (`!(range <= bound)`, true for NaN, as in Rust).
+    bvec3 interp_d = not(lessThanEqual(bounds.range_d, bounds.tot_dn / (top * top) + bounds.linn / top));
+    bvec3 interp_s =
+        not(lessThanEqual(bounds.range_s, bounds.tot_sn / (top * top) + bounds.linn_s / top + zero_top));
+    // The jump at levels >= 2 at a lower bound of the final level (see Rust).
+    P vec3 zero_inf = terminator_jump(spec_w, spec_sup, param, setup, 0.0) + other;
+    const vec3 none = vec3(0.0);
+    P vec3 a = mix(none, bounds.tot_dn, interp_d) + mix(none, bounds.tot_sn, interp_s);
+    P vec3 z = mix(none, zero_inf, interp_s);
+    // Relaxed: the same with the diffuse kink at its floor; the band's fixed point holds from
+    // `low` on (see Rust).
+    P vec3 floor_kink = setup.straddle
+        ? diff_w * (TERMINATOR_KINK * SAFETY * gmul(bounds.att, band_floor(bounds.terminator)))
+        : vec3(0.0);
+    P vec3 b = mix(none, floor_kink, interp_d) + mix(none, bounds.linn_s, interp_s);
+    P float low = 1.0;
+    for (int c = 0; c < 3; ++c) {
+        if (interp_d[c] || interp_s[c]) {
+            low = rmax(low, level_for(a[c], b[c], z[c], eps));
+        }
+    }
+    if (setup.straddle) {
+        bounds.bandn = rmin(bounds.bandn, gc(band_per_level(bounds.terminator, low)));
+        bounds.linn = diff_w * (TERMINATOR_KINK * SAFETY * gmul(bounds.att, bounds.bandn));
+    }
+    P vec3 zeron = terminator_jump(spec_w, spec_sup, param, setup, bounds.bandn / low) + other;
+    if (SPLIT == 1) {
+        P vec3 whole_lobe = setup.straddle && !setup.area ? spec_w * spec_sup * SAFETY : vec3(0.0);
+        add_grid(bounds, n_max, low, zeron, whole_lobe, other);
+    }
+    add_to_sums(bounds, interp_d, interp_s, zero1, zeron);
+}
+
+// Adds one light's bounds to the sums; returns a fallback reason (REASON_NONE if none), as
+// `add_light` in Rust. `polygon` >= 0: the polygonal light of that index (`position` and
+// `radiance` unused); else `point`: a point light at `position`, or a directional light whose
+// travel direction is `position`.
+//
+// `mode` ADD_VALUES: `frame` is a child of a patch (`values_over_children` in Rust); its values
+// join `values` and VALUES_ADDED is returned, or REASON_NONE where the light adds 0 on it, or the
+// reason it cannot be bounded. ADD_REFINED: the patch's ranges take `values` where they hold.
+//
+// The steps that may fall back stay here, between the calls (where the light is: `light_source`
+// in Rust; the checks of `diffuse_setup` and `specular_setup`): a helper that returned early would
+// leave its outputs undefined on that path, and the optimiser would no longer fold them.
+int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 position,
+              vec3 radiance, int polygon, float top, uint n_max, float eps, int mode,
+              inout ChildValues values) {
+    bool area = polygon >= 0;
+    AreaGeometry geometry;
+    GpuPolygonLight light;
+    if (area) {
+        light = polygon_lights[polygon];
+        if (is_zero(light.radiance.rgb)) {
+            return REASON_NONE;
+        }
+        int where_is = area_geometry(frame, light, geometry);
+        if (where_is == 1) {
+            return REASON_NONE;
+        }
+        if (where_is == 2) {
+            return REASON_DISCONTINUITY;
+        }
+        if (!(geometry.d_min * geometry.d_min > MIN_D2_SAFE)) {
+            return REASON_SINGULAR;
+        }
+        radiance = light.radiance.rgb * light.normal.w;
+    }
+    if (is_zero(radiance)) {
+        return REASON_NONE;
+    }
+    vec3 diff_w;
+    vec3 spec_w;
+    light_weights(material, radiance, diff_w, spec_w);
+    Cone l_cone;
+    P float inv_d;
+    P vec3 l_center;
+    P vec3 l_vectors[3];
+    // A point light's height over the plane, from below and from above.
+    P vec2 heights = vec2(0.0);
+    if (area) {
+        l_cone = geometry.cone;
+        inv_d = 1.0 / geometry.d_min;
+        l_center = l_cone.axis;
+    } else if (point) {
+        l_vectors[0] = position - frame.vertices[0];
+        l_vectors[1] = position - frame.vertices[1];
+        l_vectors[2] = position - frame.vertices[2];
+        l_cone = cone_of(l_vectors[0], l_vectors[1], l_vectors[2]);
+        P float d_min = min_length(l_vectors[0], l_vectors[1], l_vectors[2], l_cone);
+        // The falloff is clamped at d^2 = 1e-8: only smooth (and bounded) beyond it.
+        if (!(d_min * d_min > MIN_D2_SAFE)) {
+            if (is_zero(diff_w) && is_zero(spec_w)) {
+                return REASON_NONE;
+            }
+            return REASON_SINGULAR;
+        }
+        // Every point of the triangle is at least its height and in-plane distance away.
+        heights = height_of(frame, position);
+        inv_d = 1.0 / rmax(d_min, distance_of(frame, position, heights.x));
+        l_center = unit(position - frame.center);
+    } else {
+        P vec3 l = unit(-position);
+        l_cone = Cone(l, 0.0);
+        inv_d = 0.0;
+        l_center = l;
+        l_vectors = vec3[3](l, l, l);
+    }
+    if (is_zero(diff_w) && is_zero(spec_w)) {
+        return REASON_NONE;
+    }
+    if (frame.r_n <= 0.0) {
+        return REASON_SINGULAR;
+    }
+    int l_sign;
+    P vec2 psi_nl = area ? cosine_range_of(frame, l_cone, geometry.q, geometry.w_max, geometry.d_min, l_sign)
+                         : cosine_range(frame, l_cone, l_vectors, l_sign);
+    if (l_sign == SIGN_NON_POSITIVE) {
+        return REASON_NONE;
+    }
+    bool straddle = l_sign == SIGN_BOTH;
+    if (straddle && DISCONTINUITY == 0) {
+        return REASON_DISCONTINUITY;
+    }
+    LightSource source = LightSource(l_cone, inv_d, l_center, l_vectors, heights);
+    LightSetup setup = diffuse_setup(frame, point, area, geometry.emitter, source, psi_nl, straddle);
+    if (MATERIAL_KIND != MATERIAL_LAMBERT) {
+        if (!(frame.e_min > 0.0)) {
+            return REASON_SINGULAR;
+        }
+        P vec2 psi_lv = psi_range(l_cone, frame.v_cone);
+        P float m_min = 2.0 * est_cos(0.5 * psi_lv.y);
+        if (!(psi_lv.y < PI_MINUS_MILLI) || !(m_min > 0.0)) {
+            return REASON_SINGULAR;
+        }
+        int kink = specular_setup(frame, param, point, source, psi_lv, m_min, setup);
+        if (kink != REASON_NONE) {
+            return kink;
+        }
+    }
+    P LightBounds bounds;
+    if (light_bounds(frame, material, param, setup, diff_w, spec_w, mode, values, bounds) == VALUES_ADDED) {
+        return VALUES_ADDED;
+    }
+    // A triangle that needs a high level: the parts' values over the children, where this
+    // light's range is not small (see Rust).
+    bool significant = rmax(max_el(bounds.range_d), max_el(bounds.range_s)) > REFINE_SHARE * eps;
+    if (mode == ADD_REFINED && values.ok && !setup.area && significant) {
+        P float diff_sup = rmin(bounds.later_diffuse.x, values.diffuse_sup);
+        P float diff_inf = rmax(bounds.later_diffuse.y, values.diffuse_inf);
+        bounds.range_d = diff_w * (rmax(diff_sup - diff_inf, 0.0) * SAFETY);
+        bounds.spec_sup = rmin3(bounds.spec_sup, values.specular_sup);
+        bounds.range_s = spec_w * bounds.spec_sup * SAFETY;
+    }
+    P vec3 other;
+    if (area) {
+        // The sampled specular part: no interpolation bound, its range.
+        other = polygon_specular_bound(material, param, setup, light) * SAFETY;
+        bounds.range_s = bounds.range_s + other;
+    } else {
+        // A textured parameter: its variation over the range, an n-independent term.
+        other = spec_w * parameter_variation(param, setup, bounds.spec_sup);
+    }
+    add_bounds_or_ranges(bounds, setup, param, diff_w, spec_w, other, top, n_max, eps);
+    return REASON_NONE;
+}

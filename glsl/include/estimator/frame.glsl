@@ -1,0 +1,165 @@
+// What the estimator knows of one triangle (Frame, make_frame) and its distances to a point
+// (height_of, distance_of, distance_along_line).
+// Twin: `src/shading/estimator/frame.rs`; proven equal with the rest of the estimator by
+// `tests/multirate.rs` (`control_stage_levels_equal_the_twin`).
+// A part of estimator.glsl, which includes the parts in dependency order: include that
+// header, not this file.
+
+// See `Frame` in Rust.
+struct Frame {
+    vec3 vertices[3];
+    vec3 eye;
+    vec3 center;
+    float rho_x;
+    Scale s1;
+    Scale sn;
+    float rho;
+    Scale d1;
+    Scale dn;
+    Cone n_cone;
+    float r_n;
+    float n_max_len;
+    vec3 normals[3];
+    vec3 unit_normals[3];
+    vec3 plane;
+    float plane_tilt;
+    float n_plane_sin;
+    Cone v_cone;
+    float e_min;
+    vec3 v_center;
+};
+
+// max |sin| of the angle between a direction of the cone and the plane normal, 1 without a
+// plane (see `plane_sin` in Rust).
+P float plane_sin(Cone cone, vec3 plane) {
+    if (is_zero(plane)) {
+        return 1.0;
+    }
+    P vec2 g = psi_range(cone, Cone(plane, 0.0));
+    return max_sin(g.x, g.y);
+}
+
+// s1/sn of one attribute, 0 where sn is (see `Frame::rho` in Rust).
+P float scale_ratio(float one, float later) {
+    P float r = later > 0.0 ? one / later : 0.0;
+    return r;
+}
+
+// The jet at a scale rho times this one's: value kept, first derivative times rho, second
+// times rho^2 (see `LightJets::scaled`).
+Jet scaled_jet(Jet j, float rho) {
+    P float rho2 = rho * rho;
+    Jet o;
+    o.m = j.m;
+    o.g = j.g * rho;
+    o.h = j.h * rho2;
+    return o;
+}
+
+Frame make_frame(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye) {
+    Frame f;
+    f.vertices = vec3[3](p0, p1, p2);
+    f.eye = eye;
+    P vec3 center = (p0 + p1 + p2) / 3.0;
+    f.center = center;
+    f.rho_x = rmax(rmax(len(p0 - center), len(p1 - center)), len(p2 - center));
+    PatternConstants px = pattern_constants(p1 - p0, p2 - p0);
+    PatternConstants pn = pattern_constants(n1 - n0, n2 - n0);
+    f.n_cone = cone_of(n0, n1, n2);
+    P float longest = rmax(rmax(len(n0), len(n1)), len(n2));
+    P vec3 e1 = n1 - n0;
+    P vec3 e2 = n2 - n0;
+    P vec2 pg = jung_scales(vec3(dot3(n0, e1), dot3(n1, e1), dot3(n2, e1)),
+                            vec3(dot3(n0, e2), dot3(n1, e2), dot3(n2, e2)));
+    P float g_pad = RADIAL_PAD * longest;
+    P float r_n = min_length(n0, n1, n2, f.n_cone);
+    if (!(r_n > 1.0e-6 * longest)) {
+        r_n = 0.0;
+    }
+    f.r_n = r_n;
+    P vec3 to_eye0 = eye - p0;
+    P vec3 to_eye1 = eye - p1;
+    P vec3 to_eye2 = eye - p2;
+    f.v_cone = cone_of(to_eye0, to_eye1, to_eye2);
+    f.e_min = min_length(to_eye0, to_eye1, to_eye2, f.v_cone);
+    f.s1 = Scale(px.sqrt_k1, pn.sqrt_k1, pg.x + g_pad * pn.sqrt_k1);
+    f.sn = Scale(px.sqrt_k, pn.sqrt_k, pg.y + g_pad * pn.sqrt_k);
+    f.rho = rmin(rmax(rmax(scale_ratio(f.s1.a, f.sn.a), scale_ratio(f.s1.b, f.sn.b)), scale_ratio(f.s1.g, f.sn.g)),
+                 1.0);
+    f.d1 = Scale(px.diam1, pn.diam1, 0.0);
+    f.dn = Scale(px.diam, pn.diam, 0.0);
+    f.n_max_len = longest;
+    f.normals = vec3[3](n0, n1, n2);
+    f.unit_normals = vec3[3](unit(n0), unit(n1), unit(n2));
+    P vec3 c = cross3(p1 - p0, p2 - p0);
+    P float plane_scale = len(p1 - p0) * len(p2 - p0);
+    if (len(c) > 1.0e-6 * plane_scale) {
+        f.plane = unit(c);
+        f.plane_tilt = 4.0e-7 * plane_scale / len(c) + 1.0e-6;
+    } else {
+        f.plane = vec3(0.0);
+        f.plane_tilt = 0.0;
+    }
+    f.n_plane_sin = plane_sin(f.n_cone, f.plane);
+    f.v_center = unit(eye - center);
+    return f;
+}
+
+// Lower and upper bounds on the height of p over the triangle's plane (see `Frame::height_of`).
+P vec2 height_of(Frame frame, vec3 p) {
+    if (is_zero(frame.plane)) {
+        return vec2(0.0);
+    }
+    P vec3 r = p - frame.vertices[0];
+    P float height = abs(dot3(r, frame.plane));
+    P float pad = len(r) * (frame.plane_tilt + 1.0e-6);
+    P vec2 range = vec2(rmax(height - pad, 0.0), height + pad);
+    return range;
+}
+
+// The distance from p to the longest edge of a triangle without a plane, less the third
+// corner's distance from it and the rounding (see `Frame::distance_along_line`).
+P float distance_to_segment(vec3 a, vec3 b, float length2, vec3 x) {
+    P vec3 e = b - a;
+    P vec3 f = x - a;
+    P float t = length2 > 0.0 ? clamp(dot3(f, e) / length2, 0.0, 1.0) : 0.0;
+    P float d = len(f - e * t);
+    return d;
+}
+P float distance_along_line(Frame frame, vec3 p) {
+    P vec3 v[3] = frame.vertices;
+    P float lengths[3] = float[](len2(v[1] - v[0]), len2(v[2] - v[1]), len2(v[0] - v[2]));
+    int k = (lengths[0] >= lengths[1] && lengths[0] >= lengths[2]) ? 0 : (lengths[1] >= lengths[2] ? 1 : 2);
+    P vec3 a = v[k];
+    P vec3 b = v[(k + 1) % 3];
+    P float magnitude = max_el(abs(p)) + max_el(abs(a)) + 2.0 * frame.rho_x;
+    P float d = rmax(distance_to_segment(a, b, lengths[k], p) - distance_to_segment(a, b, lengths[k], v[(k + 2) % 3])
+                     - 1.0e-6 * magnitude, 0.0);
+    return d;
+}
+
+// A lower bound on the distance from p to the triangle, its height from below given (see
+// `Frame::distance_of`).
+P float distance_of(Frame frame, vec3 p, float height) {
+    if (is_zero(frame.plane)) {
+        return distance_along_line(frame, p);
+    }
+    P vec3 foot = p - frame.plane * dot3(p - frame.vertices[0], frame.plane);
+    // The foot's distance to the triangle: 0 inside, else to the nearest edge.
+    bool inside = true;
+    P float rho = len(foot - frame.vertices[0]);
+    for (int k = 0; k < 3; ++k) {
+        P vec3 a = frame.vertices[k];
+        P vec3 e = frame.vertices[(k + 1) % 3] - a;
+        P vec3 f = foot - a;
+        inside = inside && dot3(cross3(e, f), frame.plane) >= 0.0;
+        P float t = clamp(dot3(f, e) / len2(e), 0.0, 1.0);
+        rho = rmin(rho, len(f - e * t));
+    }
+    P float reach = len(p - frame.vertices[0]) + 2.0 * frame.rho_x;
+    P float magnitude = max_el(abs(foot)) + max_el(abs(frame.vertices[0])) + 2.0 * frame.rho_x;
+    P float pad = 2.0 * reach * (frame.plane_tilt + 1.0e-6) + 1.0e-6 * magnitude;
+    P float rho_out = (inside || !(rho > pad)) ? 0.0 : rho - pad;
+    P float d = sqrt(height * height + rho_out * rho_out);
+    return d;
+}

@@ -1,0 +1,196 @@
+//! Every descriptor the shaders declare, by pipeline layout: its GLSL name, set, binding and
+//! type (twins: `glsl/include/bindings.glsl` for the forward layout, declared in binding order;
+//! the stages of the other layouts).
+//!
+//! A descriptor's name is its block's for a buffer (`Lights` of `buffer Lights { ... }`) and
+//! its variable's for a sampler (`albedo_map`): the names SPIR-V keeps, which the layout test
+//! reads back. Each layout's sets list their bindings in order, from 0 without gaps.
+
+use ash::vk;
+
+/// What a descriptor is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DescriptorKind {
+    /// A `buffer` block (std430).
+    StorageBuffer,
+    /// A `sampler2D`.
+    CombinedImageSampler,
+}
+
+impl DescriptorKind {
+    pub const fn descriptor_type(self) -> vk::DescriptorType {
+        match self {
+            DescriptorKind::StorageBuffer => vk::DescriptorType::STORAGE_BUFFER,
+            DescriptorKind::CombinedImageSampler => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+        }
+    }
+}
+
+/// One descriptor of a pipeline layout.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Binding {
+    /// The GLSL block's name (buffers) or variable's name (samplers).
+    pub name: &'static str,
+    pub set: u32,
+    pub binding: u32,
+    pub kind: DescriptorKind,
+}
+
+const fn storage(set: u32, binding: u32, name: &'static str) -> Binding {
+    Binding { name, set, binding, kind: DescriptorKind::StorageBuffer }
+}
+
+const fn sampler(set: u32, binding: u32, name: &'static str) -> Binding {
+    Binding { name, set, binding, kind: DescriptorKind::CombinedImageSampler }
+}
+
+/// A pipeline layout: its descriptor sets, each its bindings in order.
+#[derive(Clone, Copy, Debug)]
+pub struct Layout {
+    pub name: &'static str,
+    pub sets: &'static [&'static [Binding]],
+}
+
+impl Layout {
+    /// The binding named `name`, if the layout has one.
+    pub fn find(&self, name: &str) -> Option<Binding> {
+        self.sets.iter().flat_map(|set| set.iter()).copied().find(|b| b.name == name)
+    }
+}
+
+/// The forward passes, the deferred pass and the multirate pre-pass: every stage not listed
+/// under another layout.
+pub mod forward {
+    use super::{sampler, storage, Binding, Layout};
+
+    pub const LIGHTS: Binding = storage(0, 0, "Lights");
+    pub const MATERIALS: Binding = storage(0, 1, "Materials");
+    /// Written only by the level-recording pipelines.
+    pub const LEVEL_RECORDS: Binding = storage(0, 2, "LevelRecords");
+    /// The counting variants' four counters.
+    pub const EVALUATION_COUNTERS: Binding = storage(0, 3, "EvaluationCounters");
+    pub const POLYGON_LIGHTS: Binding = storage(0, 4, "PolygonLights");
+    pub const TRIANGLE_LEVELS: Binding = storage(0, 5, "TriangleLevels");
+    pub const TRIANGLE_NEIGHBOURS: Binding = storage(0, 6, "TriangleNeighbours");
+    pub const SCENE_VERTICES: Binding = storage(0, 7, "SceneVertices");
+    pub const SCENE_INDICES: Binding = storage(0, 8, "SceneIndices");
+    pub const VISIBLE_TRIANGLES: Binding = storage(0, 9, "VisibleTriangles");
+    pub const PATCH_COUNTS: Binding = storage(0, 10, "PatchCounts");
+    pub const PATTERN_LEVELS: Binding = storage(0, 11, "PatternLevels");
+    pub const PATCH_TESS_LEVELS: Binding = storage(0, 12, "PatchTessLevels");
+    pub const INTERPOLATED_PATCHES: Binding = storage(0, 13, "InterpolatedPatches");
+    pub const FALLBACK_PATCHES: Binding = storage(0, 14, "FallbackPatches");
+    pub const INTERPOLATED_DRAWS: Binding = storage(0, 15, "InterpolatedDraws");
+    pub const FALLBACK_DRAWS: Binding = storage(0, 16, "FallbackDraws");
+    pub const FLAT_PATCHES: Binding = storage(0, 17, "FlatPatches");
+    pub const FLAT_DRAWS: Binding = storage(0, 18, "FlatDraws");
+    pub const LEVEL_DISPATCHES: Binding = storage(0, 19, "LevelDispatches");
+    pub const REFINE_TRIANGLES: Binding = storage(0, 20, "RefineTriangles");
+
+    pub const ALBEDO_MAP: Binding = sampler(1, 0, "albedo_map");
+    pub const PARAMETER_MAP: Binding = sampler(1, 1, "parameter_map");
+    /// The parameter map's min/max pyramid.
+    pub const PARAMETER_PYRAMID: Binding = sampler(1, 2, "parameter_pyramid");
+
+    /// The deferred pass's visibility buffer.
+    pub const VISIBILITY: Binding = sampler(2, 0, "visibility");
+
+    /// Set 0: the scene's storage buffers, bound once.
+    pub const SCENE_BUFFERS: [Binding; 21] = [
+        LIGHTS,
+        MATERIALS,
+        LEVEL_RECORDS,
+        EVALUATION_COUNTERS,
+        POLYGON_LIGHTS,
+        TRIANGLE_LEVELS,
+        TRIANGLE_NEIGHBOURS,
+        SCENE_VERTICES,
+        SCENE_INDICES,
+        VISIBLE_TRIANGLES,
+        PATCH_COUNTS,
+        PATTERN_LEVELS,
+        PATCH_TESS_LEVELS,
+        INTERPOLATED_PATCHES,
+        FALLBACK_PATCHES,
+        INTERPOLATED_DRAWS,
+        FALLBACK_DRAWS,
+        FLAT_PATCHES,
+        FLAT_DRAWS,
+        LEVEL_DISPATCHES,
+        REFINE_TRIANGLES,
+    ];
+    /// Set 1: the draw's material textures, bound per draw.
+    pub const MATERIAL_TEXTURES: [Binding; 3] = [ALBEDO_MAP, PARAMETER_MAP, PARAMETER_PYRAMID];
+    /// Set 2: the deferred pass's input.
+    pub const DEFERRED_INPUTS: [Binding; 1] = [VISIBILITY];
+
+    pub const LAYOUT: Layout =
+        Layout { name: "forward", sets: &[&SCENE_BUFFERS, &MATERIAL_TEXTURES, &DEFERRED_INPUTS] };
+}
+
+/// The present pass (`fullscreen.vert`, `present.frag`).
+pub mod present {
+    use super::{sampler, Binding, Layout};
+
+    /// The float render target it tone-maps.
+    pub const HDR_IMAGE: Binding = sampler(0, 0, "hdr_image");
+
+    pub const LAYOUT: Layout = Layout { name: "present", sets: &[&[HDR_IMAGE]] };
+}
+
+/// The tessellation capture (`capture.*`).
+pub mod capture {
+    use super::{storage, Binding, Layout};
+
+    /// The evaluation stage's tessellation coordinates.
+    pub const COORDS: Binding = storage(0, 0, "Coords");
+    /// The geometry stage's triangles.
+    pub const TRIANGLES: Binding = storage(0, 1, "Triangles");
+
+    /// Set 0.
+    pub const BUFFERS: [Binding; 2] = [COORDS, TRIANGLES];
+
+    pub const LAYOUT: Layout = Layout { name: "capture", sets: &[&BUFFERS] };
+}
+
+/// The GPU check of the polygon code (`polygon_check.comp`).
+pub mod polygon_check {
+    use super::{storage, Binding, Layout};
+
+    pub const CASES: Binding = storage(0, 0, "Cases");
+    pub const RESULTS: Binding = storage(0, 1, "Results");
+
+    /// Set 0.
+    pub const BUFFERS: [Binding; 2] = [CASES, RESULTS];
+
+    pub const LAYOUT: Layout = Layout { name: "polygon check", sets: &[&BUFFERS] };
+}
+
+/// Every layout.
+pub const LAYOUTS: [Layout; 4] = [forward::LAYOUT, present::LAYOUT, capture::LAYOUT, polygon_check::LAYOUT];
+
+/// The layout `stage` (a file name under `glsl/`) is compiled against.
+pub fn layout_of(stage: &str) -> Layout {
+    match stage {
+        "fullscreen.vert" | "present.frag" => present::LAYOUT,
+        "capture.vert" | "capture.tesc" | "capture.tese" | "capture.geom" => capture::LAYOUT,
+        "polygon_check.comp" => polygon_check::LAYOUT,
+        _ => forward::LAYOUT,
+    }
+}
+
+/// `resources`, each given with the binding it goes to, in the order of `bindings`.
+///
+/// # Panics
+/// If a binding of `bindings` is given no resource or more than one (then another is missing).
+pub fn in_binding_order<T: Copy, const N: usize>(
+    bindings: &[Binding; N],
+    resources: [(Binding, T); N],
+) -> [T; N] {
+    bindings.map(|binding| {
+        let mut given = resources.iter().filter(|(b, _)| *b == binding).map(|&(_, resource)| resource);
+        let resource = given.next().unwrap_or_else(|| panic!("no resource for binding {}", binding.name));
+        assert!(given.next().is_none(), "two resources for binding {}", binding.name);
+        resource
+    })
+}

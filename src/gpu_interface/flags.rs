@@ -1,0 +1,17 @@
+//! The bits of `DrawConstants::flags` (twins: the `FLAG_` constants of
+//! `glsl/include/types.glsl`, their only GLSL declaration).
+
+super::named_constants! {
+    /// Colour by tessellation level instead of shading.
+    FLAG_HEAT_MAP = 1;
+    /// `pixel-deferred` writes the analytic against hardware uv derivative difference instead
+    /// of shading (see [`crate::render::View::derivative_check`]).
+    FLAG_DERIVATIVE_CHECK = 2;
+    /// The mesh is one-sided: its back-facing triangles are culled (by the rasteriser, and in
+    /// multirate mode before their estimate).
+    FLAG_ONE_SIDED = 4;
+    /// The multirate draw (`--estimator compute`) of a mesh's list of fallback patches, or of
+    /// its flat triangles shaded per pixel; without it, of its patches shaded on their
+    /// sub-vertices (or its flat triangles shaded on their corners).
+    FLAG_FALLBACK_PATCHES = 16;
+}

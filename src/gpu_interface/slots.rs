@@ -1,0 +1,24 @@
+//! The per-mesh slots of the pre-pass's indirect buffers (twins: the constants of the same names
+//! in `glsl/include/bindings.glsl`).
+//!
+//! Each mesh has [`LEVEL_DISPATCHES`] indirect dispatches in `LevelDispatches`, one per step
+//! that runs over the triangles an earlier step listed, and [`PATCH_LISTS`] lists of patches:
+//! the count of each in `PatchCounts`, the flat triangles' draw of each in `FlatDraws`, and
+//! `InterpolatedDraws` and `FallbackDraws` for the tessellated ones.
+
+super::named_constants! {
+    /// Dispatches per mesh in `LevelDispatches`.
+    LEVEL_DISPATCHES = 3;
+    /// The estimator step's dispatch (`triangle_levels.comp`), counted by the culling step.
+    ESTIMATE_DISPATCH = 0;
+    /// The patch step's dispatch (`patch_levels.comp`), counted by the culling step.
+    PATCH_DISPATCH = 1;
+    /// The refining step's dispatch (`refine_levels.comp`), counted by the estimator step.
+    REFINE_DISPATCH = 2;
+    /// Patch lists per mesh.
+    PATCH_LISTS = 2;
+    /// The list of patches shaded on their sub-vertices (flat triangles: on their corners).
+    INTERPOLATED_LIST = 0;
+    /// The list of patches shaded per pixel, the fallback (flat triangles: likewise).
+    FALLBACK_LIST = 1;
+}

@@ -1,0 +1,60 @@
+//! Every specialization constant of the shaders: its id and its GLSL name (twins: the
+//! `layout(constant_id = N)` declarations named below).
+
+/// A specialization constant: the `constant_id` the host sets and the name of the GLSL constant
+/// it sets.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SpecId {
+    /// The GLSL constant's name; [`LOCAL_SIZE_X`] for a workgroup's size (`local_size_x_id`),
+    /// which has none in SPIR-V.
+    pub name: &'static str,
+    pub id: u32,
+}
+
+/// The name [`SpecId::name`] gives a compute stage's `local_size_x_id`.
+pub const LOCAL_SIZE_X: &str = "local_size_x";
+
+/// present.frag: encode the tone-mapped image as sRGB.
+pub const ENCODE_SRGB: SpecId = SpecId { name: "ENCODE_SRGB", id: 0 };
+/// brdf.glsl: the scene's point lights, first in the light buffer.
+pub const POINT_LIGHT_COUNT: SpecId = SpecId { name: "POINT_LIGHT_COUNT", id: 1 };
+/// brdf.glsl: the scene's directional lights, after the point lights.
+pub const DIRECTIONAL_LIGHT_COUNT: SpecId = SpecId { name: "DIRECTIONAL_LIGHT_COUNT", id: 2 };
+/// estimator/constants.glsl: the split of ε between the terms (0 uniform, 1 heuristic).
+pub const SPLIT: SpecId = SpecId { name: "SPLIT", id: 3 };
+/// estimator/constants.glsl: the terminator handling (0 conservative, 1 relaxed).
+pub const DISCONTINUITY: SpecId = SpecId { name: "DISCONTINUITY", id: 4 };
+/// brdf.glsl: the scene's polygonal lights (only the variants with polygonal lights).
+pub const POLYGON_LIGHT_COUNT: SpecId = SpecId { name: "POLYGON_LIGHT_COUNT", id: 8 };
+/// brdf.glsl: samples per technique of a polygonal light.
+pub const POLYGON_SAMPLES: SpecId = SpecId { name: "POLYGON_SAMPLES", id: 9 };
+/// brdf.glsl: the polygonal lights' sampling technique (0 projected solid angle, 1 solid angle).
+pub const POLYGON_TECHNIQUE: SpecId = SpecId { name: "POLYGON_TECHNIQUE", id: 10 };
+/// brdf.glsl: MIS's visibility estimate v (polygon_light.glsl).
+pub const MIS_VISIBILITY: SpecId = SpecId { name: "MIS_VISIBILITY", id: 11 };
+/// refine_levels.comp: the refining step's workgroup size (`local_size_x_id`).
+pub const REFINE_LANES: SpecId = SpecId { name: LOCAL_SIZE_X, id: 13 };
+/// multirate.tesc (its instrumented module): write each triangle's levels.
+pub const RECORD_LEVELS: SpecId = SpecId { name: "RECORD_LEVELS", id: 14 };
+/// multirate.tesc (its instrumented module): count the patches culled before their estimate.
+pub const COUNT_CULLED_PATCHES: SpecId = SpecId { name: "COUNT_CULLED_PATCHES", id: 15 };
+
+/// The polygonal lights' constants, which only the variants with polygonal lights contain.
+pub const POLYGON_LIGHTS: [SpecId; 4] =
+    [POLYGON_LIGHT_COUNT, POLYGON_SAMPLES, POLYGON_TECHNIQUE, MIS_VISIBILITY];
+
+/// Every specialization constant, by id.
+pub const ALL: [SpecId; 12] = [
+    ENCODE_SRGB,
+    POINT_LIGHT_COUNT,
+    DIRECTIONAL_LIGHT_COUNT,
+    SPLIT,
+    DISCONTINUITY,
+    POLYGON_LIGHT_COUNT,
+    POLYGON_SAMPLES,
+    POLYGON_TECHNIQUE,
+    MIS_VISIBILITY,
+    REFINE_LANES,
+    RECORD_LEVELS,
+    COUNT_CULLED_PATCHES,
+];

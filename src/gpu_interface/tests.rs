@@ -1,0 +1,65 @@
+use super::bindings::{forward, in_binding_order, LAYOUTS};
+use super::{flags, slots, specialization};
+use std::collections::HashSet;
+
+#[test]
+fn every_set_lists_its_bindings_in_order_from_zero() {
+    for layout in LAYOUTS {
+        for (set, bindings) in layout.sets.iter().enumerate() {
+            for (binding, b) in bindings.iter().enumerate() {
+                assert_eq!((b.set, b.binding), (set as u32, binding as u32), "{} in {}", b.name, layout.name);
+            }
+        }
+    }
+}
+
+#[test]
+fn descriptor_names_are_unique_across_layouts() {
+    let mut seen = HashSet::new();
+    for layout in LAYOUTS {
+        for b in layout.sets.iter().flat_map(|set| set.iter()) {
+            assert!(seen.insert(b.name), "{} named twice", b.name);
+        }
+    }
+}
+
+#[test]
+fn specialization_ids_and_names_are_unique() {
+    let ids: HashSet<u32> = specialization::ALL.iter().map(|s| s.id).collect();
+    let names: HashSet<&str> = specialization::ALL.iter().map(|s| s.name).collect();
+    assert_eq!(ids.len(), specialization::ALL.len());
+    assert_eq!(names.len(), specialization::ALL.len());
+}
+
+#[test]
+fn flags_are_distinct_bits() {
+    let mut all = 0;
+    for &(name, bit) in flags::ALL {
+        assert_eq!(bit.count_ones(), 1, "{name}");
+        assert_eq!(all & bit, 0, "{name} shares its bit");
+        all |= bit;
+    }
+}
+
+#[test]
+fn slots_lie_within_their_counts() {
+    for slot in [slots::ESTIMATE_DISPATCH, slots::PATCH_DISPATCH, slots::REFINE_DISPATCH] {
+        assert!(slot < slots::LEVEL_DISPATCHES);
+    }
+    assert_ne!(slots::INTERPOLATED_LIST, slots::FALLBACK_LIST);
+    assert!(slots::INTERPOLATED_LIST.max(slots::FALLBACK_LIST) < slots::PATCH_LISTS);
+}
+
+#[test]
+fn resources_are_put_in_binding_order_whatever_order_they_are_given_in() {
+    let given =
+        [(forward::PARAMETER_PYRAMID, 'c'), (forward::ALBEDO_MAP, 'a'), (forward::PARAMETER_MAP, 'b')];
+    assert_eq!(in_binding_order(&forward::MATERIAL_TEXTURES, given), ['a', 'b', 'c']);
+}
+
+#[test]
+#[should_panic(expected = "two resources for binding albedo_map")]
+fn a_binding_given_twice_is_refused() {
+    let given = [(forward::ALBEDO_MAP, 'a'), (forward::ALBEDO_MAP, 'b'), (forward::PARAMETER_PYRAMID, 'c')];
+    in_binding_order(&forward::MATERIAL_TEXTURES, given);
+}

@@ -1,0 +1,286 @@
+//! What the renderer measures and records besides the image: GPU times of the frame, the
+//! pre-pass and its steps ([`Renderer::measure`], [`Measurement`]), shading evaluations by
+//! stage ([`Renderer::count_evaluations`], [`EvaluationCounts`]), the analysis frame with its
+//! triangle ids ([`Renderer::analyze`], [`Analysis`]) and the level records
+//! ([`Renderer::record_levels`]).
+
+use super::mode::{Mode, Placement};
+use super::pipelines::{Instrumentation, Variant};
+use super::pre_pass::{PrePassStep, PRE_PASS_STEPS};
+use super::view::View;
+use super::Renderer;
+use crate::error::Result;
+use crate::vk::frames::FrameRing;
+use crate::vk::target::{AfterPass, Attachments, FloatImage, RenderTarget};
+use crate::vk::timing::{GpuInterval, GpuTimer, PipelineStatistics};
+use ash::vk;
+
+/// GPU times and counts of measured frames.
+#[derive(Clone, Debug, Default)]
+pub struct Measurement {
+    /// When the forward pass ran in every measured frame, in submission order.
+    pub frames: Vec<GpuInterval>,
+    /// `Placement::Compute`: when the triangle-level pre-pass (culling, triangle levels, patch
+    /// levels and lists; part of the frame) ran in every measured frame; empty otherwise.
+    pub pre_pass: Vec<GpuInterval>,
+    /// `Placement::Compute`: when each of its steps ran (`PrePassStep::ALL`'s order), in every
+    /// measured frame; empty otherwise.
+    pub pre_pass_steps: Vec<[GpuInterval; PRE_PASS_STEPS]>,
+    /// Pipeline statistics of the last frame, where the device has them.
+    pub statistics: Option<PipelineStatistics>,
+}
+
+impl Measurement {
+    /// Forward-pass milliseconds of every measured frame.
+    pub fn gpu_ms(&self) -> Vec<f64> {
+        self.frames.iter().map(GpuInterval::milliseconds).collect()
+    }
+
+    /// Pre-pass milliseconds of every measured frame (empty without a pre-pass).
+    pub fn pre_pass_ms(&self) -> Vec<f64> {
+        self.pre_pass.iter().map(GpuInterval::milliseconds).collect()
+    }
+
+    /// Milliseconds of pre-pass step `step` in every measured frame (empty without a pre-pass).
+    pub fn pre_pass_step_ms(&self, step: PrePassStep) -> Vec<f64> {
+        self.pre_pass_steps.iter().map(|steps| steps[step as usize].milliseconds()).collect()
+    }
+}
+
+/// Runs of the full shading function in one frame, by where they ran (the counting variant).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct EvaluationCounts {
+    /// `vertex` mode: triangle vertices shaded by the vertex shader.
+    pub vertices: u64,
+    /// Tessellated modes: sub-vertices shaded by the evaluation shader.
+    pub sub_vertices: u64,
+    /// `pixel` mode and `multirate`'s fallback: fragments shaded per pixel.
+    pub fragments: u64,
+    /// `multirate`: triangles culled before their estimate (outside the view frustum, or back
+    /// faces of one-sided meshes). Not a shading evaluation.
+    pub culled_patches: u64,
+}
+
+impl EvaluationCounts {
+    pub fn total(&self) -> u64 {
+        self.vertices + self.sub_vertices + self.fragments
+    }
+}
+
+/// Frames a measurement keeps in flight, so reading one frame's queries never stalls the next.
+const FRAMES_IN_FLIGHT: usize = 2;
+
+/// One frame drawn by the analysis variant ([`Renderer::analyze`]).
+#[derive(Clone, Debug)]
+pub struct Analysis {
+    pub image: FloatImage,
+    /// Per pixel, rows from the top: the id of the triangle it shows (glsl/include/triangle_id.glsl; 0: nothing).
+    pub triangles: Vec<u32>,
+    pub evaluations: EvaluationCounts,
+}
+
+impl Analysis {
+    /// The image and its triangle ids, for the error metrics.
+    pub fn frame(&self) -> crate::analysis::metrics::Frame<'_> {
+        crate::analysis::metrics::Frame { image: &self.image, triangles: &self.triangles }
+    }
+}
+
+/// What a timestamp pair of `measure` times: the whole frame, the pre-pass, or one of its steps.
+#[derive(Clone, Copy)]
+pub(super) enum Timed {
+    PrePass,
+    Step(PrePassStep),
+}
+
+impl Timed {
+    /// Its pass in `measure`'s `GpuTimer` (pass 0 is the whole frame).
+    pub(super) fn pass(self) -> u32 {
+        match self {
+            Timed::PrePass => 1,
+            Timed::Step(step) => 2 + step as u32,
+        }
+    }
+}
+
+impl Renderer {
+    /// Renders `view` in `multirate` mode with the level-recording variant and returns, per
+    /// triangle of the scene (meshes in order), `[level, outer0, outer1, outer2]` as the
+    /// control stage chose them (level 0: per-pixel fallback).
+    pub fn record_levels(&self, target: &RenderTarget, view: &View) -> Result<Vec<[f32; 4]>> {
+        let recording = self.pipelines.instrumented(Instrumentation::RecordLevels);
+        let view = View { mode: Mode::Multirate, ..view.clone() };
+        self.prepare_frame(&view, target)?;
+        self.prepare_variants(recording, &view)?;
+        target.render_and_read(&self.context, |cmd| {
+            self.record_with(recording, cmd, target, &view, AfterPass::Readback);
+            let barrier = [vk::MemoryBarrier2::default()
+                .src_stage_mask(
+                    vk::PipelineStageFlags2::COMPUTE_SHADER
+                        | vk::PipelineStageFlags2::TESSELLATION_CONTROL_SHADER,
+                )
+                .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
+                .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+                .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+            // SAFETY: recording command buffer.
+            unsafe {
+                self.context
+                    .device
+                    .cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&barrier))
+            };
+        })?;
+        let bytes = self.buffers.level_records.mapped().expect("GpuToCpu memory is mapped");
+        Ok(bytemuck::pod_collect_to_vec::<u8, [f32; 4]>(&bytes[..self.buffers.level_records.size as usize]))
+    }
+
+    /// Renders `warmup` frames, then `frames` measured ones, with up to two frames in flight:
+    /// when the forward pass of each measured frame ran on the GPU (timestamps outside the
+    /// pass), when its pre-pass did, and the pipeline statistics of the last one. A frame's
+    /// queries are read only once its slot comes round again, so reading never stalls the
+    /// frame being recorded.
+    pub fn measure(
+        &self,
+        target: &RenderTarget,
+        view: &View,
+        warmup: u32,
+        frames: u32,
+    ) -> Result<Measurement> {
+        self.prepare(view, target)?;
+        // Pass 0: the whole frame; pass 1: the pre-pass, within it; then its steps, where it
+        // has them (every query read must have been written).
+        let pre_pass = view.mode == Mode::Multirate && view.placement == Placement::Compute;
+        let passes = if pre_pass { 2 + PRE_PASS_STEPS as u32 } else { 2 };
+        let timer = GpuTimer::new(&self.context, passes, FRAMES_IN_FLIGHT as u32)?;
+        let mut ring = FrameRing::new(&self.context, FRAMES_IN_FLIGHT)?;
+        let mut measurement = Measurement::default();
+        let mut frame_in_slot = [0u32; FRAMES_IN_FLIGHT];
+        let total = warmup + frames;
+        let collect = |ring: &mut FrameRing, slot: usize, frame: u32, measurement: &mut Measurement| {
+            if ring.wait(slot)? && frame >= warmup {
+                let intervals = timer.pass_intervals(slot as u32)?;
+                measurement.frames.push(intervals[0]);
+                if pre_pass {
+                    measurement.pre_pass.push(intervals[1]);
+                    let steps = PrePassStep::ALL.map(|step| intervals[Timed::Step(step).pass() as usize]);
+                    measurement.pre_pass_steps.push(steps);
+                }
+                measurement.statistics = timer.read_statistics(slot as u32)?;
+            }
+            Ok::<_, crate::Error>(())
+        };
+        for frame in 0..total {
+            let slot = frame as usize % FRAMES_IN_FLIGHT;
+            collect(&mut ring, slot, frame_in_slot[slot], &mut measurement)?;
+            ring.submit(slot, |cmd| {
+                let slot = slot as u32;
+                timer.reset(cmd, slot);
+                timer.timestamp(cmd, slot, 0, false);
+                timer.statistics(cmd, slot, true);
+                // A step starts once the one before it has finished (the barrier between them
+                // holds the next dispatch, not a top-of-pipe timestamp): its timestamps settle.
+                let stamp = |timed: Timed, end: bool| match timed {
+                    Timed::PrePass => timer.timestamp(cmd, slot, timed.pass(), end),
+                    Timed::Step(_) => timer.settled_timestamp(cmd, slot, timed.pass(), end),
+                };
+                self.record_timed(&self.pipelines.variants, cmd, target, view, AfterPass::Sampled, &stamp);
+                timer.statistics(cmd, slot, false);
+                timer.timestamp(cmd, slot, 0, true);
+            })?;
+            frame_in_slot[slot] = frame;
+        }
+        for frame in total..total + FRAMES_IN_FLIGHT as u32 {
+            let slot = frame as usize % FRAMES_IN_FLIGHT;
+            collect(&mut ring, slot, frame_in_slot[slot], &mut measurement)?;
+        }
+        Ok(measurement)
+    }
+
+    /// Renders one frame of `view` with the counting variant (never the timed one) and
+    /// returns how many times the full shading function ran, by stage. Needs storage writes
+    /// in the vertex pipeline and fragment stages (`vertexPipelineStoresAndAtomics`,
+    /// `fragmentStoresAndAtomics`) and primitive ids in the fragment stage (`geometryShader`).
+    pub fn count_evaluations(&self, target: &RenderTarget, view: &View) -> Result<EvaluationCounts> {
+        let analysis = self.analysis_variants(target, view)?;
+        self.context.run_once(|cmd| self.record_analysis(analysis, cmd, target, view, AfterPass::Sampled))?;
+        Ok(self.read_counters())
+    }
+
+    /// One frame of `view` drawn by the analysis variant, the counting one: its image, which
+    /// triangle each pixel shows, and how many times the full shading function ran. Its
+    /// rasterisation and shading are the timed variant's (tests/counts.rs compares the two).
+    pub fn analyze(&self, target: &RenderTarget, view: &View) -> Result<Analysis> {
+        let analysis = self.analysis_variants(target, view)?;
+        let (image, triangles) =
+            target.render_and_read_with(&self.context, Attachments::ColorAndIds, |cmd| {
+                self.record_analysis(analysis, cmd, target, view, AfterPass::Readback)
+            })?;
+        let triangles = triangles.expect("ColorAndIds reads the ids back");
+        Ok(Analysis { image, triangles, evaluations: self.read_counters() })
+    }
+
+    /// The analysis variants, built on first use and prepared for `view`.
+    fn analysis_variants(&self, target: &RenderTarget, view: &View) -> Result<&[Variant]> {
+        let features = &self.context.features;
+        if !(features.vertex_pipeline_stores && features.fragment_stores && features.geometry_shader) {
+            return Err(crate::Error::Unsupported {
+                device: self.context.info.name.clone(),
+                what: "count shading evaluations and read triangle ids",
+                missing: "vertexPipelineStoresAndAtomics, fragmentStoresAndAtomics and geometryShader",
+            });
+        }
+        let analysis = self.pipelines.instrumented(Instrumentation::CountEvaluations);
+        target.prepare_ids(&self.context)?;
+        if !self.emitters.is_empty() {
+            self.prepare_analysis_emitter()?;
+        }
+        self.prepare_frame(view, target)?;
+        self.prepare_variants(analysis, view)?;
+        Ok(analysis)
+    }
+
+    /// Records one analysis frame: the counters zeroed, the frame, the counters made visible
+    /// to the host.
+    fn record_analysis(
+        &self,
+        analysis: &[Variant],
+        cmd: vk::CommandBuffer,
+        target: &RenderTarget,
+        view: &View,
+        after: AfterPass,
+    ) {
+        let device = &self.context.device;
+        let to_shaders = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::CLEAR)
+            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::ALL_GRAPHICS)
+            .dst_access_mask(vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE)];
+        let to_host = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::ALL_GRAPHICS)
+            .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+            .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+        // SAFETY: recording outside a render pass; the counter buffer has TRANSFER_DST usage
+        // and is 16 bytes long.
+        unsafe {
+            device.cmd_fill_buffer(cmd, self.buffers.counters.raw, 0, 16, 0);
+            device.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&to_shaders));
+        }
+        self.record_with(analysis, cmd, target, view, after);
+        // SAFETY: recording outside a render pass.
+        unsafe {
+            device.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&to_host))
+        };
+    }
+
+    /// The counters of the last analysis frame (after its submission has finished).
+    fn read_counters(&self) -> EvaluationCounts {
+        let bytes = self.buffers.counters.mapped().expect("GpuToCpu memory is mapped");
+        let values: [u32; 4] = bytemuck::pod_read_unaligned(&bytes[..16]);
+        EvaluationCounts {
+            vertices: u64::from(values[0]),
+            sub_vertices: u64::from(values[1]),
+            fragments: u64::from(values[2]),
+            culled_patches: u64::from(values[3]),
+        }
+    }
+}

@@ -1,0 +1,178 @@
+//! Tests of `render::limits`: every limit check refuses an oversized scene with the resource and the limit named, and the buffer list.
+
+use super::*;
+
+const MIB: u64 = 1 << 20;
+
+fn scene() -> &'static Path {
+    Path::new("scenes/test.toml")
+}
+
+/// Roomy limits, lowered one at a time by the tests.
+fn limits() -> DeviceLimits {
+    DeviceLimits {
+        max_storage_buffer_range: 1 << 30,
+        max_buffer_size: 1 << 32,
+        max_memory_allocation_size: 1 << 32,
+        max_draw_indexed_index_value: u64::from(u32::MAX),
+        max_compute_work_group_count_x: 65535,
+        max_image_dimension_2d: 4096,
+        device_local_heap: 8 << 30,
+        host_visible_heap: 8 << 30,
+    }
+}
+
+/// One one-sided mesh of `triangles` triangles on `2 × triangles` vertices, one light.
+fn sizes(triangles: u64) -> SceneSizes {
+    SceneSizes {
+        vertices: 2 * triangles,
+        indices: 3 * triangles,
+        meshes: vec![MeshSize { triangles, two_sided: false }],
+        point_and_directional_lights: 1,
+        polygon_lights: 0,
+        materials: 1,
+        textures: vec![TextureSize {
+            name: "albedo map textures/spots.png".into(),
+            width: 256,
+            height: 128,
+            levels: 9,
+            bytes: 4 * 256 * 128 * 4 / 3,
+        }],
+    }
+}
+
+/// The message of `check`'s error, which must name the scene and `limit`.
+fn refused(sizes: &SceneSizes, limits: &DeviceLimits, limit: &str) -> String {
+    let message = check(scene(), sizes, limits).expect_err("over a limit").to_string();
+    assert!(message.starts_with("scenes/test.toml: "), "{message}");
+    assert!(message.contains(limit), "{limit} missing from: {message}");
+    message
+}
+
+#[test]
+fn a_scene_within_every_limit_passes() {
+    check(scene(), &sizes(1000), &limits()).expect("fits");
+}
+
+#[test]
+fn triangles_beyond_the_shaders_ids_are_refused() {
+    let message = refused(&sizes(MAX_TRIANGLES + 1), &limits(), "31-bit triangle ids");
+    assert!(message.contains(&format!("{} triangles", MAX_TRIANGLES + 1)), "{message}");
+    // Exactly at the limit, the ids fit (what fails then is the pre-pass's dispatch).
+    let message = refused(&sizes(MAX_TRIANGLES), &limits(), "maxComputeWorkGroupCount[0]");
+    assert!(!message.contains("triangle ids"), "{message}");
+}
+
+#[test]
+fn lights_beyond_the_shaders_index_are_refused() {
+    let mut at_limit = sizes(10);
+    at_limit.point_and_directional_lights = MAX_LIGHT_TURNS / TURNS_PER_LIGHT;
+    at_limit.polygon_lights = MAX_LIGHT_TURNS % TURNS_PER_LIGHT;
+    let message = refused(&at_limit, &limits(), "\"scene lights\"");
+    assert!(!message.contains("light index"), "{message}");
+    let mut over = at_limit.clone();
+    over.polygon_lights += 1;
+    let message = refused(&over, &limits(), "32-bit signed light index");
+    assert!(message.contains(&format!("{} turns", MAX_LIGHT_TURNS + 1)), "{message}");
+}
+
+#[test]
+fn vertices_beyond_the_largest_index_are_refused() {
+    let limits = DeviceLimits { max_draw_indexed_index_value: 1999, ..limits() };
+    check(scene(), &sizes(1000), &limits).expect("2000 vertices: indices up to 1999");
+    let message = refused(&sizes(1001), &limits, "maxDrawIndexedIndexValue (1999");
+    assert!(message.contains("its 2002 vertices"), "{message}");
+}
+
+#[test]
+fn meshes_beyond_the_pre_pass_workgroups_are_refused() {
+    let limits = DeviceLimits { max_compute_work_group_count_x: 10, ..limits() };
+    check(scene(), &sizes(640), &limits).expect("10 workgroups");
+    refused(&sizes(641), &limits, "maxComputeWorkGroupCount[0] (10)");
+    let mut two_sided = sizes(640);
+    two_sided.meshes[0].two_sided = true;
+    refused(&two_sided, &limits, "maxComputeWorkGroupCount[0] (10)");
+}
+
+#[test]
+fn textures_beyond_the_image_dimension_are_refused() {
+    let limits = DeviceLimits { max_image_dimension_2d: 255, ..limits() };
+    let message = refused(&sizes(10), &limits, "maxImageDimension2D (255)");
+    assert!(message.contains("albedo map textures/spots.png (256×128 texels)"), "{message}");
+}
+
+#[test]
+fn textures_with_more_mip_levels_than_their_size_allows_are_refused() {
+    let mut sizes = sizes(10);
+    sizes.textures[0].levels = 10;
+    refused(&sizes, &limits(), "a 256×128 image's full mip chain (9 levels)");
+}
+
+#[test]
+fn buffers_beyond_the_storage_range_are_refused_naming_the_buffer() {
+    // 1 MiB holds 65536 neighbour entries of 16 bytes; the vertices (32 bytes) overflow first.
+    let limits = DeviceLimits { max_storage_buffer_range: MIB, ..limits() };
+    check(scene(), &sizes(16384), &limits).expect("32768 vertices: exactly 1 MiB");
+    let message = refused(&sizes(16385), &limits, "maxStorageBufferRange (1.0 MiB)");
+    assert!(message.contains("\"scene vertices\" of its 32770 vertices (1.0 MiB)"), "{message}");
+}
+
+#[test]
+fn buffers_beyond_the_buffer_and_allocation_sizes_are_refused() {
+    // The adjacency patches (48 bytes a triangle) are bound as no storage buffer.
+    let storage = DeviceLimits { max_storage_buffer_range: 1 << 40, ..limits() };
+    let mut few_vertices = sizes(30000);
+    few_vertices.vertices = 100;
+    let buffer = DeviceLimits { max_buffer_size: MIB, ..storage };
+    let message = refused(&few_vertices, &buffer, "maxBufferSize (1.0 MiB)");
+    assert!(message.contains("\"scene adjacency patches\" of its 30000 triangles"), "{message}");
+    let allocation = DeviceLimits { max_memory_allocation_size: MIB, ..storage };
+    refused(&few_vertices, &allocation, "maxMemoryAllocationSize (1.0 MiB)");
+}
+
+#[test]
+fn scenes_beyond_the_heaps_are_refused() {
+    let sizes = sizes(1000);
+    let total = sizes.device_local_bytes();
+    let fits = DeviceLimits { device_local_heap: total, ..limits() };
+    check(scene(), &sizes, &fits).expect("exactly the heap");
+    let over = DeviceLimits { device_local_heap: total - 1, ..limits() };
+    let message = refused(&sizes, &over, "device-local heap");
+    assert!(message.contains("buffers and textures"), "{message}");
+    // The level records are read back from host-visible memory.
+    let host = DeviceLimits { host_visible_heap: 15_999, ..limits() };
+    let message = refused(&sizes, &host, "host-visible heap");
+    assert!(message.contains("\"level records\" of its 1000 triangles"), "{message}");
+}
+
+#[test]
+fn the_light_limit_is_the_glsl_light_loop() {
+    let constants = include_str!("../../../glsl/include/estimator/constants.glsl");
+    let estimator = include_str!("../../../glsl/include/estimator/estimate.glsl");
+    let children = TURNS_PER_LIGHT - 1;
+    assert!(constants.contains(&format!("const int REFINE_CHILDREN = {children};")));
+    assert!(estimator.contains("int turns = refine ? REFINE_CHILDREN + 1 : 1;"));
+    assert!(estimator.contains("int light_turns = (POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT) * turns;"));
+    assert!(estimator.contains("for (int turn = 0; turn < light_turns + POLYGON_LIGHT_COUNT; ++turn)"));
+    let brdf = include_str!("../../../glsl/include/brdf.glsl");
+    for count in ["POINT_LIGHT_COUNT", "DIRECTIONAL_LIGHT_COUNT", "POLYGON_LIGHT_COUNT"] {
+        assert!(brdf.contains(&format!("const int {count} = 0;")), "{count} is no int");
+    }
+    let bindings = include_str!("../../../glsl/include/bindings.glsl");
+    assert!(bindings.contains(&format!("const uint EMITTER_ID_BIT = {EMITTER_ID_BIT:#x}u;")));
+}
+
+#[test]
+fn the_buffer_list_follows_the_scene() {
+    let one = sizes(1000);
+    let buffers = one.buffers();
+    let find = |name: &str| buffers.iter().find(|b| b.name == name).expect(name).bytes;
+    assert_eq!(find("scene vertices"), 2000 * 32);
+    assert_eq!(find("scene indices"), 3000 * 4);
+    assert_eq!(find("scene adjacency patches"), 1000 * 48);
+    assert_eq!(find("triangle neighbours"), 1000 * 16);
+    assert_eq!(find("patch tessellation levels"), 1000 * 16);
+    assert_eq!(find("scene polygonal lights"), size_of::<GpuPolygonLight>() as u64);
+    let names: std::collections::HashSet<_> = buffers.iter().map(|b| b.name).collect();
+    assert_eq!(names.len(), buffers.len(), "one entry per buffer");
+}

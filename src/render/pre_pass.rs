@@ -1,0 +1,284 @@
+//! The triangle-level pre-pass of `multirate` mode's compute placement (`Placement::Compute`):
+//! its steps (culling, the estimator, refining, patch levels and lists), the barriers that
+//! order them within a frame and against the frames around it, and the indirect draws of the
+//! patch lists it fills.
+
+use super::draws::{draw_constants, DrawCall};
+use super::instrumentation::Timed;
+use super::pipelines::{ListPipelines, PrePassPipelines, Variant};
+use super::view::View;
+use super::Renderer;
+use crate::gpu_interface::flags::FLAG_FALLBACK_PATCHES;
+use crate::gpu_interface::slots::{
+    ESTIMATE_DISPATCH, FALLBACK_LIST, INTERPOLATED_LIST, LEVEL_DISPATCHES, PATCH_DISPATCH, PATCH_LISTS,
+    REFINE_DISPATCH,
+};
+use crate::gpu_types::DrawConstants;
+use ash::vk;
+use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
+
+/// The steps of the triangle-level pre-pass, in order: list the visible triangles, estimate
+/// their levels (listing those to refine), refine those, combine each level with its neighbours'
+/// into its patch's tessellation levels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PrePassStep {
+    Cull,
+    Levels,
+    Refine,
+    Patches,
+}
+
+impl PrePassStep {
+    /// Every step, in the order they run.
+    pub const ALL: [PrePassStep; PRE_PASS_STEPS] =
+        [PrePassStep::Cull, PrePassStep::Levels, PrePassStep::Refine, PrePassStep::Patches];
+
+    /// Its name in `bench`'s columns (`<name>_ms_median`).
+    pub fn name(self) -> &'static str {
+        match self {
+            PrePassStep::Cull => "cull",
+            PrePassStep::Levels => "estimate",
+            PrePassStep::Refine => "refine",
+            PrePassStep::Patches => "patches",
+        }
+    }
+}
+
+/// How many steps the pre-pass has.
+pub const PRE_PASS_STEPS: usize = 4;
+
+/// Invocations per work group of the triangle-level pre-pass (`PRE_PASS_GROUP` in
+/// glsl/include/bindings.glsl, the `local_size_x` of its three compute shaders).
+pub const PRE_PASS_GROUP: u32 = 64;
+
+/// Listed triangles per block of the pre-pass's refining step (`REFINE_BLOCK` in
+/// glsl/refine_levels.comp and glsl/triangle_levels.comp): a workgroup takes their children's
+/// turns side by side, then estimates each of them. `tests/layout.rs` checks that the three agree.
+pub const REFINE_BLOCK: u32 = 8;
+
+/// The refining step's workgroup size on `info`'s device. A GPU runs invocations as threads:
+/// `PRE_PASS_GROUP` of them share a block's children's turns (a GPU gains the most here: one
+/// thread taking a triangle's turns in a row made the step 4.6 × the estimator step on an H200,
+/// `docs/notebook/gpu.md`). A CPU device runs each SIMD batch through the whole estimator, idle lanes
+/// or not: there the workgroup is the block alone, one batch.
+pub(super) fn refine_lanes(info: &crate::vk::context::DeviceInfo) -> u32 {
+    if info.cpu {
+        REFINE_BLOCK
+    } else {
+        PRE_PASS_GROUP
+    }
+}
+
+/// Bytes per dispatch in `PrePassBuffers::level_dispatches` (`uvec4 level_dispatches[]`).
+const LEVEL_DISPATCH_STRIDE: vk::DeviceSize = 16;
+
+/// The stages that read what the pre-pass writes: the indirect draws, vertex pulling and
+/// control stages of the multirate draws.
+const LIST_READERS: S = S::from_raw(
+    S::DRAW_INDIRECT.as_raw() | S::VERTEX_SHADER.as_raw() | S::TESSELLATION_CONTROL_SHADER.as_raw(),
+);
+
+/// The barrier after `step`: its writes before the reads of the next step, or after the
+/// last one, of the draws.
+fn barrier_after(step: PrePassStep) -> (S, A, S, A) {
+    let storage = A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE;
+    match step {
+        PrePassStep::Cull | PrePassStep::Levels => (
+            S::COMPUTE_SHADER,
+            A::SHADER_STORAGE_WRITE,
+            S::COMPUTE_SHADER | S::DRAW_INDIRECT,
+            storage | A::INDIRECT_COMMAND_READ,
+        ),
+        PrePassStep::Refine => (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE, S::COMPUTE_SHADER, storage),
+        PrePassStep::Patches => (
+            S::COMPUTE_SHADER,
+            A::SHADER_STORAGE_WRITE,
+            LIST_READERS,
+            A::INDIRECT_COMMAND_READ | A::SHADER_STORAGE_READ,
+        ),
+    }
+}
+
+impl Renderer {
+    /// `Placement::Compute`: the pre-pass that prepares the multirate draws: culling, which
+    /// lists each mesh's visible triangles, the estimator over those lists, then the patch
+    /// levels, which also sort the visible triangles into the flat, interpolated and fallback
+    /// patch lists and fill their indirect draws; with the barriers that order it after the
+    /// previous frame's reads and before this frame's.
+    pub(super) fn record_triangle_levels(
+        &self,
+        variants: &[Variant],
+        cmd: vk::CommandBuffer,
+        view: &View,
+        extent: vk::Extent2D,
+        stamp: &dyn Fn(Timed, bool),
+    ) {
+        self.reset_pre_pass(cmd);
+        let mut constants = draw_constants(view, extent);
+        constants.patches_per_draw = self.patches_per_draw(view.estimator.n_max);
+        self.bind_set_at(cmd, vk::PipelineBindPoint::COMPUTE, 0, self.descriptors.set);
+        for step in PrePassStep::ALL {
+            stamp(Timed::Step(step), false);
+            for draw in &self.draws {
+                let cell = variants[draw.pipeline].multirate_cell(view);
+                let Some(pre_pass) = cell.get().and_then(|m| m.pre_pass.as_ref()) else {
+                    debug_assert!(false, "render, measure and the viewer prepare the view first");
+                    continue;
+                };
+                self.dispatch_step(cmd, step, pre_pass, draw, &mut constants);
+            }
+            self.barrier(cmd, barrier_after(step));
+            stamp(Timed::Step(step), true);
+        }
+    }
+
+    /// Once the previous frame has read the lists and levels: zeroes the list lengths and
+    /// indirect draws and resets the indirect dispatches, before the first step.
+    fn reset_pre_pass(&self, cmd: vk::CommandBuffer) {
+        let device = &self.context.device;
+        let buffers = &self.buffers.pre_pass;
+        let storage = A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE;
+        self.barrier(cmd, (LIST_READERS, A::NONE, S::COMPUTE_SHADER | S::CLEAR | S::COPY, A::NONE));
+        for buffer in [&buffers.patch_counts, &buffers.flat_draws].into_iter().chain(&buffers.patch_draws) {
+            // SAFETY: recording outside a render pass; the buffers have TRANSFER_DST usage.
+            unsafe { device.cmd_fill_buffer(cmd, buffer.raw, 0, vk::WHOLE_SIZE, 0) };
+        }
+        let reset = [vk::BufferCopy::default().size(buffers.level_dispatches.size)];
+        // SAFETY: recording outside a render pass; both buffers have the same size and the
+        // TRANSFER_SRC / TRANSFER_DST usages.
+        unsafe {
+            device.cmd_copy_buffer(
+                cmd,
+                buffers.level_dispatch_reset.raw,
+                buffers.level_dispatches.raw,
+                &reset,
+            )
+        };
+        self.barrier(cmd, (S::CLEAR | S::COPY, A::TRANSFER_WRITE, S::COMPUTE_SHADER, storage));
+    }
+
+    /// Records `step` of the pre-pass over `draw`'s mesh.
+    fn dispatch_step(
+        &self,
+        cmd: vk::CommandBuffer,
+        step: PrePassStep,
+        pre_pass: &PrePassPipelines,
+        draw: &DrawCall,
+        constants: &mut DrawConstants,
+    ) {
+        let device = &self.context.device;
+        let pipeline = match step {
+            PrePassStep::Cull => &pre_pass.cull,
+            PrePassStep::Levels => &pre_pass.levels,
+            PrePassStep::Refine => &pre_pass.refine,
+            PrePassStep::Patches => &pre_pass.patches,
+        };
+        self.set_draw_constants(constants, draw);
+        constants.patch_base = draw.first_triangle;
+        constants.triangle_count = draw.index_count / 3;
+        let material_set = self.descriptors.textures.sets[draw.material_index as usize];
+        self.bind_set_at(cmd, vk::PipelineBindPoint::COMPUTE, 1, material_set);
+        // SAFETY: recording outside a render pass; every bound object is owned by `self` and
+        // outlives the submission.
+        unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw) };
+        self.push_draw_constants(cmd, constants);
+        // SAFETY: as above; the dispatch buffer has INDIRECT_BUFFER usage.
+        unsafe {
+            match step {
+                PrePassStep::Cull => {
+                    device.cmd_dispatch(cmd, constants.triangle_count.div_ceil(PRE_PASS_GROUP), 1, 1)
+                }
+                // The later steps cover the triangles the culling step (or, for the refining
+                // step, the estimator step) listed, in the workgroups it counted.
+                PrePassStep::Levels | PrePassStep::Refine | PrePassStep::Patches => {
+                    let slot = match step {
+                        PrePassStep::Patches => PATCH_DISPATCH,
+                        PrePassStep::Refine => REFINE_DISPATCH,
+                        _ => ESTIMATE_DISPATCH,
+                    };
+                    let mesh_dispatches =
+                        vk::DeviceSize::from(LEVEL_DISPATCHES) * vk::DeviceSize::from(draw.mesh_index);
+                    device.cmd_dispatch_indirect(
+                        cmd,
+                        self.buffers.pre_pass.level_dispatches.raw,
+                        LEVEL_DISPATCH_STRIDE * (mesh_dispatches + vk::DeviceSize::from(slot)),
+                    )
+                }
+            }
+        }
+    }
+
+    /// A global memory barrier from `(source stages, source accesses)` to `(destination
+    /// stages, destination accesses)`.
+    fn barrier(&self, cmd: vk::CommandBuffer, (src, src_access, dst, dst_access): (S, A, S, A)) {
+        let barriers = [vk::MemoryBarrier2::default()
+            .src_stage_mask(src)
+            .src_access_mask(src_access)
+            .dst_stage_mask(dst)
+            .dst_access_mask(dst_access)];
+        // SAFETY: `cmd` is recording outside a render pass.
+        unsafe {
+            self.context
+                .device
+                .cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&barriers))
+        };
+    }
+
+    /// `Placement::Compute`: draws the mesh's three patch lists of this frame's pre-pass, the
+    /// interpolated patches with `interpolated`, the others with `lists`, each by the indirect
+    /// draws the pre-pass filled (those it did not reach draw nothing).
+    pub(super) fn record_patch_lists(
+        &self,
+        cmd: vk::CommandBuffer,
+        constants: &mut DrawConstants,
+        draw: &DrawCall,
+        view: &View,
+        interpolated: vk::Pipeline,
+        lists: ListPipelines<vk::Pipeline>,
+    ) {
+        let device = &self.context.device;
+        let buffers = &self.buffers.pre_pass;
+        let per_draw = self.patches_per_draw(view.estimator.n_max);
+        let commands = (draw.index_count / 3).div_ceil(per_draw);
+        let stride = std::mem::size_of::<vk::DrawIndirectCommand>() as u32;
+        constants.patch_base = draw.first_triangle;
+        constants.patches_per_draw = per_draw;
+        constants.triangle_count = draw.index_count / 3;
+        // The flat patches first and the per-pixel ones last, so that the early depth test
+        // spares the per-pixel shading wherever the other lists cover it.
+        let flat_draw = |constants: &mut DrawConstants, pipeline, list: u32, flag| {
+            constants.flags = (constants.flags & !FLAG_FALLBACK_PATCHES) | flag;
+            // SAFETY: recording inside the rendering begun by `record_draws`; the pre-pass
+            // wrote the commands before the barrier it ends with; the draw buffers have
+            // INDIRECT_BUFFER usage. A flat draw covers a mesh: no tessellated-vertex limit
+            // applies.
+            unsafe {
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+                self.push_draw_constants(cmd, constants);
+                let offset = vk::DeviceSize::from((PATCH_LISTS * draw.mesh_index + list) * stride);
+                device.cmd_draw_indirect(cmd, buffers.flat_draws.raw, offset, 1, stride);
+            }
+        };
+        let tessellated_draw = |constants: &mut DrawConstants, pipeline, list: u32, flag| {
+            constants.flags = (constants.flags & !FLAG_FALLBACK_PATCHES) | flag;
+            // SAFETY: as above.
+            unsafe {
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+                self.push_draw_constants(cmd, constants);
+                for k in 0..commands {
+                    let offset = vk::DeviceSize::from((draw.first_triangle + k) * stride);
+                    device.cmd_draw_indirect(cmd, buffers.patch_draws[list as usize].raw, offset, 1, stride);
+                }
+            }
+        };
+        flat_draw(constants, lists.flat, INTERPOLATED_LIST, 0);
+        tessellated_draw(constants, interpolated, INTERPOLATED_LIST, 0);
+        // The per-pixel patches' depth first, then their shading where they are the nearest
+        // surface: each covered pixel is shaded once, whatever the lists' order.
+        tessellated_draw(constants, lists.fallback_prime, FALLBACK_LIST, FLAG_FALLBACK_PATCHES);
+        flat_draw(constants, lists.flat_fallback_prime, FALLBACK_LIST, FLAG_FALLBACK_PATCHES);
+        tessellated_draw(constants, lists.fallback, FALLBACK_LIST, FLAG_FALLBACK_PATCHES);
+        flat_draw(constants, lists.flat_fallback, FALLBACK_LIST, FLAG_FALLBACK_PATCHES);
+        constants.flags &= !FLAG_FALLBACK_PATCHES;
+    }
+}

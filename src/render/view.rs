@@ -1,0 +1,47 @@
+//! [`View`]: what one frame is rendered with — the camera, the mode, `multirate` mode's
+//! estimator settings and placement, and the debug views.
+
+use super::mode::{Mode, Placement};
+use crate::scene::{Camera, Scene};
+use crate::shading::estimator::{Discontinuity, EstimatorSettings, Split};
+
+/// What a frame is rendered with.
+#[derive(Clone, Debug)]
+pub struct View {
+    pub camera: Camera,
+    pub mode: Mode,
+    /// `multirate` mode's estimator: its L∞ error bound ε (linear radiance), its largest level
+    /// before per-pixel fallback (n_max), its split and its discontinuity handling.
+    pub estimator: EstimatorSettings,
+    /// `multirate` only: where the estimator runs.
+    pub placement: Placement,
+    /// Colour by tessellation level (heat map) instead of shading.
+    pub heat_map: bool,
+    /// Draw triangle edges only (where the device has `fillModeNonSolid`).
+    pub wireframe: bool,
+    /// `pixel-deferred` only: instead of shading, write per pixel the analytic uv derivatives'
+    /// difference from the hardware's (`‖∂uv/∂x − dFdx uv‖ + ‖∂uv/∂y − dFdy uv‖` in red, the
+    /// analytic `‖∂uv/∂x‖ + ‖∂uv/∂y‖` in green, and in blue 1 where the pixel's 2×2 quad
+    /// spans several triangles; seed 002's comparison).
+    pub derivative_check: bool,
+}
+
+impl View {
+    /// The scene's own camera and settings.
+    pub fn of_scene(scene: &Scene) -> View {
+        View {
+            camera: scene.camera,
+            mode: Mode::Pixel,
+            estimator: EstimatorSettings {
+                epsilon: scene.settings.epsilon,
+                n_max: scene.settings.n_max,
+                split: Split::Heuristic,
+                discontinuity: Discontinuity::Relaxed,
+            },
+            placement: Placement::default(),
+            heat_map: false,
+            wireframe: false,
+            derivative_check: false,
+        }
+    }
+}

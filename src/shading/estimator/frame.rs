@@ -1,0 +1,183 @@
+//! The scale-free quantities of one triangle ([`Frame`]): its pattern scales, cones of normals
+//! and of view directions, plane, and the distance bounds to a light; and [`plane_sin`].
+//!
+//! GLSL twin: `glsl/include/estimator/frame.glsl`. Proof that the twins are equal:
+//! `tests/multirate.rs` `control_stage_levels_equal_the_twin` (the GPU's levels equal this twin's
+//! on every triangle of the shipped scenes, bit for bit).
+
+use super::cone::{cone_of, min_length, psi_range, unit, Cone};
+use super::constants::RADIAL_PAD;
+use super::estimate::TriangleInput;
+use super::jet::max_sin;
+use super::pattern::{jung_scales, pattern_constants, Scale};
+use glam::Vec3;
+
+/// Scale-free quantities of the triangle.
+pub(super) struct Frame {
+    pub(super) vertices: [Vec3; 3],
+    pub(super) eye: Vec3,
+    pub(super) centroid: Vec3,
+    /// `max_k |xₖ − centroid|`: how far any point is from the centroid.
+    pub(super) rho_x: f32,
+    /// Pattern scales: level 1, levels ≥ 2, and the diameters (Relaxed terms).
+    pub(super) s1: Scale,
+    pub(super) sn: Scale,
+    /// `ρ = max` over the three attributes of `s₁/sₙ` (`≤ 1`, as `s₁ ≤ sₙ`): the level-1 jets are
+    /// at most `ρ` (first derivatives) and `ρ²` (second) times those at levels ≥ 2.
+    pub(super) rho: f32,
+    pub(super) d1: Scale,
+    pub(super) dn: Scale,
+    pub(super) n_cone: Cone,
+    /// Lower bound on `|N(λ)|` over the triangle; 0 when the normal can vanish.
+    pub(super) r_n: f32,
+    /// Upper bound on `|N(λ)|`.
+    pub(super) n_max_len: f32,
+    /// The vertex normals as given, and normalised (corners of the spherical triangle n̂).
+    pub(super) normals: [Vec3; 3],
+    pub(super) unit_normals: [Vec3; 3],
+    /// Unit normal of the triangle's plane (zero for a degenerate triangle).
+    pub(super) plane: Vec3,
+    pub(super) v_cone: Cone,
+    /// Bound on the angle (rad) between `plane` and the true plane normal (f32 rounding).
+    pub(super) plane_tilt: f32,
+    /// `max |sin|` of the angle between n̂ and the plane normal (see [`plane_sin`]): bounds
+    /// `|n̂·Xδ|/|Xδ|`.
+    pub(super) n_plane_sin: f32,
+    /// Lower bound on the distance from the eye to the triangle.
+    pub(super) e_min: f32,
+    pub(super) v_center: Vec3,
+}
+
+impl Frame {
+    pub(super) fn new(tri: &TriangleInput) -> Frame {
+        let [p0, p1, p2] = tri.positions;
+        let centroid = (p0 + p1 + p2) / 3.0;
+        let rho_x = (p0 - centroid).length().max((p1 - centroid).length()).max((p2 - centroid).length());
+        let px = pattern_constants(p1 - p0, p2 - p0);
+        let [n0, n1, n2] = tri.normals;
+        let pn = pattern_constants(n1 - n0, n2 - n0);
+        let n_cone = cone_of(tri.normals);
+        let longest = n0.length().max(n1.length()).max(n2.length());
+        let along = |e: Vec3| Vec3::new(n0.dot(e), n1.dot(e), n2.dot(e));
+        let pg = jung_scales(along(n1 - n0), along(n2 - n0));
+        // Rounding of the dot products: a few ulps of |N|·|Nδ|, and |Nδ| ≤ 2√K at the scale.
+        let g_pad = RADIAL_PAD * longest;
+        let mut r_n = min_length(tri.normals, &n_cone);
+        if !(r_n > 1.0e-6 * longest) {
+            r_n = 0.0;
+        }
+        let to_eye = [tri.eye - p0, tri.eye - p1, tri.eye - p2];
+        let v_cone = cone_of(to_eye);
+        let e_min = min_length(to_eye, &v_cone);
+        let (plane, plane_tilt) = {
+            let c = (p1 - p0).cross(p2 - p0);
+            let scale = (p1 - p0).length() * (p2 - p0).length();
+            if c.length() > 1.0e-6 * scale {
+                // Each component of the cross product is within about 4·10⁻⁷·scale.
+                (unit(c), 4.0e-7 * scale / c.length() + 1.0e-6)
+            } else {
+                (Vec3::ZERO, 0.0)
+            }
+        };
+        let s1 = Scale { a: px.sqrt_k1, b: pn.sqrt_k1, g: pg.0 + g_pad * pn.sqrt_k1 };
+        let sn = Scale { a: px.sqrt_k, b: pn.sqrt_k, g: pg.1 + g_pad * pn.sqrt_k };
+        let ratio = |one: f32, later: f32| if later > 0.0 { one / later } else { 0.0 };
+        let rho = ratio(s1.a, sn.a).max(ratio(s1.b, sn.b)).max(ratio(s1.g, sn.g)).min(1.0);
+        Frame {
+            vertices: tri.positions,
+            eye: tri.eye,
+            centroid,
+            rho_x,
+            s1,
+            sn,
+            rho,
+            d1: Scale { a: px.diam1, b: pn.diam1, g: 0.0 },
+            dn: Scale { a: px.diam, b: pn.diam, g: 0.0 },
+            n_cone,
+            r_n,
+            n_max_len: longest,
+            normals: tri.normals,
+            unit_normals: tri.normals.map(unit),
+            plane,
+            plane_tilt,
+            n_plane_sin: plane_sin(&n_cone, plane),
+            v_cone,
+            e_min,
+            v_center: unit(tri.eye - centroid),
+        }
+    }
+
+    /// Lower and upper bounds on the height of `p` over the triangle's plane (0 without a
+    /// plane): the computed one less and plus what the plane's direction and the rounding can be
+    /// off by.
+    pub(super) fn height_of(&self, p: Vec3) -> (f32, f32) {
+        if self.plane == Vec3::ZERO {
+            return (0.0, 0.0);
+        }
+        let r = p - self.vertices[0];
+        let (height, pad) = (r.dot(self.plane).abs(), r.length() * (self.plane_tilt + 1.0e-6));
+        ((height - pad).max(0.0), height + pad)
+    }
+
+    /// A lower bound on the distance from `p` to the triangle: `√(H² + ρ²)` with `H ≥ height`
+    /// its height from below ([`Frame::height_of`]) and `ρ` the in-plane distance from its foot
+    /// to the triangle, less what the rounding can move it.
+    pub(super) fn distance_of(&self, p: Vec3, height: f32) -> f32 {
+        if self.plane == Vec3::ZERO {
+            return self.distance_along_line(p);
+        }
+        let foot = p - self.plane * (p - self.vertices[0]).dot(self.plane);
+        // The foot's distance to the triangle: 0 inside, else to the nearest edge (at most to
+        // the first corner).
+        let mut inside = true;
+        let mut rho = (foot - self.vertices[0]).length();
+        for k in 0..3 {
+            let (a, b) = (self.vertices[k], self.vertices[(k + 1) % 3]);
+            let (e, f) = (b - a, foot - a);
+            inside &= e.cross(f).dot(self.plane) >= 0.0;
+            let t = (f.dot(e) / e.length_squared()).clamp(0.0, 1.0);
+            rho = rho.min((f - e * t).length());
+        }
+        let reach = (p - self.vertices[0]).length() + 2.0 * self.rho_x;
+        // The foot's rounding (the plane's tilt over the light's reach) and the differences'.
+        let magnitude = foot.abs().max_element() + self.vertices[0].abs().max_element() + 2.0 * self.rho_x;
+        let pad = 2.0 * reach * (self.plane_tilt + 1.0e-6) + 1.0e-6 * magnitude;
+        let rho = if inside || !(rho > pad) { 0.0 } else { rho - pad };
+        (height * height + rho * rho).sqrt()
+    }
+
+    /// For a triangle without a plane (its corners on a line, up to rounding): the distance
+    /// from `p` to its longest edge, less the third corner's distance from that edge (every
+    /// point of the triangle is that close to the edge) and the rounding.
+    pub(super) fn distance_along_line(&self, p: Vec3) -> f32 {
+        let v = self.vertices;
+        let lengths =
+            [(v[1] - v[0]).length_squared(), (v[2] - v[1]).length_squared(), (v[0] - v[2]).length_squared()];
+        let k = if lengths[0] >= lengths[1] && lengths[0] >= lengths[2] {
+            0
+        } else if lengths[1] >= lengths[2] {
+            1
+        } else {
+            2
+        };
+        let (a, b, third) = (v[k], v[(k + 1) % 3], v[(k + 2) % 3]);
+        let to_segment = |x: Vec3| {
+            let (e, f) = (b - a, x - a);
+            let t = if lengths[k] > 0.0 { (f.dot(e) / lengths[k]).clamp(0.0, 1.0) } else { 0.0 };
+            (f - e * t).length()
+        };
+        let magnitude = p.abs().max_element() + a.abs().max_element() + 2.0 * self.rho_x;
+        (to_segment(p) - to_segment(third) - 1.0e-6 * magnitude).max(0.0)
+    }
+}
+
+/// `max |sin|` of the angle between a direction of `cone` and the unit `plane` normal, 1
+/// without a plane: bounds `|ŵ·Xδ|/|Xδ|` for the directions ŵ of the cone, since position
+/// steps `Xδ` lie in the plane.
+pub(super) fn plane_sin(cone: &Cone, plane: Vec3) -> f32 {
+    if plane == Vec3::ZERO {
+        return 1.0;
+    }
+    let (g0, g1) = psi_range(cone, &Cone { axis: plane, half: 0.0 });
+    max_sin(g0, g1)
+}
