@@ -39,15 +39,24 @@ fn literal_string(words: &[u32]) -> String {
     String::from_utf8_lossy(&bytes[..end]).into_owned()
 }
 
+/// The instructions of a module: `(opcode, operands)`, after the 5-word header.
+fn instructions(words: &[u32]) -> impl Iterator<Item = (u32, &[u32])> {
+    assert_eq!(words.first(), Some(&0x0723_0203), "SPIR-V magic number");
+    let mut at = 5;
+    std::iter::from_fn(move || {
+        let first = *words.get(at)?;
+        let count = (first >> 16) as usize;
+        assert!(count > 0 && at + count <= words.len(), "malformed SPIR-V at word {at}");
+        let instruction = (first & 0xffff, &words[at + 1..at + count]);
+        at += count;
+        Some(instruction)
+    })
+}
+
 fn reflect(spirv: &[u8]) -> Reflection {
     let words = shaders::words(spirv);
-    assert_eq!(words[0], 0x0723_0203, "SPIR-V magic number");
     let mut reflection = Reflection::default();
-    let mut at = 5;
-    while at < words.len() {
-        let count = (words[at] >> 16) as usize;
-        let opcode = words[at] & 0xffff;
-        let operands = &words[at + 1..at + count];
+    for (opcode, operands) in instructions(&words) {
         match opcode {
             OP_NAME => {
                 reflection.names.insert(operands[0], literal_string(&operands[1..]));
@@ -66,8 +75,6 @@ fn reflect(spirv: &[u8]) -> Reflection {
             }
             _ => {}
         }
-        assert!(count > 0, "malformed SPIR-V");
-        at += count;
     }
     reflection
 }
@@ -226,12 +233,7 @@ struct Contents {
 fn contents(spirv: &[u8]) -> Contents {
     let words = shaders::words(spirv);
     let mut contents = Contents::default();
-    let mut at = 5;
-    while at < words.len() {
-        let count = (words[at] >> 16) as usize;
-        assert!(count > 0, "malformed SPIR-V");
-        let opcode = words[at] & 0xffff;
-        let operands = &words[at + 1..at + count];
+    for (opcode, operands) in instructions(&words) {
         contents.instructions += 1;
         match opcode {
             OP_DECORATE if operands[1] == DECORATION_SPEC_ID => contents.spec_ids.push(operands[2]),
@@ -256,7 +258,6 @@ fn contents(spirv: &[u8]) -> Contents {
             }
             _ => {}
         }
-        at += count;
     }
     if let Some(id) = contents.local_size_x_id {
         contents.local_size_x = contents.constants.get(&id).copied();
@@ -402,20 +403,6 @@ struct Declared {
     /// Per `SpecId` decoration: the constant's name ([`specialization::LOCAL_SIZE_X`] for a
     /// workgroup size, empty where SPIR-V names it not) and its id.
     spec_constants: Vec<(String, u32)>,
-}
-
-/// The instructions of a module: `(opcode, operands)`, after the 5-word header.
-fn instructions(words: &[u32]) -> impl Iterator<Item = (u32, &[u32])> {
-    assert_eq!(words.first(), Some(&0x0723_0203), "SPIR-V magic number");
-    let mut at = 5;
-    std::iter::from_fn(move || {
-        let first = *words.get(at)?;
-        let count = (first >> 16) as usize;
-        assert!(count > 0 && at + count <= words.len(), "malformed SPIR-V at word {at}");
-        let instruction = (first & 0xffff, &words[at + 1..at + count]);
-        at += count;
-        Some(instruction)
-    })
 }
 
 /// The ids of the module's workgroup-size constants in x (`local_size_x_id`): the x operand of
