@@ -3,9 +3,9 @@
 // `multirate` mode, `--estimator compute`, first step: one invocation per triangle of a mesh
 // (draw.patch_base to draw.patch_base + draw.triangle_count - 1) gives culled triangles
 // CULLED_LEVEL, and lists the others (bindings.glsl, visible_triangles): those to estimate from
-// the mesh's first triangle on, for triangle_levels.comp, and the back faces of a two-sided mesh,
-// which take FALLBACK_LEVEL without an estimate (triangle_level.glsl, shaded_per_pixel), from
-// its last triangle down. It counts both lists and the workgroups of the later steps that cover
+// the mesh's first triangle on, for triangle_levels.comp, and those shaded per pixel without
+// an estimate (triangle_level.glsl, shaded_per_pixel: back faces of a two-sided mesh, images
+// too small to pay for an estimate), which take FALLBACK_LEVEL, from its last triangle down. It counts both lists and the workgroups of the later steps that cover
 // them in level_dispatches, which the host resets first.
 #include "triangle_level.glsl"
 
@@ -32,7 +32,7 @@ void main() {
         triangle_levels[triangle] = FALLBACK_LEVEL;
         uint back = atomicAdd(level_dispatches[level_dispatch(PATCH_DISPATCH)].w, 1u);
         visible_triangles[draw.patch_base + draw.triangle_count - 1u - back] = triangle;
-        // Each PRE_PASS_GROUP-th back face opens one more workgroup of the patch step.
+        // Each PRE_PASS_GROUP-th of them opens one more workgroup of the patch step.
         if (back % PRE_PASS_GROUP == 0u) {
             atomicAdd(level_dispatches[level_dispatch(PATCH_DISPATCH)].x, 1u);
         }

@@ -13,8 +13,8 @@
 layout(local_size_x = PRE_PASS_GROUP) in;
 
 // The listed triangle this invocation covers (cull_triangles.comp): the workgroups of the
-// estimated triangles come first, then those of the back faces, listed from the end; ~0u past
-// either list's count.
+// estimated triangles come first, then those shaded per pixel without an estimate, listed from
+// the end; ~0u past either list's count.
 uint listed_triangle() {
     uvec4 estimated = level_dispatches[level_dispatch(ESTIMATE_DISPATCH)];
     if (gl_WorkGroupID.x < estimated.x) {

@@ -2,7 +2,7 @@
 //! offsets out of the compiled SPIR-V and checks they match these.
 
 use bytemuck::{Pod, Zeroable};
-use glam::{IVec4, Mat4, Vec2, Vec4};
+use glam::{IVec4, Mat4, Vec2, Vec3, Vec4};
 
 /// A light as the shaders read it (std430).
 #[repr(C)]
@@ -50,7 +50,11 @@ pub struct GpuMaterial {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct DrawConstants {
     pub view_proj: Mat4,
-    pub eye: Vec4,
+    /// The camera's position in world space.
+    pub eye: Vec3,
+    /// multirate: triangles whose image covers fewer pixels are shaded per pixel without an
+    /// estimate (`geometry::cull::small_image`; 0: every visible triangle is estimated).
+    pub min_estimated_area: f32,
     /// The target's size in pixels.
     pub viewport_size: Vec2,
     /// Multirate's error bound ε.

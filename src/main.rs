@@ -4,6 +4,7 @@ use anyhow::{Context as _, Result};
 use clap::{Args, Parser, Subcommand};
 use multirate::analysis::{metrics, report};
 use multirate::bench::{self, BenchConfig, BenchScene};
+use multirate::render::cost_model::CostModel;
 use multirate::render::{output, render_headless, Mode, Placement, Renderer, View, MAX_LEVEL};
 use multirate::scene::Scene;
 use multirate::shading::estimator::{Discontinuity, Split};
@@ -11,6 +12,8 @@ use multirate::vk::target::RenderTarget;
 use multirate::vk::{Context, ContextOptions};
 use std::path::{Path, PathBuf};
 
+#[path = "cli/calibrate.rs"]
+mod calibrate;
 #[path = "cli/soak.rs"]
 mod soak;
 
@@ -48,6 +51,10 @@ enum Command {
     /// one resolution instead). Prints resident and device memory after the warm-up and at
     /// the end; fails on any validation message or a growth over --max-growth.
     Soak(SoakArgs),
+    /// Measure this device's costs for multirate's cost model (an estimate per triangle,
+    /// per-pixel shading per fragment, at two light counts) and store them; the renderer then
+    /// estimates only triangles whose image is large enough for an estimate to pay.
+    Calibrate(calibrate::CalibrateArgs),
 }
 
 #[derive(Args)]
@@ -90,6 +97,9 @@ struct ExperimentArgs {
     /// Frames rendered before measuring.
     #[arg(long, default_value_t = 2)]
     warmup: u32,
+    /// Run one part only: `trade` (the trade's bounds and the light sweep, DOCS/trade.md).
+    #[arg(long, value_parser = ["trade"])]
+    only: Option<String>,
 }
 
 #[derive(Args)]
@@ -136,6 +146,40 @@ struct BenchArgs {
     /// (tcs,compute); default: compute.
     #[arg(long = "estimator", value_name = "ESTIMATOR", value_delimiter = ',')]
     placements: Vec<Placement>,
+    /// multirate: triangles whose image covers fewer pixels are shaded per pixel without an
+    /// estimate: auto (the device's cost model, `multirate calibrate`) or a number of pixels
+    /// (0: estimate every visible triangle).
+    /// Several values, comma-separated, are each measured.
+    #[arg(long, value_name = "auto|PIXELS", value_delimiter = ',', default_value = "auto")]
+    min_estimated_area: Vec<EstimatedArea>,
+}
+
+/// `--min-estimated-area`: the cost model's choice, or a given area.
+#[derive(Clone, Copy, Debug)]
+enum EstimatedArea {
+    Auto,
+    Pixels(f32),
+}
+
+impl EstimatedArea {
+    /// The given area; `None` for the cost model's.
+    fn pixels(self) -> Option<f32> {
+        match self {
+            EstimatedArea::Auto => None,
+            EstimatedArea::Pixels(pixels) => Some(pixels),
+        }
+    }
+}
+
+impl std::str::FromStr for EstimatedArea {
+    type Err = String;
+    fn from_str(text: &str) -> Result<EstimatedArea, String> {
+        match (text, text.parse::<f32>()) {
+            ("auto", _) => Ok(EstimatedArea::Auto),
+            (_, Ok(pixels)) if pixels >= 0.0 && pixels.is_finite() => Ok(EstimatedArea::Pixels(pixels)),
+            _ => Err(format!("\"{text}\": expected auto or a number of pixels >= 0")),
+        }
+    }
 }
 
 fn parse_resolution(text: &str) -> Result<(u32, u32), String> {
@@ -226,6 +270,11 @@ struct ShadingArgs {
     /// same levels.
     #[arg(long = "estimator", value_name = "ESTIMATOR", default_value_t = Placement::default())]
     placement: Placement,
+    /// multirate: triangles whose image covers fewer pixels are shaded per pixel without an
+    /// estimate: auto (the device's cost model, `multirate calibrate`) or a number of pixels
+    /// (0: estimate every visible triangle).
+    #[arg(long, value_name = "auto|PIXELS", default_value = "auto")]
+    min_estimated_area: EstimatedArea,
 }
 
 fn parse_split(text: &str) -> Result<Split, String> {
@@ -252,6 +301,8 @@ impl ShadingArgs {
         view.estimator.split = self.split;
         view.estimator.discontinuity = self.discontinuity;
         view.placement = self.placement;
+        view.cost_model = self.min_estimated_area.pixels().is_none();
+        view.estimator.min_estimated_area = self.min_estimated_area.pixels().unwrap_or(0.0);
         if let Some(epsilon) = self.epsilon {
             anyhow::ensure!(
                 epsilon.is_finite() && epsilon > 0.0,
@@ -412,13 +463,20 @@ impl Default for ShadingArgs {
             split: Split::Heuristic,
             discontinuity: Discontinuity::Relaxed,
             placement: Placement::default(),
+            min_estimated_area: EstimatedArea::Auto,
         }
     }
 }
 
 fn analyze(args: &AnalyzeArgs, gpu: &GpuArgs) -> Result<()> {
     let scene = load_scene(&args.scene)?;
-    let view = args.shading.view(&scene)?;
+    let mut view = args.shading.view(&scene)?;
+    if view.cost_model {
+        // The CPU analysis knows no device: `auto` takes the built-in cost model's area, and
+        // `--measured` renders with the same.
+        view.estimator.min_estimated_area = CostModel::lavapipe().min_estimated_area_of(&scene);
+        view.cost_model = false;
+    }
     let settings = &view.estimator;
     let reports =
         report::analyze(&scene, settings, report::Triangles::Visible, args.oracle, args.texture_bounds);
@@ -434,8 +492,8 @@ fn analyze(args: &AnalyzeArgs, gpu: &GpuArgs) -> Result<()> {
         settings.n_max
     );
     println!(
-        "  fallback to per-pixel shading: {} ({} back faces of two-sided meshes)",
-        summary.fallbacks, summary.back_faces
+        "  fallback to per-pixel shading: {} ({} back faces of two-sided meshes, {} images below {} pixels)",
+        summary.fallbacks, summary.back_faces, summary.small_images, settings.min_estimated_area
     );
     println!("  shading evaluations (tessellated vertices), estimator: {}", summary.estimator_evaluations);
     if args.oracle {
@@ -528,6 +586,7 @@ fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
         discontinuity: args.discontinuity,
         placements: args.placements.clone(),
         images: args.images.then(|| args.out.join("images")),
+        min_estimated_areas: args.min_estimated_area.iter().map(|a| a.pixels()).collect(),
     };
     std::fs::create_dir_all(&args.out).with_context(|| format!("{}: cannot create", args.out.display()))?;
     let bar = progress_bar();
@@ -564,14 +623,24 @@ fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
         println!("{note}");
     }
     println!(
-        "{:<44} {:>10} {:>9} {:>8} {:>10} {:>9} {:>9} {:>10} {:>8}",
-        "configuration", "GPU ms", "pre-pass", "speedup", "evals", "L∞ same", "other px", "mean L2", "FLIP"
+        "{:<44} {:>10} {:>9} {:>8} {:>7} {:>10} {:>9} {:>9} {:>10} {:>8}",
+        "configuration",
+        "GPU ms",
+        "pre-pass",
+        "speedup",
+        "share",
+        "evals",
+        "L∞ same",
+        "other px",
+        "mean L2",
+        "FLIP"
     );
     for row in &result.rows {
         let name = format!("{} {}x{} {}", row.scene, row.width, row.height, bench::plot::row_label(row));
         let pre_pass = row.pre_pass_ms.map_or_else(|| "-".to_string(), |t| format!("{:.3}", t.median));
+        let share = row.trade.map_or_else(|| "-".to_string(), |t| format!("{:.0}%", t.saving_share * 100.0));
         println!(
-            "{name:<44} {:>10.3} {pre_pass:>9} {:>7.0}% {:>9.1}% {:>9.5} {:>9} {:>10.2e} {:>8.5}",
+            "{name:<44} {:>10.3} {pre_pass:>9} {:>7.0}% {share:>7} {:>9.1}% {:>9.5} {:>9} {:>10.2e} {:>8.5}",
             row.gpu_ms.median,
             row.speedup * 100.0,
             row.evaluation_ratio * 100.0,
@@ -579,6 +648,33 @@ fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
             row.other_triangle_pixels,
             row.mean_l2,
             row.flip
+        );
+    }
+    let mut bounds = result.rows.iter().filter(|row| row.mode == "pixel").peekable();
+    if bounds.peek().is_some() {
+        println!("floor (vertex), ceiling (pixel / vertex), empty frame; multirate's estimated-area floor:");
+    }
+    for reference in bounds {
+        let same = |row: &&bench::Row| {
+            row.scene == reference.scene && (row.width, row.height) == (reference.width, reference.height)
+        };
+        let areas: Vec<String> = result
+            .rows
+            .iter()
+            .filter(same)
+            .filter_map(|row| row.min_estimated_area.map(|a| format!("{a:.1} px")))
+            .collect();
+        let trade = reference.trade.map_or_else(
+            || "floor -, ceiling - (add vertex to --modes)".to_string(),
+            |t| format!("floor {:.3} ms, ceiling {:.2}×", t.floor_ms, t.ceiling),
+        );
+        println!(
+            "  {} {}x{}: {trade}, empty frame {:.3} ms; estimated above {}",
+            reference.scene,
+            reference.width,
+            reference.height,
+            reference.empty_ms,
+            if areas.is_empty() { "-".to_string() } else { areas.join(", ") }
         );
     }
     let messages = context.validation().count();
@@ -592,6 +688,9 @@ fn run_experiments(args: &ExperimentArgs, gpu: &GpuArgs) -> Result<()> {
     let mut command = format!("cargo run --release -- experiments --docs {}", args.docs.display());
     if args.quick {
         command.push_str(" --quick");
+    }
+    if let Some(only) = &args.only {
+        command.push_str(&format!(" --only {only}"));
     }
     command.push_str(&format!(" --frames {} --warmup {}", args.frames, args.warmup));
     if let Some(device) = &gpu.device {
@@ -607,14 +706,18 @@ fn run_experiments(args: &ExperimentArgs, gpu: &GpuArgs) -> Result<()> {
     };
     let bar = progress_bar();
     let started = std::time::Instant::now();
-    let markdown = bench::experiments::run_all(&context, &options, &mut |experiment, progress| {
+    let mut show = |experiment: &str, progress: bench::Progress<'_>| {
         bar.set_prefix(experiment.to_string());
         bar.set_length(progress.total as u64);
         bar.set_position(progress.done as u64);
         bar.set_message(progress.label.to_string());
-    })?;
+    };
+    let (markdown, page) = match args.only.as_deref() {
+        Some(_) => (bench::experiments::trade_page(&context, &options, &mut show)?, "trade.md"),
+        None => (bench::experiments::run_all(&context, &options, &mut show)?, "results.md"),
+    };
     bar.finish_and_clear();
-    let path = args.docs.join("results.md");
+    let path = args.docs.join(page);
     std::fs::write(&path, markdown).with_context(|| format!("{}: cannot write", path.display()))?;
     println!(
         "{} and {}/ written in {:.0} s",
@@ -641,6 +744,8 @@ fn main() -> Result<()> {
         Some(Command::Soak(args)) => {
             soak::soak(args, &cli.gpu).with_context(|| format!("soaking {}", args.scene.display()))
         }
+        Some(Command::Calibrate(args)) => calibrate::calibrate(args, &cli.gpu)
+            .with_context(|| format!("calibrating with {}", args.scene.display())),
         Some(Command::View(args)) => view(&args.scene, &args.shading, &cli.gpu)
             .with_context(|| format!("viewing {}", args.scene.display())),
         None if has_display() => {

@@ -570,6 +570,7 @@ fn conservative(epsilon: f32) -> EstimatorSettings {
         n_max: N_MAX,
         split: Split::Heuristic,
         discontinuity: Discontinuity::Conservative,
+        min_estimated_area: 0.0,
     }
 }
 

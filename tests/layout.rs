@@ -173,6 +173,7 @@ fn draw_constants_match_glsl() {
         &[
             ("view_proj", offset_of!(DrawConstants, view_proj)),
             ("eye", offset_of!(DrawConstants, eye)),
+            ("min_estimated_area", offset_of!(DrawConstants, min_estimated_area)),
             ("viewport_size", offset_of!(DrawConstants, viewport_size)),
             ("epsilon", offset_of!(DrawConstants, epsilon)),
             ("n_max", offset_of!(DrawConstants, n_max)),

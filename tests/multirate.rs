@@ -31,6 +31,7 @@ fn control_stage_levels_equal_the_twin() {
     let (width, height) = (64, 48);
     let target = RenderTarget::new(&context, vk::Extent2D { width, height }).expect("target");
     let (mut compared, mut different, mut culled, mut placements_compared) = (0usize, 0usize, 0usize, 0);
+    let (mut small, mut estimated_beside_small) = (0usize, 0usize);
     for relative in [
         "scenes/bunny.toml",
         "scenes/teapot.toml",
@@ -49,16 +50,24 @@ fn control_stage_levels_equal_the_twin() {
         // untextured scenes take all three, the others the default one (Relaxed).
         let untextured = ["scenes/bunny.toml", "scenes/teapot.toml", "scenes/plane_lights.toml"];
         let settings_to_check = if untextured.contains(&relative) { 3 } else { 1 };
-        for (epsilon, split, discontinuity) in [
-            (0.075, Split::Heuristic, Discontinuity::Relaxed),
-            (0.3, Split::Heuristic, Discontinuity::Conservative),
-            (0.02, Split::Uniform, Discontinuity::Relaxed),
+        // The later settings also shade small images per pixel unestimated (the cost model's
+        // class, `geometry::cull::small_image`): areas of a few pixels of the 64×48 target.
+        for (epsilon, split, discontinuity, min_estimated_area) in [
+            (0.075, Split::Heuristic, Discontinuity::Relaxed, 0.0),
+            (0.3, Split::Heuristic, Discontinuity::Conservative, 2.0),
+            (0.02, Split::Uniform, Discontinuity::Relaxed, 0.5),
         ]
         .into_iter()
         .take(settings_to_check)
         {
             let scene_view = View::of_scene(&scene);
-            let estimator = EstimatorSettings { epsilon, split, discontinuity, ..scene_view.estimator };
+            let estimator = EstimatorSettings {
+                epsilon,
+                split,
+                discontinuity,
+                min_estimated_area,
+                ..scene_view.estimator
+            };
             let view = View { estimator, ..scene_view };
             assert_eq!(view.placement, Placement::Compute, "the default placement");
             let gpu = renderer.record_levels(&target, &view).expect("levels");
@@ -75,6 +84,11 @@ fn control_stage_levels_equal_the_twin() {
                 report::TextureBounds::Pyramid,
             );
             assert_eq!(gpu.len(), twin.len(), "{relative}: one record per triangle");
+            let small_here = twin.iter().filter(|t| t.small_image && !t.culled).count();
+            small += small_here;
+            if small_here > 0 {
+                estimated_beside_small += twin.iter().filter(|t| !t.culled && !t.levels.fallback).count();
+            }
             for (g, t) in gpu.iter().zip(&twin) {
                 let level = t.patch_level as f32;
                 let expected = if t.culled {
@@ -96,8 +110,9 @@ fn control_stage_levels_equal_the_twin() {
             }
         }
     }
-    eprintln!("levels: {different} of {compared} triangles differ; {culled} culled");
+    eprintln!("levels: {different} of {compared} triangles differ; {culled} culled; {small} small images");
     assert!(culled > 0, "no triangle was culled: the culling goes untested");
+    assert!(small > 0 && estimated_beside_small > 0, "the small-image class goes untested");
     assert_eq!(placements_compared, 14, "both placements were compared on every scene and setting");
     // The GLSL estimator is bit-identical to the twin (its own elementary functions, precise
     // arithmetic): every level must agree exactly.

@@ -6,7 +6,8 @@
 // one plane of the view frustum, its image is a segment (degenerate_image), or it faces away
 // from the eye on a one-sided mesh. Its level is
 // CULLED_LEVEL, and the control stage gives its patch outer level 0. A back face of a two-sided
-// mesh is not estimated either: it is shaded per pixel (visible_level). Rust twin of both:
+// mesh and a triangle whose image is too small to pay for its estimate are not estimated
+// either: they are shaded per pixel (shaded_per_pixel, visible_level). Rust twin of both:
 // `src/geometry/cull.rs` (bit-identical: `precise`, no fused multiply-adds).
 #ifndef TRIANGLE_LEVEL_GLSL
 #define TRIANGLE_LEVEL_GLSL
@@ -49,6 +50,14 @@ P vec2 scaled_edge(vec4 a, vec4 b) {
     return edge;
 }
 
+// Twice the signed area of the image of the triangle at clip positions a, b, c, times
+// a.w·b.w·c.w: the determinant of the rows (x, y, w) (`cull::image_determinant` in Rust).
+P float image_determinant(vec4 a, vec4 b, vec4 c) {
+    P float det = (a.x * (b.y * c.w - c.y * b.w) - b.x * (a.y * c.w - c.y * a.w))
+        + c.x * (a.y * b.w - b.y * a.w);
+    return det;
+}
+
 // |v.x| + |v.y|, a norm between |v| and √2·|v| that needs no square root.
 P float norm1(vec2 v) {
     P float n = abs(v.x) + abs(v.y);
@@ -66,10 +75,7 @@ bool degenerate_image(vec4 a, vec4 b, vec4 c) {
     if (!(a.w > 0.0 && b.w > 0.0 && c.w > 0.0)) {
         return false;
     }
-    // Twice the image's signed area times a.w·b.w·c.w: the determinant of the rows (x, y, w).
-    P float area = (a.x * (b.y * c.w - c.y * b.w) - b.x * (a.y * c.w - c.y * a.w))
-        + c.x * (a.y * b.w - b.y * a.w);
-    P float size = abs(area);
+    P float size = abs(image_determinant(a, b, c));
     P vec2 ab = scaled_edge(a, b);
     P vec2 bc = scaled_edge(b, c);
     P vec2 ca = scaled_edge(c, a);
@@ -164,13 +170,33 @@ float estimated_level_pass(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2,
                          refine_next);
 }
 
-// Whether the draw's triangle, not culled, is a back face of a two-sided mesh
-// (`cull::shaded_per_pixel` in Rust). Such a back face is shaded per pixel without an estimate,
-// in the fallback draw, which comes after the others, so that where the mesh's front faces hide
-// it (the far side of an open mesh) the early depth test rejects its fragments before they
-// shade; interpolated, its sub-vertices would all be shaded.
+// Whether the image of the triangle at clip positions a, b, c, all in front of the eye, covers
+// fewer than draw.min_estimated_area pixels (`cull::small_image` in Rust). Its area in pixels
+// is |det| / (a.w·b.w·c.w) · width·height/8 (the image spans 2 units of normalised device
+// coordinates per viewport side); the area of the whole triangle bounds that of its visible
+// part from above. A triangle with a corner at or behind the eye's plane is never small.
+bool small_image(vec4 a, vec4 b, vec4 c) {
+    if (!(a.w > 0.0 && b.w > 0.0 && c.w > 0.0)) {
+        return false;
+    }
+    P float pixels = abs(image_determinant(a, b, c)) * (0.125 * (draw.viewport_size.x * draw.viewport_size.y));
+    P float least = draw.min_estimated_area * ((a.w * b.w) * c.w);
+    return pixels < least;
+}
+
+// Whether the draw's triangle, not culled, is shaded per pixel without an estimate
+// (`cull::shaded_per_pixel` in Rust): a back face of a two-sided mesh, or a small_image, whose
+// estimate would cost more than shading its few pixels (the cost model,
+// `src/render/cost_model.rs`, sets draw.min_estimated_area; 0 estimates every triangle). Such a
+// triangle is shaded in the fallback draw, which comes after the others, so that where the
+// mesh's front faces hide it (the far side of an open mesh) the early depth test rejects its
+// fragments before they shade; interpolated, its sub-vertices would all be shaded. It asks its
+// neighbours for no level on their shared edges (patch_levels).
 bool shaded_per_pixel(vec3 p0, vec3 p1, vec3 p2) {
-    return (draw.flags & FLAG_ONE_SIDED) == 0u && faces_away(p0, p1, p2);
+    if ((draw.flags & FLAG_ONE_SIDED) == 0u && faces_away(p0, p1, p2)) {
+        return true;
+    }
+    return draw.min_estimated_area > 0.0 && small_image(clip_of(p0), clip_of(p1), clip_of(p2));
 }
 
 // The level of the draw's triangle that is not culled: FALLBACK_LEVEL where it is

@@ -33,7 +33,8 @@ struct GpuMaterial {
 // Per-draw constants, pushed for every mesh.
 struct DrawConstants {
     mat4 view_proj;      // world to Vulkan clip space
-    vec4 eye;            // xyz: camera position in world space
+    vec3 eye;            // camera position in world space
+    float min_estimated_area; // multirate: images smaller (pixels) are shaded per pixel unestimated
     vec2 viewport_size;  // the target's size in pixels
     float epsilon;       // multirate's error bound
     uint n_max;          // multirate's highest level, in 1..=64 (clamped by the host)

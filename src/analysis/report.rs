@@ -8,7 +8,7 @@ use super::measured::Measured;
 use super::oracle::{oracle_level, true_error_textured, vertices_at_level, SAMPLES_PER_EDGE};
 use super::tessellator::triangle_pattern;
 use crate::geometry::camera::view_projection;
-use crate::geometry::cull::{culled, shaded_per_pixel, CULLED_LEVEL};
+use crate::geometry::cull::{culled, faces_away, shaded_per_pixel, PerPixelRule, CULLED_LEVEL};
 use crate::scene::adjacency::{adjacency_patches, PATCH_SIZE};
 use crate::scene::texture::PowerSat;
 use crate::scene::{with_parameter, ParameterRange, Scene};
@@ -16,6 +16,7 @@ use crate::shading::estimator::{
     estimate_textured, patch_levels, Estimate, EstimatorSettings, PatchLevels, TriangleInput, FALLBACK_LEVEL,
     TERM_NAMES,
 };
+use glam::Vec2;
 use std::collections::HashMap;
 use std::fmt::Write as _;
 
@@ -44,6 +45,9 @@ pub struct TriangleReport {
     /// A back face of a two-sided mesh (`geometry::cull::shaded_per_pixel`): shaded per pixel
     /// whatever its estimate, which is reported all the same.
     pub back_face: bool,
+    /// Not a back face, but an image smaller than the settings' `min_estimated_area`
+    /// (`geometry::cull::small_image`): shaded per pixel without an estimate on the GPU.
+    pub small_image: bool,
 }
 
 /// Vertices (shading evaluations) of the pattern with these levels.
@@ -60,6 +64,8 @@ pub struct Summary {
     pub fallbacks: usize,
     /// Of the fallbacks, the back faces of two-sided meshes (never estimated on the GPU).
     pub back_faces: usize,
+    /// Of the fallbacks, the images below `min_estimated_area` (never estimated on the GPU).
+    pub small_images: usize,
     /// Tessellated vertices the control stage's levels shade (fallback patches excluded),
     /// shared-edge levels included.
     pub estimator_evaluations: u64,
@@ -146,14 +152,19 @@ pub fn analyze(
         let positions_of = |corners: &[u32]| [0, 1, 2].map(|k| mesh.positions[corners[k] as usize]);
         let culled_of =
             |corners: &[u32]| culled(&view_proj, scene.camera.eye, positions_of(corners), !mesh.two_sided);
-        let back_face_of =
-            |corners: &[u32]| shaded_per_pixel(scene.camera.eye, positions_of(corners), !mesh.two_sided);
+        let rule = PerPixelRule {
+            view_proj,
+            eye: scene.camera.eye,
+            viewport: Vec2::new(scene.settings.width as f32, scene.settings.height as f32),
+            min_estimated_area: settings.min_estimated_area,
+        };
+        let per_pixel_of = |corners: &[u32]| shaded_per_pixel(&rule, positions_of(corners), !mesh.two_sided);
         // As triangle_level.glsl: a culled triangle gets no estimate, a back face of a
-        // two-sided mesh falls back without one.
+        // two-sided mesh and a small image fall back without one.
         let level_of = |corners: &[u32]| {
             if culled_of(corners) {
                 CULLED_LEVEL
-            } else if back_face_of(corners) {
+            } else if per_pixel_of(corners) {
                 FALLBACK_LEVEL
             } else {
                 estimate_of(corners).level
@@ -167,9 +178,10 @@ pub fn analyze(
             }
             let own = input(&patch[0..3]);
             let own_estimate = estimate_of(&patch[0..3]);
-            let back_face = back_face_of(&patch[0..3]);
+            let per_pixel = per_pixel_of(&patch[0..3]);
+            let back_face = mesh.two_sided && faces_away(scene.camera.eye, positions_of(&patch[0..3]));
             let neighbours = [0, 1, 2].map(|edge| level_of(&patch[3 + 3 * edge..6 + 3 * edge]));
-            let own_level = if back_face { FALLBACK_LEVEL } else { own_estimate.level };
+            let own_level = if per_pixel { FALLBACK_LEVEL } else { own_estimate.level };
             let levels = patch_levels(own_level, neighbours, n_max);
             let (oracle_n, true_err) = if with_oracle {
                 let oracle =
@@ -216,6 +228,7 @@ pub fn analyze(
                 true_error: true_err,
                 culled: own_culled,
                 back_face,
+                small_image: per_pixel && !back_face,
             });
         }
     }
@@ -229,6 +242,7 @@ pub fn summarize(reports: &[TriangleReport], epsilon: f32) -> Summary {
         if report.levels.fallback {
             summary.fallbacks += 1;
             summary.back_faces += usize::from(report.back_face);
+            summary.small_images += usize::from(report.small_image);
             continue;
         }
         summary.estimator_evaluations += pattern_vertices(&report.levels);
@@ -245,7 +259,8 @@ pub fn summarize(reports: &[TriangleReport], epsilon: f32) -> Summary {
 /// The CSV of `reports`: one row per triangle, one column per estimator term, then the real
 /// level, the uniform `n`, the patch's level and outer levels as the control stage writes them
 /// (`patch_level` 0: per-pixel fallback, `reason` `BackFace` for a back face of a two-sided
-/// mesh, `Mixed` when only the mixed pattern is why).
+/// mesh, `SmallImage` for an image below `min_estimated_area`, `Mixed` when only the mixed
+/// pattern is why).
 /// `measured`: per `(mesh, triangle)` the GPU-measured error (`analyze --measured`), written
 /// as `measured_error,measured_pixels` (empty for triangles without interior pixels).
 pub fn to_csv(
@@ -270,11 +285,13 @@ pub fn to_csv(
         for value in r.estimate.terms {
             let _ = write!(csv, ",{value}");
         }
-        // `reason` is the estimator's; `BackFace` marks a back face of a two-sided mesh, and
-        // `Mixed` a patch that falls back only because no inner level makes its transition
-        // strips fine enough.
+        // `reason` is the estimator's; `BackFace` marks a back face of a two-sided mesh,
+        // `SmallImage` an image below `min_estimated_area`, and `Mixed` a patch that falls back
+        // only because no inner level makes its transition strips fine enough.
         let reason = if r.back_face {
             "BackFace".to_string()
+        } else if r.small_image {
+            "SmallImage".to_string()
         } else if r.levels.fallback && !r.estimate.fallback {
             "Mixed".to_string()
         } else {

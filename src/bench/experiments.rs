@@ -6,7 +6,13 @@
 //! - the scenes at the paper's scale (dense bunny and teapot, the room), every mode;
 //! - Fig. 10: the bunny at 1920×1080, 2560×1440 and 3840×2160, work per shader stage;
 //! - Fig. 11: the plane with three sharp lights at triangle counts from 32 to 131,072;
-//! - the ε sweep: time and evaluations against error, the trade itself.
+//! - the ε sweep: time and evaluations against error, the trade itself;
+//! - the trade's bounds (`trade`, its own page `docs/trade.md`): floor, ceiling, empty frame and
+//!   the share of the saving per scene, with and without the cost model, and the light sweep.
+
+mod trade;
+
+pub use trade::trade_page;
 
 use super::{plot, run, to_csv, BenchConfig, BenchScene, Progress, Row};
 use crate::error::{Error, Result};
@@ -81,6 +87,7 @@ fn config(options: &ExperimentOptions, modes: Vec<Mode>, resolutions: Vec<(u32, 
         discontinuity: Discontinuity::Relaxed,
         placements: Vec::new(),
         images: None,
+        min_estimated_areas: Vec::new(),
     }
 }
 
@@ -214,6 +221,12 @@ pub fn run_all(
     let sweep_rows = run(context, &shipped[..2], &sweep, &mut |p| progress("ε sweep", p))?.rows;
     write(&options.out.join("sweep.csv"), &to_csv(&sweep_rows))?;
     epsilon_sweep(&mut md, &sweep_rows, plan.sweep, &options.out)?;
+    let trade = trade_page(context, options, progress)?;
+    write(&options.out.with_file_name("trade.md"), &trade)?;
+    let _ = writeln!(
+        md,
+        "## The trade's bounds and the light-count sweep\n\nOn their own page, [trade.md](trade.md) (`--only trade` reruns just those).\n"
+    );
     steps(&mut md);
     comparison(&mut md, &table_rows, &fig11_rows, &sweep_rows);
     if context.info.is_lavapipe() {

@@ -9,6 +9,7 @@
 //! The results are rows (CSV and JSON), SVG plots of time against error with the Pareto front
 //! ([`plot`]), and a Chrome trace of every measured frame ([`trace`]).
 
+pub mod calibrate;
 pub mod experiments;
 pub mod plot;
 pub mod trace;
@@ -62,6 +63,10 @@ pub struct BenchConfig {
     pub placements: Vec<Placement>,
     /// Where to write each row's images (error ×30, heat map, fallback mask), if anywhere.
     pub images: Option<PathBuf>,
+    /// multirate: images below this many pixels are shaded per pixel without an estimate,
+    /// each measured; `None`: the renderer's cost model chooses (`Renderer::min_estimated_area`).
+    /// Empty: the cost model.
+    pub min_estimated_areas: Vec<Option<f32>>,
 }
 
 /// Median and spread of per-frame GPU milliseconds.
@@ -119,8 +124,16 @@ pub struct Row {
     /// `--estimator compute`: the median milliseconds of each pre-pass step
     /// (`PrePassStep::ALL`'s order: cull, estimate, refine, patches).
     pub pre_pass_steps_ms: Option<[f64; PRE_PASS_STEPS]>,
+    /// multirate only: images below this many pixels were shaded per pixel unestimated.
+    pub min_estimated_area: Option<f32>,
     /// `pixel` median time over this row's: the paper's speedup ratio (×100 %).
     pub speedup: f64,
+    /// The trade's bounds at this scene and resolution (where `vertex` was measured).
+    pub trade: Option<Trade>,
+    /// The median time of an empty frame at this scene and resolution: the `pixel` pass with
+    /// the camera turned around, so that every triangle is clipped (the pass's own cost and
+    /// the vertices' transform).
+    pub empty_ms: f64,
     pub evaluations: EvaluationCounts,
     /// Evaluations as a fraction of `pixel` mode's.
     pub evaluation_ratio: f64,
@@ -143,6 +156,31 @@ pub struct Row {
     pub driver: String,
 }
 
+/// How much of the possible saving a row took. `vertex` shades least (once per vertex), so its
+/// time is the floor any shading-rate method can approach, and `pixel`'s over it the ceiling
+/// of the speedup.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Trade {
+    /// `vertex` mode's median time.
+    pub floor_ms: f64,
+    /// `pixel` over `vertex`: the most any mode can speed up.
+    pub ceiling: f64,
+    /// (t_pixel − t_row) / (t_pixel − t_vertex): 1 at the floor, 0 at `pixel`'s time, below 0
+    /// where the row is slower than `pixel`.
+    pub saving_share: f64,
+}
+
+impl Trade {
+    /// The bounds for a row of `row_ms` with `pixel_ms` and `vertex_ms` measured alike.
+    pub fn of(row_ms: f64, pixel_ms: f64, vertex_ms: f64) -> Trade {
+        Trade {
+            floor_ms: vertex_ms,
+            ceiling: pixel_ms / vertex_ms,
+            saving_share: (pixel_ms - row_ms) / (pixel_ms - vertex_ms),
+        }
+    }
+}
+
 /// Everything a run produced: rows and, per row, the measured frames.
 pub struct BenchResult {
     pub rows: Vec<Row>,
@@ -158,6 +196,8 @@ struct Job {
     epsilon: f32,
     n_max: u32,
     placement: Placement,
+    /// multirate: `None` for the cost model's area.
+    min_estimated_area: Option<f32>,
 }
 
 impl Job {
@@ -167,7 +207,10 @@ impl Job {
         match self.mode {
             Mode::Multirate => {
                 let (epsilon, n_max, placement) = (self.epsilon, self.n_max, self.placement);
-                format!("{name} {width}x{height} multirate ε={epsilon} n_max={n_max} estimator {placement}")
+                let area = self.min_estimated_area.map_or_else(|| "auto".to_string(), |a| a.to_string());
+                format!(
+                    "{name} {width}x{height} multirate ε={epsilon} n_max={n_max} estimator {placement} area {area}"
+                )
             }
             mode => format!("{name} {width}x{height} {mode}"),
         }
@@ -188,28 +231,36 @@ fn jobs(scenes: &[BenchScene], config: &BenchConfig) -> Vec<Job> {
         let n_maxes = if config.n_maxes.is_empty() { vec![settings.n_max] } else { config.n_maxes.clone() };
         let placements =
             if config.placements.is_empty() { vec![Placement::default()] } else { config.placements.clone() };
+        let areas = if config.min_estimated_areas.is_empty() {
+            vec![None]
+        } else {
+            config.min_estimated_areas.clone()
+        };
         for &resolution in &resolutions {
-            let job = |mode, epsilon, n_max, placement| Job {
+            let job = |mode, epsilon, n_max, placement, min_estimated_area| Job {
                 scene: index,
                 resolution,
                 mode,
                 epsilon,
                 n_max,
                 placement,
+                min_estimated_area,
             };
             let default = Placement::default();
-            jobs.push(job(Mode::Pixel, settings.epsilon, settings.n_max, default));
+            jobs.push(job(Mode::Pixel, settings.epsilon, settings.n_max, default, None));
             for &mode in config.modes.iter().filter(|&&m| m != Mode::Pixel) {
                 if mode == Mode::Multirate {
                     for &epsilon in &epsilons {
                         for &n_max in &n_maxes {
                             for &placement in &placements {
-                                jobs.push(job(mode, epsilon, n_max, placement));
+                                for &area in &areas {
+                                    jobs.push(job(mode, epsilon, n_max, placement, area));
+                                }
                             }
                         }
                     }
                 } else {
-                    jobs.push(job(mode, settings.epsilon, settings.n_max, default));
+                    jobs.push(job(mode, settings.epsilon, settings.n_max, default, None));
                 }
             }
         }
@@ -232,6 +283,10 @@ pub struct Progress<'a> {
 struct Reference {
     gpu_ms: f64,
     evaluations: u64,
+    /// `vertex` mode's median time, where it was measured.
+    vertex_ms: Option<f64>,
+    /// The empty frame's median time.
+    empty_ms: f64,
 }
 
 /// Runs every configuration of `config` on `scenes`, calling `progress` before each row and
@@ -275,8 +330,10 @@ pub fn run(
                     n_max: job.n_max,
                     split: config.split,
                     discontinuity: config.discontinuity,
+                    min_estimated_area: job.min_estimated_area.unwrap_or(0.0),
                 },
                 placement: job.placement,
+                cost_model: job.min_estimated_area.is_none(),
                 ..View::of_scene(scene)
             })
             .collect();
@@ -316,15 +373,26 @@ pub fn run(
         }
         drop(reference_frame);
         let label = format!("{} {}x{}: timing in turns", bench_scene.name, extent.width, extent.height);
-        let measurements = measure_in_turns(renderer, target, &views, config, &mut |turn| {
+        // The empty frame takes its turns with the others.
+        let mut timed = views.clone();
+        timed.push(empty_view(&views[0], scene));
+        let mut measurements = measure_in_turns(renderer, target, &timed, config, &mut |turn| {
             progress(Progress { done: done + turn, total, label: &label, turns_done: turn })
         })?;
         done += turns;
+        let median = |measurement: &Measurement| Timing::of(&measurement.gpu_ms()).median;
+        let empty = measurements.pop().expect("the empty frame was timed last");
         let reference = Reference {
-            gpu_ms: Timing::of(&measurements[0].gpu_ms()).median,
+            gpu_ms: median(&measurements[0]),
             evaluations: untimed[0].evaluations.total(),
+            vertex_ms: group
+                .iter()
+                .position(|job| job.mode == Mode::Vertex)
+                .map(|k| median(&measurements[k])),
+            empty_ms: median(&empty),
         };
-        for ((job, untimed), measurement) in group.iter().zip(untimed).zip(measurements) {
+        for (((job, view), untimed), measurement) in group.iter().zip(&views).zip(untimed).zip(measurements) {
+            let min_estimated_area = (job.mode == Mode::Multirate).then(|| renderer.min_estimated_area(view));
             result.rows.push(row(
                 context,
                 bench_scene,
@@ -334,12 +402,30 @@ pub fn run(
                 &reference,
                 untimed,
                 &measurement,
+                min_estimated_area,
             ));
             result.measurements.push(measurement);
         }
     }
     progress(Progress { done: total, total, label: "done", turns_done: 0 });
     Ok(result)
+}
+
+/// The empty frame of `view`'s `scene`: `pixel` mode from an eye moved away from the scene,
+/// beyond all of it, looking farther away, so that every triangle lies behind the eye and is
+/// clipped.
+fn empty_view(view: &View, scene: &Scene) -> View {
+    let mut camera = view.camera;
+    let away = (camera.eye - camera.target).normalize_or(glam::Vec3::Z);
+    let reach = scene
+        .meshes
+        .iter()
+        .flat_map(|mesh| &mesh.positions)
+        .map(|p| p.distance(camera.eye))
+        .fold(0.0, f32::max);
+    camera.eye += away * (2.0 * reach + 1.0);
+    camera.target = camera.eye + away;
+    View { mode: Mode::Pixel, camera, ..view.clone() }
 }
 
 /// Measured frames per configuration and turn in [`measure_in_turns`].
@@ -418,6 +504,7 @@ fn row(
     reference: &Reference,
     untimed: Untimed,
     measurement: &Measurement,
+    min_estimated_area: Option<f32>,
 ) -> Row {
     let multirate = job.mode == Mode::Multirate;
     let Untimed { evaluations, error, pixels_over_epsilon, fallback_fraction } = untimed;
@@ -435,7 +522,10 @@ fn row(
         pre_pass_ms: (!measurement.pre_pass.is_empty()).then(|| Timing::of(&measurement.pre_pass_ms())),
         pre_pass_steps_ms: (!measurement.pre_pass_steps.is_empty())
             .then(|| PrePassStep::ALL.map(|step| Timing::of(&measurement.pre_pass_step_ms(step)).median)),
+        min_estimated_area,
         speedup: reference.gpu_ms / gpu_ms.median,
+        trade: reference.vertex_ms.map(|vertex_ms| Trade::of(gpu_ms.median, reference.gpu_ms, vertex_ms)),
+        empty_ms: reference.empty_ms,
         evaluations,
         evaluation_ratio: evaluations.total() as f64 / reference.evaluations.max(1) as f64,
         l_inf: error.l_inf,
@@ -490,7 +580,7 @@ fn write_row_images(
 /// The CSV header; `csv_line` writes the fields in this order.
 pub const CSV_HEADER: &str = "scene,triangles,mode,epsilon,n_max,estimator,width,height,frames,\
 gpu_ms_median,gpu_ms_p10,gpu_ms_p90,pre_pass_ms_median,cull_ms_median,estimate_ms_median,refine_ms_median,\
-patches_ms_median,speedup,evaluations,vertex_evaluations,subvertex_evaluations,\
+patches_ms_median,min_estimated_area,speedup,floor_ms,ceiling,saving_share,empty_ms,evaluations,vertex_evaluations,subvertex_evaluations,\
 fragment_evaluations,culled_patches,evaluation_ratio,l_inf,l_inf_same_triangle,other_triangle_pixels,pixels_over_epsilon,mean_l2,psnr_db,flip,fallback_fraction,\
 vs_invocations,tcs_patches,tes_invocations,clipping_primitives,fs_invocations,device,driver";
 
@@ -530,7 +620,12 @@ pub fn csv_line(row: &Row) -> String {
         PrePassStep::ALL
             .map(|step| optional(row.pre_pass_steps_ms.map(|ms| format!("{:.4}", ms[step as usize]))))
             .join(","),
+        optional(row.min_estimated_area.map(|a| format!("{a:.2}"))),
         format!("{:.4}", row.speedup),
+        optional(row.trade.map(|t| format!("{:.4}", t.floor_ms))),
+        optional(row.trade.map(|t| format!("{:.4}", t.ceiling))),
+        optional(row.trade.map(|t| format!("{:.4}", t.saving_share))),
+        format!("{:.4}", row.empty_ms),
         row.evaluations.total().to_string(),
         row.evaluations.vertices.to_string(),
         row.evaluations.sub_vertices.to_string(),

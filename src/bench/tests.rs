@@ -17,9 +17,19 @@ fn csv_quotes_fields_with_commas() {
     assert_eq!(quoted("a,b"), "\"a,b\"");
     assert_eq!(quoted("say \"x\", y"), "\"say \"\"x\"\", y\"");
     assert_eq!(quoted("plain"), "plain");
-    assert_eq!(CSV_HEADER.split(',').count(), 39);
+    assert_eq!(CSV_HEADER.split(',').count(), 44);
     for step in PrePassStep::ALL {
         let column = format!("{}_ms_median", step.name());
         assert!(CSV_HEADER.split(',').any(|c| c == column), "{column}");
     }
+}
+
+#[test]
+fn the_share_of_the_saving_runs_from_pixel_to_the_floor() {
+    let at = |row_ms| Trade::of(row_ms, 80.0, 20.0);
+    assert_eq!(at(20.0).saving_share, 1.0, "at the floor");
+    assert_eq!(at(80.0).saving_share, 0.0, "at pixel's time");
+    assert_eq!(at(50.0).saving_share, 0.5);
+    assert!(at(95.0).saving_share < 0.0, "slower than pixel");
+    assert_eq!((at(50.0).floor_ms, at(50.0).ceiling), (20.0, 4.0));
 }

@@ -206,6 +206,7 @@ fn soak_bench(args: &SoakArgs, options: &ContextOptions) -> Result<Soak> {
         discontinuity: Discontinuity::Relaxed,
         placements: Vec::new(),
         images: None,
+        min_estimated_areas: Vec::new(),
     };
     let bar = progress_bar();
     let started = std::time::Instant::now();

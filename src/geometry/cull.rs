@@ -1,12 +1,13 @@
 //! Culling before the estimate: which triangles of the multirate pass cannot be seen (outside
 //! the frustum, an image that is a segment, a back face of a one-sided mesh) and get outer
 //! level 0 without running the estimator, and which are shaded per pixel without it (the
-//! back faces of two-sided meshes). The Rust twin of `patch_culled` and `visible_level` in
+//! back faces of two-sided meshes, and images too small for an estimate to pay, by the cost
+//! model's `min_estimated_area`). The Rust twin of `patch_culled` and `visible_level` in
 //! `glsl/include/triangle_level.glsl`, operation for operation (no fused multiply-adds on
 //! either side), so that the level records of the GPU and of `analysis::report` agree bit for
 //! bit; `tests/multirate.rs` checks that.
 
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 
 /// Back faces are culled before the estimate only when the eye is more than this sine (squared)
 /// away from their plane; the rasteriser culls the nearly edge-on rest, so what is drawn never
@@ -78,6 +79,12 @@ fn norm1(v: [f32; 2]) -> f32 {
     v[0].abs() + v[1].abs()
 }
 
+/// Twice the signed area of the image of the triangle at clip positions `a`, `b`, `c`, times
+/// `a.w·b.w·c.w`: the determinant of the rows (x, y, w).
+pub fn image_determinant(a: Vec4, b: Vec4, c: Vec4) -> f32 {
+    (a.x * (b.y * c.w - c.y * b.w) - b.x * (a.y * c.w - c.y * a.w)) + c.x * (a.y * b.w - b.y * a.w)
+}
+
 /// Whether the image of the triangle at clip positions `a`, `b`, `c`, in front of the eye, is a
 /// segment or a point to floating-point precision: twice its area is at most
 /// [`DEGENERATE_IMAGE_SINE`] times the product of its two edges at one corner (in `|·|₁`). The
@@ -89,10 +96,7 @@ pub fn degenerate_image(a: Vec4, b: Vec4, c: Vec4) -> bool {
     if !(a.w > 0.0 && b.w > 0.0 && c.w > 0.0) {
         return false;
     }
-    // Twice the image's signed area times a.w·b.w·c.w: the determinant of the rows (x, y, w).
-    let area =
-        (a.x * (b.y * c.w - c.y * b.w) - b.x * (a.y * c.w - c.y * a.w)) + c.x * (a.y * b.w - b.y * a.w);
-    let size = area.abs();
+    let size = image_determinant(a, b, c).abs();
     let (ab, bc, ca) = (scaled_edge(a, b), scaled_edge(b, c), scaled_edge(c, a));
     // At corner a the edges are ab/(a.w·b.w) and ca/(c.w·a.w): the area over their product,
     // times a.w·b.w·c.w, is size·a.w over |ab|·|ca|; likewise at b and c.
@@ -102,13 +106,48 @@ pub fn degenerate_image(a: Vec4, b: Vec4, c: Vec4) -> bool {
     size * a.w <= at_a || size * b.w <= at_b || size * c.w <= at_c
 }
 
+/// Whether the image of the triangle at clip positions `a`, `b`, `c`, all in front of the eye,
+/// covers fewer than `min_area` pixels of a `viewport` (width, height) target: its area in
+/// pixels is `|det| / (a.w·b.w·c.w) · width·height/8` (the image spans 2 units of normalised
+/// device coordinates per viewport side). The area of the whole triangle bounds that of its
+/// visible part from above. A triangle with a corner at or behind the eye's plane is never small.
+pub fn small_image(a: Vec4, b: Vec4, c: Vec4, viewport: Vec2, min_area: f32) -> bool {
+    if !(a.w > 0.0 && b.w > 0.0 && c.w > 0.0) {
+        return false;
+    }
+    let pixels = image_determinant(a, b, c).abs() * (0.125 * (viewport.x * viewport.y));
+    let least = min_area * ((a.w * b.w) * c.w);
+    pixels < least
+}
+
+/// What decides, besides the triangle, whether it is shaded per pixel without an estimate
+/// ([`shaded_per_pixel`]): the draw's push constants `view_proj`, `eye`, `viewport_size`,
+/// `min_estimated_area` and its `FLAG_ONE_SIDED`.
+#[derive(Clone, Copy, Debug)]
+pub struct PerPixelRule {
+    pub view_proj: Mat4,
+    pub eye: Vec3,
+    /// The target's width and height in pixels.
+    pub viewport: Vec2,
+    /// Images smaller than this many pixels are shaded per pixel (0: every triangle is
+    /// estimated); `render::cost_model` chooses it.
+    pub min_estimated_area: f32,
+}
+
 /// Whether a triangle that is not [`culled`] is shaded per pixel without an estimate
-/// (`visible_level` in triangle_level.glsl): a back face of a two-sided mesh. The fallback
+/// (`shaded_per_pixel` in triangle_level.glsl): a back face of a two-sided mesh, or a
+/// [`small_image`], whose estimate would cost more than shading its few pixels. The fallback
 /// draw comes after the others, so where the mesh's front faces hide such a face (the far side
 /// of an open mesh) the early depth test rejects its fragments before they shade, where
 /// interpolated shading would shade all of its sub-vertices.
-pub fn shaded_per_pixel(eye: Vec3, p: [Vec3; 3], one_sided: bool) -> bool {
-    !one_sided && faces_away(eye, p)
+pub fn shaded_per_pixel(rule: &PerPixelRule, p: [Vec3; 3], one_sided: bool) -> bool {
+    if !one_sided && faces_away(rule.eye, p) {
+        return true;
+    }
+    rule.min_estimated_area > 0.0 && {
+        let [a, b, c] = p.map(|p| clip_of(&rule.view_proj, p));
+        small_image(a, b, c, rule.viewport, rule.min_estimated_area)
+    }
 }
 
 #[cfg(test)]

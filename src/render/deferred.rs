@@ -215,7 +215,7 @@ impl Renderer {
         let extent = target.extent();
         let attachments = instrumentation.attachments();
         target.begin(device, cmd, self.clear_color, attachments);
-        let mut constants = draw_constants(view, extent);
+        let mut constants = draw_constants(view, extent, 0.0);
         // SAFETY: recording inside the rendering begun above; every object is owned by `self`
         // and outlives the submission.
         unsafe {

@@ -39,12 +39,13 @@ pub(super) struct EmitterDraw {
 }
 
 /// The push constants of `view` on a target of `extent` (per draw: material, mesh, first
-/// triangle).
-pub(super) fn draw_constants(view: &View, extent: vk::Extent2D) -> DrawConstants {
+/// triangle), `min_estimated_area` from the cost model or the view (`Renderer::min_estimated_area`).
+pub(super) fn draw_constants(view: &View, extent: vk::Extent2D, min_estimated_area: f32) -> DrawConstants {
     let estimator = &view.estimator;
     DrawConstants {
         view_proj: camera::view_projection(&view.camera, extent.width, extent.height),
-        eye: view.camera.eye.extend(1.0),
+        eye: view.camera.eye,
+        min_estimated_area,
         viewport_size: Vec2::new(extent.width as f32, extent.height as f32),
         epsilon: estimator.epsilon,
         // The shaders' range (their estimator, patch levels and heat map read it in it).
@@ -85,7 +86,7 @@ impl Renderer {
         let device = &self.context.device;
         let extent = target.extent();
         target.begin(device, cmd, clear, attachments);
-        let mut constants = draw_constants(view, extent);
+        let mut constants = draw_constants(view, extent, self.min_estimated_area(view));
         // SAFETY: `cmd` is recording inside the rendering begun above; every bound object is
         // owned by `self` and outlives the submission (callers wait before dropping).
         unsafe {

@@ -10,10 +10,12 @@
 //! - `draws`: the forward draws (and lavapipe's limits on them);
 //! - `instrumentation`: timings, evaluation counts, analysis frames and level records;
 //! - [`deferred`]: the `pixel-deferred` passes;
+//! - [`cost_model`]: where estimating a triangle's level pays, per device;
 //! - [`capture`], [`limits`], [`output`], [`present`], [`textures`]: the tessellation
 //!   pattern check, the scene's limits, image files, presentation and the scene's textures.
 
 pub mod capture;
+pub mod cost_model;
 pub mod deferred;
 mod descriptors;
 mod draws;
@@ -49,6 +51,7 @@ use crate::vk::context::DeviceLimits;
 use crate::vk::target::{AfterPass, Attachments, FloatImage, RenderTarget};
 use crate::vk::Context;
 use ash::vk;
+use cost_model::CostModel;
 use std::cell::OnceCell;
 use std::sync::{Arc, Mutex};
 
@@ -76,6 +79,10 @@ pub struct Renderer {
     /// Most tessellated vertices one draw may emit, where the driver needs a limit
     /// (lavapipe: `draws::tessellated_vertex_budget`).
     tessellated_vertex_budget: Option<u32>,
+    /// Where estimating pays on this device (views with `cost_model` set).
+    cost_model: CostModel,
+    /// The scene's light count, which the cost model weighs.
+    light_count: usize,
 }
 
 impl Renderer {
@@ -106,7 +113,25 @@ impl Renderer {
             deferred: OnceCell::new(),
             clear_color: [clear.x, clear.y, clear.z, 0.0],
             tessellated_vertex_budget: tessellated_vertex_budget(&context.info),
+            cost_model: CostModel::for_device(&context.info.name),
+            light_count: scene.lights.len().max(1),
         })
+    }
+
+    /// The device's cost model (a stored calibration or the built-in figures).
+    pub fn cost_model(&self) -> &CostModel {
+        &self.cost_model
+    }
+
+    /// The image area (pixels) below which `view`'s multirate pass shades a triangle per pixel
+    /// without an estimate: the cost model's break-even area for the scene's lights where
+    /// `view.cost_model` is set, else `view.estimator.min_estimated_area`.
+    pub fn min_estimated_area(&self, view: &View) -> f32 {
+        if view.cost_model {
+            self.cost_model.min_estimated_area(self.light_count)
+        } else {
+            view.estimator.min_estimated_area
+        }
     }
 
     /// Renders one frame into `target` and reads the float image back.

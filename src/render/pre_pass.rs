@@ -114,7 +114,7 @@ impl Renderer {
         stamp: &dyn Fn(Timed, bool),
     ) {
         self.reset_pre_pass(cmd);
-        let mut constants = draw_constants(view, extent);
+        let mut constants = draw_constants(view, extent, self.min_estimated_area(view));
         constants.patches_per_draw = self.patches_per_draw(view.estimator.n_max);
         self.bind_set_at(cmd, vk::PipelineBindPoint::COMPUTE, 0, self.descriptors.set);
         for step in PrePassStep::ALL {

@@ -15,6 +15,9 @@ pub struct View {
     pub estimator: EstimatorSettings,
     /// `multirate` only: where the estimator runs.
     pub placement: Placement,
+    /// `multirate` only: the renderer's cost model chooses which triangles are estimated
+    /// (`Renderer::min_estimated_area`), in place of `estimator.min_estimated_area`.
+    pub cost_model: bool,
     /// Colour by tessellation level (heat map) instead of shading.
     pub heat_map: bool,
     /// Draw triangle edges only (where the device has `fillModeNonSolid`).
@@ -37,8 +40,10 @@ impl View {
                 n_max: scene.settings.n_max,
                 split: Split::Heuristic,
                 discontinuity: Discontinuity::Relaxed,
+                min_estimated_area: 0.0,
             },
             placement: Placement::default(),
+            cost_model: false,
             heat_map: false,
             wireframe: false,
             derivative_check: false,

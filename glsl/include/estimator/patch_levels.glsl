@@ -19,8 +19,15 @@ float pattern_level(uint inner, uint outer) {
     return float(q) * (1.0 / 256.0);
 }
 
-// The smallest n in 1..n_max whose uniform pattern has effective level >= level; 0 if none.
+// Above every effective level the table holds (16-bit entries in 1/256).
+const float ABOVE_EVERY_PATTERN = 256.0;
+
+// The smallest n in 1..n_max whose uniform pattern has effective level >= level; 0 if none. A
+// level above ABOVE_EVERY_PATTERN (FALLBACK_LEVEL) gives 0 without searching.
 uint uniform_level(float level, uint n_max) {
+    if (level > ABOVE_EVERY_PATTERN) {
+        return 0u;
+    }
     uint top = clamp(n_max, 1u, 64u);
     for (uint n = 1u; n <= top; ++n) {
         if (pattern_level(n, n) >= level) {

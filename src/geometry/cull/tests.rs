@@ -24,8 +24,14 @@ fn a_facing_triangle_in_view_is_kept_and_its_back_culled_when_one_sided() {
     assert!(!culled(&vp, cam.eye, front, true));
     assert!(culled(&vp, cam.eye, back, true));
     assert!(!culled(&vp, cam.eye, back, false), "two-sided meshes keep back faces");
-    assert!(shaded_per_pixel(cam.eye, back, false), "and shade them per pixel");
-    assert!(!shaded_per_pixel(cam.eye, front, false) && !shaded_per_pixel(cam.eye, back, true));
+    let rule = PerPixelRule {
+        view_proj: vp,
+        eye: cam.eye,
+        viewport: Vec2::new(640.0, 480.0),
+        min_estimated_area: 0.0,
+    };
+    assert!(shaded_per_pixel(&rule, back, false), "and shade them per pixel");
+    assert!(!shaded_per_pixel(&rule, front, false) && !shaded_per_pixel(&rule, back, true));
 }
 
 #[test]
@@ -91,4 +97,32 @@ fn a_corner_behind_the_eye_is_left_to_clipping() {
     let vp = view_projection(&cam, 640, 480);
     let behind = [Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 9.0)];
     assert!(!degenerate_image(clip_of(&vp, behind[0]), clip_of(&vp, behind[1]), clip_of(&vp, behind[2])));
+}
+
+#[test]
+fn small_images_are_measured_in_pixels_and_never_behind_the_eye() {
+    let cam = camera();
+    let (width, height) = (640, 480);
+    let vp = view_projection(&cam, width, height);
+    let viewport = Vec2::new(width as f32, height as f32);
+    // At distance 5 with a 60° field of view, 240 pixels span tan 30° · 5 units: a right
+    // triangle with legs of 0.1 units covers (0.1 · 240 / (5 tan 30°))² / 2 ≈ 34.6 pixels.
+    let legs = 0.1;
+    let pixels_per_unit = 240.0 / (5.0 * 30f32.to_radians().tan());
+    let area = (legs * pixels_per_unit).powi(2) / 2.0;
+    let p = [Vec3::ZERO, Vec3::new(legs, 0.0, 0.0), Vec3::new(0.0, legs, 0.0)];
+    let [a, b, c] = p.map(|p| clip_of(&vp, p));
+    assert!((area - 34.6).abs() < 0.1, "{area}");
+    assert!(small_image(a, b, c, viewport, area * 1.01));
+    assert!(!small_image(a, b, c, viewport, area * 0.99));
+    let rule =
+        |min_estimated_area| PerPixelRule { view_proj: vp, eye: cam.eye, viewport, min_estimated_area };
+    assert!(shaded_per_pixel(&rule(40.0), p, true), "a small front face is shaded per pixel");
+    assert!(!shaded_per_pixel(&rule(30.0), p, true) && !shaded_per_pixel(&rule(0.0), p, true));
+    let back = [p[0], p[2], p[1]];
+    assert!(shaded_per_pixel(&rule(0.0), back, false), "back faces of two-sided meshes still are");
+    // A corner behind the eye: the image is unbounded, never small.
+    let crossing = [Vec3::new(0.0, 0.0, 10.0), Vec3::new(0.01, 0.0, 0.0), Vec3::new(0.0, 0.01, 0.0)];
+    let [a, b, c] = crossing.map(|p| clip_of(&vp, p));
+    assert!(!small_image(a, b, c, viewport, 1.0e9));
 }

@@ -58,6 +58,11 @@ pub struct EstimatorSettings {
     pub n_max: u32,
     pub split: Split,
     pub discontinuity: Discontinuity,
+    /// Triangles whose image covers fewer pixels than this are shaded per pixel without an
+    /// estimate, where estimating costs more than it can save (`geometry::cull::small_image`;
+    /// `render::cost_model` chooses it per device and scene). 0: every visible triangle is
+    /// estimated.
+    pub min_estimated_area: f32,
 }
 
 impl Default for EstimatorSettings {
@@ -67,6 +72,7 @@ impl Default for EstimatorSettings {
             n_max: 16,
             split: Split::Heuristic,
             discontinuity: Discontinuity::Relaxed,
+            min_estimated_area: 0.0,
         }
     }
 }

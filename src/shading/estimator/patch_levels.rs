@@ -41,9 +41,17 @@ pub fn pattern_level(inner: u32, outer: u32) -> f32 {
     pattern_level_entry(&PATTERN_LEVELS, inner, outer) as f32 * (1.0 / 256.0)
 }
 
+/// Above every effective level the table holds (16-bit entries in 1/256): a level above it has
+/// no uniform level, whatever `n_max`.
+pub const ABOVE_EVERY_PATTERN: f32 = 256.0;
+
 /// The smallest `n` in `1..=n_max` whose uniform pattern has effective level `≥ level`;
-/// 0 when there is none (NaN included).
+/// 0 when there is none (NaN included). A level above [`ABOVE_EVERY_PATTERN`] (the fallback
+/// level of a triangle shaded per pixel) gives 0 without searching.
 pub fn uniform_level(level: f32, n_max: u32) -> u32 {
+    if level > ABOVE_EVERY_PATTERN {
+        return 0;
+    }
     for n in 1..=n_max.clamp(1, 64) {
         if pattern_level(n, n) >= level {
             return n;

@@ -159,7 +159,13 @@ fn all_settings(eps: f32) -> Vec<EstimatorSettings> {
     let mut v = Vec::new();
     for split in [Split::Uniform, Split::Heuristic] {
         for discontinuity in [Discontinuity::Conservative, Discontinuity::Relaxed] {
-            v.push(EstimatorSettings { epsilon: eps, n_max: 16, split, discontinuity });
+            v.push(EstimatorSettings {
+                epsilon: eps,
+                n_max: 16,
+                split,
+                discontinuity,
+                min_estimated_area: 0.0,
+            });
         }
     }
     v

@@ -1,0 +1,155 @@
+//! `multirate calibrate`: measures the device costs of the cost model
+//! (`render::cost_model`): the pre-pass's estimate per triangle and per-pixel shading per
+//! fragment, each at two light counts, from which the model draws its lines.
+//!
+//! Per light count `L`, the scene is lit by `L` point lights around its camera's target (its
+//! own lights replaced) and benchmarked in turns (`pixel`, `vertex`, `multirate` estimating
+//! every visible triangle): the estimate costs the estimate step's time over the triangles it
+//! estimated (counted by the culling twin, `geometry::cull`), a pixel costs `pixel`'s time
+//! above `vertex`'s (which rasterises and tests the same depth) over its shaded fragments.
+
+use super::{run, BenchConfig, BenchScene, Progress, Row};
+use crate::error::Result;
+use crate::geometry::camera::view_projection;
+use crate::geometry::cull::{culled, shaded_per_pixel, PerPixelRule};
+use crate::render::cost_model::{Calibration, LinearCost};
+use crate::render::{Mode, PrePassStep};
+use crate::scene::{Light, Scene};
+use crate::shading::estimator::{Discontinuity, Split};
+use crate::vk::Context;
+use glam::{Vec2, Vec3};
+use std::sync::Arc;
+
+/// The light counts the lines are drawn through.
+pub const LIGHT_COUNTS: [usize; 2] = [1, 8];
+
+/// One light count's measurement.
+#[derive(Clone, Copy, Debug)]
+pub struct CostSample {
+    pub lights: usize,
+    /// Nanoseconds per estimated triangle.
+    pub estimate_ns: f64,
+    /// Nanoseconds per fragment shaded per pixel.
+    pub pixel_ns: f64,
+    /// The triangles the pre-pass estimated, and the fragments `pixel` shaded.
+    pub estimated_triangles: usize,
+    pub fragments: u64,
+}
+
+/// Measures `scene` (at its own resolution) with each of [`LIGHT_COUNTS`] point lights, and
+/// the calibration through both.
+pub fn calibrate(
+    context: &Arc<Context>,
+    scene: &BenchScene,
+    frames: u32,
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<(Calibration, Vec<CostSample>)> {
+    let config = BenchConfig {
+        modes: vec![Mode::Pixel, Mode::Vertex, Mode::Multirate],
+        epsilons: Vec::new(),
+        n_maxes: Vec::new(),
+        resolutions: Vec::new(),
+        warmup: 2,
+        frames,
+        split: Split::Heuristic,
+        discontinuity: Discontinuity::Relaxed,
+        placements: Vec::new(),
+        images: None,
+        min_estimated_areas: vec![Some(0.0)],
+    };
+    let mut samples = Vec::new();
+    for lights in LIGHT_COUNTS {
+        let lit = BenchScene {
+            name: format!("{} ({lights} lights)", scene.name),
+            scene: lit_by(&scene.scene, lights),
+        };
+        let rows = run(context, std::slice::from_ref(&lit), &config, progress)?.rows;
+        samples.push(sample(&lit.scene, lights, &rows));
+    }
+    let line = |cost: fn(&CostSample) -> f64| {
+        LinearCost::through((samples[0].lights, cost(&samples[0])), (samples[1].lights, cost(&samples[1])))
+    };
+    let calibration = Calibration {
+        estimate: line(|s| s.estimate_ns),
+        pixel: line(|s| s.pixel_ns),
+        measured_with: format!(
+            "multirate calibrate --scene {} --frames {frames} on {} ({})",
+            scene.scene.path.display(),
+            context.info.name,
+            context.info.driver
+        ),
+    };
+    Ok((calibration, samples))
+}
+
+/// The costs one light count's rows give.
+fn sample(scene: &Scene, lights: usize, rows: &[Row]) -> CostSample {
+    let median = |mode: &str| rows.iter().find(|row| row.mode == mode).expect("measured");
+    let (pixel, vertex, multirate) = (median("pixel"), median("vertex"), median("multirate"));
+    let estimate_ms = multirate.pre_pass_steps_ms.map_or(0.0, |steps| steps[PrePassStep::Levels as usize]);
+    let estimated_triangles = estimated_triangles(scene).max(1);
+    let fragments = pixel.evaluations.fragments.max(1);
+    CostSample {
+        lights,
+        estimate_ns: estimate_ms * 1.0e6 / estimated_triangles as f64,
+        pixel_ns: (pixel.gpu_ms.median - vertex.gpu_ms.median).max(0.0) * 1.0e6 / fragments as f64,
+        estimated_triangles,
+        fragments,
+    }
+}
+
+/// The triangles the pre-pass estimates with the scene's camera at its size: neither culled
+/// nor shaded per pixel without an estimate (with no area floor).
+pub fn estimated_triangles(scene: &Scene) -> usize {
+    let (width, height) = (scene.settings.width, scene.settings.height);
+    let view_proj = view_projection(&scene.camera, width, height);
+    let rule = PerPixelRule {
+        view_proj,
+        eye: scene.camera.eye,
+        viewport: Vec2::new(width as f32, height as f32),
+        min_estimated_area: 0.0,
+    };
+    let mut count = 0;
+    for mesh in &scene.meshes {
+        for corners in mesh.indices.chunks_exact(3) {
+            let p = [0, 1, 2].map(|k| mesh.positions[corners[k] as usize]);
+            let one_sided = !mesh.two_sided;
+            if !culled(&view_proj, scene.camera.eye, p, one_sided) && !shaded_per_pixel(&rule, p, one_sided) {
+                count += 1;
+            }
+        }
+    }
+    count
+}
+
+/// `scene` with its lights replaced by `count` white point lights on a golden-angle spiral
+/// around the camera's target, at the distance of its first point light (or of the camera),
+/// each of the same intensity.
+pub fn lit_by(scene: &Scene, count: usize) -> Scene {
+    let target = scene.camera.target;
+    let (distance, intensity) = scene
+        .lights
+        .iter()
+        .find_map(|light| match light {
+            Light::Point { position, intensity, .. } => Some((position.distance(target), *intensity)),
+            _ => None,
+        })
+        .unwrap_or((scene.camera.eye.distance(target), 100.0));
+    let golden = std::f32::consts::PI * (3.0 - 5f32.sqrt());
+    let lights = (0..count)
+        .map(|k| {
+            // Heights from near the top down to the horizon, so that every light reaches the
+            // side the camera sees from above.
+            let y = 1.0 - (k as f32 + 0.5) / count as f32;
+            let radius = (1.0 - y * y).sqrt();
+            let angle = golden * k as f32;
+            let direction = Vec3::new(radius * angle.cos(), y, radius * angle.sin());
+            Light::Point {
+                position: target + direction * distance,
+                color: Vec3::ONE,
+                intensity: intensity / count as f32,
+            }
+        })
+        .collect();
+    Scene { lights, ..scene.clone() }
+}

@@ -1,0 +1,174 @@
+//! The trade's bounds (issue: never slower than per-pixel shading): every scene with its floor
+//! (`vertex`), its ceiling (`pixel` / `vertex`), the empty frame, and multirate with the cost
+//! model against multirate estimating every triangle; and the light-count sweep, the bunny lit
+//! by 1, 4, 16 and 64 point lights.
+
+use super::{config, header, percent, write, ExperimentOptions, Plan};
+use crate::bench::calibrate::lit_by;
+use crate::bench::{run, to_csv, BenchScene, Progress, Row};
+use crate::error::Error;
+use crate::error::Result;
+use crate::render::Mode;
+use crate::vk::Context;
+use std::fmt::Write as _;
+use std::sync::Arc;
+
+/// The light counts of the sweep.
+pub const SWEEP_LIGHTS: [usize; 4] = [1, 4, 16, 64];
+
+/// The scenes of the bounds table (the first one's lights are swept): the shipped ones, the
+/// many-light bunnies and the dense meshes.
+pub const SCENES: [&str; 9] = [
+    "bunny",
+    "teapot",
+    "plane_lights",
+    "bunny_16",
+    "bunny_64",
+    "bunny_dense",
+    "teapot_dense",
+    "gear",
+    "sculpture",
+];
+
+/// Runs both parts and returns the page (`docs/trade.md`), its CSVs written into
+/// `options.out`.
+pub fn trade_page(
+    context: &Arc<Context>,
+    options: &ExperimentOptions,
+    progress: &mut dyn FnMut(&str, Progress<'_>),
+) -> Result<String> {
+    let plan = Plan::new(options.quick);
+    std::fs::create_dir_all(&options.out)
+        .map_err(|e| Error::Output { path: options.out.clone(), message: format!("cannot create: {e}") })?;
+    let scenes = SCENES
+        .iter()
+        .map(|name| BenchScene::load(&options.scenes.join(format!("{name}.toml"))))
+        .collect::<Result<Vec<_>>>()?;
+    let mut md = String::new();
+    header(&mut md, context, options);
+    trade(&mut md, context, options, &plan, &scenes, progress)?;
+    Ok(md)
+}
+
+fn trade(
+    md: &mut String,
+    context: &Arc<Context>,
+    options: &ExperimentOptions,
+    plan: &Plan,
+    scenes: &[BenchScene],
+    progress: &mut dyn FnMut(&str, Progress<'_>),
+) -> Result<()> {
+    let mut both = config(options, vec![Mode::Vertex, Mode::Multirate], vec![plan.sweep]);
+    both.min_estimated_areas = vec![None, Some(0.0)];
+    let rows = run(context, scenes, &both, &mut |p| progress("the trade's bounds", p))?.rows;
+    write(&options.out.join("trade.csv"), &to_csv(&rows))?;
+    bounds_table(md, &rows, plan.sweep);
+
+    let lit: Vec<BenchScene> = SWEEP_LIGHTS
+        .iter()
+        .map(|&count| BenchScene {
+            name: format!("{}, {count} lights", scenes[0].name),
+            scene: lit_by(&scenes[0].scene, count),
+        })
+        .collect();
+    let sweep_rows = run(context, &lit, &both, &mut |p| progress("light-count sweep", p))?.rows;
+    write(&options.out.join("lights.csv"), &to_csv(&sweep_rows))?;
+    light_sweep(md, &sweep_rows, plan.sweep);
+    Ok(())
+}
+
+fn find<'a>(rows: &'a [Row], scene: &str, mode: &str, cost_model: Option<bool>) -> Option<&'a Row> {
+    rows.iter().find(|r| {
+        r.scene == scene
+            && r.mode == mode
+            && cost_model.is_none_or(|on| r.min_estimated_area.is_some_and(|a| (a > 0.0) == on))
+    })
+}
+
+fn ms(row: &Row) -> String {
+    match row.pre_pass_ms {
+        Some(pre_pass) => format!("{:.1} ({:.1})", row.gpu_ms.median, pre_pass.median),
+        None => format!("{:.1}", row.gpu_ms.median),
+    }
+}
+
+fn share(row: &Row) -> String {
+    row.trade.map_or_else(|| "–".to_string(), |t| percent(t.saving_share))
+}
+
+fn bounds_table(md: &mut String, rows: &[Row], (w, h): (u32, u32)) {
+    let _ =
+        writeln!(md, "## The trade's bounds: floor, ceiling and the share of the saving taken ({w}×{h})\n");
+    let _ = writeln!(
+        md,
+        "`vertex` shades once per vertex: its time is the floor any shading-rate method can approach, and `pixel` over it the ceiling of the speedup. The share of the possible saving a mode takes is (t_pixel − t) / (t_pixel − t_vertex): 100 % at the floor, 0 at `pixel`'s time, below 0 where it is slower. The empty frame draws nothing visible (every triangle behind the eye). multirate runs with the device's cost model (images below the break-even area, \"estimated above\", are shaded per pixel without an estimate) and, for comparison, estimating every visible triangle. Times in ms (pre-pass in brackets).\n"
+    );
+    let _ = writeln!(
+        md,
+        "| scene | triangles | pixel | vertex (floor) | ceiling | empty | multirate | speedup | share | estimated above | every triangle estimated | share |"
+    );
+    let _ =
+        writeln!(md, "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
+    for pixel in rows.iter().filter(|r| r.mode == "pixel" && (r.width, r.height) == (w, h)) {
+        let (Some(vertex), Some(model), Some(every)) = (
+            find(rows, &pixel.scene, "vertex", None),
+            find(rows, &pixel.scene, "multirate", Some(true)),
+            find(rows, &pixel.scene, "multirate", Some(false)),
+        ) else {
+            continue;
+        };
+        let _ = writeln!(
+            md,
+            "| {} | {} | {:.1} | {:.1} | {:.2}× | {:.1} | {} | {} | {} | {:.1} px | {} | {} |",
+            pixel.scene,
+            pixel.triangles,
+            pixel.gpu_ms.median,
+            vertex.gpu_ms.median,
+            pixel.gpu_ms.median / vertex.gpu_ms.median,
+            pixel.empty_ms,
+            ms(model),
+            percent(model.speedup),
+            share(model),
+            model.min_estimated_area.unwrap_or_default(),
+            ms(every),
+            share(every),
+        );
+    }
+    let _ = writeln!(md);
+}
+
+fn light_sweep(md: &mut String, rows: &[Row], (w, h): (u32, u32)) {
+    let _ = writeln!(md, "## Light-count sweep: the bunny lit by 1 to 64 point lights ({w}×{h})\n");
+    let _ = writeln!(
+        md,
+        "The bunny's lights replaced by N white point lights around it (`bench::calibrate::lit_by`, the total intensity kept). Shading costs grow with N both per pixel and in the estimate; this is where a device's break-even lies.\n"
+    );
+    let _ = writeln!(
+        md,
+        "| lights | pixel | vertex | multirate | speedup | share | estimated above | every triangle estimated | speedup | share |"
+    );
+    let _ = writeln!(md, "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
+    for (pixel, count) in rows.iter().filter(|r| r.mode == "pixel").zip(SWEEP_LIGHTS) {
+        let (Some(vertex), Some(model), Some(every)) = (
+            find(rows, &pixel.scene, "vertex", None),
+            find(rows, &pixel.scene, "multirate", Some(true)),
+            find(rows, &pixel.scene, "multirate", Some(false)),
+        ) else {
+            continue;
+        };
+        let _ = writeln!(
+            md,
+            "| {count} | {:.1} | {:.1} | {} | {} | {} | {:.1} px | {} | {} | {} |",
+            pixel.gpu_ms.median,
+            vertex.gpu_ms.median,
+            ms(model),
+            percent(model.speedup),
+            share(model),
+            model.min_estimated_area.unwrap_or_default(),
+            ms(every),
+            percent(every.speedup),
+            share(every),
+        );
+    }
+    let _ = writeln!(md);
+}

@@ -1,0 +1,68 @@
+//! The binary's `calibrate` subcommand: measures this device's costs for the cost model
+//! (`bench::calibrate`), prints them with the break-even areas they give, and stores them
+//! where the renderer looks for them (`CostModel::for_device`).
+
+use super::{load_scene, options, progress_bar, GpuArgs};
+use anyhow::{Context as _, Result};
+use clap::Args;
+use multirate::bench::{calibrate, BenchScene};
+use multirate::render::cost_model::CostModel;
+use multirate::vk::Context;
+use std::path::PathBuf;
+
+#[derive(Args)]
+pub struct CalibrateArgs {
+    /// The scene measured (its camera, resolution and meshes; its lights are replaced).
+    #[arg(long, default_value = "scenes/bunny.toml")]
+    pub scene: PathBuf,
+    /// Measured frames per configuration.
+    #[arg(long, default_value_t = 6)]
+    frames: u32,
+    /// Where to store the calibration (default: $MULTIRATE_COST_MODEL, else
+    /// $XDG_CONFIG_HOME/multirate/cost_model.toml or ~/.config/multirate/cost_model.toml).
+    #[arg(long)]
+    store: Option<PathBuf>,
+    /// Print the figures without storing them.
+    #[arg(long)]
+    dry_run: bool,
+}
+
+pub fn calibrate(args: &CalibrateArgs, gpu: &GpuArgs) -> Result<()> {
+    anyhow::ensure!(args.frames >= 1, "--frames must be at least 1");
+    let scene = BenchScene { name: "calibration".into(), scene: load_scene(&args.scene)? };
+    let context = Context::headless(&options(gpu))?;
+    let bar = progress_bar();
+    let (calibration, samples) = calibrate::calibrate(&context, &scene, args.frames, &mut |progress| {
+        bar.set_length(progress.total as u64);
+        bar.set_position(progress.done as u64);
+        bar.set_message(progress.label.to_string());
+    })?;
+    bar.finish_and_clear();
+    println!("{} ({}), {}:", context.info.name, context.info.driver, args.scene.display());
+    for s in &samples {
+        println!(
+            "  {:>2} lights: estimate {:.0} ns per triangle ({} estimated), pixel {:.1} ns per fragment ({} shaded)",
+            s.lights, s.estimate_ns, s.estimated_triangles, s.pixel_ns, s.fragments
+        );
+    }
+    let (e, p) = (&calibration.estimate, &calibration.pixel);
+    println!(
+        "  estimate {:.0} + {:.0}·L ns, pixel {:.1} + {:.1}·L ns",
+        e.fixed_ns, e.per_light_ns, p.fixed_ns, p.per_light_ns
+    );
+    let model = CostModel { calibration: calibration.clone(), source: "this calibration".into() };
+    let areas: Vec<String> =
+        [1, 4, 16, 64].iter().map(|&l| format!("{l} lights {:.1} px", model.min_estimated_area(l))).collect();
+    println!("  estimated above: {}", areas.join(", "));
+    let messages = context.validation().count();
+    anyhow::ensure!(messages == 0, "the validation layer reported {messages} message(s)");
+    if args.dry_run {
+        return Ok(());
+    }
+    let store = args.store.clone().or_else(CostModel::default_store).context(
+        "no place to store the calibration: set --store, MULTIRATE_COST_MODEL, XDG_CONFIG_HOME or HOME",
+    )?;
+    CostModel::store(&store, &context.info.name, &calibration)?;
+    println!("stored for \"{}\" in {}", context.info.name, store.display());
+    Ok(())
+}

@@ -1,0 +1,142 @@
+//! The cost model of `multirate` mode: where estimating a triangle's level can pay.
+//!
+//! Estimating costs about the same whatever the triangle's size, shading per pixel costs its
+//! pixels: a triangle whose image covers `A` pixels costs `A · pixel(L)` shaded per pixel, and
+//! at least `estimate(L) + 3 · pixel(L)` estimated (the estimate, then at best level 1: its
+//! three corners shaded, each about as dear as a pixel), `L` being the scene's light count.
+//! Below the break-even area `A* = estimate(L) / pixel(L) + 3` the pre-pass shades a triangle
+//! per pixel without estimating it (`geometry::cull::small_image`, `draw.min_estimated_area`).
+//! Per-pixel shading is exact, so the choice never costs accuracy; the area bounds the image
+//! from above, so it never sends a triangle that would pay per pixel.
+//!
+//! Both costs grow linearly with the lights (a fixed part, a part per light) and depend on the
+//! device: `multirate calibrate` measures them ([`Calibration`]) and stores them per device
+//! name ([`CostModel::store`], read back by [`CostModel::for_device`]); a device without a
+//! stored calibration uses the figures measured on lavapipe ([`CostModel::lavapipe`]).
+
+use crate::error::{Error, Result};
+use crate::scene::Scene;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// A device time that grows linearly with the scene's lights, in nanoseconds.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct LinearCost {
+    pub fixed_ns: f64,
+    pub per_light_ns: f64,
+}
+
+impl LinearCost {
+    /// The cost with `lights` lights (never below a nanosecond's hundredth, so that ratios
+    /// stay finite).
+    pub fn at(&self, lights: usize) -> f64 {
+        (self.fixed_ns + self.per_light_ns * lights as f64).max(0.01)
+    }
+
+    /// The line through the costs measured at two light counts (`low < high`).
+    pub fn through(low: (usize, f64), high: (usize, f64)) -> LinearCost {
+        let per_light_ns = (high.1 - low.1) / (high.0 - low.0) as f64;
+        LinearCost { fixed_ns: low.1 - per_light_ns * low.0 as f64, per_light_ns }
+    }
+}
+
+/// The device costs the model weighs.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Calibration {
+    /// The pre-pass's estimate step per triangle it estimates.
+    pub estimate: LinearCost,
+    /// Per-pixel shading per fragment shaded (`pixel` mode's time above `vertex` mode's, over
+    /// its shaded fragments).
+    pub pixel: LinearCost,
+    /// How the figures were measured (the command and the scene).
+    pub measured_with: String,
+}
+
+/// The cost model of one device.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CostModel {
+    pub calibration: Calibration,
+    /// Where the figures come from: a stored calibration of this device, or the built-in one.
+    pub source: String,
+}
+
+/// Calibrations per device name, as `multirate calibrate` stores them.
+#[derive(Default, serde::Serialize, serde::Deserialize)]
+struct Store {
+    #[serde(default)]
+    devices: BTreeMap<String, Calibration>,
+}
+
+impl CostModel {
+    /// The figures measured on lavapipe (llvmpipe, Mesa 22.3.6, LLVM 15, 2 cores, x86_64):
+    /// `multirate calibrate` (docs/cost_model.md).
+    pub fn lavapipe() -> CostModel {
+        CostModel {
+            calibration: Calibration {
+                estimate: LinearCost { fixed_ns: 1416.0, per_light_ns: 703.0 },
+                pixel: LinearCost { fixed_ns: 33.0, per_light_ns: 31.1 },
+                measured_with:
+                    "built in: multirate calibrate --scene scenes/bunny.toml --frames 6 on llvmpipe \
+                                (LLVM 15.0.6, 256 bits), Mesa 22.3.6, GALLIVM_PERF=nopt, 2 cores"
+                        .into(),
+            },
+            source: "built-in (lavapipe)".into(),
+        }
+    }
+
+    /// The model of the device named `device`: its stored calibration (the default store, see
+    /// [`CostModel::default_store`]) if there is one, else [`CostModel::lavapipe`]'s figures.
+    pub fn for_device(device: &str) -> CostModel {
+        CostModel::default_store()
+            .and_then(|path| {
+                let calibration = load_store(&path).ok()?.devices.remove(device)?;
+                Some(CostModel { calibration, source: format!("calibrated ({})", path.display()) })
+            })
+            .unwrap_or_else(CostModel::lavapipe)
+    }
+
+    /// Where `multirate calibrate` stores calibrations: `$MULTIRATE_COST_MODEL`, else
+    /// `$XDG_CONFIG_HOME/multirate/cost_model.toml`, else `$HOME/.config/multirate/cost_model.toml`.
+    pub fn default_store() -> Option<PathBuf> {
+        if let Some(path) = std::env::var_os("MULTIRATE_COST_MODEL") {
+            return Some(PathBuf::from(path));
+        }
+        let config = std::env::var_os("XDG_CONFIG_HOME")
+            .map(PathBuf::from)
+            .or_else(|| std::env::var_os("HOME").map(|home| Path::new(&home).join(".config")))?;
+        Some(config.join("multirate").join("cost_model.toml"))
+    }
+
+    /// Adds (or replaces) `device`'s calibration in the store at `path`, keeping the others.
+    pub fn store(path: &Path, device: &str, calibration: &Calibration) -> Result<()> {
+        let mut store = if path.exists() { load_store(path)? } else { Store::default() };
+        store.devices.insert(device.to_string(), calibration.clone());
+        let output = |message: String| Error::Output { path: path.to_path_buf(), message };
+        let text = toml::to_string(&store).map_err(|e| output(e.to_string()))?;
+        if let Some(folder) = path.parent() {
+            std::fs::create_dir_all(folder).map_err(|e| output(format!("cannot create its folder: {e}")))?;
+        }
+        std::fs::write(path, text).map_err(|e| output(e.to_string()))
+    }
+
+    /// The break-even image area `A*` (pixels) with `lights` lights: images smaller than this
+    /// are shaded per pixel without an estimate.
+    pub fn min_estimated_area(&self, lights: usize) -> f32 {
+        let c = &self.calibration;
+        (c.estimate.at(lights) / c.pixel.at(lights) + 3.0) as f32
+    }
+
+    /// [`CostModel::min_estimated_area`] with `scene`'s lights (at least one).
+    pub fn min_estimated_area_of(&self, scene: &Scene) -> f32 {
+        self.min_estimated_area(scene.lights.len().max(1))
+    }
+}
+
+fn load_store(path: &Path) -> Result<Store> {
+    let output = |message: String| Error::Output { path: path.to_path_buf(), message };
+    let text = std::fs::read_to_string(path).map_err(|e| output(format!("cannot read: {e}")))?;
+    toml::from_str(&text).map_err(|e| output(format!("not a cost-model store: {e}")))
+}
+
+#[cfg(test)]
+mod tests;
