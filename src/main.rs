@@ -379,6 +379,9 @@ fn render(args: &RenderArgs, gpu: &GpuArgs) -> Result<()> {
         view.mode,
         context.info.name
     );
+    if view.mode == Mode::Multirate {
+        println!("{}", cost_model_line(&context, &scene, &view));
+    }
     if matches!(view.mode, Mode::Fixed(_) | Mode::Multirate) {
         if let Some(note) = multirate::render::draw_splitting_note(&context.info) {
             println!("{note}");
@@ -387,6 +390,24 @@ fn render(args: &RenderArgs, gpu: &GpuArgs) -> Result<()> {
     let messages = context.validation().count();
     anyhow::ensure!(messages == 0, "the validation layer reported {messages} message(s)");
     Ok(())
+}
+
+/// What multirate's pass estimated with: the cost model's break-even area for the device and the
+/// scene, or the area given.
+fn cost_model_line(context: &Context, scene: &Scene, view: &View) -> String {
+    if view.cost_model {
+        let model = CostModel::for_device(&context.info.name);
+        format!(
+            "cost model {}: images under {:.1} px are shaded per pixel without an estimate (`multirate calibrate` measures this device)",
+            model.source,
+            model.min_estimated_area_of(scene)
+        )
+    } else {
+        format!(
+            "images under {} px are shaded per pixel without an estimate",
+            view.estimator.min_estimated_area
+        )
+    }
 }
 
 /// `multirate` with no command and no display: the default scene in multirate mode, written to
@@ -399,7 +420,7 @@ fn first_run(gpu: &GpuArgs) -> Result<()> {
     let context = Context::headless(&options(gpu))?;
     let renderer = Renderer::new(&context, &scene)?;
     let target = RenderTarget::new(&context, ash::vk::Extent2D { width, height })?;
-    let multirate = View { mode: Mode::Multirate, ..View::of_scene(&scene) };
+    let multirate = View { mode: Mode::Multirate, cost_model: true, ..View::of_scene(&scene) };
     let pixel = View { mode: Mode::Pixel, ..multirate.clone() };
     // The analysis frames give the image (the timed variant's, tests/modes.rs), the triangle
     // ids the error is measured on, and the evaluation counts.
@@ -442,6 +463,7 @@ fn first_run(gpu: &GpuArgs) -> Result<()> {
         error.l_inf_same_triangle, multirate.estimator.epsilon, error.l_inf, error.other_triangle_pixels
     );
     println!("  level map (blue 1 → red n_max, magenta per-pixel): {}", level_map.display());
+    println!("  {}", cost_model_line(&context, &scene, &multirate));
     let messages = context.validation().count();
     anyhow::ensure!(messages == 0, "the validation layer reported {messages} message(s)");
     Ok(())

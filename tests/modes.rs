@@ -161,3 +161,74 @@ fn the_analysis_frame_is_the_timed_image_and_the_triangles_it_shows() {
         assert_validation_clean(&context);
     }
 }
+
+#[test]
+fn the_cost_model_shades_small_images_per_pixel_and_small_meshes_as_pixel_does() {
+    let context = validated_context();
+    // The dense bunny at a small size: nearly every triangle covers a pixel or two, so the
+    // whole mesh is drawn as `pixel` draws it, and the image is `pixel`'s exactly.
+    let scene = Scene::load(&repo_path("scenes/bunny_dense.toml")).expect("scene loads");
+    let renderer = Renderer::new(&context, &scene).expect("renderer");
+    let target = RenderTarget::new(&context, vk::Extent2D { width: WIDTH, height: HEIGHT }).expect("target");
+    let extent = vk::Extent2D { width: WIDTH, height: HEIGHT };
+    let pixel = View { mode: Mode::Pixel, ..View::of_scene(&scene) };
+    let modelled = View { mode: Mode::Multirate, cost_model: true, ..pixel.clone() };
+    assert_eq!(renderer.meshes_drawn_per_pixel(&modelled, extent), vec![true]);
+    let reference = renderer.render(&target, &pixel).expect("render pixel");
+    let image = renderer.render(&target, &modelled).expect("render multirate");
+    assert_eq!(coverage_mismatches(&reference, &image), 0);
+    assert_eq!(difference(&reference, &image).0, 0.0, "drawn as pixel mode draws it");
+    // Without the cost model the same view estimates the bunny, and shades differently.
+    let estimated = View { cost_model: false, ..modelled.clone() };
+    assert!(renderer.meshes_drawn_per_pixel(&estimated, extent).is_empty());
+    assert!(difference(&reference, &renderer.render(&target, &estimated).expect("render")).0 > 0.0);
+
+    // The coarse teapot: its triangles are large, so it is estimated, and those below an area
+    // floor between them shade per pixel without an estimate, within ε of `pixel` and with
+    // no cracks, in both placements.
+    let scene = Scene::load(&repo_path("scenes/teapot.toml")).expect("scene loads");
+    let renderer = Renderer::new(&context, &scene).expect("renderer");
+    let (width, height) = (640, 360);
+    let extent = vk::Extent2D { width, height };
+    let target = RenderTarget::new(&context, extent).expect("target");
+    let pixel = View { mode: Mode::Pixel, ..View::of_scene(&scene) };
+    assert_eq!(
+        renderer.meshes_drawn_per_pixel(
+            &View { mode: Mode::Multirate, cost_model: true, ..pixel.clone() },
+            extent
+        ),
+        vec![false]
+    );
+    let reference = renderer.render(&target, &pixel).expect("render pixel");
+    let mut per_placement = Vec::new();
+    for placement in [Placement::Compute, Placement::Tcs] {
+        let mut view = View { mode: Mode::Multirate, placement, ..pixel.clone() };
+        view.estimator.min_estimated_area = 40.0;
+        let image = renderer.render(&target, &view).expect("render multirate");
+        assert_eq!(cracks(&reference, &image), 0, "{placement}");
+        per_placement.push(image);
+    }
+    // The placements draw the same levels by different paths (flat draws, the tessellator).
+    let (apart, _) = difference(&per_placement[0], &per_placement[1]);
+    assert!(apart < 1.0e-3, "the placements differ by {apart}");
+    let report = multirate::analysis::report::analyze(
+        &Scene {
+            settings: multirate::scene::RenderSettings { width, height, ..scene.settings },
+            ..scene.clone()
+        },
+        &View {
+            estimator: multirate::shading::estimator::EstimatorSettings {
+                min_estimated_area: 40.0,
+                ..pixel.estimator
+            },
+            ..pixel.clone()
+        }
+        .estimator,
+        multirate::analysis::report::Triangles::Visible,
+        false,
+        multirate::analysis::report::TextureBounds::Pyramid,
+    );
+    let small = report.iter().filter(|t| t.small_image).count();
+    assert!(small > 0 && small < report.len(), "{small} of {} visible triangles are small", report.len());
+    assert_validation_clean(&context);
+}

@@ -4,9 +4,11 @@
 //!
 //! Per light count `L`, the scene is lit by `L` point lights around its camera's target (its
 //! own lights replaced) and benchmarked in turns (`pixel`, `vertex`, `multirate` estimating
-//! every visible triangle): the estimate costs the estimate step's time over the triangles it
-//! estimated (counted by the culling twin, `geometry::cull`), a pixel costs `pixel`'s time
-//! above `vertex`'s (which rasterises and tests the same depth) over its shaded fragments.
+//! every visible triangle, `multirate` shading every triangle per pixel): the estimate costs
+//! the estimate step's time over the triangles it estimated (counted by the culling twin,
+//! `geometry::cull`), a pixel costs `pixel`'s time above `vertex`'s (which rasterises and tests
+//! the same depth) over its shaded fragments, and a pixel of multirate's per-pixel path the
+//! last configuration's time above `vertex`'s over the same fragments.
 
 use super::{run, BenchConfig, BenchScene, Progress, Row};
 use crate::error::Result;
@@ -20,6 +22,9 @@ use crate::vk::Context;
 use glam::{Vec2, Vec3};
 use std::sync::Arc;
 
+/// An area floor above every image: multirate shades every triangle per pixel.
+const EVERY_IMAGE: f32 = 1.0e9;
+
 /// The light counts the lines are drawn through.
 pub const LIGHT_COUNTS: [usize; 2] = [1, 8];
 
@@ -29,8 +34,10 @@ pub struct CostSample {
     pub lights: usize,
     /// Nanoseconds per estimated triangle.
     pub estimate_ns: f64,
-    /// Nanoseconds per fragment shaded per pixel.
+    /// Nanoseconds per fragment shaded per pixel, by `pixel` mode and by multirate's
+    /// per-pixel path.
     pub pixel_ns: f64,
+    pub fallback_ns: f64,
     /// The triangles the pre-pass estimated, and the fragments `pixel` shaded.
     pub estimated_triangles: usize,
     pub fragments: u64,
@@ -55,7 +62,7 @@ pub fn calibrate(
         discontinuity: Discontinuity::Relaxed,
         placements: Vec::new(),
         images: None,
-        min_estimated_areas: vec![Some(0.0)],
+        min_estimated_areas: vec![Some(0.0), Some(EVERY_IMAGE)],
     };
     let mut samples = Vec::new();
     for lights in LIGHT_COUNTS {
@@ -72,6 +79,7 @@ pub fn calibrate(
     let calibration = Calibration {
         estimate: line(|s| s.estimate_ns),
         pixel: line(|s| s.pixel_ns),
+        fallback: line(|s| s.fallback_ns),
         measured_with: format!(
             "multirate calibrate --scene {} --frames {frames} on {} ({})",
             scene.scene.path.display(),
@@ -86,6 +94,7 @@ pub fn calibrate(
 fn sample(scene: &Scene, lights: usize, rows: &[Row]) -> CostSample {
     let median = |mode: &str| rows.iter().find(|row| row.mode == mode).expect("measured");
     let (pixel, vertex, multirate) = (median("pixel"), median("vertex"), median("multirate"));
+    let fallback = rows.iter().find(|row| row.min_estimated_area == Some(EVERY_IMAGE)).expect("measured");
     let estimate_ms = multirate.pre_pass_steps_ms.map_or(0.0, |steps| steps[PrePassStep::Levels as usize]);
     let estimated_triangles = estimated_triangles(scene).max(1);
     let fragments = pixel.evaluations.fragments.max(1);
@@ -93,6 +102,7 @@ fn sample(scene: &Scene, lights: usize, rows: &[Row]) -> CostSample {
         lights,
         estimate_ns: estimate_ms * 1.0e6 / estimated_triangles as f64,
         pixel_ns: (pixel.gpu_ms.median - vertex.gpu_ms.median).max(0.0) * 1.0e6 / fragments as f64,
+        fallback_ns: (fallback.gpu_ms.median - vertex.gpu_ms.median).max(0.0) * 1.0e6 / fragments as f64,
         estimated_triangles,
         fragments,
     }

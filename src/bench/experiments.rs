@@ -118,6 +118,17 @@ pub fn plane_grid(plane: &Scene, n: u32) -> Scene {
     scene
 }
 
+/// Creates the results folder.
+fn create_results(options: &ExperimentOptions) -> Result<()> {
+    std::fs::create_dir_all(&options.out)
+        .map_err(|e| Error::Output { path: options.out.clone(), message: format!("cannot create: {e}") })
+}
+
+/// The shipped scene `name` (`scenes/<name>.toml`).
+fn load_scene(options: &ExperimentOptions, name: &str) -> Result<BenchScene> {
+    BenchScene::load(&options.scenes.join(format!("{name}.toml")))
+}
+
 fn write(path: &Path, text: &str) -> Result<()> {
     std::fs::write(path, text)
         .map_err(|e| Error::Output { path: path.to_path_buf(), message: format!("cannot write: {e}") })
@@ -152,9 +163,8 @@ pub fn run_all(
     progress: &mut dyn FnMut(&str, Progress<'_>),
 ) -> Result<String> {
     let plan = Plan::new(options.quick);
-    std::fs::create_dir_all(&options.out)
-        .map_err(|e| Error::Output { path: options.out.clone(), message: format!("cannot create: {e}") })?;
-    let load = |name: &str| BenchScene::load(&options.scenes.join(format!("{name}.toml")));
+    create_results(options)?;
+    let load = |name: &str| load_scene(options, name);
     let shipped = vec![load("bunny")?, load("teapot")?, load("plane_lights")?];
     let mut md = String::new();
     header(&mut md, context, options);

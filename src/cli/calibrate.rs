@@ -41,14 +41,14 @@ pub fn calibrate(args: &CalibrateArgs, gpu: &GpuArgs) -> Result<()> {
     println!("{} ({}), {}:", context.info.name, context.info.driver, args.scene.display());
     for s in &samples {
         println!(
-            "  {:>2} lights: estimate {:.0} ns per triangle ({} estimated), pixel {:.1} ns per fragment ({} shaded)",
-            s.lights, s.estimate_ns, s.estimated_triangles, s.pixel_ns, s.fragments
+            "  {:>2} lights: estimate {:.0} ns per triangle ({} estimated); per fragment ({} shaded) pixel {:.1} ns, multirate's per-pixel path {:.1} ns",
+            s.lights, s.estimate_ns, s.estimated_triangles, s.fragments, s.pixel_ns, s.fallback_ns
         );
     }
-    let (e, p) = (&calibration.estimate, &calibration.pixel);
+    let (e, p, f) = (&calibration.estimate, &calibration.pixel, &calibration.fallback);
     println!(
-        "  estimate {:.0} + {:.0}·L ns, pixel {:.1} + {:.1}·L ns",
-        e.fixed_ns, e.per_light_ns, p.fixed_ns, p.per_light_ns
+        "  estimate {:.0} + {:.0}·L ns, pixel {:.1} + {:.1}·L ns, per-pixel path {:.1} + {:.1}·L ns",
+        e.fixed_ns, e.per_light_ns, p.fixed_ns, p.per_light_ns, f.fixed_ns, f.per_light_ns
     );
     let model = CostModel { calibration: calibration.clone(), source: "this calibration".into() };
     let areas: Vec<String> =

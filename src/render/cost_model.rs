@@ -1,13 +1,21 @@
 //! The cost model of `multirate` mode: where estimating a triangle's level can pay.
 //!
 //! Estimating costs about the same whatever the triangle's size, shading per pixel costs its
-//! pixels: a triangle whose image covers `A` pixels costs `A · pixel(L)` shaded per pixel, and
-//! at least `estimate(L) + 3 · pixel(L)` estimated (the estimate, then at best level 1: its
-//! three corners shaded, each about as dear as a pixel), `L` being the scene's light count.
-//! Below the break-even area `A* = estimate(L) / pixel(L) + 3` the pre-pass shades a triangle
+//! pixels: a triangle whose image covers `A` pixels costs `A · fallback(L)` shaded per pixel by
+//! multirate's per-pixel path (a depth prime, then the shading where it is nearest), and at
+//! least `estimate(L) + 3 · pixel(L)` estimated (the estimate, then at best level 1: its three
+//! corners shaded, each about as dear as a pixel of `pixel` mode), `L` being the scene's light
+//! count. Below the break-even area `A* = (estimate(L) + 3 · pixel(L)) / fallback(L)` the
+//! pre-pass shades a triangle
 //! per pixel without estimating it (`geometry::cull::small_image`, `draw.min_estimated_area`).
 //! Per-pixel shading is exact, so the choice never costs accuracy; the area bounds the image
 //! from above, so it never sends a triangle that would pay per pixel.
+//!
+//! A mesh most of whose visible triangles are that small is drawn whole as `pixel` mode draws
+//! it ([`MeshSample::mostly_small`]): the pre-pass would list nearly all of them per pixel, and
+//! its per-pixel path (a depth prime, then the shading, pulling each triangle's corners) costs
+//! more than `pixel`'s one indexed pass. The renderer decides per mesh and frame from a sample
+//! of the mesh's triangles.
 //!
 //! Both costs grow linearly with the lights (a fixed part, a part per light) and depend on the
 //! device: `multirate calibrate` measures them ([`Calibration`]) and stores them per device
@@ -15,7 +23,9 @@
 //! stored calibration uses the figures measured on lavapipe ([`CostModel::lavapipe`]).
 
 use crate::error::{Error, Result};
-use crate::scene::Scene;
+use crate::geometry::cull::{clip_of, culled, small_image};
+use crate::scene::{Mesh, Scene};
+use glam::{Mat4, Vec2, Vec3};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -48,6 +58,9 @@ pub struct Calibration {
     /// Per-pixel shading per fragment shaded (`pixel` mode's time above `vertex` mode's, over
     /// its shaded fragments).
     pub pixel: LinearCost,
+    /// The same through multirate's per-pixel path (every triangle shaded per pixel without an
+    /// estimate, above `vertex`'s time, over `pixel`'s fragments).
+    pub fallback: LinearCost,
     /// How the figures were measured (the command and the scene).
     pub measured_with: String,
 }
@@ -73,8 +86,9 @@ impl CostModel {
     pub fn lavapipe() -> CostModel {
         CostModel {
             calibration: Calibration {
-                estimate: LinearCost { fixed_ns: 1416.0, per_light_ns: 703.0 },
-                pixel: LinearCost { fixed_ns: 33.0, per_light_ns: 31.1 },
+                estimate: LinearCost { fixed_ns: 1279.0, per_light_ns: 786.0 },
+                pixel: LinearCost { fixed_ns: 51.5, per_light_ns: 37.3 },
+                fallback: LinearCost { fixed_ns: 64.0, per_light_ns: 43.7 },
                 measured_with:
                     "built in: multirate calibrate --scene scenes/bunny.toml --frames 6 on llvmpipe \
                                 (LLVM 15.0.6, 256 bits), Mesa 22.3.6, GALLIVM_PERF=nopt, 2 cores"
@@ -123,12 +137,52 @@ impl CostModel {
     /// are shaded per pixel without an estimate.
     pub fn min_estimated_area(&self, lights: usize) -> f32 {
         let c = &self.calibration;
-        (c.estimate.at(lights) / c.pixel.at(lights) + 3.0) as f32
+        ((c.estimate.at(lights) + 3.0 * c.pixel.at(lights)) / c.fallback.at(lights)) as f32
     }
 
     /// [`CostModel::min_estimated_area`] with `scene`'s lights (at least one).
     pub fn min_estimated_area_of(&self, scene: &Scene) -> f32 {
         self.min_estimated_area(scene.lights.len().max(1))
+    }
+}
+
+/// Most triangles of a mesh [`MeshSample`] keeps.
+pub const MESH_SAMPLE_TRIANGLES: usize = 256;
+
+/// Triangles of one mesh, evenly spread over its index list, that stand for it in the
+/// per-mesh choice.
+#[derive(Clone, Debug)]
+pub struct MeshSample {
+    triangles: Vec<[Vec3; 3]>,
+    one_sided: bool,
+}
+
+impl MeshSample {
+    /// Up to [`MESH_SAMPLE_TRIANGLES`] of `mesh`'s triangles, evenly strided.
+    pub fn of(mesh: &Mesh) -> MeshSample {
+        let count = mesh.indices.len() / 3;
+        let stride = count.div_ceil(MESH_SAMPLE_TRIANGLES).max(1);
+        let triangles = (0..count)
+            .step_by(stride)
+            .map(|t| [0, 1, 2].map(|k| mesh.positions[mesh.indices[3 * t + k] as usize]))
+            .collect();
+        MeshSample { triangles, one_sided: !mesh.two_sided }
+    }
+
+    /// Whether more than half of the sampled triangles that are not culled have an image
+    /// smaller than `min_area` pixels of a `viewport` (width, height) seen through
+    /// `view_proj` from `eye`.
+    pub fn mostly_small(&self, view_proj: &Mat4, eye: Vec3, viewport: Vec2, min_area: f32) -> bool {
+        let (mut visible, mut small) = (0usize, 0usize);
+        for &p in &self.triangles {
+            if culled(view_proj, eye, p, self.one_sided) {
+                continue;
+            }
+            visible += 1;
+            let [a, b, c] = p.map(|p| clip_of(view_proj, p));
+            small += usize::from(small_image(a, b, c, viewport, min_area));
+        }
+        2 * small > visible
     }
 }
 

@@ -6,7 +6,7 @@
 //! The same id buffer gives `analyze --measured` each pixel's triangle.
 
 use super::descriptors::PUSH_STAGES;
-use super::draws::{draw_constants, DrawCall};
+use super::draws::{draw_constants, DrawCall, Draws};
 use super::pipelines::{
     scene_pipeline, variant_module, Instrumentation, MeshPipelines, VERTEX_ATTRIBUTES, VERTEX_BINDINGS,
 };
@@ -185,8 +185,10 @@ impl Renderer {
     /// Records the id pass into the visibility buffer, leaving it ready to be `after`.
     fn record_ids(&self, cmd: vk::CommandBuffer, ids: &RenderTarget, view: &View, after: AfterPass) {
         let deferred = self.deferred.get().expect("prepared");
-        let pick = |_: &DrawCall| Some(MeshPipelines { first: deferred.visibility.raw, lists: None });
-        self.record_draws(&pick, false, cmd, ids, Attachments::Color, view, [0.0; 4], after);
+        let pick =
+            |_: &DrawCall, _: &View| Some(MeshPipelines { first: deferred.visibility.raw, lists: None });
+        let draws = Draws { pick: &pick, per_pixel: &[], emitters: false, clear: [0.0; 4] };
+        self.record_draws(&draws, cmd, ids, Attachments::Color, view, after);
     }
 
     /// `pixel-deferred`: the id pass, then one full-screen shading pass per mesh into `target`,

@@ -31,6 +31,19 @@ pub(super) struct DrawCall {
     pub pipeline: usize,
 }
 
+/// What `Renderer::record_draws` draws with.
+pub(super) struct Draws<'a> {
+    /// The pipelines of a mesh drawn as the given view says (None: not prepared).
+    pub pick: &'a dyn Fn(&DrawCall, &View) -> Option<MeshPipelines>,
+    /// Per draw, whether a multirate view draws the mesh whole as `pixel` mode does
+    /// (`Renderer::meshes_drawn_per_pixel`; missing entries: no).
+    pub per_pixel: &'a [bool],
+    /// Whether the polygonal lights' emissive geometry is drawn too.
+    pub emitters: bool,
+    /// The colour the target is cleared to.
+    pub clear: [f32; 4],
+}
+
 /// The emissive geometry of one polygonal light: a triangle fan in the scene's buffers.
 pub(super) struct EmitterDraw {
     pub first_index: u32,
@@ -69,23 +82,20 @@ impl Renderer {
             (constants.flags & !FLAG_ONE_SIDED) | if draw.one_sided { FLAG_ONE_SIDED } else { 0 };
     }
 
-    /// The forward draws of every mesh with the pipeline `pick` gives, into `target`'s
-    /// `attachments`, and with `emitters` the polygonal lights' emissive geometry.
-    #[allow(clippy::too_many_arguments)]
+    /// The forward draws of every mesh with the pipelines `draws.pick` gives, into `target`'s
+    /// `attachments`, and where `draws.emitters` the polygonal lights' emissive geometry.
     pub(super) fn record_draws(
         &self,
-        pick: &dyn Fn(&DrawCall) -> Option<MeshPipelines>,
-        emitters: bool,
+        draws: &Draws<'_>,
         cmd: vk::CommandBuffer,
         target: &RenderTarget,
         attachments: Attachments,
         view: &View,
-        clear: [f32; 4],
         after: AfterPass,
     ) {
         let device = &self.context.device;
         let extent = target.extent();
-        target.begin(device, cmd, clear, attachments);
+        target.begin(device, cmd, draws.clear, attachments);
         let mut constants = draw_constants(view, extent, self.min_estimated_area(view));
         // SAFETY: `cmd` is recording inside the rendering begun above; every bound object is
         // owned by `self` and outlives the submission (callers wait before dropping).
@@ -94,15 +104,17 @@ impl Renderer {
             device.cmd_bind_index_buffer(cmd, self.buffers.indices.raw, 0, vk::IndexType::UINT32);
         }
         self.bind_set(cmd, 0, self.descriptors.set);
-        for draw in &self.draws {
+        let pixel_view = View { mode: Mode::Pixel, ..view.clone() };
+        for (index, draw) in self.draws.iter().enumerate() {
+            let mesh_view = if draws.per_pixel.get(index) == Some(&true) { &pixel_view } else { view };
             self.set_draw_constants(&mut constants, draw);
-            let Some(pipelines) = pick(draw) else {
+            let Some(pipelines) = (draws.pick)(draw, mesh_view) else {
                 debug_assert!(false, "render, measure and the viewer prepare the view first");
                 continue;
             };
-            self.record_mesh(cmd, draw, pipelines, &mut constants, view, attachments);
+            self.record_mesh(cmd, draw, pipelines, &mut constants, mesh_view, attachments);
         }
-        if emitters {
+        if draws.emitters {
             self.record_emitters(cmd, &mut constants, attachments);
         }
         target.end(device, cmd, after, attachments);

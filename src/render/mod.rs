@@ -39,7 +39,7 @@ pub use view::View;
 
 use deferred::Deferred;
 use descriptors::ForwardDescriptors;
-use draws::{tessellated_vertex_budget, DrawCall, EmitterDraw};
+use draws::{tessellated_vertex_budget, DrawCall, Draws, EmitterDraw};
 use instrumentation::Timed;
 use limits::SceneSizes;
 use pipelines::{Instrumentation, Pipelines, Variant};
@@ -51,7 +51,7 @@ use crate::vk::context::DeviceLimits;
 use crate::vk::target::{AfterPass, Attachments, FloatImage, RenderTarget};
 use crate::vk::Context;
 use ash::vk;
-use cost_model::CostModel;
+use cost_model::{CostModel, MeshSample};
 use std::cell::OnceCell;
 use std::sync::{Arc, Mutex};
 
@@ -83,6 +83,8 @@ pub struct Renderer {
     cost_model: CostModel,
     /// The scene's light count, which the cost model weighs.
     light_count: usize,
+    /// Per draw, the triangles that stand for its mesh in the cost model's per-mesh choice.
+    mesh_samples: Vec<MeshSample>,
 }
 
 impl Renderer {
@@ -115,6 +117,7 @@ impl Renderer {
             tessellated_vertex_budget: tessellated_vertex_budget(&context.info),
             cost_model: CostModel::for_device(&context.info.name),
             light_count: scene.lights.len().max(1),
+            mesh_samples: scene.meshes.iter().map(MeshSample::of).collect(),
         })
     }
 
@@ -132,6 +135,23 @@ impl Renderer {
         } else {
             view.estimator.min_estimated_area
         }
+    }
+
+    /// Per draw, whether `view`'s multirate pass draws its mesh whole as `pixel` mode does on a
+    /// target of `extent`: with the cost model on, where most of the mesh's visible triangles
+    /// are too small for an estimate to pay ([`MeshSample::mostly_small`]). Empty outside
+    /// multirate or without the cost model.
+    pub fn meshes_drawn_per_pixel(&self, view: &View, extent: vk::Extent2D) -> Vec<bool> {
+        if view.mode != Mode::Multirate || !view.cost_model {
+            return Vec::new();
+        }
+        let view_proj = crate::geometry::camera::view_projection(&view.camera, extent.width, extent.height);
+        let viewport = glam::Vec2::new(extent.width as f32, extent.height as f32);
+        let area = self.min_estimated_area(view);
+        self.mesh_samples
+            .iter()
+            .map(|s| s.mostly_small(&view_proj, view.camera.eye, viewport, area))
+            .collect()
     }
 
     /// Renders one frame into `target` and reads the float image back.
@@ -230,9 +250,20 @@ impl Renderer {
         after: AfterPass,
         stamp: &dyn Fn(Timed, bool),
     ) {
+        let per_pixel = self.meshes_drawn_per_pixel(view, target.extent());
         stamp(Timed::PrePass, false);
+        // No pre-pass where every mesh is drawn as `pixel` draws it.
+        let estimates = per_pixel.len() < self.draws.len() || per_pixel.contains(&false);
         if view.mode == Mode::Multirate && view.placement == Placement::Compute {
-            self.record_triangle_levels(variants, cmd, view, target.extent(), stamp);
+            if estimates {
+                self.record_triangle_levels(variants, cmd, view, target.extent(), stamp, &per_pixel);
+            } else {
+                // Every step's interval is still written (empty), as the timing reads them.
+                for step in PrePassStep::ALL {
+                    stamp(Timed::Step(step), false);
+                    stamp(Timed::Step(step), true);
+                }
+            }
         }
         stamp(Timed::PrePass, true);
         if view.mode == Mode::PixelDeferred {
@@ -240,9 +271,10 @@ impl Renderer {
             self.record_deferred(instrumentation, cmd, target, view, after);
             return;
         }
-        let pick = |draw: &DrawCall| variants[draw.pipeline].for_view(view);
+        let pick = |draw: &DrawCall, mesh_view: &View| variants[draw.pipeline].for_view(mesh_view);
         let attachments = variants.first().map_or(Attachments::Color, |v| v.instrumentation.attachments());
-        self.record_draws(&pick, true, cmd, target, attachments, view, self.clear_color, after);
+        let draws = Draws { pick: &pick, per_pixel: &per_pixel, emitters: true, clear: self.clear_color };
+        self.record_draws(&draws, cmd, target, attachments, view, after);
     }
 }
 

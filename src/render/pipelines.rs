@@ -132,6 +132,13 @@ impl Renderer {
                 build_once(variant.multirate_cell(view), || {
                     pipelines.modules.multirate(context, layout, variant, specialization, view)
                 })?;
+                // The cost model may draw a mesh whole as `pixel` mode does
+                // (`Renderer::meshes_drawn_per_pixel`).
+                if view.cost_model {
+                    build_once(variant.single_cell(SingleMode::Pixel), || {
+                        pipelines.modules.single(context, layout, variant, specialization, SingleMode::Pixel)
+                    })?;
+                }
             }
         }
         Ok(())

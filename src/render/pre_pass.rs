@@ -112,6 +112,7 @@ impl Renderer {
         view: &View,
         extent: vk::Extent2D,
         stamp: &dyn Fn(Timed, bool),
+        per_pixel: &[bool],
     ) {
         self.reset_pre_pass(cmd);
         let mut constants = draw_constants(view, extent, self.min_estimated_area(view));
@@ -119,7 +120,11 @@ impl Renderer {
         self.bind_set_at(cmd, vk::PipelineBindPoint::COMPUTE, 0, self.descriptors.set);
         for step in PrePassStep::ALL {
             stamp(Timed::Step(step), false);
-            for draw in &self.draws {
+            // A mesh drawn whole as `pixel` draws it needs no levels.
+            for (index, draw) in self.draws.iter().enumerate() {
+                if per_pixel.get(index) == Some(&true) {
+                    continue;
+                }
                 let cell = variants[draw.pipeline].multirate_cell(view);
                 let Some(pre_pass) = cell.get().and_then(|m| m.pre_pass.as_ref()) else {
                     debug_assert!(false, "render, measure and the viewer prepare the view first");

@@ -1,12 +1,11 @@
-//! The trade's bounds (issue: never slower than per-pixel shading): every scene with its floor
+//! The trade's bounds (multirate must never be slower than per-pixel shading): every scene with its floor
 //! (`vertex`), its ceiling (`pixel` / `vertex`), the empty frame, and multirate with the cost
 //! model against multirate estimating every triangle; and the light-count sweep, the bunny lit
 //! by 1, 4, 16 and 64 point lights.
 
-use super::{config, header, percent, write, ExperimentOptions, Plan};
+use super::{config, create_results, header, load_scene, percent, write, ExperimentOptions, Plan};
 use crate::bench::calibrate::lit_by;
 use crate::bench::{run, to_csv, BenchScene, Progress, Row};
-use crate::error::Error;
 use crate::error::Result;
 use crate::render::Mode;
 use crate::vk::Context;
@@ -38,12 +37,8 @@ pub fn trade_page(
     progress: &mut dyn FnMut(&str, Progress<'_>),
 ) -> Result<String> {
     let plan = Plan::new(options.quick);
-    std::fs::create_dir_all(&options.out)
-        .map_err(|e| Error::Output { path: options.out.clone(), message: format!("cannot create: {e}") })?;
-    let scenes = SCENES
-        .iter()
-        .map(|name| BenchScene::load(&options.scenes.join(format!("{name}.toml"))))
-        .collect::<Result<Vec<_>>>()?;
+    create_results(options)?;
+    let scenes = SCENES.iter().map(|name| load_scene(options, name)).collect::<Result<Vec<_>>>()?;
     let mut md = String::new();
     header(&mut md, context, options);
     trade(&mut md, context, options, &plan, &scenes, progress)?;
@@ -85,6 +80,15 @@ fn find<'a>(rows: &'a [Row], scene: &str, mode: &str, cost_model: Option<bool>) 
     })
 }
 
+/// A scene's `vertex` row and its multirate rows with the cost model and without.
+fn measured<'a>(rows: &'a [Row], scene: &str) -> Option<(&'a Row, &'a Row, &'a Row)> {
+    Some((
+        find(rows, scene, "vertex", None)?,
+        find(rows, scene, "multirate", Some(true))?,
+        find(rows, scene, "multirate", Some(false))?,
+    ))
+}
+
 fn ms(row: &Row) -> String {
     match row.pre_pass_ms {
         Some(pre_pass) => format!("{:.1} ({:.1})", row.gpu_ms.median, pre_pass.median),
@@ -110,11 +114,7 @@ fn bounds_table(md: &mut String, rows: &[Row], (w, h): (u32, u32)) {
     let _ =
         writeln!(md, "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
     for pixel in rows.iter().filter(|r| r.mode == "pixel" && (r.width, r.height) == (w, h)) {
-        let (Some(vertex), Some(model), Some(every)) = (
-            find(rows, &pixel.scene, "vertex", None),
-            find(rows, &pixel.scene, "multirate", Some(true)),
-            find(rows, &pixel.scene, "multirate", Some(false)),
-        ) else {
+        let Some((vertex, model, every)) = measured(rows, &pixel.scene) else {
             continue;
         };
         let _ = writeln!(
@@ -149,11 +149,7 @@ fn light_sweep(md: &mut String, rows: &[Row], (w, h): (u32, u32)) {
     );
     let _ = writeln!(md, "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
     for (pixel, count) in rows.iter().filter(|r| r.mode == "pixel").zip(SWEEP_LIGHTS) {
-        let (Some(vertex), Some(model), Some(every)) = (
-            find(rows, &pixel.scene, "vertex", None),
-            find(rows, &pixel.scene, "multirate", Some(true)),
-            find(rows, &pixel.scene, "multirate", Some(false)),
-        ) else {
+        let Some((vertex, model, every)) = measured(rows, &pixel.scene) else {
             continue;
         };
         let _ = writeln!(

@@ -1,6 +1,7 @@
 //! Tests of `render::cost_model`: the break-even area and the calibration store.
 
 use super::*;
+use glam::{Vec2, Vec3};
 
 #[test]
 fn the_break_even_area_weighs_an_estimate_against_its_pixels() {
@@ -8,13 +9,14 @@ fn the_break_even_area_weighs_an_estimate_against_its_pixels() {
         calibration: Calibration {
             estimate: LinearCost { fixed_ns: 1000.0, per_light_ns: 500.0 },
             pixel: LinearCost { fixed_ns: 50.0, per_light_ns: 25.0 },
+            fallback: LinearCost { fixed_ns: 100.0, per_light_ns: 50.0 },
             measured_with: String::new(),
         },
         source: String::new(),
     };
-    // 1500 ns against 75 ns a pixel: 20 pixels, and the three corners level 1 shades.
-    assert_eq!(model.min_estimated_area(1), 23.0);
-    assert_eq!(model.min_estimated_area(2), 2000.0 / 100.0 + 3.0);
+    // The estimate and three corners shaded, 1500 + 3 · 75 ns, against 150 ns a pixel.
+    assert_eq!(model.min_estimated_area(1), 11.5);
+    assert_eq!(model.min_estimated_area(2), (2000.0 + 300.0) / 200.0);
     let line = LinearCost::through((1, 1500.0), (8, 5000.0));
     assert_eq!((line.fixed_ns, line.per_light_ns), (1000.0, 500.0));
     let free = LinearCost { fixed_ns: -5.0, per_light_ns: 0.0 };
@@ -37,4 +39,36 @@ fn calibrations_are_stored_per_device_and_read_back() {
     let error = CostModel::store(&path, "device C", &calibration).unwrap_err().to_string();
     assert!(error.contains("cost_model.toml") && error.contains("not a cost-model store"), "{error}");
     std::fs::remove_dir_all(&folder).unwrap();
+}
+
+#[test]
+fn a_mesh_is_drawn_per_pixel_when_most_of_its_visible_triangles_are_small() {
+    use crate::geometry::camera::view_projection;
+    use crate::scene::Camera;
+    let camera = Camera {
+        eye: Vec3::new(0.0, 0.0, 5.0),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        fov_y_degrees: 60.0,
+        near: 0.1,
+        far: 100.0,
+    };
+    let vp = view_projection(&camera, 640, 480);
+    let viewport = Vec2::new(640.0, 480.0);
+    // Right triangles facing the eye with legs of `size` units (83 pixels a unit here).
+    let triangle =
+        |size: f32, x: f32| [Vec3::new(x, 0.0, 0.0), Vec3::new(x + size, 0.0, 0.0), Vec3::new(x, size, 0.0)];
+    let sample = |sizes: &[f32]| MeshSample {
+        triangles: sizes.iter().enumerate().map(|(k, &s)| triangle(s, k as f32 * 0.3 - 1.0)).collect(),
+        one_sided: true,
+    };
+    // 0.05 units: about 8.6 pixels; 0.2 units: about 138.
+    assert!(sample(&[0.05, 0.05, 0.2]).mostly_small(&vp, camera.eye, viewport, 30.0));
+    assert!(!sample(&[0.05, 0.2, 0.2]).mostly_small(&vp, camera.eye, viewport, 30.0));
+    assert!(!sample(&[0.05, 0.05, 0.2]).mostly_small(&vp, camera.eye, viewport, 0.0), "no area floor");
+    // Back faces of a one-sided mesh are culled, and do not count.
+    let mut behind = sample(&[0.05, 0.2, 0.2]);
+    behind.triangles[1].swap(1, 2);
+    behind.triangles[2].swap(1, 2);
+    assert!(behind.mostly_small(&vp, camera.eye, viewport, 30.0));
 }
