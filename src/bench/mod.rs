@@ -417,13 +417,10 @@ pub fn run(
 fn empty_view(view: &View, scene: &Scene) -> View {
     let mut camera = view.camera;
     let away = (camera.eye - camera.target).normalize_or(glam::Vec3::Z);
-    let reach = scene
-        .meshes
-        .iter()
-        .flat_map(|mesh| &mesh.positions)
-        .map(|p| p.distance(camera.eye))
-        .fold(0.0, f32::max);
-    camera.eye += away * (2.0 * reach + 1.0);
+    // Beyond the scene's bounds, whatever their corner nearest the eye's new place.
+    let (low, high) = scene.bounds();
+    let reach = camera.eye.distance(low) + (high - low).length();
+    camera.eye += away * (reach + 1.0);
     camera.target = camera.eye + away;
     View { mode: Mode::Pixel, camera, ..view.clone() }
 }

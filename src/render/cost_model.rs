@@ -140,10 +140,15 @@ impl CostModel {
         ((c.estimate.at(lights) + 3.0 * c.pixel.at(lights)) / c.fallback.at(lights)) as f32
     }
 
-    /// [`CostModel::min_estimated_area`] with `scene`'s lights (at least one).
+    /// [`CostModel::min_estimated_area`] with `scene`'s lights.
     pub fn min_estimated_area_of(&self, scene: &Scene) -> f32 {
-        self.min_estimated_area(scene.lights.len().max(1))
+        self.min_estimated_area(weighed_lights(scene))
     }
+}
+
+/// The light count the model weighs for `scene`: every light, at least one.
+pub fn weighed_lights(scene: &Scene) -> usize {
+    scene.lights.len().max(1)
 }
 
 /// Most triangles of a mesh [`MeshSample`] keeps.

@@ -116,7 +116,7 @@ impl Renderer {
             clear_color: [clear.x, clear.y, clear.z, 0.0],
             tessellated_vertex_budget: tessellated_vertex_budget(&context.info),
             cost_model: CostModel::for_device(&context.info.name),
-            light_count: scene.lights.len().max(1),
+            light_count: cost_model::weighed_lights(scene),
             mesh_samples: scene.meshes.iter().map(MeshSample::of).collect(),
         })
     }
