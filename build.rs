@@ -13,9 +13,11 @@
 //!
 //! The SPIR-V lands in `$OUT_DIR/spirv/<stage>[.<variant>].spv`, `$OUT_DIR/spirv/variants.rs`
 //! lists every module for `src/shaders.rs` to embed, and `$OUT_DIR/spirv/axes.rs` the axes' names
-//! in order, for it to check against its own. A module is compiled again only when its
-//! preprocessed text (or the compile settings) changed since the last build in that folder: the
-//! optimiser takes most of a build, and most edits touch a few stages.
+//! in order, for it to check against its own, and `$OUT_DIR/spirv/compile_times.tsv` the seconds
+//! each module compiled in this build took. A module is compiled again only when its
+//! preprocessed text (or the compile settings) changed since the last build in that folder.
+//! The estimator's stages and the analysis variants skip shaderc's optimiser (`Optimisation`):
+//! it cost most of a fresh build and bought their frames nothing.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -99,6 +101,7 @@ struct Job {
     source: String,
     values: [u32; AXES.len()],
     varied: Vec<usize>,
+    optimisation: Optimisation,
 }
 
 impl Job {
@@ -145,7 +148,66 @@ fn combinations(varied: &[usize]) -> Vec<[u32; AXES.len()]> {
 /// What a module's SPIR-V depends on besides its preprocessed text: the compile settings below.
 /// Change it whenever they change, so that no cached module outlives them. (A new shaderc
 /// library is not seen here, nor by cargo: after upgrading it, `cargo clean`.)
-const SETTINGS: &str = "vulkan1.3 glsl warnings-as-errors debug-info performance without-source";
+const SETTINGS: &str = "vulkan1.3 glsl warnings-as-errors debug-info without-source";
+
+/// The stages compiled without shaderc's optimiser: the estimator's. Optimising one of their
+/// modules took 7 to 34 s, most of a fresh build, and their frames on lavapipe were no faster
+/// for it: the driver inlines and folds the SPIR-V itself. The shading stages keep it: without
+/// it their frames were up to a tenth slower (docs/build.md has both measurements).
+const UNOPTIMISED_STAGES: [&str; 3] = ["multirate.tesc", "refine_levels.comp", "triangle_levels.comp"];
+
+/// The axes of the analysis variants, which count or record and are never timed: their modules
+/// skip the optimiser too.
+const ANALYSIS_AXES: [&str; 2] = EXCLUSIVE_AXES;
+
+/// Which modules shaderc optimises: `MULTIRATE_SHADER_OPTIMISATION` = `measured` (the default:
+/// all but `UNOPTIMISED_STAGES` and the analysis variants), `all` or `none`, the last two to
+/// measure the choice again (docs/build.md).
+#[derive(Clone, Copy, PartialEq)]
+enum Optimisation {
+    Measured,
+    All,
+    None,
+}
+
+const OPTIMISATION_VARIABLE: &str = "MULTIRATE_SHADER_OPTIMISATION";
+
+impl Optimisation {
+    fn from_environment() -> Optimisation {
+        match std::env::var(OPTIMISATION_VARIABLE).as_deref() {
+            Err(_) | Ok("measured") => Optimisation::Measured,
+            Ok("all") => Optimisation::All,
+            Ok("none") => Optimisation::None,
+            Ok(other) => panic!("{OPTIMISATION_VARIABLE}={other}: expected measured, all or none"),
+        }
+    }
+
+    /// The optimisation level of `job`'s module, and its name for the cache key.
+    fn level(self, job: &Job) -> (shaderc::OptimizationLevel, &'static str) {
+        if self.light(job) {
+            return (shaderc::OptimizationLevel::Zero, "light");
+        }
+        let file = job.stage.file_name().expect("stage has a file name").to_string_lossy();
+        let analysis = ANALYSIS_AXES.iter().any(|&axis| job.values[axis_index(axis)] != 0);
+        let optimised = match self {
+            Optimisation::Measured => !analysis && !UNOPTIMISED_STAGES.contains(&file.as_ref()),
+            Optimisation::All => true,
+            Optimisation::None => false,
+        };
+        if optimised {
+            (shaderc::OptimizationLevel::Performance, "performance")
+        } else {
+            (shaderc::OptimizationLevel::Zero, "zero")
+        }
+    }
+
+    /// Whether `job`'s unoptimised module gets `LIGHT_PASSES`.
+    fn light(self, job: &Job) -> bool {
+        let file = job.stage.file_name().expect("stage has a file name").to_string_lossy();
+        let analysis = ANALYSIS_AXES.iter().any(|&axis| job.values[axis_index(axis)] != 0);
+        self == Optimisation::Measured && (analysis || UNOPTIMISED_STAGES.contains(&file.as_ref()))
+    }
+}
 
 fn options<'a>(job: &Job, include_dir: &Path) -> shaderc::CompileOptions<'a> {
     let mut options = shaderc::CompileOptions::new().expect("shaderc options");
@@ -155,7 +217,7 @@ fn options<'a>(job: &Job, include_dir: &Path) -> shaderc::CompileOptions<'a> {
     // Names (OpName, OpMemberName) for the layout test and debuggers; `without_source` then
     // drops the embedded source text, which would make every variant ~300 kB.
     options.set_generate_debug_info();
-    options.set_optimization_level(shaderc::OptimizationLevel::Performance);
+    options.set_optimization_level(job.optimisation.level(job).0);
     for (axis, value) in AXES.iter().zip(job.values) {
         options.add_macro_definition(axis.define, Some(&value.to_string()));
     }
@@ -179,21 +241,24 @@ fn cache_key(job: &Job, include_dir: &Path, compiler: &shaderc::Compiler) -> Res
         .preprocess(&job.source, &job.stage.display().to_string(), "main", Some(&options(job, include_dir)))
         .map_err(|e| format!("{name}: {e}"))?;
     let mut hasher = std::collections::hash_map::DefaultHasher::new();
-    (job.kind as u32, SETTINGS, expanded.as_text()).hash(&mut hasher);
+    (job.kind as u32, SETTINGS, job.optimisation.level(job).1, LIGHT_PASSES, expanded.as_text())
+        .hash(&mut hasher);
     Ok(format!("{:016x}", hasher.finish()))
 }
 
 /// Compiles `job` unless `$OUT_DIR/spirv` holds its module under the same cache key (a
-/// `.spv.key` file beside the `.spv`, written after it). Returns whether it compiled.
-fn compile(job: &Job, include_dir: &Path, out_dir: &Path) -> Result<bool, String> {
+/// `.spv.key` file beside the `.spv`, written after it). Returns the seconds compiling took,
+/// None where the cache held the module.
+fn compile(job: &Job, include_dir: &Path, out_dir: &Path) -> Result<Option<f64>, String> {
     let compiler = shaderc::Compiler::new().expect("shaderc compiler");
     let name = job.module_name();
     let out = out_dir.join(format!("{name}.spv"));
     let key_file = out_dir.join(format!("{name}.spv.key"));
     let key = cache_key(job, include_dir, &compiler)?;
     if out.is_file() && std::fs::read_to_string(&key_file).is_ok_and(|cached| cached == key) {
-        return Ok(false);
+        return Ok(None);
     }
+    let started = std::time::Instant::now();
     let artifact = compiler
         .compile_into_spirv(
             &job.source,
@@ -205,11 +270,48 @@ fn compile(job: &Job, include_dir: &Path, out_dir: &Path) -> Result<bool, String
         .map_err(|e| format!("{name}: {e}"))?;
     // No key may vouch for a module while it is being replaced.
     let _ = std::fs::remove_file(&key_file);
-    let words = without_source(artifact.as_binary());
+    let mut words = without_source(artifact.as_binary());
+    if job.optimisation.light(job) {
+        words = light_optimised(&words, &out).map_err(|e| format!("{name}: {e}"))?;
+    }
     let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
     std::fs::write(&out, bytes).map_err(|e| format!("cannot write {}: {e}", out.display()))?;
     std::fs::write(&key_file, key).map_err(|e| format!("cannot write {}: {e}", key_file.display()))?;
-    Ok(true)
+    Ok(Some(started.elapsed().as_secs_f64()))
+}
+
+/// The passes of the light optimisation: each function's locals into SSA form and the dead code
+/// out, without inlining (the driver inlines), in a fraction of a second a module.
+const LIGHT_PASSES: [&str; 7] = [
+    "--eliminate-local-single-block",
+    "--eliminate-local-single-store",
+    "--ssa-rewrite",
+    "--eliminate-dead-branches",
+    "--eliminate-dead-code-aggressive",
+    "--merge-blocks",
+    "--eliminate-dead-functions",
+];
+
+/// `module` after `spirv-opt` ran `LIGHT_PASSES` on it, through files beside `out`.
+fn light_optimised(module: &[u32], out: &Path) -> Result<Vec<u32>, String> {
+    let input = out.with_extension("spv.in");
+    let output = out.with_extension("spv.light");
+    let bytes: Vec<u8> = module.iter().flat_map(|w| w.to_le_bytes()).collect();
+    std::fs::write(&input, bytes).map_err(|e| format!("cannot write {}: {e}", input.display()))?;
+    let status = std::process::Command::new("spirv-opt")
+        .args(LIGHT_PASSES)
+        .arg(&input)
+        .arg("-o")
+        .arg(&output)
+        .status()
+        .map_err(|e| format!("cannot run spirv-opt (package spirv-tools): {e}"))?;
+    if !status.success() {
+        return Err(format!("spirv-opt failed ({status})"));
+    }
+    let bytes = std::fs::read(&output).map_err(|e| format!("cannot read {}: {e}", output.display()))?;
+    let _ = std::fs::remove_file(&input);
+    let _ = std::fs::remove_file(&output);
+    Ok(bytes.chunks_exact(4).map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]])).collect())
 }
 
 /// The module without its source-level debug instructions (OpSourceContinued, OpSource,
@@ -259,6 +361,8 @@ fn main() {
         println!("cargo:rerun-if-changed={}", header.display());
     }
 
+    println!("cargo:rerun-if-env-changed={OPTIMISATION_VARIABLE}");
+    let optimisation = Optimisation::from_environment();
     let mut jobs = Vec::new();
     for stage in files_in(glsl) {
         let Some(kind) = stage_kind(&stage) else { continue };
@@ -273,6 +377,7 @@ fn main() {
                 source: source.clone(),
                 values,
                 varied: varied.clone(),
+                optimisation,
             });
         }
     }
@@ -283,7 +388,7 @@ fn main() {
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(jobs.len().max(1));
     let next = std::sync::atomic::AtomicUsize::new(0);
     let failures = std::sync::Mutex::new(Vec::new());
-    let compiled = std::sync::atomic::AtomicUsize::new(0);
+    let compiled = std::sync::Mutex::new(Vec::new());
     std::thread::scope(|scope| {
         for _ in 0..threads {
             std::thread::Builder::new()
@@ -292,10 +397,11 @@ fn main() {
                     let index = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                     let Some(job) = jobs.get(index) else { break };
                     match compile(job, &include_dir, &out_dir) {
-                        Ok(true) => {
-                            compiled.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                        }
-                        Ok(false) => {}
+                        Ok(Some(seconds)) => compiled
+                            .lock()
+                            .expect("no thread panicked holding the lock")
+                            .push((job.module_name(), seconds)),
+                        Ok(None) => {}
                         Err(error) => {
                             failures.lock().expect("no thread panicked holding the lock").push(error)
                         }
@@ -314,7 +420,14 @@ fn main() {
         panic!("{} shader(s) failed to compile:\n{}", failures.len(), failures.join("\n"));
     }
     // Shown by `cargo build -vv`: how much of the build the cache saved.
-    println!("{} of {} shader modules compiled, the others cached", compiled.into_inner(), jobs.len());
+    let mut compiled = compiled.into_inner().expect("no thread panicked holding the lock");
+    println!("{} of {} shader modules compiled, the others cached", compiled.len(), jobs.len());
+    // What each module compiled in this build took, for docs/build.md.
+    compiled.sort_by(|a, b| a.0.cmp(&b.0));
+    let times: String = compiled.iter().map(|(name, seconds)| format!("{name}\t{seconds:.3}\n")).collect();
+    let times_file = out_dir.join("compile_times.tsv");
+    std::fs::write(&times_file, times)
+        .unwrap_or_else(|e| panic!("cannot write {}: {e}", times_file.display()));
     let table = out_dir.join("variants.rs");
     std::fs::write(&table, variant_table(&jobs))
         .unwrap_or_else(|e| panic!("cannot write {}: {e}", table.display()));

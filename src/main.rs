@@ -249,8 +249,9 @@ struct RenderArgs {
 /// How shading is sampled; unset values come from the scene.
 #[derive(Args, Clone)]
 struct ShadingArgs {
-    /// pixel (reference), vertex (Gouraud), fixed:N (tessellated at level N) or multirate.
-    #[arg(long, default_value = "pixel")]
+    /// multirate (the default: shaded on the sub-vertices the estimator asks for), pixel (the
+    /// per-pixel reference), vertex (Gouraud) or fixed:N (tessellated at level N).
+    #[arg(long, default_value = "multirate")]
     mode: Mode,
     /// multirate: L∞ bound on the interpolation error, in linear radiance.
     #[arg(long)]
@@ -479,7 +480,7 @@ fn view(scene: &Path, shading: &ShadingArgs, gpu: &GpuArgs) -> Result<()> {
 impl Default for ShadingArgs {
     fn default() -> Self {
         ShadingArgs {
-            mode: Mode::Pixel,
+            mode: Mode::Multirate,
             epsilon: None,
             nmax: None,
             split: Split::Heuristic,
@@ -770,10 +771,8 @@ fn main() -> Result<()> {
             .with_context(|| format!("calibrating with {}", args.scene.display())),
         Some(Command::View(args)) => view(&args.scene, &args.shading, &cli.gpu)
             .with_context(|| format!("viewing {}", args.scene.display())),
-        None if has_display() => {
-            view(&default_scene(), &ShadingArgs { mode: Mode::Multirate, ..ShadingArgs::default() }, &cli.gpu)
-        }
-        .context("opening the viewer (set no DISPLAY to render headless instead)"),
+        None if has_display() => view(&default_scene(), &ShadingArgs::default(), &cli.gpu)
+            .context("opening the viewer (set no DISPLAY to render headless instead)"),
         None => first_run(&cli.gpu).context("rendering the default scene headless"),
     }
 }

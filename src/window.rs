@@ -5,9 +5,10 @@
 //! multirate's estimator between the control stage and the compute pre-pass; [ and ] halve
 //! and double ε, < and > halve and double n_max; H toggles the tessellation-level heat map, W
 //! the wireframe. The title shows the mode (with ε and n_max in multirate), the GPU time of
-//! the render from timestamps, and the shading evaluations as a share of `pixel` mode's
-//! (counted at most every `RECOUNT_EVERY`, and when the mode or ε changes). A zero-sized
-//! (minimised) window draws nothing and keeps its swapchain until it is restored.
+//! the render from timestamps, its speed against `pixel` mode timed in the same window
+//! (`speed`; T times `pixel` again), and the shading evaluations as a share of `pixel`
+//! mode's (counted at most every `RECOUNT_EVERY`, and when the mode or ε changes). A
+//! zero-sized (minimised) window draws nothing and keeps its swapchain until it is restored.
 //!
 //! A [`ViewScript`] drives the same loop without a person: key presses, resizes, minimising
 //! and memory samples at given turns of the loop. [`ViewScript::soak`] builds the long one
@@ -24,6 +25,7 @@ use crate::vk::target::{AfterPass, RenderTarget};
 use crate::vk::timing::GpuTimer;
 use crate::vk::{Context, ContextOptions};
 use ash::vk;
+use speed::PixelReference;
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -101,6 +103,7 @@ const SOAK_CYCLE: &[SoakStep] = &[
     SoakStep::Key("e"),
     SoakStep::Key("h"),
     SoakStep::Key("w"),
+    SoakStep::Key("t"),
     SoakStep::Larger,
     SoakStep::Key("d"),
     SoakStep::Key("m"),
@@ -232,6 +235,8 @@ pub fn view(
         drag: None,
         fixed_level: if let Mode::Fixed(level) = mode { level } else { 4 },
         gpu_ms: None,
+        pixel_reference: None,
+        retime: false,
         share: None,
         started: Instant::now(),
     };
@@ -337,8 +342,13 @@ struct App {
     drag: Option<(f64, f64)>,
     /// The level `F` returns to after visiting other modes.
     fixed_level: u32,
-    /// GPU milliseconds of the render (pre-pass included, tone mapping not), smoothed.
+    /// GPU milliseconds of the render (pre-pass included, tone mapping not), smoothed over
+    /// the frames since the shading settings last changed.
     gpu_ms: Option<f64>,
+    /// `pixel` mode's GPU time in this window, for the title's speed.
+    pixel_reference: Option<PixelReference>,
+    /// The user asked (T) for `pixel` mode to be timed again.
+    retime: bool,
     /// The last evaluation count: when, for which view, and its share of `pixel` mode's.
     share: Option<EvaluationShare>,
     /// When the window was created.
@@ -427,10 +437,18 @@ impl App {
             (s.view.mode, s.view.estimator.epsilon, s.view.estimator.n_max, s.view.placement)
                 != (view.mode, view.estimator.epsilon, view.estimator.n_max, view.placement)
         });
+        if settings_changed {
+            // The smoothed time is of the shading shown.
+            self.gpu_ms = None;
+        }
+        // The last frame has finished (fence above), so the target is free to count and time in.
         if settings_changed || self.share.as_ref().is_some_and(|s| s.at.elapsed() >= RECOUNT_EVERY) {
-            // The last frame has finished (fence above), so the target is free to count in.
             let percent = evaluation_percent(&state.renderer, &state.target, &view)?;
             self.share = Some(EvaluationShare { at: Instant::now(), view: view.clone(), percent });
+        }
+        if PixelReference::due(self.pixel_reference.as_ref(), &view, &state.target, self.retime) {
+            self.pixel_reference = Some(PixelReference::measure(&state.renderer, &state.target, &view)?);
+            self.retime = false;
         }
         let index = match state.swapchain.acquire(frame.image_available)? {
             Acquired::Image { index, suboptimal } => {
@@ -497,6 +515,9 @@ impl App {
         }
         if let Some(ms) = self.gpu_ms {
             title += &format!(" — GPU {ms:.2} ms");
+            if let Some(reference) = self.pixel_reference.as_ref().filter(|_| self.view.mode != Mode::Pixel) {
+                title += &format!(", {}", speed::speed_text(reference.ms, ms));
+            }
         }
         if let Some(percent) = self.share.as_ref().and_then(|s| s.percent) {
             title += &format!(" — evaluations {percent:.1} % of pixel");
@@ -594,7 +615,8 @@ impl App {
     /// Mode keys: P pixel, D pixel-deferred, V vertex, F fixed:N, M multirate, + / - change N
     /// (and switch to fixed:N); [ / ] halve / double multirate's ε (within 10⁻⁴ to 10); < / >
     /// (or , / .) halve / double its n_max (within 1 to `MAX_LEVEL`); E moves multirate's
-    /// estimator between the control stage and the compute pre-pass.
+    /// estimator between the control stage and the compute pre-pass; T times `pixel` mode
+    /// again for the title's speed.
     fn on_key(&mut self, text: &str) {
         let level = match self.view.mode {
             Mode::Fixed(level) => level,
@@ -608,6 +630,10 @@ impl App {
             "m" => Mode::Multirate,
             "h" => {
                 self.view.heat_map = !self.view.heat_map;
+                return;
+            }
+            "t" => {
+                self.retime = true;
                 return;
             }
             "[" | "]" => {
@@ -759,5 +785,6 @@ fn evaluation_percent(renderer: &Renderer, target: &RenderTarget, view: &View) -
     Ok(Some(100.0 * counts.total() as f64 / reference.total().max(1) as f64))
 }
 
+mod speed;
 #[cfg(test)]
 mod tests;

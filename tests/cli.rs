@@ -107,6 +107,7 @@ fn renders_png_and_exr_with_coverage() {
         ]);
         assert!(ok, "render failed:\n{stderr}");
         assert!(stdout.contains(out.to_str().unwrap()), "prints where the image went: {stdout}");
+        assert!(stdout.contains("mode multirate"), "multirate without --mode: {stdout}");
         assert!(!stderr.contains("vulkan:"), "validation messages:\n{stderr}");
     }
     let png = image::open(&png).expect("PNG decodes").to_rgba8();

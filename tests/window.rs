@@ -1,6 +1,7 @@
 //! The viewer opens a window (in a tessellated mode), switches modes, heat map, wireframe, ε
 //! and n_max by key, renders, survives a resize (swapchain recreation) and closes cleanly with
-//! the validation layer on; its title shows the GPU time and the evaluations. Then the soak:
+//! the validation layer on; its title shows the GPU time, the speed against `pixel` and the
+//! evaluations. Then the soak:
 //! `multirate soak` runs the window for 10,000 frames through every mode, key and size,
 //! minimised spells included, and its memory stays flat.
 //!
@@ -68,8 +69,8 @@ fn window_opens_resizes_and_closes_cleanly() {
     assert!(last.wireframe, "W toggled the wireframe on (lavapipe has fillModeNonSolid)");
     assert_eq!(last.estimator.epsilon, epsilon * 0.5, "[ halves ε twice, ] doubles it once");
     assert_eq!(last.estimator.n_max, (n_max / 4).max(1) * 2, "< halves n_max twice, > doubles it once");
-    // The title: mode, GPU time from timestamps, evaluations against `pixel` (fixed:4 shades
-    // sub-vertices only, a fraction of the covered pixels here).
+    // The title: mode, GPU time from timestamps, speed and evaluations against `pixel` (fixed:4
+    // shades sub-vertices only, a fraction of the covered pixels here).
     let title = &report.final_title;
     assert!(title.contains("fixed:4"), "{title}");
     let number_before = |unit: &str| -> f64 {
@@ -77,6 +78,8 @@ fn window_opens_resizes_and_closes_cleanly() {
         head.split_whitespace().last().and_then(|w| w.parse().ok()).unwrap_or_else(|| panic!("{title}"))
     };
     assert!(number_before(" ms") > 0.0, "{title}");
+    // Its speed against `pixel` mode, timed in the same window.
+    assert!(number_before("× pixel's speed") > 0.0, "{title}");
     let percent = number_before(" % of pixel");
     assert!(percent > 0.0 && percent < 100.0, "{title}");
 }

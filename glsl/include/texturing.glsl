@@ -22,25 +22,44 @@ float map_parameter(GpuMaterial m, float u) {
     return m.maps.w == 1 ? lo * pow(hi / lo, u) : lo + (hi - lo) * u;
 }
 
+// The reads below are compiled into textured variants only (`#if VARIANT_TEXTURED`), not left
+// to the optimiser: build.rs compiles the estimator's stages and the analysis variants without
+// it, and an untextured variant's module then holds no texture read at all.
+
+// The parameter map's size in texels ((1, 1) in an untextured variant, which has none).
+vec2 parameter_map_size() {
+#if VARIANT_TEXTURED
+    return vec2(textureSize(parameter_map, 0));
+#else
+    return vec2(1.0);
+#endif
+}
+
 float parameter_at_lod(GpuMaterial m, vec2 uv, float lod) {
-    if (!has_parameter_map(m)) {
-        return m.params.x;
+#if VARIANT_TEXTURED
+    if (has_parameter_map(m)) {
+        return map_parameter(m, textureLod(parameter_map, uv, lod).r);
     }
-    return map_parameter(m, textureLod(parameter_map, uv, lod).r);
+#endif
+    return m.params.x;
 }
 
 float parameter_at_grad(GpuMaterial m, vec2 uv, vec2 duv_dx, vec2 duv_dy) {
-    if (!has_parameter_map(m)) {
-        return m.params.x;
+#if VARIANT_TEXTURED
+    if (has_parameter_map(m)) {
+        return map_parameter(m, textureGrad(parameter_map, uv, duv_dx, duv_dy).r);
     }
-    return map_parameter(m, textureGrad(parameter_map, uv, duv_dx, duv_dy).r);
+#endif
+    return m.params.x;
 }
 
 vec3 albedo_at_grad(GpuMaterial m, vec2 uv, vec2 duv_dx, vec2 duv_dy) {
-    if (!has_albedo_map(m)) {
-        return vec3(1.0);
+#if VARIANT_TEXTURED
+    if (has_albedo_map(m)) {
+        return textureGrad(albedo_map, uv, duv_dx, duv_dy).rgb;
     }
-    return textureGrad(albedo_map, uv, duv_dx, duv_dy).rgb;
+#endif
+    return vec3(1.0);
 }
 
 // The level of detail of the parameter map at a sub-vertex of the patch with world corners p
@@ -49,7 +68,7 @@ vec3 albedo_at_grad(GpuMaterial m, vec2 uv, vec2 duv_dx, vec2 duv_dy) {
 // that one sample stands for the whole sub-triangle; at most `lod_bound` (the control stage's
 // bound for the patch, which its texel range covers).
 float subvertex_lod(GpuMaterial m, vec3 p[3], vec2 uv[3], vec3 position, float level, float lod_bound) {
-    vec2 size = vec2(textureSize(parameter_map, 0));
+    vec2 size = parameter_map_size();
     vec4 clip = draw.view_proj * vec4(position, 1.0);
     vec2 pixel = (clip.xy / clip.w * 0.5 + 0.5) * draw.viewport_size;
     BarycentricDerivatives b = barycentric_derivatives(draw.view_proj * vec4(p[0], 1.0),

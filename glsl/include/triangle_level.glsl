@@ -12,7 +12,9 @@
 #ifndef TRIANGLE_LEVEL_GLSL
 #define TRIANGLE_LEVEL_GLSL
 #include "estimator.glsl"
+#if VARIANT_TEXTURED
 #include "texture_bounds.glsl"
+#endif
 
 // The level of a culled triangle: below every real level, so a culled neighbour asks its
 // neighbours for nothing (uniform_level gives 1).
@@ -119,33 +121,37 @@ float lod_bound_of(vec2 a, vec2 b, vec2 c, vec2 size) {
 // The parameter map's level-of-detail bound of the draw's material on the triangle (0 without
 // a parameter map).
 float material_lod_bound(vec2 a, vec2 b, vec2 c) {
+#if VARIANT_TEXTURED
     GpuMaterial m = materials[draw.material_index];
-    if (!TEXTURED || m.maps.y < 0) {
-        return 0.0;
+    if (m.maps.y >= 0) {
+        return lod_bound_of(a, b, c, vec2(textureSize(parameter_map, 0)));
     }
-    return lod_bound_of(a, b, c, vec2(textureSize(parameter_map, 0)));
+#endif
+    return 0.0;
 }
 
 // The range of the material's shininess or roughness over the triangle's texels (seed 003
 // Sec. 3.5), from the min/max pyramid; the material's own value without a map.
 // `bound`: the triangle's lod_bound_of.
 vec2 parameter_range_of(GpuMaterial m, vec2 p, vec2 q, vec2 r, float bound) {
-    if (!TEXTURED || m.maps.y < 0) {
-        return vec2(m.params.x);
+#if VARIANT_TEXTURED
+    if (m.maps.y >= 0) {
+        vec2 u = parameter_bounds(min(min(p, q), r), max(max(p, q), r), bound);
+        P float lo = m.parameter_range.x;
+        P float hi = m.parameter_range.y;
+        P float a;
+        P float b;
+        if (m.maps.w == 1) {
+            a = lo * est_pow(hi / lo, u.x);
+            b = lo * est_pow(hi / lo, u.y);
+        } else {
+            a = lo + (hi - lo) * u.x;
+            b = lo + (hi - lo) * u.y;
+        }
+        return vec2(a, b);
     }
-    vec2 u = parameter_bounds(min(min(p, q), r), max(max(p, q), r), bound);
-    P float lo = m.parameter_range.x;
-    P float hi = m.parameter_range.y;
-    P float a;
-    P float b;
-    if (m.maps.w == 1) {
-        a = lo * est_pow(hi / lo, u.x);
-        b = lo * est_pow(hi / lo, u.y);
-    } else {
-        a = lo + (hi - lo) * u.x;
-        b = lo + (hi - lo) * u.y;
-    }
-    return vec2(a, b);
+#endif
+    return vec2(m.params.x);
 }
 
 // The parameter range of the draw's material over the triangle with texture coordinates t.

@@ -11,7 +11,7 @@ fn the_soak_script_cycles_every_key_size_and_minimised_spell() {
     let cycles = count(ScriptEvent::SampleMemory);
     let presented_per_cycle = (SOAK_CYCLE.len() - 1) * SOAK_STEP as usize;
     assert!((cycles - 2) * presented_per_cycle >= 10_000, "enough cycles: {cycles}");
-    for key in ["p", "d", "v", "f", "m", "e", "h", "w", "+", "-", "[", "]", "<", ">"] {
+    for key in ["p", "d", "v", "f", "m", "e", "h", "w", "t", "+", "-", "[", "]", "<", ">"] {
         assert!(count(ScriptEvent::Key(key)) >= cycles, "{key}");
     }
     assert_eq!(count(ScriptEvent::Resize(96, 72)), cycles);
