@@ -16,8 +16,8 @@
 //! in order, for it to check against its own, and `$OUT_DIR/spirv/compile_times.tsv` the seconds
 //! each module compiled in this build took. A module is compiled again only when its
 //! preprocessed text (or the compile settings) changed since the last build in that folder.
-//! The estimator's stages and the analysis variants skip shaderc's optimiser (`Optimisation`):
-//! it cost most of a fresh build and bought their frames nothing.
+//! The estimator's stages and the analysis variants are only lightly optimised (`Optimisation`):
+//! shaderc's optimiser cost most of a fresh build and made their frames no faster.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -150,19 +150,41 @@ fn combinations(varied: &[usize]) -> Vec<[u32; AXES.len()]> {
 /// library is not seen here, nor by cargo: after upgrading it, `cargo clean`.)
 const SETTINGS: &str = "vulkan1.3 glsl warnings-as-errors debug-info without-source";
 
-/// The stages compiled without shaderc's optimiser: the estimator's. Optimising one of their
-/// modules took 7 to 34 s, most of a fresh build, and their frames on lavapipe were no faster
-/// for it: the driver inlines and folds the SPIR-V itself. The shading stages keep it: without
-/// it their frames were up to a tenth slower (docs/build.md has both measurements).
-const UNOPTIMISED_STAGES: [&str; 3] = ["multirate.tesc", "refine_levels.comp", "triangle_levels.comp"];
+/// The estimator's stages, lightly optimised (`Level::Light`): shaderc's optimiser took 7 to 34 s
+/// a module of theirs, most of a fresh build, and their frames on lavapipe ran no faster for it.
+/// The shading stages keep it: without it their frames were up to a tenth slower (docs/build.md
+/// has the measurements).
+const LIGHT_STAGES: [&str; 3] = ["multirate.tesc", "refine_levels.comp", "triangle_levels.comp"];
 
 /// The axes of the analysis variants, which count or record and are never timed: their modules
-/// skip the optimiser too.
+/// are lightly optimised too.
 const ANALYSIS_AXES: [&str; 2] = EXCLUSIVE_AXES;
 
-/// Which modules shaderc optimises: `MULTIRATE_SHADER_OPTIMISATION` = `measured` (the default:
-/// all but `UNOPTIMISED_STAGES` and the analysis variants), `all` or `none`, the last two to
-/// measure the choice again (docs/build.md).
+/// How a module is optimised.
+#[derive(Clone, Copy, PartialEq)]
+enum Level {
+    /// shaderc's `-O`.
+    Performance,
+    /// No optimiser, then `spirv-opt` with `LIGHT_PASSES`.
+    Light,
+    /// No optimiser.
+    Zero,
+}
+
+impl Level {
+    /// Its name in the cache key.
+    fn name(self) -> &'static str {
+        match self {
+            Level::Performance => "performance",
+            Level::Light => "light",
+            Level::Zero => "zero",
+        }
+    }
+}
+
+/// Which modules are optimised how: `MULTIRATE_SHADER_OPTIMISATION` = `measured` (the default:
+/// `LIGHT_STAGES` and the analysis variants lightly, the rest with `-O`), `all` (every module
+/// with `-O`) or `none` (none), the last two to measure the choice again (docs/build.md).
 #[derive(Clone, Copy, PartialEq)]
 enum Optimisation {
     Measured,
@@ -182,30 +204,15 @@ impl Optimisation {
         }
     }
 
-    /// The optimisation level of `job`'s module, and its name for the cache key.
-    fn level(self, job: &Job) -> (shaderc::OptimizationLevel, &'static str) {
-        if self.light(job) {
-            return (shaderc::OptimizationLevel::Zero, "light");
-        }
+    /// How `job`'s module is optimised.
+    fn level(self, job: &Job) -> Level {
         let file = job.stage.file_name().expect("stage has a file name").to_string_lossy();
         let analysis = ANALYSIS_AXES.iter().any(|&axis| job.values[axis_index(axis)] != 0);
-        let optimised = match self {
-            Optimisation::Measured => !analysis && !UNOPTIMISED_STAGES.contains(&file.as_ref()),
-            Optimisation::All => true,
-            Optimisation::None => false,
-        };
-        if optimised {
-            (shaderc::OptimizationLevel::Performance, "performance")
-        } else {
-            (shaderc::OptimizationLevel::Zero, "zero")
+        match self {
+            Optimisation::Measured if analysis || LIGHT_STAGES.contains(&file.as_ref()) => Level::Light,
+            Optimisation::Measured | Optimisation::All => Level::Performance,
+            Optimisation::None => Level::Zero,
         }
-    }
-
-    /// Whether `job`'s unoptimised module gets `LIGHT_PASSES`.
-    fn light(self, job: &Job) -> bool {
-        let file = job.stage.file_name().expect("stage has a file name").to_string_lossy();
-        let analysis = ANALYSIS_AXES.iter().any(|&axis| job.values[axis_index(axis)] != 0);
-        self == Optimisation::Measured && (analysis || UNOPTIMISED_STAGES.contains(&file.as_ref()))
     }
 }
 
@@ -217,7 +224,10 @@ fn options<'a>(job: &Job, include_dir: &Path) -> shaderc::CompileOptions<'a> {
     // Names (OpName, OpMemberName) for the layout test and debuggers; `without_source` then
     // drops the embedded source text, which would make every variant ~300 kB.
     options.set_generate_debug_info();
-    options.set_optimization_level(job.optimisation.level(job).0);
+    options.set_optimization_level(match job.optimisation.level(job) {
+        Level::Performance => shaderc::OptimizationLevel::Performance,
+        Level::Light | Level::Zero => shaderc::OptimizationLevel::Zero,
+    });
     for (axis, value) in AXES.iter().zip(job.values) {
         options.add_macro_definition(axis.define, Some(&value.to_string()));
     }
@@ -241,7 +251,7 @@ fn cache_key(job: &Job, include_dir: &Path, compiler: &shaderc::Compiler) -> Res
         .preprocess(&job.source, &job.stage.display().to_string(), "main", Some(&options(job, include_dir)))
         .map_err(|e| format!("{name}: {e}"))?;
     let mut hasher = std::collections::hash_map::DefaultHasher::new();
-    (job.kind as u32, SETTINGS, job.optimisation.level(job).1, LIGHT_PASSES, expanded.as_text())
+    (job.kind as u32, SETTINGS, job.optimisation.level(job).name(), LIGHT_PASSES, expanded.as_text())
         .hash(&mut hasher);
     Ok(format!("{:016x}", hasher.finish()))
 }
@@ -271,7 +281,7 @@ fn compile(job: &Job, include_dir: &Path, out_dir: &Path) -> Result<Option<f64>,
     // No key may vouch for a module while it is being replaced.
     let _ = std::fs::remove_file(&key_file);
     let mut words = without_source(artifact.as_binary());
-    if job.optimisation.light(job) {
+    if job.optimisation.level(job) == Level::Light {
         words = light_optimised(&words, &out).map_err(|e| format!("{name}: {e}"))?;
     }
     let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
