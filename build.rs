@@ -152,7 +152,7 @@ const SETTINGS: &str = "vulkan1.3 glsl warnings-as-errors debug-info without-sou
 
 /// The estimator's stages, lightly optimised (`Level::Light`): shaderc's optimiser took 7 to 34 s
 /// a module of theirs, most of a fresh build, and their frames on lavapipe ran no faster for it.
-/// The shading stages keep it: without it their frames were up to a tenth slower (docs/build.md
+/// The shading stages keep it: without it most of their frames were slower (docs/build.md
 /// has the measurements).
 const LIGHT_STAGES: [&str; 3] = ["multirate.tesc", "refine_levels.comp", "triangle_levels.comp"];
 
