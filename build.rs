@@ -93,15 +93,15 @@ fn axes_of(stage: &Path, source: &str) -> Vec<usize> {
         .collect()
 }
 
-/// One module to compile: the stage, its feature values (all axes; 0 where not varied) and the
-/// axes it varies over.
+/// One module to compile: the stage, its feature values (all axes; 0 where not varied), the
+/// axes it varies over and how it is optimised.
 struct Job {
     stage: PathBuf,
     kind: shaderc::ShaderKind,
     source: String,
     values: [u32; AXES.len()],
     varied: Vec<usize>,
-    optimisation: Optimisation,
+    level: Level,
 }
 
 impl Job {
@@ -204,10 +204,10 @@ impl Optimisation {
         }
     }
 
-    /// How `job`'s module is optimised.
-    fn level(self, job: &Job) -> Level {
-        let file = job.stage.file_name().expect("stage has a file name").to_string_lossy();
-        let analysis = ANALYSIS_AXES.iter().any(|&axis| job.values[axis_index(axis)] != 0);
+    /// How the module of `stage` with feature `values` is optimised.
+    fn level(self, stage: &Path, values: &[u32; AXES.len()]) -> Level {
+        let file = stage.file_name().expect("stage has a file name").to_string_lossy();
+        let analysis = ANALYSIS_AXES.iter().any(|&axis| values[axis_index(axis)] != 0);
         match self {
             Optimisation::Measured if analysis || LIGHT_STAGES.contains(&file.as_ref()) => Level::Light,
             Optimisation::Measured | Optimisation::All => Level::Performance,
@@ -224,7 +224,7 @@ fn options<'a>(job: &Job, include_dir: &Path) -> shaderc::CompileOptions<'a> {
     // Names (OpName, OpMemberName) for the layout test and debuggers; `without_source` then
     // drops the embedded source text, which would make every variant ~300 kB.
     options.set_generate_debug_info();
-    options.set_optimization_level(match job.optimisation.level(job) {
+    options.set_optimization_level(match job.level {
         Level::Performance => shaderc::OptimizationLevel::Performance,
         Level::Light | Level::Zero => shaderc::OptimizationLevel::Zero,
     });
@@ -251,8 +251,7 @@ fn cache_key(job: &Job, include_dir: &Path, compiler: &shaderc::Compiler) -> Res
         .preprocess(&job.source, &job.stage.display().to_string(), "main", Some(&options(job, include_dir)))
         .map_err(|e| format!("{name}: {e}"))?;
     let mut hasher = std::collections::hash_map::DefaultHasher::new();
-    (job.kind as u32, SETTINGS, job.optimisation.level(job).name(), LIGHT_PASSES, expanded.as_text())
-        .hash(&mut hasher);
+    (job.kind as u32, SETTINGS, job.level.name(), LIGHT_PASSES, expanded.as_text()).hash(&mut hasher);
     Ok(format!("{:016x}", hasher.finish()))
 }
 
@@ -281,7 +280,7 @@ fn compile(job: &Job, include_dir: &Path, out_dir: &Path) -> Result<Option<f64>,
     // No key may vouch for a module while it is being replaced.
     let _ = std::fs::remove_file(&key_file);
     let mut words = without_source(artifact.as_binary());
-    if job.optimisation.level(job) == Level::Light {
+    if job.level == Level::Light {
         words = light_optimised(&words, &out).map_err(|e| format!("{name}: {e}"))?;
     }
     let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
@@ -387,7 +386,7 @@ fn main() {
                 source: source.clone(),
                 values,
                 varied: varied.clone(),
-                optimisation,
+                level: optimisation.level(&stage, &values),
             });
         }
     }
