@@ -151,4 +151,4 @@ pub fn shaded_per_pixel(rule: &PerPixelRule, p: [Vec3; 3], one_sided: bool) -> b
 }
 
 #[cfg(test)]
-pub(crate) mod tests;
+mod tests;

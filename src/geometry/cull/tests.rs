@@ -4,8 +4,7 @@ use super::*;
 use crate::geometry::camera::view_projection;
 use crate::scene::Camera;
 
-/// A camera 5 units from the origin on +z, looking at it (also the cost model's tests' camera).
-pub(crate) fn camera() -> Camera {
+fn camera() -> Camera {
     Camera {
         eye: Vec3::new(0.0, 0.0, 5.0),
         target: Vec3::ZERO,

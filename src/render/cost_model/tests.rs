@@ -44,7 +44,15 @@ fn calibrations_are_stored_per_device_and_read_back() {
 #[test]
 fn a_mesh_is_drawn_per_pixel_when_most_of_its_visible_triangles_are_small() {
     use crate::geometry::camera::view_projection;
-    let camera = crate::geometry::cull::tests::camera();
+    use crate::scene::Camera;
+    let camera = Camera {
+        eye: Vec3::new(0.0, 0.0, 5.0),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        fov_y_degrees: 60.0,
+        near: 0.1,
+        far: 100.0,
+    };
     let vp = view_projection(&camera, 640, 480);
     let viewport = Vec2::new(640.0, 480.0);
     // Right triangles facing the eye with legs of `size` units (83 pixels a unit here).
