@@ -94,72 +94,78 @@ fn error_against_pixel_shrinks_with_the_level() {
     assert!(errors[0].0 > 0.05, "fixed:1 must visibly miss the sharp highlights: {errors:?}");
 }
 
+// One test per scene, so that they run side by side. The plane's polygonal lights are in
+// view, so their emitters' ids are checked too.
 #[test]
 fn the_analysis_frame_is_the_timed_image_and_the_triangles_it_shows() {
-    // The plane's polygonal lights are in view, so their emitters' ids are checked too.
-    for relative in ["scenes/teapot.toml", "scenes/plane_polygons.toml"] {
-        let scene = Scene::load(&repo_path(relative)).expect("scene loads");
-        let context = validated_context();
-        let renderer = Renderer::new(&context, &scene).expect("renderer");
-        let target =
-            RenderTarget::new(&context, vk::Extent2D { width: WIDTH, height: HEIGHT }).expect("target");
-        let pixel = View { mode: Mode::Pixel, ..View::of_scene(&scene) };
-        let reference = renderer.analyze(&target, &pixel).expect("analyze pixel");
-        // Pixel mode's ids are the visibility buffer's (`pixel-deferred`'s first pass), which
-        // draws no emitters.
-        let mut first_triangle = vec![0u32];
-        for mesh in &scene.meshes {
-            first_triangle.push(first_triangle.last().unwrap() + (mesh.indices.len() / 3) as u32);
-        }
-        let visible = renderer.triangle_ids(&target, &pixel).expect("visibility buffer");
-        let emitter_pixels = reference.triangles.iter().filter(|&&id| id & EMITTER_ID_BIT != 0).count();
-        for (i, (&id, seen)) in reference.triangles.iter().zip(&visible).enumerate() {
-            if id & EMITTER_ID_BIT == 0 {
-                let expected = seen.map_or(0, |(mesh, triangle)| first_triangle[mesh] + triangle as u32 + 1);
-                assert_eq!(id, expected, "{relative}: pixel {i}");
-            }
-        }
-        let on_edge = on_an_edge(&reference.triangles, WIDTH as usize);
-        let modes = [
-            pixel.clone(),
-            View { mode: Mode::PixelDeferred, ..pixel.clone() },
-            View { mode: Mode::Vertex, ..pixel.clone() },
-            View { mode: Mode::Fixed(3), ..pixel.clone() },
-            View { mode: Mode::Multirate, placement: Placement::Compute, ..pixel.clone() },
-            View { mode: Mode::Multirate, placement: Placement::Tcs, ..pixel.clone() },
-        ];
-        for view in modes {
-            let what = format!("{relative} {} ({})", view.mode, view.placement);
-            let timed = renderer.render(&target, &view).expect("render");
-            let analysis = renderer.analyze(&target, &view).expect("analyze");
-            assert_eq!(coverage_mismatches(&timed, &analysis.image), 0, "{what}");
-            let (max, _) = difference(&timed, &analysis.image);
-            assert!(max <= 1e-5, "{what}: the analysis image differs from the timed one by {max}");
-            for (p, &id) in analysis.image.pixels.iter().zip(&analysis.triangles) {
-                assert_eq!(p[3] > 0.0, id != 0, "{what}: a pixel's id and its coverage disagree");
-            }
-            // `pixel-deferred` draws no emitters (its full-screen passes shade mesh triangles
-            // only): where the others show one, it shows what lies behind.
-            let deferred = view.mode == Mode::PixelDeferred;
-            let emitters = analysis.triangles.iter().filter(|&&id| id & EMITTER_ID_BIT != 0).count();
-            assert_eq!(emitters, if deferred { 0 } else { emitter_pixels }, "{what}: emitter pixels");
-            // Only where the reference changes triangle may another triangle be seen: the
-            // modes rasterise the same triangles, up to sub-pixel rounding on their edges.
-            let differing: Vec<usize> = (0..analysis.triangles.len())
-                .filter(|&i| analysis.triangles[i] != reference.triangles[i])
-                .filter(|&i| !(deferred && reference.triangles[i] & EMITTER_ID_BIT != 0))
-                .collect();
-            assert!(
-                differing.iter().all(|&i| on_edge[i]),
-                "{what}: another triangle inside one: {differing:?}"
-            );
-            eprintln!("{what}: {} pixels show another triangle, on edges", differing.len());
-        }
-        if relative.contains("polygons") {
-            assert!(emitter_pixels > 0, "{relative}: no emitter in view, its ids go untested");
-        }
-        assert_validation_clean(&context);
+    assert_the_analysis_frame_is_the_timed_image("scenes/teapot.toml");
+}
+
+#[test]
+fn the_analysis_frame_is_the_timed_image_and_the_triangles_it_shows_emitters_included() {
+    assert_the_analysis_frame_is_the_timed_image("scenes/plane_polygons.toml");
+}
+
+/// On `relative`, in every mode: the analysis frame is the timed image, and its triangle ids
+/// are those the reference shows but on edges.
+fn assert_the_analysis_frame_is_the_timed_image(relative: &str) {
+    let scene = Scene::load(&repo_path(relative)).expect("scene loads");
+    let context = validated_context();
+    let renderer = Renderer::new(&context, &scene).expect("renderer");
+    let target = RenderTarget::new(&context, vk::Extent2D { width: WIDTH, height: HEIGHT }).expect("target");
+    let pixel = View { mode: Mode::Pixel, ..View::of_scene(&scene) };
+    let reference = renderer.analyze(&target, &pixel).expect("analyze pixel");
+    // Pixel mode's ids are the visibility buffer's (`pixel-deferred`'s first pass), which
+    // draws no emitters.
+    let mut first_triangle = vec![0u32];
+    for mesh in &scene.meshes {
+        first_triangle.push(first_triangle.last().unwrap() + (mesh.indices.len() / 3) as u32);
     }
+    let visible = renderer.triangle_ids(&target, &pixel).expect("visibility buffer");
+    let emitter_pixels = reference.triangles.iter().filter(|&&id| id & EMITTER_ID_BIT != 0).count();
+    for (i, (&id, seen)) in reference.triangles.iter().zip(&visible).enumerate() {
+        if id & EMITTER_ID_BIT == 0 {
+            let expected = seen.map_or(0, |(mesh, triangle)| first_triangle[mesh] + triangle as u32 + 1);
+            assert_eq!(id, expected, "{relative}: pixel {i}");
+        }
+    }
+    let on_edge = on_an_edge(&reference.triangles, WIDTH as usize);
+    let modes = [
+        pixel.clone(),
+        View { mode: Mode::PixelDeferred, ..pixel.clone() },
+        View { mode: Mode::Vertex, ..pixel.clone() },
+        View { mode: Mode::Fixed(3), ..pixel.clone() },
+        View { mode: Mode::Multirate, placement: Placement::Compute, ..pixel.clone() },
+        View { mode: Mode::Multirate, placement: Placement::Tcs, ..pixel.clone() },
+    ];
+    for view in modes {
+        let what = format!("{relative} {} ({})", view.mode, view.placement);
+        let timed = renderer.render(&target, &view).expect("render");
+        let analysis = renderer.analyze(&target, &view).expect("analyze");
+        assert_eq!(coverage_mismatches(&timed, &analysis.image), 0, "{what}");
+        let (max, _) = difference(&timed, &analysis.image);
+        assert!(max <= 1e-5, "{what}: the analysis image differs from the timed one by {max}");
+        for (p, &id) in analysis.image.pixels.iter().zip(&analysis.triangles) {
+            assert_eq!(p[3] > 0.0, id != 0, "{what}: a pixel's id and its coverage disagree");
+        }
+        // `pixel-deferred` draws no emitters (its full-screen passes shade mesh triangles
+        // only): where the others show one, it shows what lies behind.
+        let deferred = view.mode == Mode::PixelDeferred;
+        let emitters = analysis.triangles.iter().filter(|&&id| id & EMITTER_ID_BIT != 0).count();
+        assert_eq!(emitters, if deferred { 0 } else { emitter_pixels }, "{what}: emitter pixels");
+        // Only where the reference changes triangle may another triangle be seen: the
+        // modes rasterise the same triangles, up to sub-pixel rounding on their edges.
+        let differing: Vec<usize> = (0..analysis.triangles.len())
+            .filter(|&i| analysis.triangles[i] != reference.triangles[i])
+            .filter(|&i| !(deferred && reference.triangles[i] & EMITTER_ID_BIT != 0))
+            .collect();
+        assert!(differing.iter().all(|&i| on_edge[i]), "{what}: another triangle inside one: {differing:?}");
+        eprintln!("{what}: {} pixels show another triangle, on edges", differing.len());
+    }
+    if relative.contains("polygons") {
+        assert!(emitter_pixels > 0, "{relative}: no emitter in view, its ids go untested");
+    }
+    assert_validation_clean(&context);
 }
 
 #[test]
