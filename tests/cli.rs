@@ -1,5 +1,6 @@
-//! The `multirate` binary end to end: a successful render with validation, and bad inputs
-//! that must fail with a message naming the file and the problem, never a panic. Also, through
+//! The `multirate` binary end to end: a successful render with validation, the default scene
+//! found from any working directory, and bad inputs that must fail with a message naming the
+//! file and the problem, never a panic. Also, through
 //! the library (lavapipe, validation layer on and silent): scenes over a device limit, and
 //! allocations over a heap, refused with an error naming the scene or resource and the limit
 //! before Vulkan sees them.
@@ -37,6 +38,28 @@ fn multirate(args: &[&str]) -> (bool, String, String) {
         String::from_utf8_lossy(&output.stdout).into_owned(),
         String::from_utf8_lossy(&output.stderr).into_owned(),
     )
+}
+
+/// Every subcommand that has a default scene finds it from any working directory (the
+/// source tree's `scenes/bunny.toml` when the directory has no `scenes/`): the default its
+/// `--help` shows is a file that exists.
+#[test]
+fn default_scenes_exist_from_any_working_directory() {
+    let elsewhere = scratch("elsewhere");
+    for subcommand in ["view", "calibrate"] {
+        let output = Command::new(env!("CARGO_BIN_EXE_multirate"))
+            .args([subcommand, "--help"])
+            .current_dir(&elsewhere)
+            .output()
+            .expect("run multirate");
+        let help = String::from_utf8_lossy(&output.stdout);
+        let default = help
+            .lines()
+            .find_map(|line| line.rsplit_once("[default: ")?.1.strip_suffix(".toml]"))
+            .unwrap_or_else(|| panic!("{subcommand} --help names no default scene:\n{help}"));
+        let path = elsewhere.join(format!("{default}.toml"));
+        assert!(path.is_file(), "{subcommand}: the default scene {} does not exist", path.display());
+    }
 }
 
 /// Runs `render` on `scene` and asserts it fails cleanly with every `expected` text in stderr.

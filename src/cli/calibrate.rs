@@ -13,7 +13,7 @@ use std::path::PathBuf;
 #[derive(Args)]
 pub struct CalibrateArgs {
     /// The scene measured (its camera, resolution and meshes; its lights are replaced).
-    #[arg(long, default_value = "scenes/bunny.toml")]
+    #[arg(long, default_value_os_t = super::default_scene())]
     pub scene: PathBuf,
     /// Measured frames per configuration.
     #[arg(long, default_value_t = 6)]
