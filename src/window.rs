@@ -446,7 +446,7 @@ impl App {
             let percent = evaluation_percent(&state.renderer, &state.target, &view)?;
             self.share = Some(EvaluationShare { at: Instant::now(), view: view.clone(), percent });
         }
-        if PixelReference::due(self.pixel_reference.as_ref(), &view, &state.target, self.retime) {
+        if PixelReference::due(self.pixel_reference.as_ref(), &view, state.target.extent(), self.retime) {
             self.pixel_reference = Some(PixelReference::measure(&state.renderer, &state.target, &view)?);
             self.retime = false;
         }

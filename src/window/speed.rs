@@ -3,6 +3,7 @@
 //! window opens, when its size changes, when the camera has moved and `RETIME_EVERY` has
 //! passed, and when the user presses T. The title divides it by the live frame time.
 
+use crate::bench::Timing;
 use crate::error::Result;
 use crate::render::{Mode, Renderer, View};
 use crate::scene::Camera;
@@ -26,21 +27,20 @@ pub(super) struct PixelReference {
 }
 
 impl PixelReference {
-    /// Whether a new reference is due for `view` on `target` (`asked`: the user pressed T).
-    pub fn due(reference: Option<&PixelReference>, view: &View, target: &RenderTarget, asked: bool) -> bool {
+    /// Whether a new reference is due for `view` at `extent` (`asked`: the user pressed T).
+    pub fn due(reference: Option<&PixelReference>, view: &View, extent: vk::Extent2D, asked: bool) -> bool {
         let Some(reference) = reference else { return true };
         asked
-            || reference.extent != target.extent()
+            || reference.extent != extent
             || (reference.camera != view.camera && reference.at.elapsed() >= RETIME_EVERY)
     }
 
     /// Times `pixel` mode at `view`'s camera on `target`; the GPU must be done with the target.
     pub fn measure(renderer: &Renderer, target: &RenderTarget, view: &View) -> Result<PixelReference> {
         let pixel = View { mode: Mode::Pixel, heat_map: false, wireframe: false, ..view.clone() };
-        let mut ms = renderer.measure(target, &pixel, 1, REFERENCE_FRAMES)?.gpu_ms();
-        ms.sort_by(f64::total_cmp);
+        let ms = renderer.measure(target, &pixel, 1, REFERENCE_FRAMES)?.gpu_ms();
         Ok(PixelReference {
-            ms: ms[ms.len() / 2],
+            ms: Timing::of(&ms).median,
             camera: view.camera,
             extent: target.extent(),
             at: Instant::now(),
