@@ -13,8 +13,9 @@ use std::hint::black_box;
 use std::path::Path;
 use std::time::Instant;
 
+use multirate::scene::ParameterRange;
 use multirate::scene::Scene;
-use multirate::shading::estimator::{estimate, EstimatorSettings, TriangleInput};
+use multirate::shading::estimator::{estimate, settled_by_range, EstimatorSettings, TriangleInput};
 
 const REPETITIONS: usize = 7;
 const SCENES: [&str; 3] = ["scenes/bunny.toml", "scenes/teapot.toml", "scenes/plane_lights.toml"];
@@ -22,8 +23,8 @@ const SCENES: [&str; 3] = ["scenes/bunny.toml", "scenes/teapot.toml", "scenes/pl
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).filter(|a| a.ends_with(".toml")).collect();
     let paths: Vec<String> = if args.is_empty() { SCENES.map(String::from).to_vec() } else { args };
-    println!("| scene | triangles | lights | µs per triangle | levels summed |");
-    println!("| --- | ---: | ---: | ---: | ---: |");
+    println!("| scene | triangles | lights | µs per triangle | levels summed | settled by the range class |");
+    println!("| --- | ---: | ---: | ---: | ---: | ---: |");
     for path in paths {
         let scene = match Scene::load(Path::new(&path)) {
             Ok(scene) => scene,
@@ -55,6 +56,18 @@ fn main() {
             levels
         };
         let levels = pass();
+        let settled = work
+            .iter()
+            .filter(|(input, material)| {
+                settled_by_range(
+                    input,
+                    material,
+                    ParameterRange::of(material),
+                    &scene.lights,
+                    settings.epsilon,
+                )
+            })
+            .count();
         let mut times: Vec<f64> = (0..REPETITIONS)
             .map(|_| {
                 let start = Instant::now();
@@ -64,6 +77,11 @@ fn main() {
             .collect();
         times.sort_by(f64::total_cmp);
         let per_triangle = times[REPETITIONS / 2] / work.len() as f64 * 1e6;
-        println!("| {path} | {} | {} | {per_triangle:.2} | {levels:.0} |", work.len(), scene.lights.len());
+        let share = 100.0 * settled as f64 / work.len() as f64;
+        println!(
+            "| {path} | {} | {} | {per_triangle:.2} | {levels:.0} | {share:.1} % |",
+            work.len(),
+            scene.lights.len()
+        );
     }
 }

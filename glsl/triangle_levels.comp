@@ -1,8 +1,8 @@
 #version 460
 // variants: material_kind polygon_lights textured
-// `multirate` mode, `--estimator compute`, second step: one invocation per triangle to estimate of
-// a mesh (listed by cull_triangles.comp) writes its level (triangle_level.glsl) to
-// triangle_levels, once per frame, before the forward pass; patch_levels.comp then combines
+// `multirate` mode, `--estimator compute`, third step: one invocation per triangle to estimate of
+// a mesh that the range class does not settle (listed by range_levels.comp) writes its level
+// (triangle_level.glsl) to triangle_levels, once per frame, before the forward pass; patch_levels.comp then combines
 // each patch's levels and the control stage only reads them. Running over the list rather than over all
 // triangles keeps culled triangles and back faces out of the SIMD lanes that run the estimator.
 //
@@ -22,14 +22,15 @@ const uint REFINE_MAX_GROUPS = 65535u;
 
 void main() {
     uint local = gl_GlobalInvocationID.x;
-    if (local >= level_dispatches[level_dispatch(ESTIMATE_DISPATCH)].w) {
+    if (local >= level_dispatches[level_dispatch(FULL_ESTIMATE_DISPATCH)].w) {
         return;
     }
-    uint triangle = visible_triangles[draw.patch_base + local];
+    uint triangle = estimate_triangles[draw.patch_base + local];
     uint a = scene_indices[3u * triangle];
     uint b = scene_indices[3u * triangle + 1u];
     uint c = scene_indices[3u * triangle + 2u];
-    // The culling step gave back faces shaded per pixel their level and did not list them here.
+    // The culling step gave back faces shaded per pixel their level, and the range step the
+    // triangles it settles; neither is listed here.
     bool again;
     triangle_levels[triangle] = estimated_level_pass(scene_vec3(a, 0u), scene_vec3(b, 0u), scene_vec3(c, 0u),
                                                      scene_vec3(a, 3u), scene_vec3(b, 3u), scene_vec3(c, 3u),

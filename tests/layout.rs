@@ -329,7 +329,13 @@ fn pre_pass_workgroups_have_the_size_the_host_dispatches() {
     // The host sizes the culling step's dispatch, and the culling step the later steps', by
     // render::PRE_PASS_GROUP (the refining step's by blocks; PRE_PASS_GROUP is its default size,
     // a CPU device's pipeline takes render::REFINE_BLOCK).
-    let pre_pass = ["cull_triangles.comp", "triangle_levels.comp", "refine_levels.comp", "patch_levels.comp"];
+    let pre_pass = [
+        "cull_triangles.comp",
+        "range_levels.comp",
+        "triangle_levels.comp",
+        "refine_levels.comp",
+        "patch_levels.comp",
+    ];
     let mut checked = 0;
     for module in shaders::ALL.iter().filter(|m| pre_pass.contains(&m.stage)) {
         let size = contents(module.spirv).local_size_x;

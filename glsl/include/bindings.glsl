@@ -86,25 +86,31 @@ layout(set = 0, binding = 16, std430) buffer FallbackDraws { uvec4 fallback_draw
 // in the per-pixel draw (FLAG_FALLBACK_PATCHES), passes them on for multirate.frag to shade.
 layout(set = 0, binding = 17, std430) buffer FlatPatches { uint flat_patches[]; };
 layout(set = 0, binding = 18, std430) buffer FlatDraws { uvec4 flat_draws[]; };
-// Per mesh, the pre-pass's three indirect dispatches and the lengths of their lists
+// Per mesh, the pre-pass's four indirect dispatches and the lengths of their lists
 // (`VkDispatchIndirectCommand` in xyz, the length in w; the host resets each to (0, 1, 1, 0)):
-// level_dispatch(ESTIMATE_DISPATCH) of the estimator step, one workgroup per PRE_PASS_GROUP
+// level_dispatch(ESTIMATE_DISPATCH) of the range step, one workgroup per PRE_PASS_GROUP
 // triangles to estimate, w their count; level_dispatch(PATCH_DISPATCH) of the patch step, those
 // workgroups first, then one per PRE_PASS_GROUP back faces, w their count; both counted by the
 // culling step. level_dispatch(REFINE_DISPATCH) of the refining step over the triangles the
-// estimator step lists in refine_triangles, w their count. Only those run: on a CPU rasteriser
+// estimator step lists in refine_triangles, w their count; level_dispatch(FULL_ESTIMATE_DISPATCH)
+// of the estimator step over the triangles the range step lists in estimate_triangles, w their
+// count. Only those run: on a CPU rasteriser
 // every SIMD batch of a workgroup runs the estimator's whole code, returned lanes or not.
 layout(set = 0, binding = 19, std430) buffer LevelDispatches { uvec4 level_dispatches[]; };
 // The triangles whose estimate is refined (estimator/estimate.glsl, estimate_pass), listed per mesh from
 // draw.patch_base on by the estimator step (triangle_levels.comp) for its refining step, so that
 // the children's work runs side by side on those triangles only.
 layout(set = 0, binding = 20, std430) buffer RefineTriangles { uint refine_triangles[]; };
+// The triangles to estimate that the range class does not settle (estimator/range.glsl), listed
+// per mesh from draw.patch_base on by the range step (range_levels.comp) for the estimator step.
+layout(set = 0, binding = 21, std430) buffer EstimateTriangles { uint estimate_triangles[]; };
 
 // The per-mesh slots of the pre-pass's indirect buffers (`src/gpu_interface/slots.rs`).
-const uint LEVEL_DISPATCHES = 3u;
+const uint LEVEL_DISPATCHES = 4u;
 const uint ESTIMATE_DISPATCH = 0u;
 const uint PATCH_DISPATCH = 1u;
 const uint REFINE_DISPATCH = 2u;
+const uint FULL_ESTIMATE_DISPATCH = 3u;
 const uint PATCH_LISTS = 2u;
 const uint INTERPOLATED_LIST = 0u;
 const uint FALLBACK_LIST = 1u;

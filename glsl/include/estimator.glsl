@@ -35,6 +35,7 @@
 // | src/shading/estimator/add_light.rs    | estimator/add_light.glsl    | control_stage_levels_equal_the_twin |
 // | src/shading/estimator/patch_levels.rs | estimator/patch_levels.glsl | control_stage_levels_equal_the_twin |
 // | src/shading/estimator/estimate.rs     | estimator/estimate.glsl     | control_stage_levels_equal_the_twin |
+// | src/shading/estimator/range.rs        | estimator/range.glsl        | control_stage_levels_equal_the_twin |
 // (`control_stage_levels_equal_the_twin` is in `tests/multirate.rs`.)
 #ifndef ESTIMATOR_GLSL
 #define ESTIMATOR_GLSL
@@ -53,4 +54,5 @@
 #include "estimator/add_light.glsl"
 #include "estimator/patch_levels.glsl"
 #include "estimator/estimate.glsl"
+#include "estimator/range.glsl"
 #endif

@@ -160,9 +160,21 @@ vec2 draw_parameter_range(vec2 t0, vec2 t1, vec2 t2) {
     return parameter_range_of(material, t0, t1, t2, material_lod_bound(t0, t1, t2));
 }
 
+// Whether the range class settles the draw's triangle (estimator/range.glsl): level 1 without
+// an estimate.
+bool settled_triangle(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2) {
+    return settled_by_range(p0, p1, p2, n0, n1, n2, draw.eye.xyz, draw.material_index,
+                            draw_parameter_range(t0, t1, t2), draw.epsilon);
+}
+
 // The estimator's level of the draw's triangle (positions p, normals n, texture coordinates t),
-// not culled: >= 1, or FALLBACK_LEVEL for per-pixel shading.
+// not culled: >= 1, or FALLBACK_LEVEL for per-pixel shading. 1 where the range class settles it
+// (`estimate_textured` in Rust); the compute pre-pass runs the two apart (range_levels.comp, then
+// estimated_level_pass).
 float estimated_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2) {
+    if (settled_triangle(p0, p1, p2, n0, n1, n2, t0, t1, t2)) {
+        return 1.0;
+    }
     return required_level(p0, p1, p2, n0, n1, n2, draw.eye.xyz, draw.material_index,
                           draw_parameter_range(t0, t1, t2), draw.epsilon, float(draw.n_max));
 }

@@ -95,7 +95,11 @@ fn sample(scene: &Scene, lights: usize, rows: &[Row]) -> CostSample {
     let median = |mode: &str| rows.iter().find(|row| row.mode == mode).expect("measured");
     let (pixel, vertex, multirate) = (median("pixel"), median("vertex"), median("multirate"));
     let fallback = rows.iter().find(|row| row.min_estimated_area == Some(EVERY_IMAGE)).expect("measured");
-    let estimate_ms = multirate.pre_pass_steps_ms.map_or(0.0, |steps| steps[PrePassStep::Levels as usize]);
+    // An estimate: the range class's step over every listed triangle, and the full estimator
+    // over those it leaves.
+    let estimate_ms = multirate
+        .pre_pass_steps_ms
+        .map_or(0.0, |steps| steps[PrePassStep::Range as usize] + steps[PrePassStep::Levels as usize]);
     let estimated_triangles = estimated_triangles(scene).max(1);
     let fragments = pixel.evaluations.fragments.max(1);
     CostSample {

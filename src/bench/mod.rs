@@ -122,7 +122,7 @@ pub struct Row {
     /// `--estimator compute`: the part of `gpu_ms` the triangle-level pre-pass took.
     pub pre_pass_ms: Option<Timing>,
     /// `--estimator compute`: the median milliseconds of each pre-pass step
-    /// (`PrePassStep::ALL`'s order: cull, estimate, refine, patches).
+    /// (`PrePassStep::ALL`'s order: cull, range, estimate, refine, patches).
     pub pre_pass_steps_ms: Option<[f64; PRE_PASS_STEPS]>,
     /// multirate only: images below this many pixels were shaded per pixel unestimated.
     pub min_estimated_area: Option<f32>,
@@ -576,7 +576,7 @@ fn write_row_images(
 
 /// The CSV header; `csv_line` writes the fields in this order.
 pub const CSV_HEADER: &str = "scene,triangles,mode,epsilon,n_max,estimator,width,height,frames,\
-gpu_ms_median,gpu_ms_p10,gpu_ms_p90,pre_pass_ms_median,cull_ms_median,estimate_ms_median,refine_ms_median,\
+gpu_ms_median,gpu_ms_p10,gpu_ms_p90,pre_pass_ms_median,cull_ms_median,range_ms_median,estimate_ms_median,refine_ms_median,\
 patches_ms_median,min_estimated_area,speedup,floor_ms,ceiling,saving_share,empty_ms,evaluations,vertex_evaluations,subvertex_evaluations,\
 fragment_evaluations,culled_patches,evaluation_ratio,l_inf,l_inf_same_triangle,other_triangle_pixels,pixels_over_epsilon,mean_l2,psnr_db,flip,fallback_fraction,\
 vs_invocations,tcs_patches,tes_invocations,clipping_primitives,fs_invocations,device,driver";

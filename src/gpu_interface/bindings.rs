@@ -86,6 +86,7 @@ pub mod forward {
     pub const FLAT_DRAWS: Binding = storage(0, 18, "FlatDraws");
     pub const LEVEL_DISPATCHES: Binding = storage(0, 19, "LevelDispatches");
     pub const REFINE_TRIANGLES: Binding = storage(0, 20, "RefineTriangles");
+    pub const ESTIMATE_TRIANGLES: Binding = storage(0, 21, "EstimateTriangles");
 
     pub const ALBEDO_MAP: Binding = sampler(1, 0, "albedo_map");
     pub const PARAMETER_MAP: Binding = sampler(1, 1, "parameter_map");
@@ -96,7 +97,7 @@ pub mod forward {
     pub const VISIBILITY: Binding = sampler(2, 0, "visibility");
 
     /// Set 0: the scene's storage buffers, bound once.
-    pub const SCENE_BUFFERS: [Binding; 21] = [
+    pub const SCENE_BUFFERS: [Binding; 22] = [
         LIGHTS,
         MATERIALS,
         LEVEL_RECORDS,
@@ -118,6 +119,7 @@ pub mod forward {
         FLAT_DRAWS,
         LEVEL_DISPATCHES,
         REFINE_TRIANGLES,
+        ESTIMATE_TRIANGLES,
     ];
     /// Set 1: the draw's material textures, bound per draw.
     pub const MATERIAL_TEXTURES: [Binding; 3] = [ALBEDO_MAP, PARAMETER_MAP, PARAMETER_PYRAMID];

@@ -8,13 +8,17 @@
 
 super::named_constants! {
     /// Dispatches per mesh in `LevelDispatches`.
-    LEVEL_DISPATCHES = 3;
-    /// The estimator step's dispatch (`triangle_levels.comp`), counted by the culling step.
+    LEVEL_DISPATCHES = 4;
+    /// The range step's dispatch (`range_levels.comp`) over the triangles to estimate, counted
+    /// by the culling step.
     ESTIMATE_DISPATCH = 0;
     /// The patch step's dispatch (`patch_levels.comp`), counted by the culling step.
     PATCH_DISPATCH = 1;
     /// The refining step's dispatch (`refine_levels.comp`), counted by the estimator step.
     REFINE_DISPATCH = 2;
+    /// The estimator step's dispatch (`triangle_levels.comp`) over the triangles the range step
+    /// leaves, counted by it.
+    FULL_ESTIMATE_DISPATCH = 3;
     /// Patch lists per mesh.
     PATCH_LISTS = 2;
     /// The list of patches shaded on their sub-vertices (flat triangles: on their corners).

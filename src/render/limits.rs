@@ -7,6 +7,7 @@
 use super::textures;
 use super::PRE_PASS_GROUP;
 use crate::error::{mib, Error, Result};
+use crate::gpu_interface::slots::LEVEL_DISPATCHES;
 use crate::gpu_types::{GpuLight, GpuMaterial, GpuPolygonLight, Vertex};
 use crate::scene::adjacency::PATCH_SIZE;
 use crate::scene::{Light, Scene};
@@ -150,6 +151,7 @@ impl SceneSizes {
         };
         let per_triangle =
             |name, words_each: u64| buffer(name, words(words_each * triangles), true, triangles, "triangles");
+        let dispatches = u64::from(LEVEL_DISPATCHES);
         let per_mesh = |name, bytes_each: u64, storage| {
             buffer(name, (bytes_each * meshes).max(4), storage, meshes, "meshes")
         };
@@ -180,9 +182,10 @@ impl SceneSizes {
             ),
             per_triangle("visible triangles", 1),
             per_triangle("triangles to refine", 1),
+            per_triangle("triangles to estimate in full", 1),
             per_mesh("interpolated and fallback patch counts", 2 * 4, true),
-            per_mesh("pre-pass dispatches", 4 * 3 * 4, true),
-            buffer("pre-pass dispatch reset", 3 * 16 * meshes.max(1), false, meshes, "meshes"),
+            per_mesh("pre-pass dispatches", 16 * dispatches, true),
+            buffer("pre-pass dispatch reset", 16 * dispatches * meshes.max(1), false, meshes, "meshes"),
             per_triangle("interpolated patches", 1),
             per_triangle("fallback patches", 1),
             per_triangle("flat patches", 1),

@@ -284,6 +284,8 @@ pub(super) struct ListPipelines<P> {
 /// The steps of the triangle-level pre-pass (`Placement::Compute`).
 pub(super) struct PrePassPipelines {
     pub cull: Pipeline,
+    /// range_levels.comp, the range class's step.
+    pub range: Pipeline,
     pub levels: Pipeline,
     /// refine_levels.comp, the refining step.
     pub refine: Pipeline,
@@ -675,6 +677,9 @@ impl PrePassPipelines {
         let name = format!("triangle levels, material kind {}", features.material_kind);
         let optimization = variant.instrumentation.optimization();
         let levels = Pipeline::compute(context, &name, layout, &module, Some(specialization), optimization)?;
+        let module = variant_module(context, "range_levels.comp", features)?;
+        let name = format!("range class, material kind {}", features.material_kind);
+        let range = Pipeline::compute(context, &name, layout, &module, Some(specialization), optimization)?;
         let module = variant_module(context, "refine_levels.comp", features)?;
         let refining = specialization.clone().int(spec::REFINE_LANES.id, refine_lanes(&context.info) as i32);
         let name = format!("triangle levels refined, material kind {}", features.material_kind);
@@ -683,6 +688,6 @@ impl PrePassPipelines {
         let cull = Pipeline::compute(context, "triangle culling", layout, &module, None, optimization)?;
         let module = variant_module(context, "patch_levels.comp", features)?;
         let patches = Pipeline::compute(context, "patch levels", layout, &module, None, optimization)?;
-        Ok(PrePassPipelines { cull, levels, refine, patches })
+        Ok(PrePassPipelines { cull, range, levels, refine, patches })
     }
 }

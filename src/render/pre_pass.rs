@@ -10,19 +10,21 @@ use super::view::View;
 use super::Renderer;
 use crate::gpu_interface::flags::FLAG_FALLBACK_PATCHES;
 use crate::gpu_interface::slots::{
-    ESTIMATE_DISPATCH, FALLBACK_LIST, INTERPOLATED_LIST, LEVEL_DISPATCHES, PATCH_DISPATCH, PATCH_LISTS,
-    REFINE_DISPATCH,
+    ESTIMATE_DISPATCH, FALLBACK_LIST, FULL_ESTIMATE_DISPATCH, INTERPOLATED_LIST, LEVEL_DISPATCHES,
+    PATCH_DISPATCH, PATCH_LISTS, REFINE_DISPATCH,
 };
 use crate::gpu_types::DrawConstants;
 use ash::vk;
 use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
 
-/// The steps of the triangle-level pre-pass, in order: list the visible triangles, estimate
-/// their levels (listing those to refine), refine those, combine each level with its neighbours'
-/// into its patch's tessellation levels.
+/// The steps of the triangle-level pre-pass, in order: list the visible triangles, give level 1
+/// to those the range class settles (listing the others), estimate the others' levels (listing
+/// those to refine), refine those, combine each level with its neighbours' into its patch's
+/// tessellation levels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PrePassStep {
     Cull,
+    Range,
     Levels,
     Refine,
     Patches,
@@ -30,13 +32,19 @@ pub enum PrePassStep {
 
 impl PrePassStep {
     /// Every step, in the order they run.
-    pub const ALL: [PrePassStep; PRE_PASS_STEPS] =
-        [PrePassStep::Cull, PrePassStep::Levels, PrePassStep::Refine, PrePassStep::Patches];
+    pub const ALL: [PrePassStep; PRE_PASS_STEPS] = [
+        PrePassStep::Cull,
+        PrePassStep::Range,
+        PrePassStep::Levels,
+        PrePassStep::Refine,
+        PrePassStep::Patches,
+    ];
 
     /// Its name in `bench`'s columns (`<name>_ms_median`).
     pub fn name(self) -> &'static str {
         match self {
             PrePassStep::Cull => "cull",
+            PrePassStep::Range => "range",
             PrePassStep::Levels => "estimate",
             PrePassStep::Refine => "refine",
             PrePassStep::Patches => "patches",
@@ -45,7 +53,7 @@ impl PrePassStep {
 }
 
 /// How many steps the pre-pass has.
-pub const PRE_PASS_STEPS: usize = 4;
+pub const PRE_PASS_STEPS: usize = 5;
 
 /// Invocations per work group of the triangle-level pre-pass (`PRE_PASS_GROUP` in
 /// glsl/include/bindings.glsl, the `local_size_x` of its three compute shaders).
@@ -83,7 +91,7 @@ const LIST_READERS: S = S::from_raw(
 fn barrier_after(step: PrePassStep) -> (S, A, S, A) {
     let storage = A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE;
     match step {
-        PrePassStep::Cull | PrePassStep::Levels => (
+        PrePassStep::Cull | PrePassStep::Range | PrePassStep::Levels => (
             S::COMPUTE_SHADER,
             A::SHADER_STORAGE_WRITE,
             S::COMPUTE_SHADER | S::DRAW_INDIRECT,
@@ -174,6 +182,7 @@ impl Renderer {
         let device = &self.context.device;
         let pipeline = match step {
             PrePassStep::Cull => &pre_pass.cull,
+            PrePassStep::Range => &pre_pass.range,
             PrePassStep::Levels => &pre_pass.levels,
             PrePassStep::Refine => &pre_pass.refine,
             PrePassStep::Patches => &pre_pass.patches,
@@ -193,12 +202,14 @@ impl Renderer {
                 PrePassStep::Cull => {
                     device.cmd_dispatch(cmd, constants.triangle_count.div_ceil(PRE_PASS_GROUP), 1, 1)
                 }
-                // The later steps cover the triangles the culling step (or, for the refining
-                // step, the estimator step) listed, in the workgroups it counted.
-                PrePassStep::Levels | PrePassStep::Refine | PrePassStep::Patches => {
+                // The later steps cover the triangles the culling step (for the estimator step,
+                // the range step; for the refining step, the estimator step) listed, in the
+                // workgroups it counted.
+                PrePassStep::Range | PrePassStep::Levels | PrePassStep::Refine | PrePassStep::Patches => {
                     let slot = match step {
                         PrePassStep::Patches => PATCH_DISPATCH,
                         PrePassStep::Refine => REFINE_DISPATCH,
+                        PrePassStep::Levels => FULL_ESTIMATE_DISPATCH,
                         _ => ESTIMATE_DISPATCH,
                     };
                     let mesh_dispatches =

@@ -214,11 +214,14 @@ pub(super) struct PrePassBuffers {
     /// Per mesh: the triangles whose estimate the refining step refines, listed by the
     /// estimator step.
     pub refine_triangles: Buffer,
+    /// Per mesh: the triangles to estimate that the range class does not settle, listed by the
+    /// range step for the estimator step.
+    pub estimate_triangles: Buffer,
     /// Per mesh: the lengths of its interpolated and fallback lists (zeroed before each
     /// pre-pass).
     pub patch_counts: Buffer,
-    /// Per mesh: the indirect dispatches of the estimator, patch and refining steps over the
-    /// triangles the culling and estimator steps listed (`VkDispatchIndirectCommand` and the
+    /// Per mesh: the indirect dispatches of the range, patch, refining and estimator steps over
+    /// the triangles the culling, estimator and range steps listed (`VkDispatchIndirectCommand` and the
     /// list's length, 4 words each, `LEVEL_DISPATCHES` per mesh), reset from
     /// `level_dispatch_reset` before each pre-pass.
     pub level_dispatches: Buffer,
@@ -330,6 +333,7 @@ impl SceneBuffers {
                 (set_0::FLAT_DRAWS, pre_pass.flat_draws.raw),
                 (set_0::LEVEL_DISPATCHES, pre_pass.level_dispatches.raw),
                 (set_0::REFINE_TRIANGLES, pre_pass.refine_triangles.raw),
+                (set_0::ESTIMATE_TRIANGLES, pre_pass.estimate_triangles.raw),
             ],
         )
     }
@@ -355,6 +359,7 @@ impl PrePassBuffers {
         )?;
         let visible_triangles = per_triangle("visible triangles")?;
         let refine_triangles = per_triangle("triangles to refine")?;
+        let estimate_triangles = per_triangle("triangles to estimate in full")?;
         let patch_counts = device_words(
             context,
             "interpolated and fallback patch counts",
@@ -396,6 +401,7 @@ impl PrePassBuffers {
             triangle_neighbours,
             visible_triangles,
             refine_triangles,
+            estimate_triangles,
             patch_counts,
             level_dispatches,
             level_dispatch_reset,

@@ -14,6 +14,7 @@ use super::decide::decide;
 use super::frame::Frame;
 use super::jet::Guard;
 use super::light_setup::Sums;
+use super::range::{range_bound, range_proves};
 use crate::scene::{Light, MaterialKind, ParameterRange};
 use glam::Vec3;
 
@@ -225,6 +226,20 @@ pub fn estimate_textured(
     let n_max = settings.n_max.clamp(1, 64);
     // NaN and non-positive ε become 0: only an exactly flat shading passes then.
     let eps = if settings.epsilon > 0.0 { settings.epsilon } else { 0.0 };
+    // The range class: where the shading's whole range over the triangle is within ε, level 1
+    // holds without an estimate.
+    let range = range_bound(tri.positions, tri.normals, tri.eye, material, parameter, lights);
+    if range_proves(range, eps) {
+        let predicted_error = range.map_or(0.0, |r| r.max_element());
+        return Estimate {
+            terms: [0.0; TERM_COUNT],
+            level: 1.0,
+            n: 1,
+            fallback: false,
+            reason: Reason::None,
+            predicted_error,
+        };
+    }
     let (sum, reason) = light_sums(tri, material, parameter, lights, settings, n_max, eps, false);
     let first = decide(&sum, eps, n_max, settings.split, reason);
     if first.level > REFINE_ABOVE && (!first.fallback || first.reason == Reason::Level) {

@@ -17,6 +17,7 @@
 //! | `add_light.rs` | `estimator/add_light.glsl` | `control_stage_levels_equal_the_twin` |
 //! | `decide.rs` | `estimator/decide.glsl` | `control_stage_levels_equal_the_twin` |
 //! | `patch_levels.rs` | `estimator/patch_levels.glsl` | `control_stage_levels_equal_the_twin` |
+//! | `range.rs` | `estimator/range.glsl` | `control_stage_levels_equal_the_twin` |
 //! | `pattern_table.rs` | uploaded as `pattern_level_words` (`bindings.glsl`) | `pattern_level_table_is_current` |
 //! | `tests/` | — | (the Rust side's own unit tests, one file per topic) |
 //!
@@ -76,6 +77,7 @@ mod lobe;
 mod patch_levels;
 mod pattern;
 mod pattern_table;
+mod range;
 mod terminator;
 
 pub use estimate::{
@@ -87,6 +89,7 @@ pub use patch_levels::{
 };
 pub use pattern::{pattern_constants, PatternConstants, SHAPES};
 pub use pattern_table::PATTERN_LEVELS;
+pub use range::settled_by_range;
 
 #[cfg(test)]
 mod tests;

@@ -27,6 +27,7 @@ mod jets;
 mod light_bounds;
 mod patch_levels;
 mod pattern;
+mod range;
 mod robustness;
 mod terminator;
 

@@ -1,0 +1,203 @@
+// The range class: a triangle whose shading provably varies by at most ε over it needs level 1
+// and no estimate (range_bound, range_proves). The derivation is in the twin's docs.
+// Twin: `src/shading/estimator/range.rs`; proven equal with the rest of the estimator by
+// `tests/multirate.rs` (`control_stage_levels_equal_the_twin`).
+// A part of estimator.glsl, which includes the parts in dependency order: include that
+// header, not this file.
+
+// Taken from every lower bound on a cosine and added to every upper bound.
+const float COS_PAD = 4.0e-6;
+// The relative rounding allowed for the shading.
+const float RANGE_RELATIVE_PAD = 1.0e-4;
+
+// Every direction of a field is within the angle acos(cos) (below 90°) of axis; ok false: no
+// such spread.
+struct Spread {
+    vec3 axis;
+    float cos;
+    bool ok;
+};
+
+const Spread NO_SPREAD = Spread(vec3(0.0), 0.0, false);
+
+P float sine_of(float c) {
+    P float s = sqrt(rmax(1.0 - c * c, 0.0));
+    return s;
+}
+
+// The spread of sum l_k w_k over the simplex (see `spread_of`).
+Spread spread_of(vec3 w0, vec3 w1, vec3 w2) {
+    P vec3 u0 = unit(w0);
+    P vec3 u1 = unit(w1);
+    P vec3 u2 = unit(w2);
+    if (is_zero(u0) || is_zero(u1) || is_zero(u2)) {
+        return NO_SPREAD;
+    }
+    P vec3 axis = unit(u0 + u1 + u2);
+    if (is_zero(axis)) {
+        return NO_SPREAD;
+    }
+    P float c = rmin(rmin(dot3(axis, u0), dot3(axis, u1)), dot3(axis, u2)) - COS_PAD;
+    if (!(c > 0.0)) {
+        return NO_SPREAD;
+    }
+    return Spread(axis, c, true);
+}
+
+// Lower and upper bounds on x.y for x within spread a and y within b (see `cosine_bounds`).
+P vec2 cosine_bounds(Spread a, Spread b) {
+    P float ct = clamp(dot3(a.axis, b.axis), -1.0, 1.0);
+    P float st = sine_of(ct);
+    P float sa = sine_of(a.cos);
+    P float sb = sine_of(b.cos);
+    P float cg = a.cos * b.cos - sa * sb;
+    P float sg = sa * b.cos + a.cos * sb;
+    P float hi = ct >= cg ? 1.0 : ct * cg + st * sg + COS_PAD;
+    P float lo = ct <= -cg ? -1.0 : ct * cg - st * sg - COS_PAD;
+    return vec2(lo, hi);
+}
+
+// The spread of the half vector of l and v, and a lower bound on v.h (see `half_spread`).
+Spread half_spread(Spread l, Spread v, out float vh_lo) {
+    vh_lo = 0.0;
+    P vec3 w0 = l.axis + v.axis;
+    P float w_length = len(w0);
+    P float chord = sqrt(rmax(2.0 - 2.0 * l.cos, 0.0)) + sqrt(rmax(2.0 - 2.0 * v.cos, 0.0));
+    if (!(chord < w_length)) {
+        return NO_SPREAD;
+    }
+    P float sine = chord / w_length;
+    P float c = sqrt(1.0 - sine * sine) - COS_PAD;
+    P vec3 axis = unit(w0);
+    if (!(c > 0.0) || is_zero(axis)) {
+        return NO_SPREAD;
+    }
+    vh_lo = 0.5 * (w_length - chord);
+    return Spread(axis, c, true);
+}
+
+// One light's direction spread over the triangle and its least and largest irradiance scale
+// (see `light_spread`); light index i of the lights buffer, `point` for a point light.
+Spread light_spread(GpuLight light, bool point, vec3 p0, vec3 p1, vec3 p2, out vec2 scale) {
+    scale = vec2(1.0);
+    if (!point) {
+        P vec3 axis = unit(-light.position.xyz);
+        if (is_zero(axis)) {
+            return NO_SPREAD;
+        }
+        return Spread(axis, 1.0 - COS_PAD, true);
+    }
+    P vec3 t0 = light.position.xyz - p0;
+    P vec3 t1 = light.position.xyz - p1;
+    P vec3 t2 = light.position.xyz - p2;
+    Spread s = spread_of(t0, t1, t2);
+    if (!s.ok) {
+        return NO_SPREAD;
+    }
+    P float near = rmin(rmin(dot3(s.axis, t0), dot3(s.axis, t1)), dot3(s.axis, t2));
+    P float far = rmax(rmax(len(t0), len(t1)), len(t2));
+    P float near2 = near * near * (1.0 - RANGE_RELATIVE_PAD);
+    P float far2 = far * far * (1.0 + RANGE_RELATIVE_PAD);
+    if (!(near > 0.0 && near2 >= MIN_LIGHT_DISTANCE_SQUARED && far2 <= 3.4028235e38)) {
+        return NO_SPREAD;
+    }
+    P vec2 r = vec2(1.0 / far2, 1.0 / near2);
+    scale = r;
+    return s;
+}
+
+// The upper bound, per channel, of one light's specular part (see `specular_sup`); ok false:
+// none.
+P vec3 specular_sup(GpuMaterial material, vec2 param, Spread n, Spread l, Spread v, float nl_hi, out bool ok) {
+    ok = true;
+    if (MATERIAL_KIND == MATERIAL_LAMBERT) {
+        return vec3(0.0);
+    }
+    ok = false;
+    if (!v.ok) {
+        return vec3(0.0);
+    }
+    float vh_lo;
+    Spread h = half_spread(l, v, vh_lo);
+    if (!h.ok) {
+        return vec3(0.0);
+    }
+    P float nh_hi = clamp(cosine_bounds(n, h).y, 0.0, 1.0);
+    if (MATERIAL_KIND == MATERIAL_BLINN_PHONG) {
+        ok = true;
+        P vec3 s = material.specular.rgb * est_pow(nh_hi, param.x);
+        return s;
+    }
+    if (param.x != param.y) {
+        return vec3(0.0);
+    }
+    P float alpha = rmax(param.x * param.x, GGX_MIN_ALPHA);
+    P float a2 = alpha * alpha;
+    P float sin2 = rmax(1.0 - nh_hi * nh_hi, 0.0);
+    P float d = sin2 * (1.0 - a2) + a2;
+    P float distribution = a2 / (EXACT_PI * d * d);
+    P float m = 1.0 - clamp(vh_lo, 0.0, 1.0);
+    P float m2 = m * m;
+    P vec3 f0 = material.specular.rgb;
+    P vec3 fresnel = f0 + (vec3(1.0) - f0) * (m2 * m2 * m);
+    P float k = 0.5 * alpha;
+    P float nv_lo = rmax(cosine_bounds(n, v).x, 0.0);
+    P float nl = clamp(nl_hi, 0.0, 1.0);
+    P float visibility = nl / ((nl * (1.0 - k) + k) * (nv_lo * (1.0 - k) + k));
+    ok = true;
+    P vec3 s = fresnel * (distribution * visibility * 0.25);
+    return s;
+}
+
+// An upper bound, per channel, on the shading's range over the triangle (see `range_bound`);
+// ok false: none (a polygonal light, a varying GGX roughness, a spread of 90° or more).
+P vec3 range_bound(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye, GpuMaterial material,
+                   vec2 param, out bool ok) {
+    ok = false;
+    if (POLYGON_LIGHT_COUNT > 0) {
+        return vec3(0.0);
+    }
+    Spread n = spread_of(n0, n1, n2);
+    if (!n.ok) {
+        return vec3(0.0);
+    }
+    Spread v = spread_of(eye - p0, eye - p1, eye - p2);
+    P vec3 kd = material.diffuse.rgb;
+    P vec3 total = vec3(0.0);
+    for (int i = 0; i < POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT; ++i) {
+        vec2 scale;
+        Spread l = light_spread(lights[i], i < POINT_LIGHT_COUNT, p0, p1, p2, scale);
+        if (!l.ok) {
+            return vec3(0.0);
+        }
+        P vec2 nl = cosine_bounds(n, l);
+        if (!(nl.y > 0.0)) {
+            continue;
+        }
+        P vec3 diffuse = kd * (scale.y * nl.y - scale.x * rmax(nl.x, 0.0));
+        bool has_specular;
+        P vec3 specular = specular_sup(material, param, n, l, v, nl.y, has_specular);
+        if (!has_specular) {
+            return vec3(0.0);
+        }
+        total = total + lights[i].radiance.rgb * (diffuse + specular * scale.y);
+    }
+    ok = true;
+    return total;
+}
+
+// Whether the range class proves level 1 for eps (see `range_proves`).
+bool range_proves(vec3 range, bool ok, float eps) {
+    P vec3 padded = range * (1.0 + RANGE_RELATIVE_PAD) + 1.0e-6;
+    return ok && padded.x <= eps && padded.y <= eps && padded.z <= eps;
+}
+
+// Whether the triangle is settled by the range class (level 1, no estimate), as estimate_pass's
+// callers decide it (`estimate_textured` in Rust).
+bool settled_by_range(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye, uint material_index,
+                      vec2 param, float epsilon) {
+    P float eps = epsilon > 0.0 ? epsilon : 0.0;
+    bool ok;
+    P vec3 range = range_bound(p0, p1, p2, n0, n1, n2, eye, materials[material_index], param, ok);
+    return range_proves(range, ok, eps);
+}

@@ -1,0 +1,34 @@
+#version 460
+// variants: material_kind polygon_lights textured
+// `multirate` mode, `--estimator compute`, second step: one invocation per triangle to estimate
+// of a mesh (listed by cull_triangles.comp) tries the range class (estimator/range.glsl): a
+// triangle whose shading provably varies by at most ε over it takes level 1 here; the others are
+// listed in estimate_triangles for the estimator step (triangle_levels.comp), which then runs
+// the full estimator side by side on those only. The range bound costs a small part of an
+// estimate, and on a CPU rasteriser every SIMD batch with one triangle to estimate would pay the
+// whole estimator.
+#include "triangle_level.glsl"
+
+layout(local_size_x = PRE_PASS_GROUP) in;
+
+void main() {
+    uint local = gl_GlobalInvocationID.x;
+    if (local >= level_dispatches[level_dispatch(ESTIMATE_DISPATCH)].w) {
+        return;
+    }
+    uint triangle = visible_triangles[draw.patch_base + local];
+    uint a = scene_indices[3u * triangle];
+    uint b = scene_indices[3u * triangle + 1u];
+    uint c = scene_indices[3u * triangle + 2u];
+    if (settled_triangle(scene_vec3(a, 0u), scene_vec3(b, 0u), scene_vec3(c, 0u), scene_vec3(a, 3u),
+                         scene_vec3(b, 3u), scene_vec3(c, 3u), scene_uv(a), scene_uv(b), scene_uv(c))) {
+        triangle_levels[triangle] = 1.0;
+        return;
+    }
+    uint slot = atomicAdd(level_dispatches[level_dispatch(FULL_ESTIMATE_DISPATCH)].w, 1u);
+    estimate_triangles[draw.patch_base + slot] = triangle;
+    // Each PRE_PASS_GROUP-th triangle left opens one more workgroup of the estimator step.
+    if (slot % PRE_PASS_GROUP == 0u) {
+        atomicAdd(level_dispatches[level_dispatch(FULL_ESTIMATE_DISPATCH)].x, 1u);
+    }
+}
