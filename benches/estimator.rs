@@ -13,8 +13,8 @@ use std::hint::black_box;
 use std::path::Path;
 use std::time::Instant;
 
-use multirate::scene::ParameterRange;
 use multirate::scene::Scene;
+use multirate::scene::{MaterialKind, ParameterRange};
 use multirate::shading::estimator::{estimate, settled_by_range, EstimatorSettings, TriangleInput};
 
 const REPETITIONS: usize = 7;
@@ -23,8 +23,10 @@ const SCENES: [&str; 3] = ["scenes/bunny.toml", "scenes/teapot.toml", "scenes/pl
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).filter(|a| a.ends_with(".toml")).collect();
     let paths: Vec<String> = if args.is_empty() { SCENES.map(String::from).to_vec() } else { args };
-    println!("| scene | triangles | lights | µs per triangle | levels summed | settled by the range class |");
-    println!("| --- | ---: | ---: | ---: | ---: | ---: |");
+    println!(
+        "| scene | triangles | lights | µs per triangle | levels summed | settled by the range class | of those facing the eye |"
+    );
+    println!("| --- | ---: | ---: | ---: | ---: | ---: | ---: |");
     for path in paths {
         let scene = match Scene::load(Path::new(&path)) {
             Ok(scene) => scene,
@@ -56,18 +58,18 @@ fn main() {
             levels
         };
         let levels = pass();
-        let settled = work
-            .iter()
-            .filter(|(input, material)| {
-                settled_by_range(
-                    input,
-                    material,
-                    ParameterRange::of(material),
-                    &scene.lights,
-                    settings.epsilon,
-                )
-            })
-            .count();
+        // The share the range class settles, of all triangles and of those facing the eye
+        // (the back faces of a closed mesh are culled before any estimate).
+        let settles = |(input, material): &&(TriangleInput, &MaterialKind)| {
+            settled_by_range(input, material, ParameterRange::of(material), &scene.lights, settings.epsilon)
+        };
+        let facing = |(input, _): &&(TriangleInput, &MaterialKind)| {
+            let [p0, p1, p2] = input.positions;
+            (p1 - p0).cross(p2 - p0).dot(input.eye - p0) > 0.0
+        };
+        let settled = work.iter().filter(settles).count();
+        let front = work.iter().filter(facing).count();
+        let front_settled = work.iter().filter(facing).filter(settles).count();
         let mut times: Vec<f64> = (0..REPETITIONS)
             .map(|_| {
                 let start = Instant::now();
@@ -78,8 +80,9 @@ fn main() {
         times.sort_by(f64::total_cmp);
         let per_triangle = times[REPETITIONS / 2] / work.len() as f64 * 1e6;
         let share = 100.0 * settled as f64 / work.len() as f64;
+        let front_share = 100.0 * front_settled as f64 / front.max(1) as f64;
         println!(
-            "| {path} | {} | {} | {per_triangle:.2} | {levels:.0} | {share:.1} % |",
+            "| {path} | {} | {} | {per_triangle:.2} | {levels:.0} | {share:.1} % | {front_share:.1} % |",
             work.len(),
             scene.lights.len()
         );

@@ -10,19 +10,24 @@ const float COS_PAD = 4.0e-6;
 // The relative rounding allowed for the shading.
 const float RANGE_RELATIVE_PAD = 1.0e-4;
 
-// Every direction of a field is within the angle acos(cos) (below 90°) of axis; ok false: no
-// such spread.
+// Every direction of a field is within the angle acos(cos) (below 90°) of axis, sin that angle's
+// sine; ok false: no such spread.
 struct Spread {
     vec3 axis;
     float cos;
+    float sin;
     bool ok;
 };
 
-const Spread NO_SPREAD = Spread(vec3(0.0), 0.0, false);
+const Spread NO_SPREAD = Spread(vec3(0.0), 0.0, 0.0, false);
 
 P float sine_of(float c) {
     P float s = sqrt(rmax(1.0 - c * c, 0.0));
     return s;
+}
+
+Spread new_spread(vec3 axis, float c) {
+    return Spread(axis, c, sine_of(c), true);
 }
 
 // The spread of sum l_k w_k over the simplex (see `spread_of`).
@@ -41,15 +46,15 @@ Spread spread_of(vec3 w0, vec3 w1, vec3 w2) {
     if (!(c > 0.0)) {
         return NO_SPREAD;
     }
-    return Spread(axis, c, true);
+    return new_spread(axis, c);
 }
 
 // Lower and upper bounds on x.y for x within spread a and y within b (see `cosine_bounds`).
 P vec2 cosine_bounds(Spread a, Spread b) {
     P float ct = clamp(dot3(a.axis, b.axis), -1.0, 1.0);
     P float st = sine_of(ct);
-    P float sa = sine_of(a.cos);
-    P float sb = sine_of(b.cos);
+    P float sa = a.sin;
+    P float sb = b.sin;
     P float cg = a.cos * b.cos - sa * sb;
     P float sg = sa * b.cos + a.cos * sb;
     P float hi = ct >= cg ? 1.0 : ct * cg + st * sg + COS_PAD;
@@ -73,7 +78,7 @@ Spread half_spread(Spread l, Spread v, out float vh_lo) {
         return NO_SPREAD;
     }
     vh_lo = 0.5 * (w_length - chord);
-    return Spread(axis, c, true);
+    return new_spread(axis, c);
 }
 
 // One light's direction spread over the triangle and its least and largest irradiance scale
@@ -85,7 +90,7 @@ Spread light_spread(GpuLight light, bool point, vec3 p0, vec3 p1, vec3 p2, out v
         if (is_zero(axis)) {
             return NO_SPREAD;
         }
-        return Spread(axis, 1.0 - COS_PAD, true);
+        return new_spread(axis, 1.0 - COS_PAD);
     }
     P vec3 t0 = light.position.xyz - p0;
     P vec3 t1 = light.position.xyz - p1;
@@ -95,9 +100,8 @@ Spread light_spread(GpuLight light, bool point, vec3 p0, vec3 p1, vec3 p2, out v
         return NO_SPREAD;
     }
     P float near = rmin(rmin(dot3(s.axis, t0), dot3(s.axis, t1)), dot3(s.axis, t2));
-    P float far = rmax(rmax(len(t0), len(t1)), len(t2));
+    P float far2 = rmax(rmax(len2(t0), len2(t1)), len2(t2)) * (1.0 + RANGE_RELATIVE_PAD);
     P float near2 = near * near * (1.0 - RANGE_RELATIVE_PAD);
-    P float far2 = far * far * (1.0 + RANGE_RELATIVE_PAD);
     if (!(near > 0.0 && near2 >= MIN_LIGHT_DISTANCE_SQUARED && far2 <= 3.4028235e38)) {
         return NO_SPREAD;
     }

@@ -28,16 +28,24 @@ pub(super) const COS_PAD: f32 = 4.0e-6;
 /// The relative rounding allowed for the shading (the renderer's and the bound's own).
 pub(super) const RANGE_RELATIVE_PAD: f32 = 1.0e-4;
 
-/// Every direction of a field is within the angle `acos(cos)` (below 90°) of `axis`.
+/// Every direction of a field is within the angle `acos(cos)` (below 90°) of `axis`; `sin` is
+/// that angle's sine.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Spread {
     pub(super) axis: Vec3,
     pub(super) cos: f32,
+    pub(super) sin: f32,
 }
 
 /// `√(1 − c²)`, 0 where rounding makes it negative.
 fn sine_of(c: f32) -> f32 {
     (1.0 - c * c).max(0.0).sqrt()
+}
+
+impl Spread {
+    pub(super) fn new(axis: Vec3, cos: f32) -> Spread {
+        Spread { axis, cos, sin: sine_of(cos) }
+    }
 }
 
 /// The spread of `Σ λₖ wₖ` over the simplex (`λ ≥ 0`): the unit corners' mean as axis, and the
@@ -57,7 +65,7 @@ pub(super) fn spread_of(w: [Vec3; 3]) -> Option<Spread> {
     if !(cos > 0.0) {
         return None;
     }
-    Some(Spread { axis, cos })
+    Some(Spread::new(axis, cos))
 }
 
 /// Lower and upper bounds on `x̂·ŷ` for `x̂` within spread `a` and `ŷ` within `b`: the angle
@@ -65,7 +73,7 @@ pub(super) fn spread_of(w: [Vec3; 3]) -> Option<Spread> {
 pub(super) fn cosine_bounds(a: Spread, b: Spread) -> (f32, f32) {
     let ct = a.axis.dot(b.axis).clamp(-1.0, 1.0);
     let st = sine_of(ct);
-    let (sa, sb) = (sine_of(a.cos), sine_of(b.cos));
+    let (sa, sb) = (a.sin, b.sin);
     let cg = a.cos * b.cos - sa * sb;
     let sg = sa * b.cos + a.cos * sb;
     let hi = if ct >= cg { 1.0 } else { ct * cg + st * sg + COS_PAD };
@@ -90,7 +98,7 @@ pub(super) fn half_spread(l: Spread, v: Spread) -> Option<(Spread, f32)> {
     if !(cos > 0.0) || axis == Vec3::ZERO {
         return None;
     }
-    Some((Spread { axis, cos }, 0.5 * (length - chord)))
+    Some((Spread::new(axis, cos), 0.5 * (length - chord)))
 }
 
 /// One light's direction spread over the triangle, and the least and largest irradiance
@@ -106,9 +114,12 @@ fn light_spread(light: &Light, positions: [Vec3; 3]) -> Option<(Spread, f32, f32
                 .dot(to_light[0])
                 .min(spread.axis.dot(to_light[1]))
                 .min(spread.axis.dot(to_light[2]));
-            let far = to_light[0].length().max(to_light[1].length()).max(to_light[2].length());
+            let far2 = to_light[0]
+                .length_squared()
+                .max(to_light[1].length_squared())
+                .max(to_light[2].length_squared())
+                * (1.0 + RANGE_RELATIVE_PAD);
             let near2 = near * near * (1.0 - RANGE_RELATIVE_PAD);
-            let far2 = far * far * (1.0 + RANGE_RELATIVE_PAD);
             if !(near > 0.0 && near2 >= MIN_LIGHT_DISTANCE_SQUARED && far2 <= f32::MAX) {
                 return None;
             }
@@ -119,7 +130,7 @@ fn light_spread(light: &Light, positions: [Vec3; 3]) -> Option<(Spread, f32, f32
             if axis == Vec3::ZERO {
                 return None;
             }
-            Some((Spread { axis, cos: 1.0 - COS_PAD }, 1.0, 1.0, color * intensity))
+            Some((Spread::new(axis, 1.0 - COS_PAD), 1.0, 1.0, color * intensity))
         }
         Light::Polygon(_) => None,
     }
