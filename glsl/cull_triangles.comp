@@ -3,10 +3,10 @@
 // `multirate` mode, `--estimator compute`, first step: one invocation per triangle of a mesh
 // (draw.patch_base to draw.patch_base + draw.triangle_count - 1) gives culled triangles
 // CULLED_LEVEL, and lists the others (bindings.glsl, visible_triangles): those to estimate from
-// the mesh's first triangle on, for triangle_levels.comp, and those shaded per pixel without
-// an estimate (triangle_level.glsl, shaded_per_pixel: back faces of a two-sided mesh, images
-// too small to pay for an estimate), which take FALLBACK_LEVEL, from its last triangle down. It counts both lists and the workgroups of the later steps that cover
-// them in level_dispatches, which the host resets first.
+// the mesh's first triangle on, for range_levels.comp, and the back faces of a two-sided mesh
+// (triangle_level.glsl, back_face_per_pixel), shaded per pixel without an estimate, which take
+// FALLBACK_LEVEL, from its last triangle down. It counts both lists and the workgroups of the
+// later steps that cover them in level_dispatches, which the host resets first.
 #include "triangle_level.glsl"
 
 layout(local_size_x = PRE_PASS_GROUP) in;
@@ -28,7 +28,7 @@ void main() {
         if (VARIANT_RECORD_LEVELS != 0) {
             level_records[triangle] = CULLED_RECORD;
         }
-    } else if (shaded_per_pixel(p0, p1, p2)) {
+    } else if (back_face_per_pixel(p0, p1, p2)) {
         triangle_levels[triangle] = FALLBACK_LEVEL;
         uint back = atomicAdd(level_dispatches[level_dispatch(PATCH_DISPATCH)].w, 1u);
         visible_triangles[draw.patch_base + draw.triangle_count - 1u - back] = triangle;

@@ -2,9 +2,10 @@
 // variants: material_kind polygon_lights textured
 // `multirate` mode, `--estimator compute`, second step: one invocation per triangle to estimate
 // of a mesh (listed by cull_triangles.comp) tries the range class (estimator/range.glsl): a
-// triangle whose shading provably varies by at most ε over it takes level 1 here; the others are
-// listed in estimate_triangles for the estimator step (triangle_levels.comp), which then runs
-// the full estimator side by side on those only. The range bound costs a small part of an
+// triangle whose shading provably varies by at most ε over it takes level 1 here; of the others,
+// an image too small to pay for an estimate (triangle_level.glsl, small_per_pixel) is shaded per
+// pixel, and the rest are listed in estimate_triangles for the estimator step
+// (triangle_levels.comp), which then runs the full estimator side by side on those only. The range bound costs a small part of an
 // estimate, and on a CPU rasteriser every SIMD batch with one triangle to estimate would pay the
 // whole estimator.
 #include "triangle_level.glsl"
@@ -20,9 +21,18 @@ void main() {
     uint a = scene_indices[3u * triangle];
     uint b = scene_indices[3u * triangle + 1u];
     uint c = scene_indices[3u * triangle + 2u];
-    if (settled_triangle(scene_vec3(a, 0u), scene_vec3(b, 0u), scene_vec3(c, 0u), scene_vec3(a, 3u),
-                         scene_vec3(b, 3u), scene_vec3(c, 3u), scene_uv(a), scene_uv(b), scene_uv(c))) {
+    vec3 p0 = scene_vec3(a, 0u);
+    vec3 p1 = scene_vec3(b, 0u);
+    vec3 p2 = scene_vec3(c, 0u);
+    if (settled_triangle(p0, p1, p2, scene_vec3(a, 3u), scene_vec3(b, 3u), scene_vec3(c, 3u), scene_uv(a),
+                         scene_uv(b), scene_uv(c))) {
         triangle_levels[triangle] = 1.0;
+        return;
+    }
+    // An image too small to pay for the estimate: shaded per pixel. It stays in the culling
+    // step's list, which the patch step covers.
+    if (small_per_pixel(p0, p1, p2)) {
+        triangle_levels[triangle] = FALLBACK_LEVEL;
         return;
     }
     uint slot = atomicAdd(level_dispatches[level_dispatch(FULL_ESTIMATE_DISPATCH)].w, 1u);

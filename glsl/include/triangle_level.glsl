@@ -6,9 +6,10 @@
 // one plane of the view frustum, its image is a segment (degenerate_image), or it faces away
 // from the eye on a one-sided mesh. Its level is
 // CULLED_LEVEL, and the control stage gives its patch outer level 0. A back face of a two-sided
-// mesh and a triangle whose image is too small to pay for its estimate are not estimated
-// either: they are shaded per pixel (shaded_per_pixel, visible_level). Rust twin of both:
-// `src/geometry/cull.rs` (bit-identical: `precise`, no fused multiply-adds).
+// mesh, and a triangle the range class does not settle whose image is too small to pay for its
+// estimate, are not estimated either: they are shaded per pixel (back_face_per_pixel,
+// small_per_pixel, visible_level). Rust twin of both: `src/geometry/cull.rs` (bit-identical:
+// `precise`, no fused multiply-adds).
 #ifndef TRIANGLE_LEVEL_GLSL
 #define TRIANGLE_LEVEL_GLSL
 #include "estimator.glsl"
@@ -168,13 +169,8 @@ bool settled_triangle(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2
 }
 
 // The estimator's level of the draw's triangle (positions p, normals n, texture coordinates t),
-// not culled: >= 1, or FALLBACK_LEVEL for per-pixel shading. 1 where the range class settles it
-// (`estimate_textured` in Rust); the compute pre-pass runs the two apart (range_levels.comp, then
-// estimated_level_pass).
+// not culled and not settled by the range class: >= 1, or FALLBACK_LEVEL for per-pixel shading.
 float estimated_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2) {
-    if (settled_triangle(p0, p1, p2, n0, n1, n2, t0, t1, t2)) {
-        return 1.0;
-    }
     return required_level(p0, p1, p2, n0, n1, n2, draw.eye.xyz, draw.material_index,
                           draw_parameter_range(t0, t1, t2), draw.epsilon, float(draw.n_max));
 }
@@ -202,25 +198,37 @@ bool small_image(vec4 a, vec4 b, vec4 c) {
     return pixels < least;
 }
 
-// Whether the draw's triangle, not culled, is shaded per pixel without an estimate
-// (`cull::shaded_per_pixel` in Rust): a back face of a two-sided mesh, or a small_image, whose
-// estimate would cost more than shading its few pixels (the cost model,
-// `src/render/cost_model.rs`, sets draw.min_estimated_area; 0 estimates every triangle). Such a
-// triangle is shaded in the fallback draw, which comes after the others, so that where the
-// mesh's front faces hide it (the far side of an open mesh) the early depth test rejects its
-// fragments before they shade; interpolated, its sub-vertices would all be shaded. It asks its
-// neighbours for no level on their shared edges (patch_levels).
-bool shaded_per_pixel(vec3 p0, vec3 p1, vec3 p2) {
-    if ((draw.flags & FLAG_ONE_SIDED) == 0u && faces_away(p0, p1, p2)) {
-        return true;
-    }
+// Whether the draw's triangle, not culled, is a back face shaded per pixel (`cull::back_face_per_pixel`
+// in Rust): a back face of a two-sided mesh. Such a triangle is shaded in the fallback draw,
+// which comes after the others, so that where the mesh's front faces hide it (the far side of an
+// open mesh) the early depth test rejects its fragments before they shade; interpolated, its
+// sub-vertices would all be shaded. It asks its neighbours for no level on their shared edges
+// (patch_levels).
+bool back_face_per_pixel(vec3 p0, vec3 p1, vec3 p2) {
+    return (draw.flags & FLAG_ONE_SIDED) == 0u && faces_away(p0, p1, p2);
+}
+
+// Whether the draw's triangle, not culled and not settled by the range class, is shaded per
+// pixel without an estimate because its image is too small to pay for one
+// (`cull::small_per_pixel` in Rust): a small_image, whose estimate would cost more than shading
+// its few pixels (the cost model, `src/render/cost_model.rs`, sets draw.min_estimated_area; 0
+// estimates every triangle). The range class costs a fraction of an estimate, so it runs first.
+bool small_per_pixel(vec3 p0, vec3 p1, vec3 p2) {
     return draw.min_estimated_area > 0.0 && small_image(clip_of(p0), clip_of(p1), clip_of(p2));
 }
 
-// The level of the draw's triangle that is not culled: FALLBACK_LEVEL where it is
-// shaded_per_pixel, else its estimated_level.
+// The level of the draw's triangle that is not culled, in this order: FALLBACK_LEVEL for a
+// back_face_per_pixel, 1 where the range class settles it, FALLBACK_LEVEL for a small_per_pixel,
+// else its estimated_level (`analysis::report`'s `level_of` in Rust). The compute pre-pass takes
+// the same steps apart: cull_triangles.comp, range_levels.comp, triangle_levels.comp.
 float visible_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2) {
-    if (shaded_per_pixel(p0, p1, p2)) {
+    if (back_face_per_pixel(p0, p1, p2)) {
+        return FALLBACK_LEVEL;
+    }
+    if (settled_triangle(p0, p1, p2, n0, n1, n2, t0, t1, t2)) {
+        return 1.0;
+    }
+    if (small_per_pixel(p0, p1, p2)) {
         return FALLBACK_LEVEL;
     }
     return estimated_level(p0, p1, p2, n0, n1, n2, t0, t1, t2);

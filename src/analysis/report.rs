@@ -8,13 +8,15 @@ use super::measured::Measured;
 use super::oracle::{oracle_level, true_error_textured, vertices_at_level, SAMPLES_PER_EDGE};
 use super::tessellator::triangle_pattern;
 use crate::geometry::camera::view_projection;
-use crate::geometry::cull::{culled, faces_away, shaded_per_pixel, PerPixelRule, CULLED_LEVEL};
+use crate::geometry::cull::{
+    back_face_per_pixel, culled, faces_away, small_per_pixel, PerPixelRule, CULLED_LEVEL,
+};
 use crate::scene::adjacency::{adjacency_patches, PATCH_SIZE};
 use crate::scene::texture::PowerSat;
 use crate::scene::{with_parameter, ParameterRange, Scene};
 use crate::shading::estimator::{
-    estimate_textured, patch_levels, Estimate, EstimatorSettings, PatchLevels, TriangleInput, FALLBACK_LEVEL,
-    TERM_NAMES,
+    estimate_textured, patch_levels, settled_by_range, Estimate, EstimatorSettings, PatchLevels,
+    TriangleInput, FALLBACK_LEVEL, TERM_NAMES,
 };
 use glam::Vec2;
 use std::collections::HashMap;
@@ -42,11 +44,12 @@ pub struct TriangleReport {
     /// Culled before its estimate (`geometry::cull`): not drawn, outer levels 0. Only
     /// `Triangles::All` reports culled triangles.
     pub culled: bool,
-    /// A back face of a two-sided mesh (`geometry::cull::shaded_per_pixel`): shaded per pixel
+    /// A back face of a two-sided mesh (`geometry::cull::back_face_per_pixel`): shaded per pixel
     /// whatever its estimate, which is reported all the same.
     pub back_face: bool,
-    /// Not a back face, but an image smaller than the settings' `min_estimated_area`
-    /// (`geometry::cull::small_image`): shaded per pixel without an estimate on the GPU.
+    /// Not a back face nor settled by the range class, but an image smaller than the settings'
+    /// `min_estimated_area` (`geometry::cull::small_per_pixel`): shaded per pixel without an
+    /// estimate on the GPU.
     pub small_image: bool,
 }
 
@@ -158,9 +161,17 @@ pub fn analyze(
             viewport: Vec2::new(scene.settings.width as f32, scene.settings.height as f32),
             min_estimated_area: settings.min_estimated_area,
         };
-        let per_pixel_of = |corners: &[u32]| shaded_per_pixel(&rule, positions_of(corners), !mesh.two_sided);
-        // As triangle_level.glsl: a culled triangle gets no estimate, a back face of a
-        // two-sided mesh and a small image fall back without one.
+        // As triangle_level.glsl's visible_level: a back face of a two-sided mesh falls back
+        // without an estimate; then the range class settles a triangle at level 1, or an image
+        // too small to pay for an estimate falls back without one.
+        let settled_of = |corners: &[u32]| {
+            settled_by_range(&input(corners), material, range(corners), &scene.lights, settings.epsilon)
+        };
+        let per_pixel_of = |corners: &[u32]| {
+            let positions = positions_of(corners);
+            back_face_per_pixel(&rule, positions, !mesh.two_sided)
+                || (!settled_of(corners) && small_per_pixel(&rule, positions))
+        };
         let level_of = |corners: &[u32]| {
             if culled_of(corners) {
                 CULLED_LEVEL

@@ -5,19 +5,19 @@
 //! Per light count `L`, the scene is lit by `L` point lights around its camera's target (its
 //! own lights replaced) and benchmarked in turns (`pixel`, `vertex`, `multirate` estimating
 //! every visible triangle, `multirate` shading every triangle per pixel): the estimate costs
-//! the estimate step's time over the triangles it estimated (counted by the culling twin,
-//! `geometry::cull`), a pixel costs `pixel`'s time above `vertex`'s (which rasterises and tests
+//! the estimate step's time over the triangles it estimated (those the range class leaves,
+//! counted by the twins, `geometry::cull` and `shading::estimator`), a pixel costs `pixel`'s time above `vertex`'s (which rasterises and tests
 //! the same depth) over its shaded fragments, and a pixel of multirate's per-pixel path the
 //! last configuration's time above `vertex`'s over the same fragments.
 
 use super::{run, BenchConfig, BenchScene, Progress, Row};
 use crate::error::Result;
 use crate::geometry::camera::view_projection;
-use crate::geometry::cull::{culled, shaded_per_pixel, PerPixelRule};
+use crate::geometry::cull::{back_face_per_pixel, culled, PerPixelRule};
 use crate::render::cost_model::{Calibration, LinearCost};
 use crate::render::{Mode, PrePassStep};
-use crate::scene::{Light, Scene};
-use crate::shading::estimator::{Discontinuity, Split};
+use crate::scene::{Light, ParameterRange, Scene};
+use crate::shading::estimator::{settled_by_range, Discontinuity, Split, TriangleInput};
 use crate::vk::Context;
 use glam::{Vec2, Vec3};
 use std::sync::Arc;
@@ -62,7 +62,15 @@ pub fn calibrate(
         discontinuity: Discontinuity::Relaxed,
         placements: Vec::new(),
         images: None,
-        min_estimated_areas: vec![Some(0.0), Some(EVERY_IMAGE)],
+        min_estimated_areas: vec![Some(0.0)],
+    };
+    // Every triangle per pixel: ε 0, which the range class never settles, and an area floor
+    // above every image; with `vertex` of the same turns.
+    let per_pixel = BenchConfig {
+        modes: vec![Mode::Vertex, Mode::Multirate],
+        epsilons: vec![0.0],
+        min_estimated_areas: vec![Some(EVERY_IMAGE)],
+        ..config.clone()
     };
     let mut samples = Vec::new();
     for lights in LIGHT_COUNTS {
@@ -71,7 +79,8 @@ pub fn calibrate(
             scene: lit_by(&scene.scene, lights),
         };
         let rows = run(context, std::slice::from_ref(&lit), &config, progress)?.rows;
-        samples.push(sample(&lit.scene, lights, &rows));
+        let per_pixel_rows = run(context, std::slice::from_ref(&lit), &per_pixel, progress)?.rows;
+        samples.push(sample(&lit.scene, lights, &rows, &per_pixel_rows));
     }
     let line = |cost: fn(&CostSample) -> f64| {
         LinearCost::through((samples[0].lights, cost(&samples[0])), (samples[1].lights, cost(&samples[1])))
@@ -90,30 +99,34 @@ pub fn calibrate(
     Ok((calibration, samples))
 }
 
-/// The costs one light count's rows give.
-fn sample(scene: &Scene, lights: usize, rows: &[Row]) -> CostSample {
-    let median = |mode: &str| rows.iter().find(|row| row.mode == mode).expect("measured");
-    let (pixel, vertex, multirate) = (median("pixel"), median("vertex"), median("multirate"));
-    let fallback = rows.iter().find(|row| row.min_estimated_area == Some(EVERY_IMAGE)).expect("measured");
-    // An estimate: the range class's step over every listed triangle, and the full estimator
-    // over those it leaves.
-    let estimate_ms = multirate
-        .pre_pass_steps_ms
-        .map_or(0.0, |steps| steps[PrePassStep::Range as usize] + steps[PrePassStep::Levels as usize]);
+/// The costs one light count's rows give: `rows` of `pixel`, `vertex` and `multirate`
+/// estimating every visible triangle, `per_pixel` of `vertex` and `multirate` shading every
+/// triangle per pixel.
+fn sample(scene: &Scene, lights: usize, rows: &[Row], per_pixel: &[Row]) -> CostSample {
+    fn find<'a>(rows: &'a [Row], mode: &str) -> &'a Row {
+        rows.iter().find(|row| row.mode == mode).expect("measured")
+    }
+    let (pixel, vertex, multirate) = (find(rows, "pixel"), find(rows, "vertex"), find(rows, "multirate"));
+    let (fallback_vertex, fallback) = (find(per_pixel, "vertex"), find(per_pixel, "multirate"));
+    // The range class runs on every listed triangle before the area rule (`small_per_pixel`), so
+    // what an image too small to pay would cost is the full estimate.
+    let estimate_ms = multirate.pre_pass_steps_ms.map_or(0.0, |steps| steps[PrePassStep::Levels as usize]);
     let estimated_triangles = estimated_triangles(scene).max(1);
     let fragments = pixel.evaluations.fragments.max(1);
     CostSample {
         lights,
         estimate_ns: estimate_ms * 1.0e6 / estimated_triangles as f64,
         pixel_ns: (pixel.gpu_ms.median - vertex.gpu_ms.median).max(0.0) * 1.0e6 / fragments as f64,
-        fallback_ns: (fallback.gpu_ms.median - vertex.gpu_ms.median).max(0.0) * 1.0e6 / fragments as f64,
+        fallback_ns: (fallback.gpu_ms.median - fallback_vertex.gpu_ms.median).max(0.0) * 1.0e6
+            / fragments as f64,
         estimated_triangles,
         fragments,
     }
 }
 
-/// The triangles the pre-pass estimates with the scene's camera at its size: neither culled
-/// nor shaded per pixel without an estimate (with no area floor).
+/// The triangles the pre-pass estimates with the scene's camera at its size and ε: neither
+/// culled, nor back faces shaded per pixel, nor settled by the range class (with no area
+/// floor; a parameter map's range is taken as the material's own value).
 pub fn estimated_triangles(scene: &Scene) -> usize {
     let (width, height) = (scene.settings.width, scene.settings.height);
     let view_proj = view_projection(&scene.camera, width, height);
@@ -125,10 +138,18 @@ pub fn estimated_triangles(scene: &Scene) -> usize {
     };
     let mut count = 0;
     for mesh in &scene.meshes {
+        let material = &scene.materials[mesh.material].kind;
         for corners in mesh.indices.chunks_exact(3) {
             let p = [0, 1, 2].map(|k| mesh.positions[corners[k] as usize]);
             let one_sided = !mesh.two_sided;
-            if !culled(&view_proj, scene.camera.eye, p, one_sided) && !shaded_per_pixel(&rule, p, one_sided) {
+            if culled(&view_proj, scene.camera.eye, p, one_sided) || back_face_per_pixel(&rule, p, one_sided)
+            {
+                continue;
+            }
+            let normals = [0, 1, 2].map(|k| mesh.normals[corners[k] as usize]);
+            let input = TriangleInput { positions: p, normals, eye: scene.camera.eye };
+            let parameter = ParameterRange::of(material);
+            if !settled_by_range(&input, material, parameter, &scene.lights, scene.settings.epsilon) {
                 count += 1;
             }
         }

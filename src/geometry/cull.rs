@@ -121,8 +121,8 @@ pub fn small_image(a: Vec4, b: Vec4, c: Vec4, viewport: Vec2, min_area: f32) -> 
 }
 
 /// What decides, besides the triangle, whether it is shaded per pixel without an estimate
-/// ([`shaded_per_pixel`]): the draw's push constants `view_proj`, `eye`, `viewport_size`,
-/// `min_estimated_area` and its `FLAG_ONE_SIDED`.
+/// ([`back_face_per_pixel`], [`small_per_pixel`]): the draw's push constants `view_proj`, `eye`,
+/// `viewport_size`, `min_estimated_area` and its `FLAG_ONE_SIDED`.
 #[derive(Clone, Copy, Debug)]
 pub struct PerPixelRule {
     pub view_proj: Mat4,
@@ -134,16 +134,21 @@ pub struct PerPixelRule {
     pub min_estimated_area: f32,
 }
 
-/// Whether a triangle that is not [`culled`] is shaded per pixel without an estimate
-/// (`shaded_per_pixel` in triangle_level.glsl): a back face of a two-sided mesh, or a
-/// [`small_image`], whose estimate would cost more than shading its few pixels. The fallback
-/// draw comes after the others, so where the mesh's front faces hide such a face (the far side
-/// of an open mesh) the early depth test rejects its fragments before they shade, where
-/// interpolated shading would shade all of its sub-vertices.
-pub fn shaded_per_pixel(rule: &PerPixelRule, p: [Vec3; 3], one_sided: bool) -> bool {
-    if !one_sided && faces_away(rule.eye, p) {
-        return true;
-    }
+/// Whether a triangle that is not [`culled`] is a back face shaded per pixel without an
+/// estimate (`back_face_per_pixel` in triangle_level.glsl): a back face of a two-sided mesh. The
+/// fallback draw comes after the others, so where the mesh's front faces hide such a face (the
+/// far side of an open mesh) the early depth test rejects its fragments before they shade,
+/// where interpolated shading would shade all of its sub-vertices.
+pub fn back_face_per_pixel(rule: &PerPixelRule, p: [Vec3; 3], one_sided: bool) -> bool {
+    !one_sided && faces_away(rule.eye, p)
+}
+
+/// Whether a triangle that is not [`culled`] and that the range class does not settle is
+/// shaded per pixel without an estimate (`small_per_pixel` in triangle_level.glsl): a
+/// [`small_image`], whose estimate would cost more than shading its few pixels. The range class
+/// costs a fraction of an estimate, so it is tried first (`visible_level` in
+/// triangle_level.glsl).
+pub fn small_per_pixel(rule: &PerPixelRule, p: [Vec3; 3]) -> bool {
     rule.min_estimated_area > 0.0 && {
         let [a, b, c] = p.map(|p| clip_of(&rule.view_proj, p));
         small_image(a, b, c, rule.viewport, rule.min_estimated_area)

@@ -7,7 +7,9 @@
 //! corners shaded, each about as dear as a pixel of `pixel` mode), `L` being the scene's light
 //! count. Below the break-even area `A* = (estimate(L) + 3 · pixel(L)) / fallback(L)` the
 //! pre-pass shades a triangle
-//! per pixel without estimating it (`geometry::cull::small_image`, `draw.min_estimated_area`).
+//! per pixel without estimating it (`geometry::cull::small_per_pixel`, `draw.min_estimated_area`),
+//! unless the range class (`shading::estimator::range`), which costs a fraction of an estimate
+//! and runs first, settles it at level 1; `estimate(L)` is the full estimator's cost.
 //! Per-pixel shading is exact, so the choice never costs accuracy; the area bounds the image
 //! from above, so it never sends a triangle that would pay per pixel.
 //!
@@ -53,7 +55,7 @@ impl LinearCost {
 /// The device costs the model weighs.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Calibration {
-    /// The pre-pass's estimate step per triangle it estimates.
+    /// The pre-pass's estimate step per triangle it estimates (those the range class leaves).
     pub estimate: LinearCost,
     /// Per-pixel shading per fragment shaded (`pixel` mode's time above `vertex` mode's, over
     /// its shaded fragments).
@@ -86,13 +88,13 @@ impl CostModel {
     pub fn lavapipe() -> CostModel {
         CostModel {
             calibration: Calibration {
-                estimate: LinearCost { fixed_ns: 1279.0, per_light_ns: 786.0 },
-                pixel: LinearCost { fixed_ns: 51.5, per_light_ns: 37.3 },
-                fallback: LinearCost { fixed_ns: 64.0, per_light_ns: 43.7 },
-                measured_with:
-                    "built in: multirate calibrate --scene scenes/bunny.toml --frames 6 on llvmpipe \
-                                (LLVM 15.0.6, 256 bits), Mesa 22.3.6, GALLIVM_PERF=nopt, 2 cores"
-                        .into(),
+                estimate: LinearCost { fixed_ns: 1239.0, per_light_ns: 576.0 },
+                pixel: LinearCost { fixed_ns: 36.5, per_light_ns: 27.3 },
+                fallback: LinearCost { fixed_ns: 70.7, per_light_ns: 28.3 },
+                measured_with: "built in: the median of three runs of multirate calibrate --scene \
+                                scenes/bunny.toml on llvmpipe (LLVM 15.0.6, 256 bits), Mesa 22.3.6, \
+                                GALLIVM_PERF=nopt, 2 cores"
+                    .into(),
             },
             source: "built-in (lavapipe)".into(),
         }

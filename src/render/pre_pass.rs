@@ -56,7 +56,7 @@ impl PrePassStep {
 pub const PRE_PASS_STEPS: usize = 5;
 
 /// Invocations per work group of the triangle-level pre-pass (`PRE_PASS_GROUP` in
-/// glsl/include/bindings.glsl, the `local_size_x` of its three compute shaders).
+/// glsl/include/bindings.glsl, the `local_size_x` of its compute shaders).
 pub const PRE_PASS_GROUP: u32 = 64;
 
 /// Listed triangles per block of the pre-pass's refining step (`REFINE_BLOCK` in

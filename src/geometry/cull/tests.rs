@@ -30,8 +30,8 @@ fn a_facing_triangle_in_view_is_kept_and_its_back_culled_when_one_sided() {
         viewport: Vec2::new(640.0, 480.0),
         min_estimated_area: 0.0,
     };
-    assert!(shaded_per_pixel(&rule, back, false), "and shade them per pixel");
-    assert!(!shaded_per_pixel(&rule, front, false) && !shaded_per_pixel(&rule, back, true));
+    assert!(back_face_per_pixel(&rule, back, false), "and shade them per pixel");
+    assert!(!back_face_per_pixel(&rule, front, false) && !back_face_per_pixel(&rule, back, true));
 }
 
 #[test]
@@ -117,10 +117,10 @@ fn small_images_are_measured_in_pixels_and_never_behind_the_eye() {
     assert!(!small_image(a, b, c, viewport, area * 0.99));
     let rule =
         |min_estimated_area| PerPixelRule { view_proj: vp, eye: cam.eye, viewport, min_estimated_area };
-    assert!(shaded_per_pixel(&rule(40.0), p, true), "a small front face is shaded per pixel");
-    assert!(!shaded_per_pixel(&rule(30.0), p, true) && !shaded_per_pixel(&rule(0.0), p, true));
+    assert!(small_per_pixel(&rule(40.0), p), "a small front face is shaded per pixel");
+    assert!(!small_per_pixel(&rule(30.0), p) && !small_per_pixel(&rule(0.0), p));
     let back = [p[0], p[2], p[1]];
-    assert!(shaded_per_pixel(&rule(0.0), back, false), "back faces of two-sided meshes still are");
+    assert!(back_face_per_pixel(&rule(0.0), back, false), "back faces of two-sided meshes still are");
     // A corner behind the eye: the image is unbounded, never small.
     let crossing = [Vec3::new(0.0, 0.0, 10.0), Vec3::new(0.01, 0.0, 0.0), Vec3::new(0.0, 0.01, 0.0)];
     let [a, b, c] = crossing.map(|p| clip_of(&vp, p));
