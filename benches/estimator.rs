@@ -67,9 +67,13 @@ fn main() {
             let [p0, p1, p2] = input.positions;
             (p1 - p0).cross(p2 - p0).dot(input.eye - p0) > 0.0
         };
-        let settled = work.iter().filter(settles).count();
-        let front = work.iter().filter(facing).count();
-        let front_settled = work.iter().filter(facing).filter(settles).count();
+        let (mut settled, mut front, mut front_settled) = (0usize, 0usize, 0usize);
+        for triangle in &work {
+            let (is_settled, is_front) = (settles(&triangle), facing(&triangle));
+            settled += usize::from(is_settled);
+            front += usize::from(is_front);
+            front_settled += usize::from(is_settled && is_front);
+        }
         let mut times: Vec<f64> = (0..REPETITIONS)
             .map(|_| {
                 let start = Instant::now();

@@ -1,11 +1,11 @@
 #version 460
 // variants: material_kind polygon_lights textured
-// `multirate` mode, `--estimator compute`, second step: one invocation per triangle to estimate
-// of a mesh (listed by cull_triangles.comp) tries the range class (estimator/range.glsl): a
-// triangle whose shading provably varies by at most ε over it takes level 1 here; of the others,
-// an image too small to pay for an estimate (triangle_level.glsl, small_per_pixel) is shaded per
-// pixel, and the rest are listed in estimate_triangles for the estimator step
-// (triangle_levels.comp), which then runs the full estimator side by side on those only. The range bound costs a small part of an
+// `multirate` mode, `--estimator compute`, second step: one invocation per triangle to estimate of
+// a mesh (listed by cull_triangles.comp) tries the range class (estimator/range.glsl): a triangle
+// whose shading provably varies by at most ε over it takes level 1 here; of the others, an image
+// too small to pay for an estimate (triangle_level.glsl, small_per_pixel) is shaded per pixel, and
+// the rest are listed in estimate_triangles for the estimator step (triangle_levels.comp), which
+// then runs the full estimator side by side on those only. The range bound costs a small part of an
 // estimate, and on a CPU rasteriser every SIMD batch with one triangle to estimate would pay the
 // whole estimator.
 #include "triangle_level.glsl"

@@ -1,10 +1,11 @@
 #version 460
 // variants: material_kind polygon_lights textured
-// `multirate` mode, `--estimator compute`, third step: one invocation per triangle to estimate of
-// a mesh that the range class does not settle (listed by range_levels.comp) writes its level
-// (triangle_level.glsl) to triangle_levels, once per frame, before the forward pass; patch_levels.comp then combines
-// each patch's levels and the control stage only reads them. Running over the list rather than over all
-// triangles keeps culled triangles and back faces out of the SIMD lanes that run the estimator.
+// `multirate` mode, `--estimator compute`, third step: one invocation per triangle to estimate of a
+// mesh that the range class does not settle (listed by range_levels.comp) writes its level
+// (triangle_level.glsl) to triangle_levels, once per frame, before the forward pass;
+// patch_levels.comp then combines each patch's levels and the control stage only reads them.
+// Running over the list rather than over all triangles keeps culled triangles and back faces out of
+// the SIMD lanes that run the estimator.
 //
 // It lists the triangles whose estimate Rust refines (estimate_pass, `refine_next`) in
 // refine_triangles for the refining step (refine_levels.comp), which estimates those again with

@@ -2,13 +2,13 @@
 //! (`render::cost_model`): the pre-pass's estimate per triangle and per-pixel shading per
 //! fragment, each at two light counts, from which the model draws its lines.
 //!
-//! Per light count `L`, the scene is lit by `L` point lights around its camera's target (its
-//! own lights replaced) and benchmarked in turns (`pixel`, `vertex`, `multirate` estimating
-//! every visible triangle, `multirate` shading every triangle per pixel): the estimate costs
-//! the estimate step's time over the triangles it estimated (those the range class leaves,
-//! counted by the twins, `geometry::cull` and `shading::estimator`), a pixel costs `pixel`'s time above `vertex`'s (which rasterises and tests
-//! the same depth) over its shaded fragments, and a pixel of multirate's per-pixel path the
-//! last configuration's time above `vertex`'s over the same fragments.
+//! Per light count `L`, the scene is lit by `L` point lights around its camera's target (its own
+//! lights replaced) and benchmarked in turns (`pixel`, `vertex`, `multirate` estimating every
+//! visible triangle, `multirate` shading every triangle per pixel): the estimate costs the estimate
+//! step's time over the triangles it estimated (those the range class leaves, counted by the twins,
+//! `geometry::cull` and `shading::estimator`), a pixel costs `pixel`'s time above `vertex`'s (which
+//! rasterises and tests the same depth) over its shaded fragments, and a pixel of multirate's
+//! per-pixel path the last configuration's time above `vertex`'s over the same fragments.
 
 use super::{run, BenchConfig, BenchScene, Progress, Row};
 use crate::error::Result;
