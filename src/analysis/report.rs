@@ -169,8 +169,9 @@ pub fn analyze(
         };
         let per_pixel_of = |corners: &[u32]| {
             let positions = positions_of(corners);
+            // The range bound only where the area rule would apply: estimate_of runs it again.
             back_face_per_pixel(&rule, positions, !mesh.two_sided)
-                || (!settled_of(corners) && small_per_pixel(&rule, positions))
+                || (small_per_pixel(&rule, positions) && !settled_of(corners))
         };
         let level_of = |corners: &[u32]| {
             if culled_of(corners) {
