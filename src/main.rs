@@ -673,6 +673,17 @@ fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
             row.flip
         );
     }
+    for row in result.rows.iter().filter(|row| row.frames_drawn_as_pixel.is_some_and(|n| n > 0)) {
+        println!(
+            "frame guard: {} {}x{} {} drew {} of {} measured frames as pixel does (its probes, or all where multirate was slower)",
+            row.scene,
+            row.width,
+            row.height,
+            bench::plot::row_label(row),
+            row.frames_drawn_as_pixel.unwrap_or(0),
+            row.frames
+        );
+    }
     let mut bounds = result.rows.iter().filter(|row| row.mode == "pixel").peekable();
     if bounds.peek().is_some() {
         println!("floor (vertex), ceiling (pixel / vertex), empty frame; multirate's estimated-area floor:");

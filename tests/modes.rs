@@ -1,7 +1,8 @@
 //! The shading modes against each other on lavapipe (validation layer on): `fixed:1` shades
 //! exactly what `vertex` shades; tessellated modes cover exactly the pixels `pixel` covers (no
 //! cracks); the error against `pixel` shrinks as the level grows; no NaN anywhere; the
-//! analysis variant draws the timed image and the triangle each pixel shows.
+//! analysis variant draws the timed image and the triangle each pixel shows; a frame the frame
+//! guard draws as `pixel` does is `pixel`'s image.
 
 mod common;
 
@@ -236,5 +237,35 @@ fn the_cost_model_shades_small_images_per_pixel_and_small_meshes_as_pixel_does()
     );
     let small = report.iter().filter(|t| t.small_image).count();
     assert!(small > 0 && small < report.len(), "{small} of {} visible triangles are small", report.len());
+    assert_validation_clean(&context);
+}
+
+#[test]
+fn a_frame_the_guard_draws_as_pixel_is_pixels_image_in_both_placements() {
+    use multirate::render::guard::PROBE_FRAMES;
+    let context = validated_context();
+    let scene = Scene::load(&repo_path("scenes/teapot.toml")).expect("scene loads");
+    let renderer = Renderer::new(&context, &scene).expect("renderer");
+    let extent = vk::Extent2D { width: WIDTH, height: HEIGHT };
+    let target = RenderTarget::new(&context, extent).expect("target");
+    let pixel = View { mode: Mode::Pixel, ..View::of_scene(&scene) };
+    let reference = renderer.render(&target, &pixel).expect("render pixel");
+    for placement in [Placement::Compute, Placement::Tcs] {
+        let guarded = View { mode: Mode::Multirate, cost_model: true, placement, ..pixel.clone() };
+        // A new configuration: the multirate way first, then the probe of `pixel`'s.
+        let frames: Vec<View> = (0..2 * PROBE_FRAMES).map(|_| renderer.guarded(&guarded, extent)).collect();
+        let (own, probe) = frames.split_at(PROBE_FRAMES as usize);
+        assert!(
+            own.iter().all(|v| !v.drawn_as_pixel) && probe.iter().all(|v| v.drawn_as_pixel),
+            "{placement}"
+        );
+        assert_eq!(renderer.meshes_drawn_per_pixel(&probe[0], extent), vec![true], "{placement}");
+        let image = renderer.render(&target, &probe[0]).expect("render the probe");
+        assert_eq!(coverage_mismatches(&reference, &image), 0, "{placement}");
+        assert_eq!(difference(&reference, &image).0, 0.0, "{placement}: drawn as pixel mode draws it");
+        // Unguarded views are drawn as they are.
+        let fixed_area = View { cost_model: false, ..guarded.clone() };
+        assert!(!renderer.guarded(&fixed_area, extent).drawn_as_pixel, "{placement}");
+    }
     assert_validation_clean(&context);
 }

@@ -126,6 +126,9 @@ pub struct Row {
     pub pre_pass_steps_ms: Option<[f64; PRE_PASS_STEPS]>,
     /// multirate only: images below this many pixels were shaded per pixel unestimated.
     pub min_estimated_area: Option<f32>,
+    /// multirate with the cost model: how many of the measured frames the frame guard drew as
+    /// `pixel` does (`render::guard`; its probes, or all where multirate measured slower).
+    pub frames_drawn_as_pixel: Option<u32>,
     /// `pixel` median time over this row's: the paper's speedup ratio (×100 %).
     pub speedup: f64,
     /// The trade's bounds at this scene and resolution (where `vertex` was measured).
@@ -483,6 +486,7 @@ fn measure_in_turns(
             measurement.pre_pass.extend(part.pre_pass);
             measurement.pre_pass_steps.extend(part.pre_pass_steps);
             measurement.statistics = part.statistics.or(measurement.statistics);
+            measurement.drawn_as_pixel += part.drawn_as_pixel;
         }
         measured += frames;
         turn += 1;
@@ -520,6 +524,8 @@ fn row(
         pre_pass_steps_ms: (!measurement.pre_pass_steps.is_empty())
             .then(|| PrePassStep::ALL.map(|step| Timing::of(&measurement.pre_pass_step_ms(step)).median)),
         min_estimated_area,
+        frames_drawn_as_pixel: (multirate && job.min_estimated_area.is_none())
+            .then_some(measurement.drawn_as_pixel),
         speedup: reference.gpu_ms / gpu_ms.median,
         trade: reference.vertex_ms.map(|vertex_ms| Trade::of(gpu_ms.median, reference.gpu_ms, vertex_ms)),
         empty_ms: reference.empty_ms,
@@ -577,7 +583,7 @@ fn write_row_images(
 /// The CSV header; `csv_line` writes the fields in this order.
 pub const CSV_HEADER: &str = "scene,triangles,mode,epsilon,n_max,estimator,width,height,frames,\
 gpu_ms_median,gpu_ms_p10,gpu_ms_p90,pre_pass_ms_median,cull_ms_median,range_ms_median,estimate_ms_median,refine_ms_median,\
-patches_ms_median,min_estimated_area,speedup,floor_ms,ceiling,saving_share,empty_ms,evaluations,vertex_evaluations,subvertex_evaluations,\
+patches_ms_median,min_estimated_area,frames_drawn_as_pixel,speedup,floor_ms,ceiling,saving_share,empty_ms,evaluations,vertex_evaluations,subvertex_evaluations,\
 fragment_evaluations,culled_patches,evaluation_ratio,l_inf,l_inf_same_triangle,other_triangle_pixels,pixels_over_epsilon,mean_l2,psnr_db,flip,fallback_fraction,\
 vs_invocations,tcs_patches,tes_invocations,clipping_primitives,fs_invocations,device,driver";
 
@@ -618,6 +624,7 @@ pub fn csv_line(row: &Row) -> String {
             .map(|step| optional(row.pre_pass_steps_ms.map(|ms| format!("{:.4}", ms[step as usize]))))
             .join(","),
         optional(row.min_estimated_area.map(|a| format!("{a:.2}"))),
+        optional(row.frames_drawn_as_pixel),
         format!("{:.4}", row.speedup),
         optional(row.trade.map(|t| format!("{:.4}", t.floor_ms))),
         optional(row.trade.map(|t| format!("{:.4}", t.ceiling))),

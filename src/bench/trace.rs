@@ -36,8 +36,10 @@ pub fn chrome_trace(rows: &[Row], measurements: &[Measurement]) -> String {
                 .enumerate()
                 .map(|(frame, interval)| frame_event(&forward, tid, frame, interval, origin_ns)),
         );
-        // `--estimator compute`: the pre-pass, nested in its frame's event.
-        events.extend(measurement.pre_pass.iter().enumerate().map(|(frame, interval)| {
+        // `--estimator compute`: the pre-pass, nested in its frame's event (frames the guard
+        // drew as `pixel` draws them ran none).
+        events.extend(measurement.pre_pass.iter().map(|interval| {
+            let frame = measurement.frames.iter().rposition(|f| f.start_ns <= interval.start_ns).unwrap_or(0);
             frame_event("triangle-level pre-pass", tid, frame, interval, origin_ns)
         }));
     }

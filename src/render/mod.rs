@@ -11,6 +11,8 @@
 //! - `instrumentation`: timings, evaluation counts, analysis frames and level records;
 //! - [`deferred`]: the `pixel-deferred` passes;
 //! - [`cost_model`]: where estimating a triangle's level pays, per device;
+//! - [`guard`]: whether a frame is drawn the multirate way or as `pixel` draws it, from the
+//!   times of recent frames drawn each way;
 //! - [`capture`], [`limits`], [`output`], [`present`], [`textures`]: the tessellation
 //!   pattern check, the scene's limits, image files, presentation and the scene's textures.
 
@@ -19,6 +21,7 @@ pub mod cost_model;
 pub mod deferred;
 mod descriptors;
 mod draws;
+pub mod guard;
 mod instrumentation;
 pub mod limits;
 mod mode;
@@ -52,6 +55,7 @@ use crate::vk::target::{AfterPass, Attachments, FloatImage, RenderTarget};
 use crate::vk::Context;
 use ash::vk;
 use cost_model::{CostModel, MeshSample};
+use guard::{FramePath, GuardKey, Guards};
 use std::cell::OnceCell;
 use std::sync::{Arc, Mutex};
 
@@ -85,6 +89,8 @@ pub struct Renderer {
     light_count: usize,
     /// Per draw, the triangles that stand for its mesh in the cost model's per-mesh choice.
     mesh_samples: Vec<MeshSample>,
+    /// The frame guards of the configurations drawn so far (`guarded`, `report_frame_time`).
+    guards: Mutex<Guards>,
 }
 
 impl Renderer {
@@ -118,6 +124,7 @@ impl Renderer {
             cost_model: CostModel::for_device(&context.info.name),
             light_count: cost_model::weighed_lights(scene),
             mesh_samples: scene.meshes.iter().map(MeshSample::of).collect(),
+            guards: Mutex::new(Guards::default()),
         })
     }
 
@@ -140,9 +147,16 @@ impl Renderer {
     /// Per draw, whether `view`'s multirate pass draws its mesh whole as `pixel` mode does on a
     /// target of `extent`: with the cost model on, where most of the mesh's visible triangles
     /// are too small for an estimate to pay ([`MeshSample::mostly_small`]). Empty outside
-    /// multirate or without the cost model.
+    /// multirate or without the cost model; every draw where the frame guard draws the frame
+    /// as `pixel` does (`View::drawn_as_pixel`).
     pub fn meshes_drawn_per_pixel(&self, view: &View, extent: vk::Extent2D) -> Vec<bool> {
-        if view.mode != Mode::Multirate || !view.cost_model {
+        if view.mode != Mode::Multirate {
+            return Vec::new();
+        }
+        if view.drawn_as_pixel {
+            return vec![true; self.draws.len()];
+        }
+        if !view.cost_model {
             return Vec::new();
         }
         let view_proj = crate::geometry::camera::view_projection(&view.camera, extent.width, extent.height);
@@ -152,6 +166,28 @@ impl Renderer {
             .iter()
             .map(|s| s.mostly_small(&view_proj, view.camera.eye, viewport, area))
             .collect()
+    }
+
+    /// `view` as the frame guard of its configuration draws the next frame on a target of
+    /// `extent` (`View::drawn_as_pixel` set where it draws as `pixel` does); `view` itself
+    /// where no guard applies ([`GuardKey::of`]). Callers that time their frames report each
+    /// one's time with [`Renderer::report_frame_time`].
+    pub fn guarded(&self, view: &View, extent: vk::Extent2D) -> View {
+        let mut guarded = view.clone();
+        if let Some(key) = GuardKey::of(view, extent) {
+            let path = self.guards.lock().expect("guards lock").of(key).next_frame();
+            guarded.drawn_as_pixel = path == FramePath::Pixel;
+        }
+        guarded
+    }
+
+    /// A frame of `view` (as [`Renderer::guarded`] returned it) on a target of `extent` took
+    /// `gpu_ms` on the GPU; its configuration's guard weighs it.
+    pub fn report_frame_time(&self, view: &View, extent: vk::Extent2D, gpu_ms: f64) {
+        if let Some(key) = GuardKey::of(view, extent) {
+            let path = if view.drawn_as_pixel { FramePath::Pixel } else { FramePath::Multirate };
+            self.guards.lock().expect("guards lock").of(key).record(path, gpu_ms);
+        }
     }
 
     /// Renders one frame into `target` and reads the float image back.
@@ -240,7 +276,7 @@ impl Renderer {
 
     /// `record_with`, calling `stamp(Timed::PrePass, false)` before and `stamp(Timed::PrePass,
     /// true)` after the pre-pass (both back to back where there is none), and the same around
-    /// each of its steps.
+    /// each of its steps (`Timed::SkippedStep` where it does not run).
     fn record_timed(
         &self,
         variants: &[Variant],
@@ -260,8 +296,8 @@ impl Renderer {
             } else {
                 // Every step's interval is still written (empty), as the timing reads them.
                 for step in PrePassStep::ALL {
-                    stamp(Timed::Step(step), false);
-                    stamp(Timed::Step(step), true);
+                    stamp(Timed::SkippedStep(step), false);
+                    stamp(Timed::SkippedStep(step), true);
                 }
             }
         }

@@ -16,8 +16,12 @@ pub struct View {
     /// `multirate` only: where the estimator runs.
     pub placement: Placement,
     /// `multirate` only: the renderer's cost model chooses which triangles are estimated
-    /// (`Renderer::min_estimated_area`), in place of `estimator.min_estimated_area`.
+    /// (`Renderer::min_estimated_area`), in place of `estimator.min_estimated_area`, and the
+    /// frame guard may draw the frame as `pixel` does (`Renderer::guarded`).
     pub cost_model: bool,
+    /// `multirate` only: draw every mesh as `pixel` mode does, without the pre-pass: the frame
+    /// guard's probe or choice ([`super::guard`]), set by `Renderer::guarded`.
+    pub drawn_as_pixel: bool,
     /// Colour by tessellation level (heat map) instead of shading.
     pub heat_map: bool,
     /// Draw triangle edges only (where the device has `fillModeNonSolid`).
@@ -44,6 +48,7 @@ impl View {
             },
             placement: Placement::default(),
             cost_model: false,
+            drawn_as_pixel: false,
             heat_map: false,
             wireframe: false,
             derivative_check: false,

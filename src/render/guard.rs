@@ -1,0 +1,176 @@
+//! The frame guard of `multirate` mode: a frame is never drawn the slower way for long.
+//!
+//! The cost model ([`super::cost_model`]) decides per triangle and per mesh from figures
+//! measured once, in one setting. A scene can still lose against `pixel`, and the model cannot
+//! see why: spotlight cones that send most evaluations to the per-pixel fallback after the
+//! estimate, a driver setting in which a pixel costs a quarter of the calibration's, a frame
+//! with so little shading to save that the pre-pass's fixed cost alone outweighs it. The guard
+//! measures instead of predicting. It draws a few frames the multirate way, then a few as
+//! `pixel` mode draws them (every mesh whole, no pre-pass; the reference, so accuracy is never
+//! lost), and from then on draws the way whose recent frames were faster, probing the other
+//! again every [`REPROBE_EVERY`] frames, since the camera and the scene's costs move.
+//!
+//! The renderer keeps one guard per configuration ([`GuardKey`]: extent, ε, `n_max`, how the
+//! estimator runs); the camera is not part of it. The guard only schedules and compares:
+//! callers that time their frames (`Renderer::measure`, the window) ask it how to draw the
+//! next frame ([`PathGuard::next_frame`]) and report each frame's GPU time with the way it was drawn
+//! ([`PathGuard::record`]), in whatever order the times come back.
+
+use super::mode::Placement;
+use super::view::View;
+use crate::shading::estimator::{Discontinuity, Split};
+use ash::vk;
+
+/// Frames drawn each way in a probe, and the recent frames of each way that are compared.
+pub const PROBE_FRAMES: u32 = 3;
+/// Frames between the starts of two probes.
+pub const REPROBE_EVERY: u32 = 120;
+
+/// How a guarded `multirate` frame is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FramePath {
+    /// The pre-pass, then the meshes as the cost model chose.
+    Multirate,
+    /// Every mesh as `pixel` mode draws it, without the pre-pass.
+    Pixel,
+}
+
+impl FramePath {
+    fn other(self) -> FramePath {
+        match self {
+            FramePath::Multirate => FramePath::Pixel,
+            FramePath::Pixel => FramePath::Multirate,
+        }
+    }
+
+    fn index(self) -> usize {
+        match self {
+            FramePath::Multirate => 0,
+            FramePath::Pixel => 1,
+        }
+    }
+}
+
+/// Which way to draw, from the GPU times of recent frames drawn each way.
+///
+/// Within each cycle of [`REPROBE_EVERY`] frames, frames `PROBE_FRAMES..2 · PROBE_FRAMES`
+/// are drawn the other way than the current choice (the probe), all others the chosen way;
+/// the first cycle therefore starts with multirate frames, then probes `pixel`. Once the
+/// probe's [`PROBE_FRAMES`] times are in, the choice becomes the way whose fastest frame among
+/// its latest [`PROBE_FRAMES`] is faster (the fastest, since a frame is only ever slowed by
+/// what else the device does); a tie keeps multirate. Only then: the chosen way's latest
+/// frames were drawn next to the probe's, while a machine's speed drifts over seconds.
+#[derive(Clone, Debug)]
+pub struct PathGuard {
+    choice: FramePath,
+    /// Frames asked for since the current cycle began.
+    in_cycle: u32,
+    /// Per way ([`FramePath::index`]), the latest GPU times in milliseconds, oldest first.
+    recent: [Vec<f64>; 2],
+    /// Times of the way not chosen that came back since the current probe began.
+    probed: u32,
+}
+
+impl Default for PathGuard {
+    fn default() -> PathGuard {
+        PathGuard { choice: FramePath::Multirate, in_cycle: 0, recent: [Vec::new(), Vec::new()], probed: 0 }
+    }
+}
+
+impl PathGuard {
+    /// How to draw the next frame.
+    pub fn next_frame(&mut self) -> FramePath {
+        let probing = (PROBE_FRAMES..2 * PROBE_FRAMES).contains(&self.in_cycle);
+        if self.in_cycle == PROBE_FRAMES {
+            // Frames of the other way still on their way back were drawn before a switch.
+            self.probed = 0;
+        }
+        self.in_cycle = (self.in_cycle + 1) % REPROBE_EVERY;
+        if probing {
+            self.choice.other()
+        } else {
+            self.choice
+        }
+    }
+
+    /// A frame drawn `path`'s way took `gpu_ms`. Times that are not finite and positive (a
+    /// frame whose timestamps the device did not write) are ignored.
+    pub fn record(&mut self, path: FramePath, gpu_ms: f64) {
+        if !(gpu_ms.is_finite() && gpu_ms > 0.0) {
+            return;
+        }
+        let recent = &mut self.recent[path.index()];
+        if recent.len() == PROBE_FRAMES as usize {
+            recent.remove(0);
+        }
+        recent.push(gpu_ms);
+        if path == self.choice {
+            return;
+        }
+        self.probed += 1;
+        if self.probed >= PROBE_FRAMES {
+            let [multirate, pixel] =
+                self.recent.each_ref().map(|times| times.iter().copied().fold(f64::INFINITY, f64::min));
+            self.choice = if pixel < multirate { FramePath::Pixel } else { FramePath::Multirate };
+            self.probed = 0;
+        }
+    }
+
+    /// The way unprobed frames are drawn now.
+    pub fn choice(&self) -> FramePath {
+        self.choice
+    }
+}
+
+/// What a guard's measurements hold for: frames of another key draw other work.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GuardKey {
+    extent: (u32, u32),
+    epsilon: f32,
+    n_max: u32,
+    split: Split,
+    discontinuity: Discontinuity,
+    placement: Placement,
+}
+
+impl GuardKey {
+    /// The key of `view` on a target of `extent`, or None where the guard does not apply: outside
+    /// `multirate` mode, without the cost model (a view that fixes the estimated area asks for
+    /// the multirate way itself), and in the debug views (heat map, wireframe), which show the
+    /// multirate way's own work.
+    pub fn of(view: &View, extent: vk::Extent2D) -> Option<GuardKey> {
+        let guarded =
+            view.mode == super::Mode::Multirate && view.cost_model && !view.heat_map && !view.wireframe;
+        guarded.then_some(GuardKey {
+            extent: (extent.width, extent.height),
+            epsilon: view.estimator.epsilon,
+            n_max: view.estimator.n_max,
+            split: view.estimator.split,
+            discontinuity: view.estimator.discontinuity,
+            placement: view.placement,
+        })
+    }
+}
+
+/// The renderer's guards, one per key seen.
+#[derive(Debug, Default)]
+pub struct Guards {
+    guards: Vec<(GuardKey, PathGuard)>,
+}
+
+impl Guards {
+    /// The guard of `key`, new where the key was not seen.
+    pub fn of(&mut self, key: GuardKey) -> &mut PathGuard {
+        let at = match self.guards.iter().position(|(seen, _)| *seen == key) {
+            Some(at) => at,
+            None => {
+                self.guards.push((key, PathGuard::default()));
+                self.guards.len() - 1
+            }
+        };
+        &mut self.guards[at].1
+    }
+}
+
+#[cfg(test)]
+mod tests;

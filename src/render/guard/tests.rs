@@ -1,0 +1,140 @@
+//! Tests of `render::guard`: the probe schedule, the choice of the faster way as times come
+//! back late, and one guard per configuration.
+
+use super::*;
+
+/// Draws `frames` frames with `guard`, each drawn way timed by `cost`, the times reported
+/// `lag` frames after the frame was drawn (frames in flight); returns the ways drawn.
+fn run(guard: &mut PathGuard, frames: usize, lag: usize, cost: impl Fn(FramePath) -> f64) -> Vec<FramePath> {
+    let mut drawn = Vec::new();
+    for frame in 0..frames + lag {
+        if frame < frames {
+            drawn.push(guard.next_frame());
+        }
+        if frame >= lag {
+            let path = drawn[frame - lag];
+            guard.record(path, cost(path));
+        }
+    }
+    drawn
+}
+
+fn count(drawn: &[FramePath], path: FramePath) -> usize {
+    drawn.iter().filter(|&&p| p == path).count()
+}
+
+#[test]
+fn a_guard_starts_the_multirate_way_then_probes_pixel() {
+    let mut guard = PathGuard::default();
+    let first: Vec<FramePath> = (0..2 * PROBE_FRAMES).map(|_| guard.next_frame()).collect();
+    let probe = PROBE_FRAMES as usize;
+    assert!(first[..probe].iter().all(|&p| p == FramePath::Multirate), "{first:?}");
+    assert!(first[probe..].iter().all(|&p| p == FramePath::Pixel), "{first:?}");
+    // Without times it keeps multirate.
+    assert_eq!(guard.next_frame(), FramePath::Multirate);
+}
+
+#[test]
+fn a_guard_keeps_the_faster_way_and_probes_the_other_once_a_cycle() {
+    let frames = 4 * REPROBE_EVERY as usize;
+    for lag in [0, 1, 2] {
+        let mut guard = PathGuard::default();
+        let drawn = run(&mut guard, frames, lag, |p| if p == FramePath::Multirate { 10.0 } else { 30.0 });
+        assert_eq!(guard.choice(), FramePath::Multirate);
+        assert_eq!(count(&drawn, FramePath::Pixel), 4 * PROBE_FRAMES as usize, "lag {lag}");
+
+        let mut guard = PathGuard::default();
+        let drawn = run(&mut guard, frames, lag, |p| if p == FramePath::Multirate { 30.0 } else { 10.0 });
+        assert_eq!(guard.choice(), FramePath::Pixel);
+        // Multirate's own first frames, the frames drawn while the probe's times were on their
+        // way back, then one probe a cycle.
+        let multirate = count(&drawn, FramePath::Multirate);
+        assert!(multirate <= (5 * PROBE_FRAMES) as usize + lag, "lag {lag}: {multirate} multirate frames");
+        assert!(drawn[REPROBE_EVERY as usize..].iter().filter(|&&p| p == FramePath::Multirate).count() >= 3);
+    }
+}
+
+#[test]
+fn a_guard_follows_a_change_of_costs_within_a_cycle() {
+    let mut guard = PathGuard::default();
+    run(&mut guard, REPROBE_EVERY as usize, 2, |p| if p == FramePath::Multirate { 10.0 } else { 30.0 });
+    assert_eq!(guard.choice(), FramePath::Multirate);
+    // The camera moved: multirate now loses.
+    run(&mut guard, REPROBE_EVERY as usize + 2 * PROBE_FRAMES as usize, 2, |p| {
+        if p == FramePath::Multirate {
+            40.0
+        } else {
+            30.0
+        }
+    });
+    assert_eq!(guard.choice(), FramePath::Pixel);
+}
+
+#[test]
+fn a_guard_decides_once_the_probe_is_in_by_the_fastest_recent_frames() {
+    let mut guard = PathGuard::default();
+    for ms in [50.0, 12.0, 12.0] {
+        guard.record(FramePath::Multirate, ms);
+    }
+    guard.record(FramePath::Pixel, 11.0);
+    guard.record(FramePath::Pixel, 13.0);
+    assert_eq!(guard.choice(), FramePath::Multirate, "the probe is not in yet");
+    guard.record(FramePath::Pixel, 14.0);
+    assert_eq!(guard.choice(), FramePath::Pixel, "pixel's fastest, 11 ms, beats multirate's 12 ms");
+    // Pixel's own frames then slow down: no switch without a probe of multirate.
+    for ms in [20.0, 20.0, 20.0] {
+        guard.record(FramePath::Pixel, ms);
+    }
+    assert_eq!(guard.choice(), FramePath::Pixel);
+    for ms in [20.0, 20.0, 20.0] {
+        guard.record(FramePath::Multirate, ms);
+    }
+    assert_eq!(guard.choice(), FramePath::Multirate, "20 ms each way: a tie keeps multirate");
+}
+
+#[test]
+fn a_guard_ignores_unwritten_times() {
+    let mut guard = PathGuard::default();
+    for _ in 0..PROBE_FRAMES {
+        guard.record(FramePath::Multirate, 20.0);
+        guard.record(FramePath::Pixel, f64::NAN);
+        guard.record(FramePath::Pixel, 0.0);
+        guard.record(FramePath::Pixel, -1.0);
+        guard.record(FramePath::Pixel, f64::INFINITY);
+    }
+    assert_eq!(guard.choice(), FramePath::Multirate);
+}
+
+#[test]
+fn guards_are_kept_per_configuration_and_not_per_camera() {
+    use crate::render::Mode;
+    let path = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/bunny.toml"));
+    let scene = crate::scene::Scene::load(path).expect("the bunny loads");
+    let view = View { mode: Mode::Multirate, cost_model: true, ..View::of_scene(&scene) };
+    let extent = vk::Extent2D { width: 64, height: 48 };
+    let key = GuardKey::of(&view, extent).expect("a multirate view with the cost model is guarded");
+    let mut moved = view.clone();
+    moved.camera.eye += glam::Vec3::X;
+    assert_eq!(GuardKey::of(&moved, extent), Some(key));
+    let mut finer = view.clone();
+    finer.estimator.epsilon *= 0.5;
+    assert_ne!(GuardKey::of(&finer, extent), Some(key));
+    assert_ne!(GuardKey::of(&view, vk::Extent2D { width: 65, height: 48 }), Some(key));
+    for unguarded in [
+        View { cost_model: false, ..view.clone() },
+        View { heat_map: true, ..view.clone() },
+        View { wireframe: true, ..view.clone() },
+        View { mode: Mode::Pixel, ..view.clone() },
+    ] {
+        assert_eq!(GuardKey::of(&unguarded, extent), None, "{unguarded:?}");
+    }
+    let mut guards = Guards::default();
+    for _ in 0..PROBE_FRAMES {
+        guards.of(key).record(FramePath::Multirate, 30.0);
+        guards.of(key).record(FramePath::Pixel, 10.0);
+    }
+    assert_eq!(guards.of(key).choice(), FramePath::Pixel);
+    let other = GuardKey::of(&finer, extent).expect("guarded");
+    assert_eq!(guards.of(other).choice(), FramePath::Multirate, "a new configuration starts afresh");
+    assert_eq!(guards.of(key).choice(), FramePath::Pixel, "the first keeps its choice");
+}
