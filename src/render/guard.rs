@@ -13,8 +13,8 @@
 //! The renderer keeps one guard per configuration ([`GuardKey`]: extent, ε, `n_max`, how the
 //! estimator runs); the camera is not part of it. The guard only schedules and compares:
 //! callers that time their frames (`Renderer::measure`, the window) ask it how to draw the
-//! next frame ([`PathGuard::next_frame`]) and report each frame's GPU time with the way it was drawn
-//! ([`PathGuard::record`]), in whatever order the times come back.
+//! next frame ([`PathGuard::next_frame`]) and report each frame's GPU time with the way it
+//! was drawn ([`PathGuard::record`]), in whatever order the times come back.
 
 use super::mode::Placement;
 use super::view::View;
