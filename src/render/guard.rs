@@ -8,7 +8,7 @@
 //! measures instead of predicting. It draws a few frames the multirate way, then a few as
 //! `pixel` mode draws them (every mesh whole, no pre-pass; the reference, so accuracy is never
 //! lost), and from then on draws the way whose recent frames were faster, probing the other
-//! again every [`REPROBE_EVERY`] frames, since the camera and the scene's costs move.
+//! again now and then ([`PathGuard`]), since the camera and the scene's costs move.
 //!
 //! The renderer keeps one guard per configuration ([`GuardKey`]: extent, ε, `n_max`, how the
 //! estimator runs); the camera is not part of it. The guard only schedules and compares:
@@ -21,10 +21,17 @@ use super::view::View;
 use crate::shading::estimator::{Discontinuity, Split};
 use ash::vk;
 
-/// Frames drawn each way in a probe, and the recent frames of each way that are compared.
+/// Frames drawn the other way in a probe, and the recent frames of each way that are compared.
 pub const PROBE_FRAMES: u32 = 3;
-/// Frames between the starts of two probes.
+/// Frames of the chosen way from one probe to the next after a close decision.
 pub const REPROBE_EVERY: u32 = 120;
+/// The most frames between probes: after each decisive decision that keeps the choice, the gap
+/// doubles up to this (about half a minute at 60 frames a second).
+pub const LONGEST_GAP: u32 = 16 * REPROBE_EVERY;
+/// A decision is decisive where the slower way took at least this many times the faster's
+/// time; where the chosen way's time then moves by more than this factor (the camera, the
+/// scene or the machine changed), the guard probes at once.
+pub const DECISIVE: f64 = 1.25;
 
 /// How a guarded `multirate` frame is drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -53,44 +60,65 @@ impl FramePath {
 
 /// Which way to draw, from the GPU times of recent frames drawn each way.
 ///
-/// Within each cycle of [`REPROBE_EVERY`] frames, frames `PROBE_FRAMES..2 · PROBE_FRAMES`
-/// are drawn the other way than the current choice (the probe), all others the chosen way;
-/// the first cycle therefore starts with multirate frames, then probes `pixel`. Once the
-/// probe's [`PROBE_FRAMES`] times are in, the choice becomes the way whose fastest frame among
-/// its latest [`PROBE_FRAMES`] is faster (the fastest, since a frame is only ever slowed by
-/// what else the device does); a tie keeps multirate. Only then: the chosen way's latest
-/// frames were drawn next to the probe's, while a machine's speed drifts over seconds.
+/// It draws [`PROBE_FRAMES`] frames the chosen way (multirate at first), then as many the
+/// other way (the probe). Once the probe's times are in, the choice becomes the way whose
+/// fastest frame among its latest [`PROBE_FRAMES`] is faster (the fastest, since a frame is only
+/// ever slowed by what else the device does); a tie keeps multirate. It decides only then: the
+/// chosen way's latest frames were drawn next to the probe's, while a machine's speed drifts
+/// over seconds.
+///
+/// A probe costs what the slower way costs more, and shows as a hitch in a window, so the gap
+/// to the next probe starts at [`REPROBE_EVERY`] frames and doubles (up to [`LONGEST_GAP`])
+/// each time a probe decisively ([`DECISIVE`]) confirms the choice. Where the chosen way's own
+/// time moves by more than [`DECISIVE`] from what it was chosen on, the next frame probes and
+/// the gap starts over.
 #[derive(Clone, Debug)]
 pub struct PathGuard {
     choice: FramePath,
-    /// Frames asked for since the current cycle began.
-    in_cycle: u32,
+    /// Frames of the chosen way still to draw before the next probe.
+    until_probe: u32,
+    /// Frames of the current probe still to draw.
+    probe_left: u32,
+    /// Frames between the last decision and the next probe.
+    gap: u32,
     /// Per way ([`FramePath::index`]), the latest GPU times in milliseconds, oldest first.
     recent: [Vec<f64>; 2],
     /// Times of the way not chosen that came back since the current probe began.
     probed: u32,
+    /// The chosen way's fastest recent time when the last decision chose it.
+    chosen_ms: Option<f64>,
 }
 
 impl Default for PathGuard {
     fn default() -> PathGuard {
-        PathGuard { choice: FramePath::Multirate, in_cycle: 0, recent: [Vec::new(), Vec::new()], probed: 0 }
+        PathGuard {
+            choice: FramePath::Multirate,
+            until_probe: PROBE_FRAMES,
+            probe_left: 0,
+            gap: REPROBE_EVERY,
+            recent: [Vec::new(), Vec::new()],
+            probed: 0,
+            chosen_ms: None,
+        }
     }
 }
 
 impl PathGuard {
     /// How to draw the next frame.
     pub fn next_frame(&mut self) -> FramePath {
-        let probing = (PROBE_FRAMES..2 * PROBE_FRAMES).contains(&self.in_cycle);
-        if self.in_cycle == PROBE_FRAMES {
-            // Frames of the other way still on their way back were drawn before a switch.
+        if self.probe_left > 0 {
+            self.probe_left -= 1;
+            return self.choice.other();
+        }
+        if self.until_probe == 0 {
+            // Times of the other way still on their way back were drawn before a switch.
             self.probed = 0;
+            self.probe_left = PROBE_FRAMES - 1;
+            self.until_probe = self.gap;
+            return self.choice.other();
         }
-        self.in_cycle = (self.in_cycle + 1) % REPROBE_EVERY;
-        if probing {
-            self.choice.other()
-        } else {
-            self.choice
-        }
+        self.until_probe -= 1;
+        self.choice
     }
 
     /// A frame drawn `path`'s way took `gpu_ms`. Times that are not finite and positive (a
@@ -105,13 +133,28 @@ impl PathGuard {
         }
         recent.push(gpu_ms);
         if path == self.choice {
+            let now = fastest(&self.recent[path.index()]);
+            let moved = self.chosen_ms.is_some_and(|then| now > then * DECISIVE || now * DECISIVE < then);
+            if moved && self.recent[path.index()].len() == PROBE_FRAMES as usize && self.probe_left == 0 {
+                self.until_probe = 0;
+                self.gap = REPROBE_EVERY;
+                self.chosen_ms = None;
+            }
             return;
         }
         self.probed += 1;
         if self.probed >= PROBE_FRAMES {
-            let [multirate, pixel] =
-                self.recent.each_ref().map(|times| times.iter().copied().fold(f64::INFINITY, f64::min));
-            self.choice = if pixel < multirate { FramePath::Pixel } else { FramePath::Multirate };
+            let [multirate, pixel] = self.recent.each_ref().map(|times| fastest(times));
+            let winner = if pixel < multirate { FramePath::Pixel } else { FramePath::Multirate };
+            let decisive = multirate.max(pixel) >= DECISIVE * multirate.min(pixel);
+            self.gap = if decisive && winner == self.choice {
+                (2 * self.gap).min(LONGEST_GAP)
+            } else {
+                REPROBE_EVERY
+            };
+            self.choice = winner;
+            self.until_probe = self.gap;
+            self.chosen_ms = Some(multirate.min(pixel));
             self.probed = 0;
         }
     }
@@ -120,6 +163,11 @@ impl PathGuard {
     pub fn choice(&self) -> FramePath {
         self.choice
     }
+}
+
+/// The fastest of `times` (infinite where there are none).
+fn fastest(times: &[f64]) -> f64 {
+    times.iter().copied().fold(f64::INFINITY, f64::min)
 }
 
 /// What a guard's measurements hold for: frames of another key draw other work.

@@ -34,40 +34,80 @@ fn a_guard_starts_the_multirate_way_then_probes_pixel() {
     assert_eq!(guard.next_frame(), FramePath::Multirate);
 }
 
-#[test]
-fn a_guard_keeps_the_faster_way_and_probes_the_other_once_a_cycle() {
-    let frames = 4 * REPROBE_EVERY as usize;
-    for lag in [0, 1, 2] {
-        let mut guard = PathGuard::default();
-        let drawn = run(&mut guard, frames, lag, |p| if p == FramePath::Multirate { 10.0 } else { 30.0 });
-        assert_eq!(guard.choice(), FramePath::Multirate);
-        assert_eq!(count(&drawn, FramePath::Pixel), 4 * PROBE_FRAMES as usize, "lag {lag}");
+/// The frames at which probes began.
+fn probe_starts(drawn: &[FramePath]) -> Vec<usize> {
+    let mut choice = FramePath::Multirate;
+    let mut starts = Vec::new();
+    let mut k = 0;
+    while k + PROBE_FRAMES as usize <= drawn.len() {
+        let run = &drawn[k..k + PROBE_FRAMES as usize];
+        if run.iter().all(|&p| p != choice) && (k == 0 || drawn[k - 1] == choice) {
+            starts.push(k);
+            k += PROBE_FRAMES as usize;
+            // A probe the other way won turns the choice.
+            if drawn.get(k + 2).is_some_and(|&p| p != choice) {
+                choice = run[0];
+            }
+        } else {
+            k += 1;
+        }
+    }
+    starts
+}
 
-        let mut guard = PathGuard::default();
-        let drawn = run(&mut guard, frames, lag, |p| if p == FramePath::Multirate { 30.0 } else { 10.0 });
-        assert_eq!(guard.choice(), FramePath::Pixel);
-        // Multirate's own first frames, the frames drawn while the probe's times were on their
-        // way back, then one probe a cycle.
-        let multirate = count(&drawn, FramePath::Multirate);
-        assert!(multirate <= (5 * PROBE_FRAMES) as usize + lag, "lag {lag}: {multirate} multirate frames");
-        assert!(drawn[REPROBE_EVERY as usize..].iter().filter(|&&p| p == FramePath::Multirate).count() >= 3);
+#[test]
+fn a_guard_keeps_the_faster_way_and_probes_ever_more_rarely_while_it_stays_faster() {
+    let frames = 2 * LONGEST_GAP as usize;
+    for lag in [0, 1, 2] {
+        for (faster, slower) in
+            [(FramePath::Multirate, FramePath::Pixel), (FramePath::Pixel, FramePath::Multirate)]
+        {
+            let mut guard = PathGuard::default();
+            let drawn = run(&mut guard, frames, lag, |p| if p == faster { 10.0 } else { 30.0 });
+            assert_eq!(guard.choice(), faster, "lag {lag}");
+            let starts = probe_starts(&drawn);
+            let gaps: Vec<usize> = starts.windows(2).map(|w| w[1] - w[0]).collect();
+            // Gaps of 120, 240, ..., 1920 frames (plus the probe's own), then 1920.
+            assert!(gaps.windows(2).all(|w| w[1] >= w[0]), "lag {lag}: {gaps:?}");
+            assert!(gaps.len() >= 4 && gaps.len() <= 7, "lag {lag}: {gaps:?}");
+            assert!(*gaps.last().unwrap() >= LONGEST_GAP as usize, "lag {lag}: {gaps:?}");
+            // Frames drawn the slower way: the probes, and multirate's first frames where it
+            // is the slower, with those drawn while the first probe's times came back.
+            let slow = count(&drawn, slower);
+            let first = if slower == FramePath::Multirate { PROBE_FRAMES as usize + lag } else { 0 };
+            assert_eq!(
+                slow,
+                first + PROBE_FRAMES as usize * (starts.len() - usize::from(first > 0)),
+                "lag {lag}"
+            );
+        }
     }
 }
 
 #[test]
-fn a_guard_follows_a_change_of_costs_within_a_cycle() {
+fn a_close_race_is_probed_every_reprobe_gap() {
     let mut guard = PathGuard::default();
-    run(&mut guard, REPROBE_EVERY as usize, 2, |p| if p == FramePath::Multirate { 10.0 } else { 30.0 });
+    let frames = 8 * REPROBE_EVERY as usize;
+    let drawn = run(&mut guard, frames, 2, |p| if p == FramePath::Multirate { 10.0 } else { 11.0 });
     assert_eq!(guard.choice(), FramePath::Multirate);
-    // The camera moved: multirate now loses.
-    run(&mut guard, REPROBE_EVERY as usize + 2 * PROBE_FRAMES as usize, 2, |p| {
-        if p == FramePath::Multirate {
-            40.0
-        } else {
-            30.0
-        }
-    });
-    assert_eq!(guard.choice(), FramePath::Pixel);
+    let probes = count(&drawn, FramePath::Pixel) / PROBE_FRAMES as usize;
+    assert!((7..=9).contains(&probes), "{probes} probes in {frames} frames");
+}
+
+#[test]
+fn a_guard_probes_at_once_when_the_chosen_way_slows_down() {
+    let mut guard = PathGuard::default();
+    run(&mut guard, 4 * REPROBE_EVERY as usize, 2, |p| if p == FramePath::Multirate { 10.0 } else { 30.0 });
+    assert_eq!(guard.choice(), FramePath::Multirate);
+    // The camera moved: multirate now loses, long before the next probe was due.
+    let drawn =
+        run(
+            &mut guard,
+            4 * PROBE_FRAMES as usize,
+            2,
+            |p| if p == FramePath::Multirate { 40.0 } else { 30.0 },
+        );
+    assert_eq!(guard.choice(), FramePath::Pixel, "{drawn:?}");
 }
 
 #[test]
