@@ -109,6 +109,22 @@ impl GpuTimer {
         unsafe { self.context.device.cmd_write_timestamp2(cmd, stage, self.timestamps, query) };
     }
 
+    /// `timestamp` at the top of the pipe, the end as well: the interval of work that did not
+    /// run. lavapipe flushes its queued work for a timestamp of any later stage, which costs a
+    /// frame that has nothing to time there.
+    pub fn top_of_pipe_timestamp(&self, cmd: vk::CommandBuffer, slot: u32, pass: u32, end: bool) {
+        let query = self.query(slot, pass, end);
+        // SAFETY: `cmd` is recording; the query was reset for this frame.
+        unsafe {
+            self.context.device.cmd_write_timestamp2(
+                cmd,
+                vk::PipelineStageFlags2::TOP_OF_PIPE,
+                self.timestamps,
+                query,
+            )
+        };
+    }
+
     /// `timestamp`, but a start as well is written only once every earlier command has
     /// finished: the boundaries of back-to-back steps that barriers separate, where a start at
     /// the top of the pipe would come before the previous step's end. A barrier follows it:
