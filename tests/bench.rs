@@ -1,6 +1,7 @@
 //! `multirate bench` end to end on a small scene (lavapipe, validation layer on): every CSV
 //! field filled and consistent, the JSON rows, the plots, the images and a Chrome trace with
-//! one event per measured frame.
+//! one event per measured frame; multirate both estimating every triangle and with the cost
+//! model, whose frame guard decides in the warm-up.
 
 mod common;
 
@@ -21,6 +22,7 @@ fn bench_writes_complete_rows_plots_images_and_a_capture() {
     let output = Command::new(env!("CARGO_BIN_EXE_multirate"))
         .args(["--validate", "bench", "--scene", scene.to_str().unwrap()])
         .args(["--modes", "pixel,vertex,fixed:2,multirate", "--epsilon", "0.05,0.2", "--nmax", "8"])
+        .args(["--min-estimated-area", "0,auto"])
         .args(["--resolution", "256x192", "--frames", &frames, "--warmup", "1", "--images"])
         .args(["--out", out.to_str().unwrap(), "--capture", capture.to_str().unwrap()])
         .env_remove("DISPLAY")
@@ -41,7 +43,8 @@ fn bench_writes_complete_rows_plots_images_and_a_capture() {
             header.iter().copied().zip(fields).collect()
         })
         .collect();
-    assert_eq!(rows.len(), 5, "{csv}");
+    // pixel, vertex, fixed:2, then per ε multirate estimating every triangle and with the model.
+    assert_eq!(rows.len(), 7, "{csv}");
     for row in &rows {
         assert_eq!(row.len(), header.len() - 1, "{row:?}");
         for (key, value) in row {
@@ -52,7 +55,7 @@ fn bench_writes_complete_rows_plots_images_and_a_capture() {
         row[key].parse().unwrap_or_else(|_| panic!("{key} = {:?} is not a number", row[key]))
     };
     let modes: Vec<&str> = rows.iter().map(|r| r["mode"]).collect();
-    assert_eq!(modes, ["pixel", "vertex", "fixed:2", "multirate", "multirate"]);
+    assert_eq!(modes, ["pixel", "vertex", "fixed:2", "multirate", "multirate", "multirate", "multirate"]);
     let pixel = &rows[0];
     assert_eq!(pixel["epsilon"], "NA");
     assert_eq!(number(pixel, "l_inf"), 0.0);
@@ -79,31 +82,39 @@ fn bench_writes_complete_rows_plots_images_and_a_capture() {
             assert_eq!(row[step.as_str()], "NA", "{row:?}");
         }
     }
+    let mut pre_passes_expected = 0;
     for row in &rows[3..] {
         assert!(number(row, "epsilon") == 0.05 || number(row, "epsilon") == 0.2, "{row:?}");
         assert_eq!(row["estimator"], "compute", "the default placement");
-        // At this size the triangles are large enough for the cost model to estimate them.
-        assert!(number(row, "fallback_fraction") < 1.0, "{row:?}");
+        assert_eq!(number(row, "n_max"), 8.0);
+        let fraction = number(row, "fallback_fraction");
+        assert!((0.0..=1.0).contains(&fraction), "{row:?}");
+        assert!(number(row, "l_inf").is_finite() && number(row, "flip") >= 0.0, "{row:?}");
+        if number(row, "min_estimated_area") > 0.0 {
+            // The cost model's frame guard decides in the warm-up (its first frames each way);
+            // frames drawn the multirate way time a pre-pass, the others none.
+            let as_pixel = number(row, "frames_drawn_as_pixel");
+            assert!((0.0..=FRAMES as f64).contains(&as_pixel), "{row:?}");
+            assert_eq!(row["pre_pass_ms_median"] == "NA", as_pixel == FRAMES as f64, "{row:?}");
+            pre_passes_expected += FRAMES - as_pixel as usize;
+            continue;
+        }
+        assert_eq!(row["frames_drawn_as_pixel"], "NA", "{row:?}");
+        pre_passes_expected += FRAMES;
+        // At this size the triangles are large enough to estimate.
+        assert!(fraction < 1.0, "{row:?}");
         let pre_pass = number(row, "pre_pass_ms_median");
         assert!(pre_pass > 0.0 && pre_pass <= number(row, "gpu_ms_p90"), "{row:?}");
         // The steps run back to back within the pre-pass: their medians add up to about its.
         let step_sum: f64 = steps.iter().map(|step| number(row, step)).sum();
         assert!(steps.iter().all(|step| number(row, step) >= 0.0), "{row:?}");
         assert!(step_sum <= 1.5 * pre_pass && number(row, "estimate_ms_median") > 0.0, "{row:?}");
-        assert_eq!(number(row, "n_max"), 8.0);
-        // The frame guard (the cost model's, on by default) draws frames 3 to 5 of each
-        // configuration as `pixel` does, to time that way: with one warm-up frame a turn, frame
-        // 4 is measured, and the guard cannot have chosen `pixel` before its probe ends.
-        assert_eq!(number(row, "frames_drawn_as_pixel"), 1.0, "{row:?}");
-        let fraction = number(row, "fallback_fraction");
-        assert!((0.0..=1.0).contains(&fraction), "{row:?}");
-        assert!(number(row, "l_inf").is_finite() && number(row, "flip") >= 0.0, "{row:?}");
     }
 
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("bench.json")).expect("bench.json"))
             .expect("JSON");
-    assert_eq!(json.as_array().map(Vec::len), Some(5));
+    assert_eq!(json.as_array().map(Vec::len), Some(7));
 
     for plot in ["time_vs_linf.svg", "time_vs_flip.svg"] {
         let svg = std::fs::read_to_string(out.join(plot)).expect("plot");
@@ -127,13 +138,13 @@ fn bench_writes_complete_rows_plots_images_and_a_capture() {
         .iter()
         .filter(|e| e["ph"] == "X")
         .partition(|e| e["name"].as_str().unwrap().starts_with("forward pass ("));
-    assert_eq!(frames.len(), 5 * FRAMES);
+    assert_eq!(frames.len(), 7 * FRAMES);
     for event in frames.iter().chain(&pre_passes) {
         assert!(event["dur"].as_f64().unwrap() > 0.0 && event["ts"].as_f64().unwrap() >= 0.0, "{event}");
     }
-    // The two multirate rows (the compute pre-pass, the default): a pre-pass per frame drawn
-    // the multirate way, within its frame.
-    assert_eq!(pre_passes.len(), 2 * (FRAMES - 1));
+    // The multirate rows (the compute pre-pass, the default): a pre-pass per frame drawn the
+    // multirate way, within its frame.
+    assert_eq!(pre_passes.len(), pre_passes_expected);
     for event in &pre_passes {
         assert_eq!(event["name"], "triangle-level pre-pass", "{event}");
         let (start, end) =
@@ -145,14 +156,14 @@ fn bench_writes_complete_rows_plots_images_and_a_capture() {
         assert!(within, "{event} lies within no frame of its row");
     }
     let tracks = events.iter().filter(|e| e["ph"] == "M" && e["name"] == "thread_name").count();
-    assert_eq!(tracks, 5);
+    assert_eq!(tracks, 7);
     // The rows take turns (FRAMES = 3 makes two turns): every row's first frame starts before
     // every row's last frame, so a slow spell of the machine cannot fall on one row alone.
     let starts = |tid: usize| -> Vec<f64> {
         frames.iter().filter(|f| f["tid"] == tid).map(|f| f["ts"].as_f64().unwrap()).collect()
     };
-    let firsts = (1..=5).map(|tid| starts(tid).into_iter().fold(f64::INFINITY, f64::min));
-    let lasts = (1..=5).map(|tid| starts(tid).into_iter().fold(f64::NEG_INFINITY, f64::max));
+    let firsts = (1..=7).map(|tid| starts(tid).into_iter().fold(f64::INFINITY, f64::min));
+    let lasts = (1..=7).map(|tid| starts(tid).into_iter().fold(f64::NEG_INFINITY, f64::max));
     let latest_first = firsts.fold(f64::NEG_INFINITY, f64::max);
     let earliest_last = lasts.fold(f64::INFINITY, f64::min);
     assert!(latest_first < earliest_last, "rows measured one after another, not in turns");

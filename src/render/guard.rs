@@ -28,10 +28,11 @@ pub const REPROBE_EVERY: u32 = 120;
 /// The most frames between probes: after each decisive decision that keeps the choice, the gap
 /// doubles up to this (about half a minute at 60 frames a second).
 pub const LONGEST_GAP: u32 = 16 * REPROBE_EVERY;
-/// A decision is decisive where the slower way took at least this many times the faster's
-/// time; where the chosen way's time then moves by more than this factor (the camera, the
-/// scene or the machine changed), the guard probes at once.
+/// A decision is decisive where the slower way took at least this many times the faster's.
 pub const DECISIVE: f64 = 1.25;
+/// Where the chosen way's time moves by more than this factor from what it was chosen on (the
+/// camera, the scene or the machine changed), the guard probes at once.
+pub const MOVED: f64 = 1.5;
 
 /// How a guarded `multirate` frame is drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -70,8 +71,8 @@ impl FramePath {
 /// A probe costs what the slower way costs more, and shows as a hitch in a window, so the gap
 /// to the next probe starts at [`REPROBE_EVERY`] frames and doubles (up to [`LONGEST_GAP`])
 /// each time a probe decisively ([`DECISIVE`]) confirms the choice. Where the chosen way's own
-/// time moves by more than [`DECISIVE`] from what it was chosen on, the next frame probes and
-/// the gap starts over.
+/// time moves by more than [`MOVED`] from what it was chosen on, the next frame probes and the
+/// gap starts over.
 #[derive(Clone, Debug)]
 pub struct PathGuard {
     choice: FramePath,
@@ -87,6 +88,7 @@ pub struct PathGuard {
     probed: u32,
     /// The chosen way's fastest recent time when the last decision chose it.
     chosen_ms: Option<f64>,
+    decided: bool,
 }
 
 impl Default for PathGuard {
@@ -99,6 +101,7 @@ impl Default for PathGuard {
             recent: [Vec::new(), Vec::new()],
             probed: 0,
             chosen_ms: None,
+            decided: false,
         }
     }
 }
@@ -134,7 +137,7 @@ impl PathGuard {
         recent.push(gpu_ms);
         if path == self.choice {
             let now = fastest(&self.recent[path.index()]);
-            let moved = self.chosen_ms.is_some_and(|then| now > then * DECISIVE || now * DECISIVE < then);
+            let moved = self.chosen_ms.is_some_and(|then| now > then * MOVED || now * MOVED < then);
             if moved && self.recent[path.index()].len() == PROBE_FRAMES as usize && self.probe_left == 0 {
                 self.until_probe = 0;
                 self.gap = REPROBE_EVERY;
@@ -156,12 +159,18 @@ impl PathGuard {
             self.until_probe = self.gap;
             self.chosen_ms = Some(multirate.min(pixel));
             self.probed = 0;
+            self.decided = true;
         }
     }
 
     /// The way unprobed frames are drawn now.
     pub fn choice(&self) -> FramePath {
         self.choice
+    }
+
+    /// Whether a probe's times have come in and decided the choice at least once.
+    pub fn decided(&self) -> bool {
+        self.decided
     }
 }
 

@@ -4,6 +4,7 @@
 //! triangle ids ([`Renderer::analyze`], [`Analysis`]) and the level records
 //! ([`Renderer::record_levels`]).
 
+use super::guard;
 use super::mode::{Mode, Placement};
 use super::pipelines::{Instrumentation, Variant};
 use super::pre_pass::{PrePassStep, PRE_PASS_STEPS};
@@ -89,6 +90,11 @@ impl Analysis {
     }
 }
 
+/// The most frames `measure` adds to a guarded view's warm-up while its guard has not decided:
+/// the guard's first frames each way and those in flight, twice over (a time the device did
+/// not write is not counted).
+pub const GUARD_START_FRAMES: u32 = 4 * (guard::PROBE_FRAMES + FRAMES_IN_FLIGHT as u32);
+
 /// What a timestamp pair of `measure` times: the whole frame, the pre-pass, or one of its steps.
 #[derive(Clone, Copy)]
 pub(super) enum Timed {
@@ -141,7 +147,8 @@ impl Renderer {
         Ok(bytemuck::pod_collect_to_vec::<u8, [f32; 4]>(&bytes[..self.buffers.level_records.size as usize]))
     }
 
-    /// Renders `warmup` frames, then `frames` measured ones, with up to two frames in flight:
+    /// Renders `warmup` frames (more for a guarded view whose guard has not decided yet: at most
+    /// [`GUARD_START_FRAMES`] more), then `frames` measured ones, with up to two frames in flight:
     /// when the forward pass of each measured frame ran on the GPU (timestamps outside the
     /// pass), when its pre-pass did, and the pipeline statistics of the last one. A frame's
     /// queries are read only once its slot comes round again, so reading never stalls the
@@ -163,33 +170,40 @@ impl Renderer {
         let mut ring = FrameRing::new(&self.context, FRAMES_IN_FLIGHT)?;
         let mut measurement = Measurement::default();
         let extent = target.extent();
-        // Per slot, the frame it last drew and how (the frame guard's choice or probe).
-        let mut in_slot: [Option<(u32, View)>; FRAMES_IN_FLIGHT] = Default::default();
-        let total = warmup + frames;
-        let collect =
-            |ring: &mut FrameRing, slot: usize, drawn: Option<(u32, View)>, measurement: &mut Measurement| {
-                let Some((frame, frame_view)) = drawn else { return Ok(()) };
-                if !ring.wait(slot)? {
-                    return Ok(());
+        // Per slot, whether the frame it last drew is measured, and how it was drawn (the frame
+        // guard's choice or probe).
+        let mut in_slot: [Option<(bool, View)>; FRAMES_IN_FLIGHT] = Default::default();
+        let collect = |ring: &mut FrameRing,
+                       slot: usize,
+                       drawn: Option<(bool, View)>,
+                       measurement: &mut Measurement| {
+            let Some((measured, frame_view)) = drawn else { return Ok(()) };
+            if !ring.wait(slot)? {
+                return Ok(());
+            }
+            let intervals = timer.pass_intervals(slot as u32)?;
+            self.report_frame_time(&frame_view, extent, intervals[0].milliseconds());
+            if measured {
+                measurement.frames.push(intervals[0]);
+                // The pre-pass's times are those of the frames that ran it.
+                if pre_pass && !frame_view.drawn_as_pixel {
+                    measurement.pre_pass.push(intervals[1]);
+                    let steps = PrePassStep::ALL.map(|step| intervals[Timed::Step(step).pass() as usize]);
+                    measurement.pre_pass_steps.push(steps);
                 }
-                let intervals = timer.pass_intervals(slot as u32)?;
-                self.report_frame_time(&frame_view, extent, intervals[0].milliseconds());
-                if frame >= warmup {
-                    measurement.frames.push(intervals[0]);
-                    // The pre-pass's times are those of the frames that ran it.
-                    if pre_pass && !frame_view.drawn_as_pixel {
-                        measurement.pre_pass.push(intervals[1]);
-                        let steps = PrePassStep::ALL.map(|step| intervals[Timed::Step(step).pass() as usize]);
-                        measurement.pre_pass_steps.push(steps);
-                    }
-                    measurement.drawn_as_pixel += u32::from(frame_view.drawn_as_pixel);
-                    measurement.statistics = timer.read_statistics(slot as u32)?;
-                }
-                Ok::<_, crate::Error>(())
-            };
-        for frame in 0..total {
+                measurement.drawn_as_pixel += u32::from(frame_view.drawn_as_pixel);
+                measurement.statistics = timer.read_statistics(slot as u32)?;
+            }
+            Ok::<_, crate::Error>(())
+        };
+        // A guarded configuration warms up until its guard has first decided (its first probe's
+        // times are in): what a user sees after the first frames, not the guard's start-up.
+        let longest_warmup = warmup + GUARD_START_FRAMES;
+        let (mut frame, mut measured_frames) = (0u32, 0u32);
+        while measured_frames < frames {
             let slot = frame as usize % FRAMES_IN_FLIGHT;
             collect(&mut ring, slot, in_slot[slot].take(), &mut measurement)?;
+            let measured = frame >= warmup && (frame >= longest_warmup || self.guard_decided(view, extent));
             let frame_view = self.guarded(view, extent);
             ring.submit(slot, |cmd| {
                 let slot = slot as u32;
@@ -214,7 +228,9 @@ impl Renderer {
                 timer.statistics(cmd, slot, false);
                 timer.timestamp(cmd, slot, 0, true);
             })?;
-            in_slot[slot] = Some((frame, frame_view));
+            in_slot[slot] = Some((measured, frame_view));
+            measured_frames += u32::from(measured);
+            frame += 1;
         }
         for (slot, drawn) in in_slot.iter_mut().enumerate() {
             collect(&mut ring, slot, drawn.take(), &mut measurement)?;

@@ -181,6 +181,13 @@ impl Renderer {
         guarded
     }
 
+    /// Whether the frame guard of `view`'s configuration on a target of `extent` has decided
+    /// which way to draw (true where no guard applies).
+    pub fn guard_decided(&self, view: &View, extent: vk::Extent2D) -> bool {
+        GuardKey::of(view, extent)
+            .is_none_or(|key| self.guards.lock().expect("guards lock").of(key).decided())
+    }
+
     /// A frame of `view` (as [`Renderer::guarded`] returned it) on a target of `extent` took
     /// `gpu_ms` on the GPU; its configuration's guard weighs it.
     pub fn report_frame_time(&self, view: &View, extent: vk::Extent2D, gpu_ms: f64) {

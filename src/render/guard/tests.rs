@@ -119,8 +119,10 @@ fn a_guard_decides_once_the_probe_is_in_by_the_fastest_recent_frames() {
     guard.record(FramePath::Pixel, 11.0);
     guard.record(FramePath::Pixel, 13.0);
     assert_eq!(guard.choice(), FramePath::Multirate, "the probe is not in yet");
+    assert!(!guard.decided());
     guard.record(FramePath::Pixel, 14.0);
     assert_eq!(guard.choice(), FramePath::Pixel, "pixel's fastest, 11 ms, beats multirate's 12 ms");
+    assert!(guard.decided());
     // Pixel's own frames then slow down: no switch without a probe of multirate.
     for ms in [20.0, 20.0, 20.0] {
         guard.record(FramePath::Pixel, ms);
