@@ -130,15 +130,20 @@ fn bench_writes_complete_rows_plots_images_and_a_capture() {
         assert!(images.join(&name).is_file(), "{name}");
     }
 
-    // The capture: a track per row, named, and one complete event per measured frame.
+    assert_capture(&capture, rows.len(), pre_passes_expected);
+}
+
+/// The capture: a track per row, named, one complete event per measured frame, and
+/// `pre_passes_expected` pre-pass events, each within a frame of its row; the rows take turns.
+fn assert_capture(capture: &Path, rows: usize, pre_passes_expected: usize) {
     let trace: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&capture).expect("capture")).expect("capture is JSON");
+        serde_json::from_str(&std::fs::read_to_string(capture).expect("capture")).expect("capture is JSON");
     let events = trace["traceEvents"].as_array().expect("traceEvents");
     let (frames, pre_passes): (Vec<&serde_json::Value>, Vec<&serde_json::Value>) = events
         .iter()
         .filter(|e| e["ph"] == "X")
         .partition(|e| e["name"].as_str().unwrap().starts_with("forward pass ("));
-    assert_eq!(frames.len(), 7 * FRAMES);
+    assert_eq!(frames.len(), rows * FRAMES);
     for event in frames.iter().chain(&pre_passes) {
         assert!(event["dur"].as_f64().unwrap() > 0.0 && event["ts"].as_f64().unwrap() >= 0.0, "{event}");
     }
@@ -156,14 +161,14 @@ fn bench_writes_complete_rows_plots_images_and_a_capture() {
         assert!(within, "{event} lies within no frame of its row");
     }
     let tracks = events.iter().filter(|e| e["ph"] == "M" && e["name"] == "thread_name").count();
-    assert_eq!(tracks, 7);
+    assert_eq!(tracks, rows);
     // The rows take turns (FRAMES = 3 makes two turns): every row's first frame starts before
     // every row's last frame, so a slow spell of the machine cannot fall on one row alone.
     let starts = |tid: usize| -> Vec<f64> {
         frames.iter().filter(|f| f["tid"] == tid).map(|f| f["ts"].as_f64().unwrap()).collect()
     };
-    let firsts = (1..=7).map(|tid| starts(tid).into_iter().fold(f64::INFINITY, f64::min));
-    let lasts = (1..=7).map(|tid| starts(tid).into_iter().fold(f64::NEG_INFINITY, f64::max));
+    let firsts = (1..=rows).map(|tid| starts(tid).into_iter().fold(f64::INFINITY, f64::min));
+    let lasts = (1..=rows).map(|tid| starts(tid).into_iter().fold(f64::NEG_INFINITY, f64::max));
     let latest_first = firsts.fold(f64::NEG_INFINITY, f64::max);
     let earliest_last = lasts.fold(f64::INFINITY, f64::min);
     assert!(latest_first < earliest_last, "rows measured one after another, not in turns");
