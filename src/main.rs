@@ -147,8 +147,9 @@ struct BenchArgs {
     #[arg(long = "estimator", value_name = "ESTIMATOR", value_delimiter = ',')]
     placements: Vec<Placement>,
     /// multirate: triangles whose image covers fewer pixels are shaded per pixel without an
-    /// estimate: auto (the device's cost model, `multirate calibrate`) or a number of pixels
-    /// (0: estimate every visible triangle).
+    /// estimate: auto (the device's cost model, `multirate calibrate`; its frame guard draws
+    /// frames as pixel does where that measured faster) or a number of pixels (0: estimate
+    /// every visible triangle; unguarded).
     /// Several values, comma-separated, are each measured.
     #[arg(long, value_name = "auto|PIXELS", value_delimiter = ',', default_value = "auto")]
     min_estimated_area: Vec<EstimatedArea>,
@@ -272,8 +273,9 @@ struct ShadingArgs {
     #[arg(long = "estimator", value_name = "ESTIMATOR", default_value_t = Placement::default())]
     placement: Placement,
     /// multirate: triangles whose image covers fewer pixels are shaded per pixel without an
-    /// estimate: auto (the device's cost model, `multirate calibrate`) or a number of pixels
-    /// (0: estimate every visible triangle).
+    /// estimate: auto (the device's cost model, `multirate calibrate`; where frames are timed,
+    /// its frame guard draws them as pixel does where that measured faster) or a number of
+    /// pixels (0: estimate every visible triangle; unguarded).
     #[arg(long, value_name = "auto|PIXELS", default_value = "auto")]
     min_estimated_area: EstimatedArea,
 }
