@@ -125,9 +125,12 @@ fn bench_writes_complete_rows_plots_images_and_a_capture() {
     {
         assert!(images.join(name).is_file(), "{name}");
     }
-    for suffix in ["", "_error_x30", "_levels", "_fallback"] {
-        let name = format!("lambert_directional_256x192_multirate_eps0.05_nmax8{suffix}.png");
-        assert!(images.join(&name).is_file(), "{name}");
+    // The rows estimating every triangle have images of their own.
+    for area in ["", "_area0"] {
+        for suffix in ["", "_error_x30", "_levels", "_fallback"] {
+            let name = format!("lambert_directional_256x192_multirate_eps0.05_nmax8{area}{suffix}.png");
+            assert!(images.join(&name).is_file(), "{name}");
+        }
     }
 
     assert_capture(&capture, rows.len(), pre_passes_expected);

@@ -550,7 +550,17 @@ fn file_stem(bench_scene: &BenchScene, job: &Job) -> String {
     let mode = job.mode.to_string().replace(':', "");
     match job.mode {
         Mode::Multirate => {
-            format!("{}_{width}x{height}_{mode}_eps{}_nmax{}", bench_scene.name, job.epsilon, job.n_max)
+            let mut stem =
+                format!("{}_{width}x{height}_{mode}_eps{}_nmax{}", bench_scene.name, job.epsilon, job.n_max);
+            // What else sets rows apart, where it is not the default: else their images would
+            // overwrite each other's.
+            if job.placement != Placement::default() {
+                stem.push_str(&format!("_{}", job.placement));
+            }
+            if let Some(area) = job.min_estimated_area {
+                stem.push_str(&format!("_area{area}"));
+            }
+            stem
         }
         _ => format!("{}_{width}x{height}_{mode}", bench_scene.name),
     }
