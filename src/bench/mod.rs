@@ -486,7 +486,10 @@ fn measure_in_turns(
             measurement.pre_pass.extend(part.pre_pass);
             measurement.pre_pass_steps.extend(part.pre_pass_steps);
             measurement.statistics = part.statistics.or(measurement.statistics);
-            measurement.drawn_as_pixel += part.drawn_as_pixel;
+            measurement.drawn_as_pixel = match (measurement.drawn_as_pixel, part.drawn_as_pixel) {
+                (Some(sum), Some(part)) => Some(sum + part),
+                (sum, part) => sum.or(part),
+            };
         }
         measured += frames;
         turn += 1;
@@ -524,8 +527,7 @@ fn row(
         pre_pass_steps_ms: (!measurement.pre_pass_steps.is_empty())
             .then(|| PrePassStep::ALL.map(|step| Timing::of(&measurement.pre_pass_step_ms(step)).median)),
         min_estimated_area,
-        frames_drawn_as_pixel: (multirate && job.min_estimated_area.is_none())
-            .then_some(measurement.drawn_as_pixel),
+        frames_drawn_as_pixel: measurement.drawn_as_pixel,
         speedup: reference.gpu_ms / gpu_ms.median,
         trade: reference.vertex_ms.map(|vertex_ms| Trade::of(gpu_ms.median, reference.gpu_ms, vertex_ms)),
         empty_ms: reference.empty_ms,

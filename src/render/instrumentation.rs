@@ -22,16 +22,17 @@ pub struct Measurement {
     /// When the forward pass ran in every measured frame, in submission order.
     pub frames: Vec<GpuInterval>,
     /// `Placement::Compute`: when the triangle-level pre-pass (culling, triangle levels, patch
-    /// levels and lists; part of the frame) ran in every measured frame; empty otherwise.
+    /// levels and lists; part of the frame) ran, in every measured frame that ran it (not those
+    /// whose meshes were all drawn as `pixel` does); empty otherwise.
     pub pre_pass: Vec<GpuInterval>,
     /// `Placement::Compute`: when each of its steps ran (`PrePassStep::ALL`'s order), in every
     /// measured frame; empty otherwise.
     pub pre_pass_steps: Vec<[GpuInterval; PRE_PASS_STEPS]>,
     /// Pipeline statistics of the last frame, where the device has them.
     pub statistics: Option<PipelineStatistics>,
-    /// Measured frames the frame guard drew as `pixel` does (`View::drawn_as_pixel`; they ran
-    /// no pre-pass, so `pre_pass` and `pre_pass_steps` hold only the others).
-    pub drawn_as_pixel: u32,
+    /// Where the frame guard applies ([`guard::GuardKey::of`]): how many measured frames it drew
+    /// as `pixel` does (`View::drawn_as_pixel`). None where it does not apply.
+    pub drawn_as_pixel: Option<u32>,
 }
 
 impl Measurement {
@@ -170,14 +171,17 @@ impl Renderer {
         let mut ring = FrameRing::new(&self.context, FRAMES_IN_FLIGHT)?;
         let mut measurement = Measurement::default();
         let extent = target.extent();
-        // Per slot, whether the frame it last drew is measured, and how it was drawn (the frame
-        // guard's choice or probe).
-        let mut in_slot: [Option<(bool, View)>; FRAMES_IN_FLIGHT] = Default::default();
+        if guard::GuardKey::of(view, extent).is_some() {
+            measurement.drawn_as_pixel = Some(0);
+        }
+        // Per slot, the frame it last drew: whether it is measured, how it was drawn (the frame
+        // guard's choice or probe) and whether it ran the pre-pass.
+        let mut in_slot: [Option<(bool, View, bool)>; FRAMES_IN_FLIGHT] = Default::default();
         let collect = |ring: &mut FrameRing,
                        slot: usize,
-                       drawn: Option<(bool, View)>,
+                       drawn: Option<(bool, View, bool)>,
                        measurement: &mut Measurement| {
-            let Some((measured, frame_view)) = drawn else { return Ok(()) };
+            let Some((measured, frame_view, ran_pre_pass)) = drawn else { return Ok(()) };
             if !ring.wait(slot)? {
                 return Ok(());
             }
@@ -186,12 +190,14 @@ impl Renderer {
             if measured {
                 measurement.frames.push(intervals[0]);
                 // The pre-pass's times are those of the frames that ran it.
-                if pre_pass && !frame_view.drawn_as_pixel {
+                if ran_pre_pass {
                     measurement.pre_pass.push(intervals[1]);
                     let steps = PrePassStep::ALL.map(|step| intervals[Timed::Step(step).pass() as usize]);
                     measurement.pre_pass_steps.push(steps);
                 }
-                measurement.drawn_as_pixel += u32::from(frame_view.drawn_as_pixel);
+                if let Some(count) = &mut measurement.drawn_as_pixel {
+                    *count += u32::from(frame_view.drawn_as_pixel);
+                }
                 measurement.statistics = timer.read_statistics(slot as u32)?;
             }
             Ok::<_, crate::Error>(())
@@ -205,6 +211,7 @@ impl Renderer {
             collect(&mut ring, slot, in_slot[slot].take(), &mut measurement)?;
             let measured = frame >= warmup && (frame >= longest_warmup || self.guard_decided(view, extent));
             let frame_view = self.guarded(view, extent);
+            let mut ran_pre_pass = false;
             ring.submit(slot, |cmd| {
                 let slot = slot as u32;
                 timer.reset(cmd, slot);
@@ -217,7 +224,7 @@ impl Renderer {
                     Timed::SkippedStep(_) => timer.top_of_pipe_timestamp(cmd, slot, timed.pass(), end),
                     Timed::Step(_) => timer.settled_timestamp(cmd, slot, timed.pass(), end),
                 };
-                self.record_timed(
+                ran_pre_pass = self.record_timed(
                     &self.pipelines.variants,
                     cmd,
                     target,
@@ -228,7 +235,7 @@ impl Renderer {
                 timer.statistics(cmd, slot, false);
                 timer.timestamp(cmd, slot, 0, true);
             })?;
-            in_slot[slot] = Some((measured, frame_view));
+            in_slot[slot] = Some((measured, frame_view, ran_pre_pass));
             measured_frames += u32::from(measured);
             frame += 1;
         }

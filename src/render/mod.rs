@@ -283,7 +283,8 @@ impl Renderer {
 
     /// `record_with`, calling `stamp(Timed::PrePass, false)` before and `stamp(Timed::PrePass,
     /// true)` after the pre-pass (both back to back where there is none), and the same around
-    /// each of its steps (`Timed::SkippedStep` where it does not run).
+    /// each of its steps (`Timed::SkippedStep` where it does not run). Returns whether the
+    /// pre-pass ran.
     fn record_timed(
         &self,
         variants: &[Variant],
@@ -292,32 +293,33 @@ impl Renderer {
         view: &View,
         after: AfterPass,
         stamp: &dyn Fn(Timed, bool),
-    ) {
+    ) -> bool {
         let per_pixel = self.meshes_drawn_per_pixel(view, target.extent());
         stamp(Timed::PrePass, false);
         // No pre-pass where every mesh is drawn as `pixel` draws it.
         let estimates = per_pixel.len() < self.draws.len() || per_pixel.contains(&false);
-        if view.mode == Mode::Multirate && view.placement == Placement::Compute {
-            if estimates {
-                self.record_triangle_levels(variants, cmd, view, target.extent(), stamp, &per_pixel);
-            } else {
-                // Every step's interval is still written (empty), as the timing reads them.
-                for step in PrePassStep::ALL {
-                    stamp(Timed::SkippedStep(step), false);
-                    stamp(Timed::SkippedStep(step), true);
-                }
+        let compute = view.mode == Mode::Multirate && view.placement == Placement::Compute;
+        let pre_pass = compute && estimates;
+        if pre_pass {
+            self.record_triangle_levels(variants, cmd, view, target.extent(), stamp, &per_pixel);
+        } else if compute {
+            // Every step's interval is still written (empty), as the timing reads them.
+            for step in PrePassStep::ALL {
+                stamp(Timed::SkippedStep(step), false);
+                stamp(Timed::SkippedStep(step), true);
             }
         }
         stamp(Timed::PrePass, true);
         if view.mode == Mode::PixelDeferred {
             let instrumentation = variants.first().map_or(Instrumentation::None, |v| v.instrumentation);
             self.record_deferred(instrumentation, cmd, target, view, after);
-            return;
+            return false;
         }
         let pick = |draw: &DrawCall, mesh_view: &View| variants[draw.pipeline].for_view(mesh_view);
         let attachments = variants.first().map_or(Attachments::Color, |v| v.instrumentation.attachments());
         let draws = Draws { pick: &pick, per_pixel: &per_pixel, emitters: true, clear: self.clear_color };
         self.record_draws(&draws, cmd, target, attachments, view, after);
+        pre_pass
     }
 }
 
