@@ -50,11 +50,16 @@ void main() {
         }
         return;
     }
-    uint slot = atomicAdd(patch_counts[patch_list(levels.fallback)], 1u);
+    uint counts = PATCH_COUNT_WORDS * patch_list(levels.fallback);
+    uint slot = atomicAdd(patch_counts[counts + LISTED_PATCHES], 1u);
     uint per_draw = max(draw.patches_per_draw, 1u);
     uint command = draw.patch_base + slot / per_draw;
-    // The first patch of a draw enables it: one instance, from its first vertex.
+    // The first patch of a draw enables it: one instance, from its first vertex; the list's
+    // draws are those opened, the first ones of its range.
     bool opens = slot % per_draw == 0u;
+    if (opens) {
+        atomicAdd(patch_counts[counts + OPENED_DRAWS], 1u);
+    }
     if (levels.fallback) {
         fallback_patches[draw.patch_base + slot] = triangle;
         atomicAdd(fallback_draws[command].x, 3u);

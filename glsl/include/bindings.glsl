@@ -58,7 +58,9 @@ layout(set = 0, binding = 8, std430) readonly buffer SceneIndices { uint scene_i
 // side by side on the triangles they estimate only.
 layout(set = 0, binding = 9, std430) buffer VisibleTriangles { uint visible_triangles[]; };
 // Per mesh, the patch step's counts of its interpolated and fallback lists (below):
-// patch_counts[patch_list(false)] and [patch_list(true)], zeroed by the host.
+// PATCH_COUNT_WORDS words from patch_counts[PATCH_COUNT_WORDS * patch_list(false)] and
+// [.. * patch_list(true)]: the patches listed (LISTED_PATCHES) and the indirect draws they open
+// (OPENED_DRAWS, the count a drawIndirectCount draw reads), zeroed by the host.
 layout(set = 0, binding = 10, std430) buffer PatchCounts { uint patch_counts[]; };
 // The effective levels of the hardware patterns (estimator/patch_levels.glsl, `pattern_level`): Rust's
 // `PATTERN_LEVELS` words. A buffer rather than a constant array: lavapipe copies a shader's
@@ -114,6 +116,9 @@ const uint FULL_ESTIMATE_DISPATCH = 3u;
 const uint PATCH_LISTS = 2u;
 const uint INTERPOLATED_LIST = 0u;
 const uint FALLBACK_LIST = 1u;
+const uint PATCH_COUNT_WORDS = 2u;
+const uint LISTED_PATCHES = 0u;
+const uint OPENED_DRAWS = 1u;
 
 uint level_dispatch(uint which) {
     return LEVEL_DISPATCHES * draw.mesh_index + which;

@@ -3,7 +3,7 @@
 //!
 //! Each mesh has [`LEVEL_DISPATCHES`] indirect dispatches in `LevelDispatches`, one per step
 //! that runs over the triangles an earlier step listed, and [`PATCH_LISTS`] lists of patches:
-//! the count of each in `PatchCounts`, the flat triangles' draw of each in `FlatDraws`, and
+//! the count of each and of its draws in `PatchCounts`, the flat triangles' draw of each in `FlatDraws`, and
 //! `InterpolatedDraws` and `FallbackDraws` for the tessellated ones.
 
 super::named_constants! {
@@ -25,4 +25,11 @@ super::named_constants! {
     INTERPOLATED_LIST = 0;
     /// The list of patches shaded per pixel, the fallback (flat triangles: likewise).
     FALLBACK_LIST = 1;
+    /// Words per list in `PatchCounts`.
+    PATCH_COUNT_WORDS = 2;
+    /// A list's word in `PatchCounts` that counts its patches.
+    LISTED_PATCHES = 0;
+    /// A list's word in `PatchCounts` that counts the indirect draws its patches open: the
+    /// count of its `vkCmdDrawIndirectCount` draw.
+    OPENED_DRAWS = 1;
 }

@@ -11,7 +11,7 @@ use super::Renderer;
 use crate::gpu_interface::flags::FLAG_FALLBACK_PATCHES;
 use crate::gpu_interface::slots::{
     ESTIMATE_DISPATCH, FALLBACK_LIST, FULL_ESTIMATE_DISPATCH, INTERPOLATED_LIST, LEVEL_DISPATCHES,
-    PATCH_DISPATCH, PATCH_LISTS, REFINE_DISPATCH,
+    OPENED_DRAWS, PATCH_COUNT_WORDS, PATCH_DISPATCH, PATCH_LISTS, REFINE_DISPATCH,
 };
 use crate::gpu_types::DrawConstants;
 use ash::vk;
@@ -272,18 +272,62 @@ impl Renderer {
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
                 self.push_draw_constants(cmd, constants);
                 let offset = vk::DeviceSize::from((PATCH_LISTS * draw.mesh_index + list) * stride);
-                device.cmd_draw_indirect(cmd, buffers.flat_draws.raw, offset, 1, stride);
+                let flat_draws = buffers.flat_draws.raw;
+                if self.context.features.draw_indirect_count {
+                    // Its count is its own instance count (1 once the list has a triangle).
+                    // Lavapipe (Mesa 22.3) keeps a count draw's count buffer for the plain
+                    // indirect draws after it, so the pass draws none of those.
+                    let instance_count = offset + std::mem::size_of::<u32>() as vk::DeviceSize;
+                    device.cmd_draw_indirect_count(
+                        cmd,
+                        flat_draws,
+                        offset,
+                        flat_draws,
+                        instance_count,
+                        1,
+                        stride,
+                    );
+                } else {
+                    device.cmd_draw_indirect(cmd, flat_draws, offset, 1, stride);
+                }
             }
         };
+        // A tessellated list's draws: those its patches opened, the first of its `commands`
+        // (all of them, mostly empty, where the device cannot read the count).
         let tessellated_draw = |constants: &mut DrawConstants, pipeline, list: u32, flag| {
             constants.flags = (constants.flags & !FLAG_FALLBACK_PATCHES) | flag;
-            // SAFETY: as above.
+            let draws = buffers.patch_draws[list as usize].raw;
+            let first = vk::DeviceSize::from(draw.first_triangle * stride);
+            // SAFETY: as above; the count buffer has INDIRECT_BUFFER usage, the pre-pass wrote
+            // it before the same barrier, and its count is at most `commands` (one per
+            // `per_draw` patches of the mesh), which stay within the mesh's entries.
             unsafe {
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
                 self.push_draw_constants(cmd, constants);
-                for k in 0..commands {
-                    let offset = vk::DeviceSize::from((draw.first_triangle + k) * stride);
-                    device.cmd_draw_indirect(cmd, buffers.patch_draws[list as usize].raw, offset, 1, stride);
+                if self.context.features.draw_indirect_count {
+                    let count_word =
+                        PATCH_COUNT_WORDS * (PATCH_LISTS * draw.mesh_index + list) + OPENED_DRAWS;
+                    let count_offset =
+                        vk::DeviceSize::from(count_word) * std::mem::size_of::<u32>() as vk::DeviceSize;
+                    device.cmd_draw_indirect_count(
+                        cmd,
+                        draws,
+                        first,
+                        buffers.patch_counts.raw,
+                        count_offset,
+                        commands,
+                        stride,
+                    );
+                } else {
+                    for k in 0..vk::DeviceSize::from(commands) {
+                        device.cmd_draw_indirect(
+                            cmd,
+                            draws,
+                            first + k * vk::DeviceSize::from(stride),
+                            1,
+                            stride,
+                        );
+                    }
                 }
             }
         };

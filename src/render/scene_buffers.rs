@@ -7,7 +7,9 @@ use super::draws::{DrawCall, EmitterDraw};
 use super::textures::gpu_material;
 use crate::error::Result;
 use crate::gpu_interface::bindings::in_binding_order;
-use crate::gpu_interface::slots::{FALLBACK_LIST, INTERPOLATED_LIST, LEVEL_DISPATCHES, PATCH_LISTS};
+use crate::gpu_interface::slots::{
+    FALLBACK_LIST, INTERPOLATED_LIST, LEVEL_DISPATCHES, PATCH_COUNT_WORDS, PATCH_LISTS,
+};
 use crate::gpu_types::{GpuLight, GpuMaterial, GpuPolygonLight, Vertex};
 use crate::scene::adjacency::{adjacency_patches, neighbours};
 use crate::scene::{Light, MaterialKind, Mesh, Scene};
@@ -217,8 +219,9 @@ pub(super) struct PrePassBuffers {
     /// Per mesh: the triangles to estimate that the range class does not settle, listed by the
     /// range step for the estimator step.
     pub estimate_triangles: Buffer,
-    /// Per mesh: the lengths of its interpolated and fallback lists (zeroed before each
-    /// pre-pass).
+    /// Per mesh: the lengths of its interpolated and fallback lists, and the indirect draws each
+    /// opened (`PATCH_COUNT_WORDS` a list; zeroed before each pre-pass; the draw counts of
+    /// `Renderer::record_patch_lists`).
     pub patch_counts: Buffer,
     /// Per mesh: the indirect dispatches of the range, patch, refining and estimator steps over
     /// the triangles the culling, estimator and range steps listed (`VkDispatchIndirectCommand` and the
@@ -363,8 +366,8 @@ impl PrePassBuffers {
         let patch_counts = device_words(
             context,
             "interpolated and fallback patch counts",
-            PATCH_LISTS as usize * meshes,
-            vk::BufferUsageFlags::TRANSFER_DST,
+            PATCH_COUNT_WORDS as usize * PATCH_LISTS as usize * meshes,
+            vk::BufferUsageFlags::INDIRECT_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
         )?;
         let level_dispatches = device_words(
             context,

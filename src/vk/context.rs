@@ -35,6 +35,9 @@ pub struct OptionalFeatures {
     /// `VK_EXT_memory_budget`, enabled where present: the driver's memory use per heap
     /// (`vk::budget`).
     pub memory_budget: bool,
+    /// `drawIndirectCount` (Vulkan 1.2): an indirect draw whose count the device reads, so that
+    /// the patch lists' draws the pre-pass did not fill are not recorded at all.
+    pub draw_indirect_count: bool,
 }
 
 /// Facts about the chosen device, for reports.
@@ -529,14 +532,18 @@ fn create_device(
     chosen: &Candidate,
     presents: bool,
 ) -> Result<(ash::Device, OptionalFeatures, vk::PhysicalDeviceProperties)> {
-    // SAFETY: plain queries on a valid physical device.
-    let (supported, properties, supported_extensions) = unsafe {
+    let mut supported12 = vk::PhysicalDeviceVulkan12Features::default();
+    let mut queried = vk::PhysicalDeviceFeatures2::default().push_next(&mut supported12);
+    // SAFETY: plain queries on a valid physical device of a Vulkan 1.3 instance; the chained
+    // struct outlives the call.
+    let (properties, supported_extensions) = unsafe {
+        instance.get_physical_device_features2(chosen.device, &mut queried);
         (
-            instance.get_physical_device_features(chosen.device),
             instance.get_physical_device_properties(chosen.device),
             instance.enumerate_device_extension_properties(chosen.device),
         )
     };
+    let supported = queried.features;
     let has_extension = |wanted: &CStr| {
         supported_extensions.iter().flatten().any(|e| e.extension_name_as_c_str().is_ok_and(|n| n == wanted))
     };
@@ -547,6 +554,7 @@ fn create_device(
         vertex_pipeline_stores: supported.vertex_pipeline_stores_and_atomics == vk::TRUE,
         fragment_stores: supported.fragment_stores_and_atomics == vk::TRUE,
         memory_budget: has_extension(ash::ext::memory_budget::NAME),
+        draw_indirect_count: supported12.draw_indirect_count == vk::TRUE,
     };
     let enabled = vk::PhysicalDeviceFeatures::default()
         .tessellation_shader(true)
@@ -561,6 +569,8 @@ fn create_device(
         .dynamic_rendering(true)
         .synchronization2(true)
         .maintenance4(true);
+    let mut vulkan12 =
+        vk::PhysicalDeviceVulkan12Features::default().draw_indirect_count(features.draw_indirect_count);
     let priorities = [1.0f32];
     let queue_info = [vk::DeviceQueueCreateInfo::default()
         .queue_family_index(chosen.queue_family)
@@ -574,7 +584,8 @@ fn create_device(
         .queue_create_infos(&queue_info)
         .enabled_extension_names(&device_extensions)
         .enabled_features(&enabled)
-        .push_next(&mut vulkan13);
+        .push_next(&mut vulkan13)
+        .push_next(&mut vulkan12);
     // SAFETY: the create info only points at locals that outlive the call.
     let device = unsafe { instance.create_device(chosen.device, &device_info, None) }
         .while_("creating the logical device")?;

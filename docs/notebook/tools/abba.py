@@ -13,7 +13,7 @@ for i, (name, binary) in enumerate([("old", old), ("new", new), ("new", new), ("
     subprocess.run([binary, "bench", *args, "--out", d], env=env, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     with open(f"{d}/bench.csv") as f:
         for row in csv.DictReader(f):
-            key = (row["scene"], row["width"], row["mode"], row.get("min_estimated_area", ""))
+            key = (row["scene"], row["width"], row["mode"], row["n_max"], row.get("min_estimated_area", ""))
             runs.setdefault((name, key), []).append(row)
 keys = sorted({k for (_, k) in runs}, key=lambda k: (k[0], k[1], k[2]))
 cols = ["gpu_ms_median", "pre_pass_ms_median", "cull_ms_median", "range_ms_median", "estimate_ms_median", "refine_ms_median", "patches_ms_median", "saving_share", "evaluations", "pixels_over_epsilon"]
@@ -24,4 +24,4 @@ print("| scene | mode | build | " + " | ".join(cols) + " |")
 for k in keys:
     for name in ("old", "new"):
         rows = runs.get((name, k), [])
-        print(f"| {k[0]} {k[1]} | {k[2]} | {name} | " + " | ".join(f"{avg(rows, c):.3f}" for c in cols) + " |")
+        print(f"| {k[0]} {k[1]} | {k[2]} n_max {k[3]} | {name} | " + " | ".join(f"{avg(rows, c):.3f}" for c in cols) + " |")
