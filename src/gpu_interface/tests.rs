@@ -48,6 +48,8 @@ fn slots_lie_within_their_counts() {
     }
     assert_ne!(slots::INTERPOLATED_LIST, slots::FALLBACK_LIST);
     assert!(slots::INTERPOLATED_LIST.max(slots::FALLBACK_LIST) < slots::PATCH_LISTS);
+    assert_ne!(slots::LISTED_PATCHES, slots::OPENED_DRAWS);
+    assert!(slots::LISTED_PATCHES.max(slots::OPENED_DRAWS) < slots::PATCH_COUNT_WORDS);
 }
 
 #[test]
