@@ -218,7 +218,8 @@ impl Renderer {
                 timer.timestamp(cmd, slot, 0, false);
                 timer.statistics(cmd, slot, true);
                 // A step starts once the one before it has finished (the barrier between them
-                // holds the next dispatch, not a top-of-pipe timestamp): its timestamps settle.
+                // holds the next dispatch, not a top-of-pipe timestamp): its timestamps are
+                // written after every earlier command, each before a barrier that settles it.
                 let stamp = |timed: Timed, end: bool| match timed {
                     Timed::PrePass => timer.timestamp(cmd, slot, timed.pass(), end),
                     Timed::SkippedStep(_) => timer.top_of_pipe_timestamp(cmd, slot, timed.pass(), end),

@@ -122,12 +122,15 @@ impl Renderer {
         stamp: &dyn Fn(Timed, bool),
         per_pixel: &[bool],
     ) {
+        // Each step's timestamps come right before a barrier, which settles them: the first
+        // step's start before the resets (its interval holds them), each end and the next
+        // step's start before the end's barrier.
+        stamp(Timed::Step(PrePassStep::ALL[0]), false);
         self.reset_pre_pass(cmd);
         let mut constants = draw_constants(view, extent, self.min_estimated_area(view));
         constants.patches_per_draw = self.patches_per_draw(view.estimator.n_max);
         self.bind_set_at(cmd, vk::PipelineBindPoint::COMPUTE, 0, self.descriptors.set);
-        for step in PrePassStep::ALL {
-            stamp(Timed::Step(step), false);
+        for (k, step) in PrePassStep::ALL.into_iter().enumerate() {
             // A mesh drawn whole as `pixel` draws it needs no levels.
             for (index, draw) in self.draws.iter().enumerate() {
                 if per_pixel.get(index) == Some(&true) {
@@ -140,8 +143,11 @@ impl Renderer {
                 };
                 self.dispatch_step(cmd, step, pre_pass, draw, &mut constants);
             }
-            self.barrier(cmd, barrier_after(step));
             stamp(Timed::Step(step), true);
+            if let Some(&next) = PrePassStep::ALL.get(k + 1) {
+                stamp(Timed::Step(next), false);
+            }
+            self.barrier(cmd, barrier_after(step));
         }
     }
 

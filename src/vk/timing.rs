@@ -127,20 +127,16 @@ impl GpuTimer {
 
     /// `timestamp`, but a start as well is written only once every earlier command has
     /// finished: the boundaries of back-to-back steps that barriers separate, where a start at
-    /// the top of the pipe would come before the previous step's end. A barrier follows it:
-    /// lavapipe takes a timestamp's value when it next flushes its queued work, which a barrier
-    /// does; without it, the time of the dispatches after a boundary showed up in the step
-    /// before it (the refining step read 0.1 ms instead of 3).
+    /// the top of the pipe would come before the previous step's end. The caller records a
+    /// barrier right after it, before any other work: lavapipe takes a timestamp's value when
+    /// it next flushes its queued work, which a barrier does; with work between them, the time
+    /// of the dispatches after a boundary showed up in the step before it (the refining step
+    /// read 0.1 ms instead of 3).
     pub fn settled_timestamp(&self, cmd: vk::CommandBuffer, slot: u32, pass: u32, end: bool) {
         let query = self.query(slot, pass, end);
         let all = vk::PipelineStageFlags2::ALL_COMMANDS;
-        let flush = [vk::MemoryBarrier2::default().src_stage_mask(all).dst_stage_mask(all)];
         // SAFETY: `cmd` is recording outside a render pass; the query was reset for this frame.
-        unsafe {
-            let device = &self.context.device;
-            device.cmd_write_timestamp2(cmd, all, self.timestamps, query);
-            device.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&flush));
-        };
+        unsafe { self.context.device.cmd_write_timestamp2(cmd, all, self.timestamps, query) };
     }
 
     /// The timestamp query of the start or end of `pass` in frame `slot`.

@@ -24,4 +24,5 @@ print("| scene | mode | build | " + " | ".join(cols) + " |")
 for k in keys:
     for name in ("old", "new"):
         rows = runs.get((name, k), [])
-        print(f"| {k[0]} {k[1]} | {k[2]} n_max {k[3]} | {name} | " + " | ".join(f"{avg(rows, c):.3f}" for c in cols) + " |")
+        area = f" area {k[4]}" if k[4] not in ("", "NA") else ""
+        print(f"| {k[0]} {k[1]} | {k[2]} n_max {k[3]}{area} | {name} | " + " | ".join(f"{avg(rows, c):.3f}" for c in cols) + " |")
