@@ -260,6 +260,12 @@ fn header(md: &mut String, context: &Context, options: &ExperimentOptions) {
         std::env::var("LP_NUM_THREADS").map(|v| format!("LP_NUM_THREADS={v}")).unwrap_or_else(|_| {
             format!("LP_NUM_THREADS unset (llvmpipe then uses one thread per core: {cores})")
         });
+    // lavapipe's shader compiler: `nopt` leaves out LLVM's optimisation passes (CI's setting).
+    let compiler = match std::env::var("GALLIVM_PERF") {
+        _ if !context.info.is_lavapipe() => String::new(),
+        Ok(value) => format!("; GALLIVM_PERF={value}"),
+        Err(_) => "; GALLIVM_PERF unset (LLVM's optimisation passes on)".into(),
+    };
     let _ = writeln!(md, "# Results\n");
     let _ = writeln!(
         md,
@@ -270,7 +276,7 @@ fn header(md: &mut String, context: &Context, options: &ExperimentOptions) {
     let _ = writeln!(md, "| device | {} |", context.info.name);
     let _ = writeln!(md, "| driver | {} |", context.info.driver);
     let _ = writeln!(md, "| CPU | {cpu}, {cores} cores available |");
-    let _ = writeln!(md, "| threads | {threads} |");
+    let _ = writeln!(md, "| threads | {threads}{compiler} |");
     let _ = writeln!(
         md,
         "| timing | GPU timestamps around the forward pass, median (p10–p90) of {} frames after {} warm-up frames, two frames in flight, the configurations of a scene and resolution taking turns of two frames |",

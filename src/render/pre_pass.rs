@@ -272,8 +272,8 @@ impl Renderer {
             constants.flags = (constants.flags & !FLAG_FALLBACK_PATCHES) | flag;
             // SAFETY: recording inside the rendering begun by `record_draws`; the pre-pass
             // wrote the commands before the barrier it ends with; the draw buffers have
-            // INDIRECT_BUFFER usage. A flat draw covers a mesh: no tessellated-vertex limit
-            // applies.
+            // INDIRECT_BUFFER usage; a count draw counts at most 1. A flat draw covers a mesh:
+            // no tessellated-vertex limit applies.
             unsafe {
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
                 self.push_draw_constants(cmd, constants);
@@ -299,7 +299,10 @@ impl Renderer {
             }
         };
         // A tessellated list's draws: those its patches opened, the first of its `commands`
-        // (all of them, mostly empty, where the device cannot read the count).
+        // (all of them, mostly empty, where the device cannot read the count or make that
+        // many draws from one command).
+        let counted = self.context.features.draw_indirect_count
+            && commands <= self.context.limits.max_draw_indirect_count;
         let tessellated_draw = |constants: &mut DrawConstants, pipeline, list: u32, flag| {
             constants.flags = (constants.flags & !FLAG_FALLBACK_PATCHES) | flag;
             let draws = buffers.patch_draws[list as usize].raw;
@@ -310,7 +313,7 @@ impl Renderer {
             unsafe {
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
                 self.push_draw_constants(cmd, constants);
-                if self.context.features.draw_indirect_count {
+                if counted {
                     let count_word =
                         PATCH_COUNT_WORDS * (PATCH_LISTS * draw.mesh_index + list) + OPENED_DRAWS;
                     let count_offset =

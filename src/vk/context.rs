@@ -77,6 +77,9 @@ pub struct DeviceLimits {
     pub max_draw_indexed_index_value: u64,
     /// `maxComputeWorkGroupCount[0]`: the most workgroups one dispatch may open along x.
     pub max_compute_work_group_count_x: u64,
+    /// `maxDrawIndirectCount`: the most draws one indirect draw may make (1 without
+    /// `multiDrawIndirect`).
+    pub max_draw_indirect_count: u32,
     /// `maxImageDimension2D`: the most texels along either side of a 2D image.
     pub max_image_dimension_2d: u32,
     /// Bytes of the largest device-local memory heap.
@@ -114,6 +117,7 @@ impl DeviceLimits {
             max_memory_allocation_size: vulkan11.max_memory_allocation_size,
             max_draw_indexed_index_value: u64::from(limits.max_draw_indexed_index_value),
             max_compute_work_group_count_x: u64::from(limits.max_compute_work_group_count[0]),
+            max_draw_indirect_count: limits.max_draw_indirect_count,
             max_image_dimension_2d: limits.max_image_dimension2_d,
             device_local_heap: largest_heap(vk::MemoryPropertyFlags::DEVICE_LOCAL),
             host_visible_heap: largest_heap(vk::MemoryPropertyFlags::HOST_VISIBLE),
@@ -132,6 +136,7 @@ impl DeviceLimits {
             max_compute_work_group_count_x: self
                 .max_compute_work_group_count_x
                 .min(other.max_compute_work_group_count_x),
+            max_draw_indirect_count: self.max_draw_indirect_count.min(other.max_draw_indirect_count),
             max_image_dimension_2d: self.max_image_dimension_2d.min(other.max_image_dimension_2d),
             device_local_heap: self.device_local_heap.min(other.device_local_heap),
             host_visible_heap: self.host_visible_heap.min(other.host_visible_heap),

@@ -16,6 +16,7 @@ fn limits() -> DeviceLimits {
         max_memory_allocation_size: 1 << 32,
         max_draw_indexed_index_value: u64::from(u32::MAX),
         max_compute_work_group_count_x: 65535,
+        max_draw_indirect_count: u32::MAX,
         max_image_dimension_2d: 4096,
         device_local_heap: 8 << 30,
         host_visible_heap: 8 << 30,
