@@ -72,7 +72,8 @@ layout(set = 0, binding = 11, std430) readonly buffer PatternLevels { uint patte
 // sub-vertices and those shaded per pixel (counted in patch_counts). Each list is drawn by
 // indirect draws of draw.patches_per_draw patches each: the k-th is the VkDrawIndirectCommand at
 // entry (first triangle + k) of the list's draws, with vertexCount = 3 per patch; the host
-// zeroes them before each pre-pass (instanceCount 0: nothing drawn), and multirate_pull.vert
+// zeroes them before each pre-pass (instanceCount 0: nothing drawn; the patch step counts those
+// it opens in patch_counts, from the first on), and multirate_pull.vert
 // turns vertices back into list entries.
 layout(set = 0, binding = 12, std430) buffer PatchTessLevels { vec4 patch_tess_levels[]; };
 layout(set = 0, binding = 13, std430) buffer InterpolatedPatches { uint interpolated_patches[]; };
