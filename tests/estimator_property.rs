@@ -1147,7 +1147,7 @@ impl Excess {
         for (depth, out) in self.relaxed_children.iter_mut().enumerate() {
             if !forced_here && best > 2.0 {
                 tris = tris.iter().flat_map(children).collect();
-                best = best.min(worst_level(&tris, &case, &relaxed_settings) * (2u32 << depth) as f32);
+                best = best.min(worst_level(&tris, case, &relaxed_settings) * (2u32 << depth) as f32);
             }
             let level_max = pattern_level(case.n_max, case.n_max);
             *out +=
@@ -1179,17 +1179,17 @@ impl Excess {
             return;
         }
         self.forced += vertices_at_level(m);
-        let measured = measured_supremum(&case);
-        let sup_level = measured.level(&case, 1.0);
+        let measured = measured_supremum(case);
+        let sup_level = measured.level(case, 1.0);
         for (out, &k) in self.loose.iter_mut().zip(&LOOSENESS) {
-            *out += count(measured.level(&case, k));
+            *out += count(measured.level(case, k));
         }
         for (depth, out) in self.taylor.iter_mut().enumerate() {
-            *out += count(measured.taylor_level(&case, depth));
+            *out += count(measured.taylor_level(case, depth));
         }
         // The estimator's second-order bound against the measured supremum, where both
         // ask for a level above 1 from the interpolation bound (not the range).
-        let real = measured.real_level(&case);
+        let real = measured.real_level(case);
         if !est.fallback && est.level > 1.0 && real > 1.0 && sup_level.is_some_and(|n| n > 1) {
             self.looseness.push(f64::from(est.level * est.level) / (real * real));
         }
@@ -1205,7 +1205,7 @@ impl Excess {
                 break;
             }
             tris = tris.iter().flat_map(children).collect();
-            *out = est.level.min(worst_level(&tris, &case, &settings) * (2u32 << depth) as f32);
+            *out = est.level.min(worst_level(&tris, case, &settings) * (2u32 << depth) as f32);
         }
         let split_level =
             |l: f32| (!est.fallback && l <= level_max).then(|| uniform_level(l, case.n_max).max(1));

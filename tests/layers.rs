@@ -223,7 +223,6 @@ fn long_functions(text: &str, rust: bool) -> Vec<(usize, String, usize)> {
 
 fn rust_function_name(line: &str) -> Option<String> {
     let mut words = line
-        .trim_start()
         .split_whitespace()
         .skip_while(|w| w.starts_with("pub") || ["const", "async", "unsafe", "extern", "\"C\""].contains(w));
     (words.next()? == "fn")

@@ -46,10 +46,12 @@ fn slots_lie_within_their_counts() {
     for slot in [slots::ESTIMATE_DISPATCH, slots::PATCH_DISPATCH, slots::REFINE_DISPATCH] {
         assert!(slot < slots::LEVEL_DISPATCHES);
     }
-    assert_ne!(slots::INTERPOLATED_LIST, slots::FALLBACK_LIST);
-    assert!(slots::INTERPOLATED_LIST.max(slots::FALLBACK_LIST) < slots::PATCH_LISTS);
-    assert_ne!(slots::LISTED_PATCHES, slots::OPENED_DRAWS);
-    assert!(slots::LISTED_PATCHES.max(slots::OPENED_DRAWS) < slots::PATCH_COUNT_WORDS);
+    let in_range = |slots: &[u32], count: u32| {
+        slots.iter().all(|&slot| slot < count)
+            && (1..slots.len()).all(|k| !slots[k..].contains(&slots[k - 1]))
+    };
+    assert!(in_range(&[slots::INTERPOLATED_LIST, slots::FALLBACK_LIST], slots::PATCH_LISTS));
+    assert!(in_range(&[slots::LISTED_PATCHES, slots::OPENED_DRAWS], slots::PATCH_COUNT_WORDS));
 }
 
 #[test]
