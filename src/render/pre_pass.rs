@@ -266,73 +266,36 @@ impl Renderer {
         constants.patch_base = draw.first_triangle;
         constants.patches_per_draw = per_draw;
         constants.triangle_count = draw.index_count / 3;
-        // The flat patches first and the per-pixel ones last, so that the early depth test
-        // spares the per-pixel shading wherever the other lists cover it.
-        let flat_draw = |constants: &mut DrawConstants, pipeline, list: u32, flag| {
-            constants.flags = (constants.flags & !FLAG_FALLBACK_PATCHES) | flag;
-            // SAFETY: recording inside the rendering begun by `record_draws`; the pre-pass
-            // wrote the commands before the barrier it ends with; the draw buffers have
-            // INDIRECT_BUFFER usage; a count draw counts at most 1. A flat draw covers a mesh:
-            // no tessellated-vertex limit applies.
-            unsafe {
-                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
-                self.push_draw_constants(cmd, constants);
-                let offset = vk::DeviceSize::from((PATCH_LISTS * draw.mesh_index + list) * stride);
-                let flat_draws = buffers.flat_draws.raw;
-                if self.context.features.draw_indirect_count {
-                    // Its count is its own instance count (1 once the list has a triangle).
-                    // Lavapipe (Mesa 22.3) keeps a count draw's count buffer for the plain
-                    // indirect draws after it, so the pass draws none of those.
-                    let instance_count = offset + std::mem::size_of::<u32>() as vk::DeviceSize;
-                    device.cmd_draw_indirect_count(
-                        cmd,
-                        flat_draws,
-                        offset,
-                        flat_draws,
-                        instance_count,
-                        1,
-                        stride,
-                    );
-                } else {
-                    device.cmd_draw_indirect(cmd, flat_draws, offset, 1, stride);
-                }
-            }
-        };
-        // A tessellated list's draws: those its patches opened, the first of its `commands`
-        // (all of them, mostly empty, where the device cannot read the count or make that
-        // many draws from one command).
+        // Every list's draws are count draws, or none is: lavapipe (Mesa 22.3) keeps a count
+        // draw's count buffer for the plain indirect draws recorded after it.
         let counted = self.context.features.draw_indirect_count
             && commands <= self.context.limits.max_draw_indirect_count;
-        let tessellated_draw = |constants: &mut DrawConstants, pipeline, list: u32, flag| {
-            constants.flags = (constants.flags & !FLAG_FALLBACK_PATCHES) | flag;
-            let draws = buffers.patch_draws[list as usize].raw;
-            let first = vk::DeviceSize::from(draw.first_triangle * stride);
-            // SAFETY: as above; the count buffer has INDIRECT_BUFFER usage, the pre-pass wrote
-            // it before the same barrier, and its count is at most `commands` (one per
-            // `per_draw` patches of the mesh), which stay within the mesh's entries.
+        let u32_size = std::mem::size_of::<u32>() as vk::DeviceSize;
+        // `max_draws` indirect draws from `draws` (a buffer and offset), as many as the word at
+        // `count` says where they are counted.
+        let indirect = |(buffer, offset): (vk::Buffer, vk::DeviceSize), count, max_draws: u32| {
+            // SAFETY: recording inside the rendering begun by `record_draws`; the pre-pass wrote
+            // the commands and counts before the barrier it ends with; both buffers have
+            // INDIRECT_BUFFER usage; a count is at most `max_draws`, whose commands lie within
+            // the mesh's entries.
             unsafe {
-                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
-                self.push_draw_constants(cmd, constants);
                 if counted {
-                    let count_word =
-                        PATCH_COUNT_WORDS * (PATCH_LISTS * draw.mesh_index + list) + OPENED_DRAWS;
-                    let count_offset =
-                        vk::DeviceSize::from(count_word) * std::mem::size_of::<u32>() as vk::DeviceSize;
+                    let (count_buffer, count_offset) = count;
                     device.cmd_draw_indirect_count(
                         cmd,
-                        draws,
-                        first,
-                        buffers.patch_counts.raw,
+                        buffer,
+                        offset,
+                        count_buffer,
                         count_offset,
-                        commands,
+                        max_draws,
                         stride,
                     );
                 } else {
-                    for k in 0..vk::DeviceSize::from(commands) {
+                    for k in 0..vk::DeviceSize::from(max_draws) {
                         device.cmd_draw_indirect(
                             cmd,
-                            draws,
-                            first + k * vk::DeviceSize::from(stride),
+                            buffer,
+                            offset + k * vk::DeviceSize::from(stride),
                             1,
                             stride,
                         );
@@ -340,6 +303,31 @@ impl Renderer {
                 }
             }
         };
+        let bind = |constants: &mut DrawConstants, pipeline, flag| {
+            constants.flags = (constants.flags & !FLAG_FALLBACK_PATCHES) | flag;
+            // SAFETY: as above; the pipeline is owned by `self`.
+            unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline) };
+            self.push_draw_constants(cmd, constants);
+        };
+        // A flat list is one draw over the mesh (no tessellated-vertex limit applies), counted
+        // by its own instance count (1 once the list has a triangle).
+        let flat_draw = |constants: &mut DrawConstants, pipeline, list: u32, flag| {
+            bind(constants, pipeline, flag);
+            let offset = vk::DeviceSize::from((PATCH_LISTS * draw.mesh_index + list) * stride);
+            let flat_draws = buffers.flat_draws.raw;
+            indirect((flat_draws, offset), (flat_draws, offset + u32_size), 1);
+        };
+        // A tessellated list: the draws its patches opened, the first of its `commands` (all of
+        // them, mostly empty, where they are not counted).
+        let tessellated_draw = |constants: &mut DrawConstants, pipeline, list: u32, flag| {
+            bind(constants, pipeline, flag);
+            let first = vk::DeviceSize::from(draw.first_triangle * stride);
+            let count_word = PATCH_COUNT_WORDS * (PATCH_LISTS * draw.mesh_index + list) + OPENED_DRAWS;
+            let count = (buffers.patch_counts.raw, vk::DeviceSize::from(count_word) * u32_size);
+            indirect((buffers.patch_draws[list as usize].raw, first), count, commands);
+        };
+        // The flat patches first and the per-pixel ones last, so that the early depth test
+        // spares the per-pixel shading wherever the other lists cover it.
         flat_draw(constants, lists.flat, INTERPOLATED_LIST, 0);
         tessellated_draw(constants, interpolated, INTERPOLATED_LIST, 0);
         // The per-pixel patches' depth first, then their shading where they are the nearest

@@ -104,25 +104,14 @@ impl GpuTimer {
     /// outside render passes.
     pub fn timestamp(&self, cmd: vk::CommandBuffer, slot: u32, pass: u32, end: bool) {
         let stage = if end { vk::PipelineStageFlags2::ALL_COMMANDS } else { vk::PipelineStageFlags2::NONE };
-        let query = self.query(slot, pass, end);
-        // SAFETY: `cmd` is recording; the query was reset for this frame.
-        unsafe { self.context.device.cmd_write_timestamp2(cmd, stage, self.timestamps, query) };
+        self.write(cmd, stage, slot, pass, end);
     }
 
     /// `timestamp` at the top of the pipe, the end as well: the interval of work that did not
     /// run. lavapipe flushes its queued work for a timestamp of any later stage, which costs a
     /// frame that has nothing to time there.
     pub fn top_of_pipe_timestamp(&self, cmd: vk::CommandBuffer, slot: u32, pass: u32, end: bool) {
-        let query = self.query(slot, pass, end);
-        // SAFETY: `cmd` is recording; the query was reset for this frame.
-        unsafe {
-            self.context.device.cmd_write_timestamp2(
-                cmd,
-                vk::PipelineStageFlags2::TOP_OF_PIPE,
-                self.timestamps,
-                query,
-            )
-        };
+        self.write(cmd, vk::PipelineStageFlags2::TOP_OF_PIPE, slot, pass, end);
     }
 
     /// `timestamp`, but a start as well is written only once every earlier command has
@@ -133,10 +122,15 @@ impl GpuTimer {
     /// of the dispatches after a boundary showed up in the step before it (the refining step
     /// read 0.1 ms instead of 3).
     pub fn settled_timestamp(&self, cmd: vk::CommandBuffer, slot: u32, pass: u32, end: bool) {
+        self.write(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, slot, pass, end);
+    }
+
+    /// Writes the start or end timestamp of `pass` in frame `slot` once `stage` of every
+    /// earlier command has finished.
+    fn write(&self, cmd: vk::CommandBuffer, stage: vk::PipelineStageFlags2, slot: u32, pass: u32, end: bool) {
         let query = self.query(slot, pass, end);
-        let all = vk::PipelineStageFlags2::ALL_COMMANDS;
-        // SAFETY: `cmd` is recording outside a render pass; the query was reset for this frame.
-        unsafe { self.context.device.cmd_write_timestamp2(cmd, all, self.timestamps, query) };
+        // SAFETY: `cmd` is recording; the query was reset for this frame.
+        unsafe { self.context.device.cmd_write_timestamp2(cmd, stage, self.timestamps, query) };
     }
 
     /// The timestamp query of the start or end of `pass` in frame `slot`.
