@@ -6,29 +6,38 @@
 // `patch_levels`), writes them to patch_tess_levels, and appends the triangle to one of the
 // mesh's lists (bindings.glsl): the flat patches (all levels 1, drawn without tessellation,
 // shaded on their corners or per pixel), or the interpolated or the fallback patches, counting
-// it into the indirect draw that covers its slot. The control stage (multirate_levels.tesc)
-// only reads the levels.
+// it into the indirect draw that covers its slot. A back face of a two-sided mesh goes to a list
+// only where a neighbour's edge is tessellated (its outer levels must match it): the others are
+// drawn by the mesh's back-face draw, as `pixel` mode draws them (`Renderer::record_mesh`). The
+// control stage (multirate_levels.tesc) only reads the levels.
 #include "triangle_level.glsl"
 
 layout(local_size_x = PRE_PASS_GROUP) in;
 
-// The listed triangle this invocation covers (cull_triangles.comp): the workgroups of the
-// estimated triangles come first, then those shaded per pixel without an estimate, listed from
-// the end; ~0u past either list's count.
-uint listed_triangle() {
-    uvec4 estimated = level_dispatches[level_dispatch(ESTIMATE_DISPATCH)];
-    if (gl_WorkGroupID.x < estimated.x) {
+// Whether this invocation's workgroup covers the back faces of a two-sided mesh
+// (cull_triangles.comp): the workgroups of the estimated triangles come first, then those of
+// the back faces, listed from the end.
+bool covers_back_faces() {
+    return gl_WorkGroupID.x >= level_dispatches[level_dispatch(ESTIMATE_DISPATCH)].x;
+}
+
+// The listed triangle this invocation covers; ~0u past its list's count.
+uint listed_triangle(bool back_faces) {
+    if (!back_faces) {
         uint local = gl_GlobalInvocationID.x;
-        return local < estimated.w ? visible_triangles[draw.patch_base + local] : ~0u;
+        uint estimated = level_dispatches[level_dispatch(ESTIMATE_DISPATCH)].w;
+        return local < estimated ? visible_triangles[draw.patch_base + local] : ~0u;
     }
-    uint back = (gl_WorkGroupID.x - estimated.x) * PRE_PASS_GROUP + gl_LocalInvocationID.x;
+    uint first = level_dispatches[level_dispatch(ESTIMATE_DISPATCH)].x;
+    uint back = (gl_WorkGroupID.x - first) * PRE_PASS_GROUP + gl_LocalInvocationID.x;
     return back < level_dispatches[level_dispatch(PATCH_DISPATCH)].w
         ? visible_triangles[draw.patch_base + draw.triangle_count - 1u - back]
         : ~0u;
 }
 
 void main() {
-    uint triangle = listed_triangle();
+    bool back_face = covers_back_faces();
+    uint triangle = listed_triangle(back_face);
     if (triangle == ~0u) {
         return;
     }
@@ -40,8 +49,12 @@ void main() {
         level_records[triangle] = level_record(levels);
     }
     // A patch that is its own triangle needs no tessellator: the flat list, whose triangles
-    // shaded per pixel are listed from the mesh's last triangle down.
+    // shaded per pixel are listed from the mesh's last triangle down; a back face's is drawn
+    // by the back-face draw.
     if (levels.inner <= 1.0 && all(lessThanEqual(levels.outer, vec3(1.0)))) {
+        if (back_face) {
+            return;
+        }
         uint flat_draw = patch_list(levels.fallback);
         uint entry = atomicAdd(flat_draws[flat_draw].x, 3u) / 3u;
         flat_patches[draw.patch_base + (levels.fallback ? draw.triangle_count - 1u - entry : entry)] = triangle;

@@ -215,9 +215,19 @@ fn the_cost_model_shades_small_images_per_pixel_and_small_meshes_as_pixel_does()
         assert_eq!(cracks(&reference, &image), 0, "{placement}");
         per_placement.push(image);
     }
-    // The placements draw the same levels by different paths (flat draws, the tessellator).
-    let (apart, _) = difference(&per_placement[0], &per_placement[1]);
-    assert!(apart < 1.0e-3, "the placements differ by {apart}");
+    // The placements draw the same levels by different paths (flat draws, the tessellator; the
+    // compute placement draws most back faces as `pixel` does, untessellated, so a pixel on an
+    // edge between a back face and a tessellated front face may show the other surface): the
+    // same image but for a few such pixels, where the compute placement shows what `pixel` shows.
+    let (compute, tcs) = (&per_placement[0], &per_placement[1]);
+    let close = |p: &[f32; 4], q: &[f32; 4], within: f32| (0..3).all(|c| (p[c] - q[c]).abs() < within);
+    let apart: Vec<usize> =
+        (0..compute.pixels.len()).filter(|&i| !close(&compute.pixels[i], &tcs.pixels[i], 1.0e-3)).collect();
+    assert!(apart.len() <= 4, "the placements differ at {} pixels", apart.len());
+    let epsilon = pixel.estimator.epsilon;
+    for &i in &apart {
+        assert!(close(&compute.pixels[i], &reference.pixels[i], epsilon), "pixel {i}: not what pixel shows");
+    }
     let report = multirate::analysis::report::analyze(
         &Scene {
             settings: multirate::scene::RenderSettings { width, height, ..scene.settings },

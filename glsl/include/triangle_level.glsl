@@ -200,10 +200,10 @@ bool small_image(vec4 a, vec4 b, vec4 c) {
 
 // Whether the draw's triangle, not culled, is a back face shaded per pixel
 // (`cull::back_face_per_pixel` in Rust): a back face of a two-sided mesh. Such a triangle is shaded
-// in the fallback draw, which comes after the others, so that where the mesh's front faces hide it
-// (the far side of an open mesh) the early depth test rejects its fragments before they shade;
-// interpolated, its sub-vertices would all be shaded. It asks its neighbours for no level on their
-// shared edges (patch_levels).
+// per pixel by the mesh's back-face draw (`pixel` mode's pipeline, front faces culled), which
+// comes after the front faces, so that where they hide it (the far side of an open mesh) the
+// early depth test rejects its fragments before they shade; interpolated, its sub-vertices would
+// all be shaded. It asks its neighbours for no level on their shared edges (patch_levels).
 bool back_face_per_pixel(vec3 p0, vec3 p1, vec3 p2) {
     return (draw.flags & FLAG_ONE_SIDED) == 0u && faces_away(p0, p1, p2);
 }

@@ -185,8 +185,9 @@ impl Renderer {
     /// Records the id pass into the visibility buffer, leaving it ready to be `after`.
     fn record_ids(&self, cmd: vk::CommandBuffer, ids: &RenderTarget, view: &View, after: AfterPass) {
         let deferred = self.deferred.get().expect("prepared");
-        let pick =
-            |_: &DrawCall, _: &View| Some(MeshPipelines { first: deferred.visibility.raw, lists: None });
+        let pick = |_: &DrawCall, _: &View| {
+            Some(MeshPipelines { first: deferred.visibility.raw, lists: None, back_faces: None })
+        };
         let draws = Draws { pick: &pick, per_pixel: &[], emitters: false, clear: [0.0; 4] };
         self.record_draws(&draws, cmd, ids, Attachments::Color, view, after);
     }

@@ -139,6 +139,9 @@ impl Renderer {
         self.bind_set(cmd, 1, self.descriptors.textures.sets[draw.material_index as usize]);
         if let Some(lists) = pipelines.lists {
             self.record_patch_lists(cmd, constants, draw, view, pipelines.first, lists);
+            if !draw.one_sided {
+                self.record_back_faces(cmd, constants, draw, pipelines.back_faces);
+            }
             return;
         }
         // Multirate drawn here is `Placement::Tcs`: 12-point adjacency patches.
@@ -176,6 +179,36 @@ impl Renderer {
             if adjacency {
                 device.cmd_bind_index_buffer(cmd, self.buffers.indices.raw, 0, vk::IndexType::UINT32);
             }
+        }
+    }
+
+    /// After a two-sided mesh's patch lists, its back faces as `pixel` mode draws them: one
+    /// indexed draw of the mesh, front faces culled, shaded per pixel. Drawn after every front
+    /// face, they shade only where no front face hides them (the early depth test), in the
+    /// mesh's order, with each vertex shaded once; the pre-pass lists only those beside a
+    /// tessellated edge (glsl/patch_levels.comp), whose outer levels must match it and which
+    /// this draw then finds at their own depth.
+    fn record_back_faces(
+        &self,
+        cmd: vk::CommandBuffer,
+        constants: &mut DrawConstants,
+        draw: &DrawCall,
+        pipeline: Option<vk::Pipeline>,
+    ) {
+        let Some(pipeline) = pipeline else {
+            debug_assert!(false, "prepare_variants builds pixel mode's pipeline for the back faces");
+            return;
+        };
+        let device = &self.context.device;
+        constants.patch_base = draw.first_triangle;
+        // SAFETY: `cmd` is recording inside the rendering `record_draws` began, with the scene's
+        // vertex and index buffers bound; the pipeline is owned by `self` and was built with the
+        // renderer's layout.
+        unsafe {
+            device.cmd_set_cull_mode(cmd, vk::CullModeFlags::FRONT);
+            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+            self.push_draw_constants(cmd, constants);
+            device.cmd_draw_indexed(cmd, draw.index_count, 1, draw.first_index, 0, 0);
         }
     }
 

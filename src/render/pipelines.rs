@@ -133,8 +133,11 @@ impl Renderer {
                     pipelines.modules.multirate(context, layout, variant, specialization, view)
                 })?;
                 // The cost model may draw a mesh whole as `pixel` mode does
-                // (`Renderer::meshes_drawn_per_pixel`).
-                if view.cost_model {
+                // (`Renderer::meshes_drawn_per_pixel`), and the pre-pass's lists leave a
+                // two-sided mesh's back faces to `pixel` mode's pipeline.
+                let back_faces =
+                    view.placement == Placement::Compute && self.draws.iter().any(|d| !d.one_sided);
+                if view.cost_model || back_faces {
                     build_once(variant.single_cell(SingleMode::Pixel), || {
                         pipelines.modules.single(context, layout, variant, specialization, SingleMode::Pixel)
                     })?;
@@ -308,7 +311,7 @@ impl Variant {
 
     /// The pipeline of `view` (None: not yet prepared).
     pub(super) fn for_view(&self, view: &View) -> Option<MeshPipelines> {
-        let one = |pipeline: &Pipeline| MeshPipelines { first: pipeline.raw, lists: None };
+        let one = |pipeline: &Pipeline| MeshPipelines { first: pipeline.raw, lists: None, back_faces: None };
         match view.mode {
             Mode::Pixel | Mode::Vertex | Mode::Fixed(_) => {
                 self.single_cell(SingleMode::of(view.mode)?).get().map(one)
@@ -324,6 +327,7 @@ impl Variant {
                     flat_fallback: l.flat_fallback.raw,
                     flat_fallback_prime: l.flat_fallback_prime.raw,
                 }),
+                back_faces: m.lists.as_ref().and(self.pixel.get()).map(|p| p.raw),
             }),
         }
     }
@@ -366,6 +370,9 @@ pub(super) struct MeshPipelines {
     /// Multirate's other patch lists (`Multirate::lists`): with them, all three draw the
     /// pre-pass's patch lists, `first` the interpolated one.
     pub lists: Option<ListPipelines<vk::Pipeline>>,
+    /// With the lists, the back faces of a two-sided mesh: `pixel` mode's pipeline, drawn over
+    /// the mesh with front faces culled after the lists (`Renderer::record_mesh`).
+    pub back_faces: Option<vk::Pipeline>,
 }
 
 /// The specialization constants of the scene's polygonal lights (`spec::POLYGON_LIGHTS`; only
