@@ -1,8 +1,9 @@
 #version 460
 // variants: material_kind polygon_lights textured count_evaluations
 // `multirate` mode, `--estimator compute`: the flat patches (bindings.glsl), whose inner and
-// outer levels are all 1, drawn without the tessellation stages. Vertex 3k + c is corner c of
-// the list's k-th triangle; it is shaded as multirate.tese shades that corner at level 1 (same
+// outer levels are all 1, drawn without the tessellation stages. Drawn indexed from
+// flat_indices, vertex v is the scene's; drawn from the flat list, vertex 3k + c is corner c of
+// the list's k-th triangle. A corner is shaded as multirate.tese shades it at level 1 (same
 // position, normal, parameter level of detail and precise clip position), so the image, the
 // evaluation count and the edges shared with tessellated neighbours are those of the
 // tessellated draw. In the draw of the flat triangles shaded per pixel (FLAG_FALLBACK_PATCHES)
@@ -25,10 +26,30 @@ precise gl_Position;
 
 void main() {
     bool per_pixel = (draw.flags & FLAG_FALLBACK_PATCHES) != 0u;
-    uint entry = uint(gl_VertexIndex) / 3u;
-    uint triangle = flat_patches[draw.patch_base + (per_pixel ? draw.triangle_count - 1u - entry : entry)];
-    uint corner = uint(gl_VertexIndex) % 3u;
-    uint vertex = scene_indices[3u * triangle + corner];
+    GpuMaterial m = materials[draw.material_index];
+    // Drawn from the flat list (per pixel, or with a parameter map), or indexed from
+    // flat_indices, where a vertex is the scene's and the triangle the draw's primitive.
+    bool listed = per_pixel || (draw.flags & FLAG_SHARED_CORNERS) == 0u;
+    uint triangle = ID_FROM_PRIMITIVE;
+    uint vertex = uint(gl_VertexIndex);
+    if (listed) {
+        uint entry = uint(gl_VertexIndex) / 3u;
+        triangle = flat_patches[draw.patch_base + (per_pixel ? draw.triangle_count - 1u - entry : entry)];
+        vertex = scene_indices[3u * triangle + uint(gl_VertexIndex) % 3u];
+    } else if (vertex == SKIPPED_VERTEX) {
+        // A triangle that is not such a patch: a point, dropped before rasterisation.
+        gl_Position = vec4(0.0, 0.0, 0.0, 1.0);
+        out_diffuse = vec3(0.0);
+        out_specular = vec3(0.0);
+        out_position = vec3(0.0);
+        out_normal = vec3(0.0);
+        out_uv = vec2(0.0);
+        out_level = 1.0;
+#if TRIANGLE_IDS
+        out_triangle = triangle;
+#endif
+        return;
+    }
     vec3 position = scene_vec3(vertex, 0u);
     vec3 normal = scene_vec3(vertex, 3u);
     vec2 uv = scene_uv(vertex);
@@ -45,7 +66,6 @@ void main() {
         out_level = 0.0;
         return;
     }
-    GpuMaterial m = materials[draw.material_index];
     float parameter = m.params.x;
     if (has_parameter_map(m)) {
         uvec3 corners = uvec3(scene_indices[3u * triangle], scene_indices[3u * triangle + 1u],

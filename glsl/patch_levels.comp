@@ -48,11 +48,18 @@ void main() {
     if (VARIANT_RECORD_LEVELS != 0) {
         level_records[triangle] = level_record(levels);
     }
-    // A patch that is its own triangle needs no tessellator: the flat list, whose triangles
-    // shaded per pixel are listed from the mesh's last triangle down; a back face's is drawn
-    // by the back-face draw.
-    if (levels.inner <= 1.0 && all(lessThanEqual(levels.outer, vec3(1.0)))) {
-        if (back_face) {
+    // A patch that is its own triangle needs no tessellator. Shaded on its corners and without
+    // a parameter map, it is drawn from flat_indices in the mesh's order (every visible
+    // triangle writes its words there); otherwise from the flat list, whose triangles shaded
+    // per pixel are listed from the mesh's last triangle down. A back face's is drawn by the
+    // back-face draw.
+    bool flat_patch = levels.inner <= 1.0 && all(lessThanEqual(levels.outer, vec3(1.0)));
+    bool shared_corners = (draw.flags & FLAG_SHARED_CORNERS) != 0u;
+    if (shared_corners) {
+        write_flat_corners(triangle, flat_patch && !levels.fallback);
+    }
+    if (flat_patch) {
+        if (back_face || (shared_corners && !levels.fallback)) {
             return;
         }
         uint flat_draw = patch_list(levels.fallback);

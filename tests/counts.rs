@@ -6,8 +6,9 @@
 //!   pixel in `pixel` mode, three vertex evaluations in `vertex` mode, and a scene that falls
 //!   back everywhere counts exactly the fragments of `pixel` mode, and the same with the
 //!   estimator in the control stage (whose counter is a specialization constant);
-//! - multirate draws patches whose levels are all 1 without the tessellator and shades their
-//!   corners once each;
+//! - multirate draws patches whose levels are all 1 without the tessellator, and shades their
+//!   corners by vertex, each vertex shared by such triangles at least once, the same count
+//!   every frame;
 //! - the back faces of a two-sided mesh fall back to per-pixel shading after the front faces:
 //!   hidden, they shade nothing and reach the tessellator only beside a tessellated edge;
 //! - the front-facing patches shaded per pixel shade each pixel they show once, and nothing
@@ -166,7 +167,6 @@ fn level_one_patches_skip_the_tessellator_and_shade_their_corners() {
     let measured = renderer.measure(&target, &view, 0, 1).expect("measure");
     let stats = measured.statistics.expect("statistics");
     assert_eq!(stats.tessellation_control_patches, tessellated, "only the other patches are tessellated");
-    // The flat patches' corners are shaded once each, by the vertex shader.
     let counted = renderer.count_evaluations(&target, &view).expect("count");
     let flat_only = View { estimator: EstimatorSettings { epsilon: 1e3, ..view.estimator }, ..view.clone() };
     let all_flat = renderer.record_levels(&target, &flat_only).expect("levels at a large ε");
@@ -177,10 +177,22 @@ fn level_one_patches_skip_the_tessellator_and_shade_their_corners() {
     );
     let stats = renderer.measure(&target, &flat_only, 0, 1).expect("measure").statistics.expect("statistics");
     assert_eq!(stats.tessellation_control_patches, 0, "no patch reaches the tessellator");
-    assert_eq!(stats.vertex_shader_invocations, 3 * all_visible);
+    // The bunny has no parameter map: its flat patches are one indexed draw of the mesh, so a
+    // vertex that visible triangles share is shaded once or a few times (the device reuses
+    // vertices within a batch), never less than once, and the same number every frame.
+    let indices = &scene.meshes[0].indices;
+    let visible_vertices: std::collections::BTreeSet<u32> = (0..indices.len() / 3)
+        .filter(|&t| all_flat[t][0] != CULLED_LEVEL)
+        .flat_map(|t| indices[3 * t..3 * t + 3].iter().copied())
+        .collect();
     let counted_flat = renderer.count_evaluations(&target, &flat_only).expect("count");
-    assert_eq!(counted_flat.sub_vertices, 3 * all_visible, "three corners per visible triangle");
-    assert!(counted.sub_vertices > 3 * flat, "{counted:?}");
+    let shaded = counted_flat.sub_vertices;
+    assert!(shaded >= visible_vertices.len() as u64, "{shaded} of {} vertices", visible_vertices.len());
+    assert!(shaded < 2 * all_visible, "{shaded} corners shaded for {all_visible} triangles");
+    assert!(shaded <= stats.vertex_shader_invocations, "{shaded} of {stats:?}");
+    let again = renderer.count_evaluations(&target, &flat_only).expect("count");
+    assert_eq!(again, counted_flat, "the same count every frame");
+    assert!(counted.sub_vertices > shaded, "{counted:?}");
     assert_validation_clean(&context);
 }
 

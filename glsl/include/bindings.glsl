@@ -107,6 +107,27 @@ layout(set = 0, binding = 20, std430) buffer RefineTriangles { uint refine_trian
 // The triangles to estimate that the range class does not settle (estimator/range.glsl), listed
 // per mesh from draw.patch_base on by the range step (range_levels.comp) for the estimator step.
 layout(set = 0, binding = 21, std430) buffer EstimateTriangles { uint estimate_triangles[]; };
+// Where a mesh's material has no parameter map, its flat patches shaded on their corners are
+// drawn instead by one indexed draw of the whole mesh in its own order, from this index buffer:
+// three words per scene triangle, the triangle's own vertices where it is such a patch, else
+// SKIPPED_VERTEX three times (a point, which the rasteriser drops). Each vertex is shaded once
+// however many of those triangles share it (as far as the device reuses vertices), in the same
+// order every frame. The culling step writes the culled triangles' words, the patch step the
+// others'. (A parameter map makes a corner's shading depend on its triangle's level of detail:
+// such a mesh keeps the list above.)
+layout(set = 0, binding = 22, std430) writeonly buffer FlatIndices { uint flat_indices[]; };
+// The index of no vertex, 2^24 - 1 (`SKIPPED_VERTEX` in Rust, Vulkan's least
+// maxDrawIndexedIndexValue; render::limits refuses scenes with more vertices):
+// multirate_flat.vert shades nothing for it.
+const uint SKIPPED_VERTEX = 16777215u;
+
+// Scene triangle `triangle`'s three words of flat_indices: its vertices where `shaded` (a flat
+// patch shaded on its corners), else SKIPPED_VERTEX.
+void write_flat_corners(uint triangle, bool shaded) {
+    for (uint corner = 0u; corner < 3u; corner++) {
+        flat_indices[3u * triangle + corner] = shaded ? scene_indices[3u * triangle + corner] : SKIPPED_VERTEX;
+    }
+}
 
 // The per-mesh slots of the pre-pass's indirect buffers (`src/gpu_interface/slots.rs`).
 const uint LEVEL_DISPATCHES = 4u;

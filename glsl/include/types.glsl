@@ -59,5 +59,8 @@ const uint FLAG_ONE_SIDED = 4u;
 // The multirate draw of a mesh's fallback list (else of its interpolated one), or of its flat
 // triangles shaded per pixel (bindings.glsl).
 const uint FLAG_FALLBACK_PATCHES = 16u;
+// The mesh's flat patches shaded on their corners are drawn indexed from flat_indices (its
+// material has no parameter map).
+const uint FLAG_SHARED_CORNERS = 32u;
 
 #endif

@@ -87,6 +87,7 @@ pub mod forward {
     pub const LEVEL_DISPATCHES: Binding = storage(0, 19, "LevelDispatches");
     pub const REFINE_TRIANGLES: Binding = storage(0, 20, "RefineTriangles");
     pub const ESTIMATE_TRIANGLES: Binding = storage(0, 21, "EstimateTriangles");
+    pub const FLAT_INDICES: Binding = storage(0, 22, "FlatIndices");
 
     pub const ALBEDO_MAP: Binding = sampler(1, 0, "albedo_map");
     pub const PARAMETER_MAP: Binding = sampler(1, 1, "parameter_map");
@@ -97,7 +98,7 @@ pub mod forward {
     pub const VISIBILITY: Binding = sampler(2, 0, "visibility");
 
     /// Set 0: the scene's storage buffers, bound once.
-    pub const SCENE_BUFFERS: [Binding; 22] = [
+    pub const SCENE_BUFFERS: [Binding; 23] = [
         LIGHTS,
         MATERIALS,
         LEVEL_RECORDS,
@@ -120,6 +121,7 @@ pub mod forward {
         LEVEL_DISPATCHES,
         REFINE_TRIANGLES,
         ESTIMATE_TRIANGLES,
+        FLAT_INDICES,
     ];
     /// Set 1: the draw's material textures, bound per draw.
     pub const MATERIAL_TEXTURES: [Binding; 3] = [ALBEDO_MAP, PARAMETER_MAP, PARAMETER_PYRAMID];

@@ -14,4 +14,8 @@ super::named_constants! {
     /// its flat triangles shaded per pixel; without it, of its patches shaded on their
     /// sub-vertices (or its flat triangles shaded on their corners).
     FLAG_FALLBACK_PATCHES = 16;
+    /// The mesh's material has no parameter map, so a flat patch's corner shades the same in
+    /// every triangle that shares it (`DrawCall::shared_corners`): the compute placement draws
+    /// its flat patches shaded on their corners indexed, from `flat_indices`.
+    FLAG_SHARED_CORNERS = 32;
 }

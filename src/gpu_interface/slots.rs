@@ -32,4 +32,8 @@ super::named_constants! {
     /// A list's word in `PatchCounts` that counts the indirect draws its patches open: the
     /// count of its `vkCmdDrawIndirectCount` draw.
     OPENED_DRAWS = 1;
+    /// The vertex index of no vertex in `FlatIndices`, 2^24 - 1 (Vulkan's least
+    /// `maxDrawIndexedIndexValue`): a triangle that is not a flat patch shaded on its corners
+    /// is this index three times. `render::limits` refuses scenes with more vertices.
+    SKIPPED_VERTEX = 0xff_ffff;
 }

@@ -8,7 +8,9 @@ use super::view::View;
 use super::Renderer;
 use crate::analysis::tessellator::uniform_vertex_count;
 use crate::geometry::camera;
-use crate::gpu_interface::flags::{FLAG_DERIVATIVE_CHECK, FLAG_HEAT_MAP, FLAG_ONE_SIDED};
+use crate::gpu_interface::flags::{
+    FLAG_DERIVATIVE_CHECK, FLAG_HEAT_MAP, FLAG_ONE_SIDED, FLAG_SHARED_CORNERS,
+};
 use crate::gpu_types::DrawConstants;
 use crate::scene::adjacency::PATCH_SIZE;
 use crate::vk::target::{AfterPass, Attachments, RenderTarget};
@@ -25,6 +27,10 @@ pub(super) struct DrawCall {
     pub first_patch_index: u32,
     /// Back faces are culled (`Mesh::two_sided` false).
     pub one_sided: bool,
+    /// Its material has no parameter map, so a flat patch's corner shades the same in every
+    /// triangle that shares it: the compute placement draws those patches indexed, from
+    /// `PrePassBuffers::flat_indices`.
+    pub shared_corners: bool,
     pub material_index: u32,
     pub mesh_index: u32,
     /// The variant of its material kind (index into the renderer's variants).
@@ -78,8 +84,10 @@ impl Renderer {
     pub(super) fn set_draw_constants(&self, constants: &mut DrawConstants, draw: &DrawCall) {
         constants.material_index = draw.material_index;
         constants.mesh_index = draw.mesh_index;
-        constants.flags =
-            (constants.flags & !FLAG_ONE_SIDED) | if draw.one_sided { FLAG_ONE_SIDED } else { 0 };
+        let mesh_flags = FLAG_ONE_SIDED | FLAG_SHARED_CORNERS;
+        constants.flags = (constants.flags & !mesh_flags)
+            | if draw.one_sided { FLAG_ONE_SIDED } else { 0 }
+            | if draw.shared_corners { FLAG_SHARED_CORNERS } else { 0 };
     }
 
     /// The forward draws of every mesh with the pipelines `draws.pick` gives, into `target`'s

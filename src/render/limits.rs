@@ -7,7 +7,7 @@
 use super::textures;
 use super::PRE_PASS_GROUP;
 use crate::error::{mib, Error, Result};
-use crate::gpu_interface::slots::LEVEL_DISPATCHES;
+use crate::gpu_interface::slots::{LEVEL_DISPATCHES, SKIPPED_VERTEX};
 use crate::gpu_types::{GpuLight, GpuMaterial, GpuPolygonLight, Vertex};
 use crate::scene::adjacency::PATCH_SIZE;
 use crate::scene::{Light, Scene};
@@ -192,6 +192,7 @@ impl SceneSizes {
             per_triangle("interpolated patch draws", 4),
             per_triangle("fallback patch draws", 4),
             per_mesh("flat patch draws", 2 * 4 * 4, true),
+            per_triangle("flat patch indices", 3),
             SceneBuffer {
                 heap: Heap::HostVisible,
                 ..buffer("level records", (16 * triangles).max(4), true, triangles, "triangles")
@@ -268,6 +269,12 @@ pub fn check(scene: &Path, sizes: &SceneSizes, limits: &DeviceLimits) -> Result<
                 "the device's maxDrawIndexedIndexValue ({}, the largest vertex index a draw may use)",
                 limits.max_draw_indexed_index_value
             ),
+        );
+    }
+    if sizes.vertices > u64::from(SKIPPED_VERTEX) {
+        return fail(
+            format!("its {} vertices", sizes.vertices),
+            format!("multirate's skipped-vertex index ({SKIPPED_VERTEX}, which no vertex may have)"),
         );
     }
     for (index, mesh) in sizes.meshes.iter().enumerate() {

@@ -327,8 +327,21 @@ impl Renderer {
             indirect((buffers.patch_draws[list as usize].raw, first), count, commands);
         };
         // The flat patches first and the per-pixel ones last, so that the early depth test
-        // spares the per-pixel shading wherever the other lists cover it.
-        flat_draw(constants, lists.flat, INTERPOLATED_LIST, 0);
+        // spares the per-pixel shading wherever the other lists cover it. Where their corners
+        // are shared, the flat patches shaded on them are one indexed draw of the mesh.
+        if draw.shared_corners {
+            bind(constants, lists.flat, 0);
+            // SAFETY: as above; the pre-pass wrote every word of the mesh's range of
+            // `flat_indices` (INDEX_BUFFER usage) before its last barrier; the scene's index
+            // buffer is bound back for the draws that follow.
+            unsafe {
+                device.cmd_bind_index_buffer(cmd, buffers.flat_indices.raw, 0, vk::IndexType::UINT32);
+                device.cmd_draw_indexed(cmd, draw.index_count, 1, draw.first_index, 0, 0);
+                device.cmd_bind_index_buffer(cmd, self.buffers.indices.raw, 0, vk::IndexType::UINT32);
+            }
+        } else {
+            flat_draw(constants, lists.flat, INTERPOLATED_LIST, 0);
+        }
         tessellated_draw(constants, interpolated, INTERPOLATED_LIST, 0);
         // The per-pixel patches' depth first, then their shading where they are the nearest
         // surface: each covered pixel is shaded once, whatever the lists' order.

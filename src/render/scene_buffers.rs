@@ -152,6 +152,7 @@ impl SceneGeometry {
             index_count: mesh.indices.len() as u32,
             first_patch_index,
             one_sided: !mesh.two_sided,
+            shared_corners: scene.materials[mesh.material].maps.parameter.is_none(),
             material_index: mesh.material as u32,
             mesh_index: mesh_index as u32,
             pipeline,
@@ -240,6 +241,10 @@ pub(super) struct PrePassBuffers {
     /// The indirect draws of each mesh's flat list (`VkDrawIndirectCommand`, `PATCH_LISTS` per
     /// mesh: the triangles shaded on their corners, then those shaded per pixel).
     pub flat_draws: Buffer,
+    /// The flat patches shaded on their corners as an index buffer over the scene's vertices
+    /// (`flat_indices` in glsl/include/bindings.glsl), for meshes whose draws have
+    /// `DrawCall::shared_corners`.
+    pub flat_indices: Buffer,
     /// Per triangle: its patch's tessellation levels, written by the last step.
     pub patch_levels: Buffer,
 }
@@ -337,6 +342,7 @@ impl SceneBuffers {
                 (set_0::LEVEL_DISPATCHES, pre_pass.level_dispatches.raw),
                 (set_0::REFINE_TRIANGLES, pre_pass.refine_triangles.raw),
                 (set_0::ESTIMATE_TRIANGLES, pre_pass.estimate_triangles.raw),
+                (set_0::FLAT_INDICES, pre_pass.flat_indices.raw),
             ],
         )
     }
@@ -393,6 +399,12 @@ impl PrePassBuffers {
         ];
         let flat_draws =
             device_words(context, "flat patch draws", PATCH_LISTS as usize * 4 * meshes, indirect)?;
+        let flat_indices = device_words(
+            context,
+            "flat patch indices",
+            3 * triangle_count,
+            vk::BufferUsageFlags::INDEX_BUFFER,
+        )?;
         let patch_levels = device_words(
             context,
             "patch tessellation levels",
@@ -411,6 +423,7 @@ impl PrePassBuffers {
             patch_lists,
             patch_draws,
             flat_draws,
+            flat_indices,
             patch_levels,
         })
     }

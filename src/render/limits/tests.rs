@@ -59,8 +59,10 @@ fn a_scene_within_every_limit_passes() {
 fn triangles_beyond_the_shaders_ids_are_refused() {
     let message = refused(&sizes(MAX_TRIANGLES + 1), &limits(), "31-bit triangle ids");
     assert!(message.contains(&format!("{} triangles", MAX_TRIANGLES + 1)), "{message}");
-    // Exactly at the limit, the ids fit (what fails then is the pre-pass's dispatch).
-    let message = refused(&sizes(MAX_TRIANGLES), &limits(), "maxComputeWorkGroupCount[0]");
+    // Exactly at the limit, the ids fit (what fails then, with vertices that fit too, is the
+    // pre-pass's dispatch).
+    let at_limit = SceneSizes { vertices: 3, ..sizes(MAX_TRIANGLES) };
+    let message = refused(&at_limit, &limits(), "maxComputeWorkGroupCount[0]");
     assert!(!message.contains("triangle ids"), "{message}");
 }
 
@@ -83,6 +85,16 @@ fn vertices_beyond_the_largest_index_are_refused() {
     check(scene(), &sizes(1000), &limits).expect("2000 vertices: indices up to 1999");
     let message = refused(&sizes(1001), &limits, "maxDrawIndexedIndexValue (1999");
     assert!(message.contains("its 2002 vertices"), "{message}");
+}
+
+#[test]
+fn vertices_beyond_the_skipped_vertex_index_are_refused() {
+    let mut at_limit = sizes(1000);
+    at_limit.vertices = u64::from(SKIPPED_VERTEX);
+    check(scene(), &at_limit, &limits()).expect("indices up to SKIPPED_VERTEX - 1");
+    let over = SceneSizes { vertices: at_limit.vertices + 1, ..at_limit };
+    let message = refused(&over, &limits(), "skipped-vertex index (16777215");
+    assert!(message.contains("its 16777216 vertices"), "{message}");
 }
 
 #[test]
