@@ -81,8 +81,9 @@ layout(set = 0, binding = 14, std430) buffer FallbackPatches { uint fallback_pat
 layout(set = 0, binding = 15, std430) buffer InterpolatedDraws { uvec4 interpolated_draws[]; };
 layout(set = 0, binding = 16, std430) buffer FallbackDraws { uvec4 fallback_draws[]; };
 // Per mesh, a third list: the visible triangles whose patch is the triangle itself (inner and
-// outer levels all 1), drawn without tessellation. Those shaded on their corners are listed from
-// the mesh's first triangle on and drawn by flat_draws[patch_list(false)]; those shaded per
+// outer levels all 1), drawn without tessellation. Those shaded on their corners, where the
+// mesh's material has a parameter map (otherwise flat_indices, below), are listed from the
+// mesh's first triangle on and drawn by flat_draws[patch_list(false)]; those shaded per
 // pixel from its last triangle down, by flat_draws[patch_list(true)] (vertexCount = 3 per
 // triangle, counted as they are listed; the host zeroes them, and the first entry sets
 // instanceCount to 1). multirate_flat.vert shades the corners as the evaluation stage would, or,
@@ -114,7 +115,7 @@ layout(set = 0, binding = 21, std430) buffer EstimateTriangles { uint estimate_t
 // however many of those triangles share it (as far as the device reuses vertices), in the same
 // order every frame. The culling step writes the culled triangles' words, the patch step the
 // others'. (A parameter map makes a corner's shading depend on its triangle's level of detail:
-// such a mesh keeps the list above.)
+// such a mesh keeps the flat list.)
 layout(set = 0, binding = 22, std430) writeonly buffer FlatIndices { uint flat_indices[]; };
 // The index of no vertex, 2^24 - 1 (`SKIPPED_VERTEX` in Rust, Vulkan's least
 // maxDrawIndexedIndexValue; render::limits refuses scenes with more vertices):
