@@ -7,7 +7,7 @@
 // (triangle_level.glsl, back_face_per_pixel), shaded per pixel without an estimate, which take
 // FALLBACK_LEVEL, from its last triangle down. It counts both lists and the workgroups of the
 // later steps that cover them in level_dispatches, which the host resets first. A culled
-// triangle's words of flat_indices skip it.
+// triangle's words of flat_indices (where its mesh is drawn from them) skip it.
 #include "triangle_level.glsl"
 
 layout(local_size_x = PRE_PASS_GROUP) in;

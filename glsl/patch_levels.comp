@@ -54,12 +54,10 @@ void main() {
     // per pixel are listed from the mesh's last triangle down. A back face's is drawn by the
     // back-face draw.
     bool flat_patch = levels.inner <= 1.0 && all(lessThanEqual(levels.outer, vec3(1.0)));
-    bool shared_corners = (draw.flags & FLAG_SHARED_CORNERS) != 0u;
-    if (shared_corners) {
-        write_flat_corners(triangle, flat_patch && !levels.fallback);
-    }
+    write_flat_corners(triangle, flat_patch && !levels.fallback);
     if (flat_patch) {
-        if (back_face || (shared_corners && !levels.fallback)) {
+        bool indexed = (draw.flags & FLAG_SHARED_CORNERS) != 0u && !levels.fallback;
+        if (back_face || indexed) {
             return;
         }
         uint flat_draw = patch_list(levels.fallback);

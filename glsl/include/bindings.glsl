@@ -122,9 +122,13 @@ layout(set = 0, binding = 22, std430) writeonly buffer FlatIndices { uint flat_i
 // multirate_flat.vert shades nothing for it.
 const uint SKIPPED_VERTEX = 16777215u;
 
-// Scene triangle `triangle`'s three words of flat_indices: its vertices where `shaded` (a flat
-// patch shaded on its corners), else SKIPPED_VERTEX.
+// Scene triangle `triangle`'s three words of flat_indices, where the draw's mesh is drawn from
+// them (FLAG_SHARED_CORNERS): its vertices where `shaded` (a flat patch shaded on its corners),
+// else SKIPPED_VERTEX.
 void write_flat_corners(uint triangle, bool shaded) {
+    if ((draw.flags & FLAG_SHARED_CORNERS) == 0u) {
+        return;
+    }
     for (uint corner = 0u; corner < 3u; corner++) {
         flat_indices[3u * triangle + corner] = shaded ? scene_indices[3u * triangle + corner] : SKIPPED_VERTEX;
     }
