@@ -1,7 +1,8 @@
 //! The trade's bounds (multirate must never be slower than per-pixel shading): every scene with its floor
 //! (`vertex`), its ceiling (`pixel` / `vertex`), the empty frame, and multirate with the cost
-//! model against multirate estimating every triangle; and the light-count sweep, the bunny lit
-//! by 1, 4, 16 and 64 point lights.
+//! model against multirate estimating every triangle, at the sweep's resolution and at the
+//! table's (1920×1080 and 3840×2160), each table naming the scenes where multirate was slower than
+//! `pixel`; and the light-count sweep, the bunny lit by 1, 4, 16 and 64 point lights.
 
 use super::{config, create_results, header, load_scene, percent, write, ExperimentOptions, Plan};
 use crate::bench::calibrate::lit_by;
@@ -55,11 +56,14 @@ fn trade(
     scenes: &[BenchScene],
     progress: &mut dyn FnMut(&str, Progress<'_>),
 ) -> Result<()> {
-    let mut both = config(options, vec![Mode::Vertex, Mode::Multirate], vec![plan.sweep]);
+    let mut both = config(options, vec![Mode::Vertex, Mode::Multirate], vec![plan.sweep, plan.table]);
     both.min_estimated_areas = vec![None, Some(0.0)];
     let rows = run(context, scenes, &both, &mut |p| progress("the trade's bounds", p))?.rows;
     write(&options.out.join("trade.csv"), &to_csv(&rows))?;
-    bounds_table(md, &rows, plan.sweep);
+    bounds_table(md, &rows, plan.sweep, true);
+    bounds_table(md, &rows, plan.table, false);
+
+    both.resolutions = vec![plan.sweep];
 
     let lit: Vec<BenchScene> = SWEEP_LIGHTS
         .iter()
@@ -74,20 +78,22 @@ fn trade(
     Ok(())
 }
 
-fn find<'a>(rows: &'a [Row], scene: &str, mode: &str, cost_model: Option<bool>) -> Option<&'a Row> {
+fn find<'a>(rows: &'a [Row], of: &Row, mode: &str, cost_model: Option<bool>) -> Option<&'a Row> {
     rows.iter().find(|r| {
-        r.scene == scene
+        r.scene == of.scene
+            && (r.width, r.height) == (of.width, of.height)
             && r.mode == mode
             && cost_model.is_none_or(|on| r.min_estimated_area.is_some_and(|a| (a > 0.0) == on))
     })
 }
 
-/// A scene's `vertex` row and its multirate rows with the cost model and without.
-fn measured<'a>(rows: &'a [Row], scene: &str) -> Option<(&'a Row, &'a Row, &'a Row)> {
+/// The `vertex` row and the multirate rows with the cost model and without of the scene and
+/// resolution of a `pixel` row.
+fn measured<'a>(rows: &'a [Row], pixel: &Row) -> Option<(&'a Row, &'a Row, &'a Row)> {
     Some((
-        find(rows, scene, "vertex", None)?,
-        find(rows, scene, "multirate", Some(true))?,
-        find(rows, scene, "multirate", Some(false))?,
+        find(rows, pixel, "vertex", None)?,
+        find(rows, pixel, "multirate", Some(true))?,
+        find(rows, pixel, "multirate", Some(false))?,
     ))
 }
 
@@ -102,13 +108,18 @@ fn share(row: &Row) -> String {
     row.trade.map_or_else(|| "–".to_string(), |t| percent(t.saving_share))
 }
 
-fn bounds_table(md: &mut String, rows: &[Row], (w, h): (u32, u32)) {
+/// The bounds table at one resolution; `explain`: the columns' explanation before it.
+fn bounds_table(md: &mut String, rows: &[Row], (w, h): (u32, u32), explain: bool) {
     let _ =
         writeln!(md, "## The trade's bounds: floor, ceiling and the share of the saving taken ({w}×{h})\n");
-    let _ = writeln!(
+    if !explain {
+        let _ = writeln!(md, "The columns are those of the table above.\n");
+    } else {
+        let _ = writeln!(
         md,
         "`vertex` shades once per vertex: its time is the floor any shading-rate method can approach, and `pixel` over it the ceiling of the speedup. The share of the possible saving a mode takes is (t_pixel − t) / (t_pixel − t_vertex): 100 % at the floor, 0 at `pixel`'s time, below 0 where it is slower. The empty frame draws nothing visible (every triangle behind the eye). multirate runs with the device's cost model (images below the break-even area, \"estimated above\", are shaded per pixel without an estimate; the frame guard draws a frame as `pixel` does where that measured faster, \"as pixel\" counting such frames among those measured: its probes, or all) and, for comparison, estimating every visible triangle. Times in ms (pre-pass in brackets, over the frames that ran it).\n"
     );
+    }
     let _ = writeln!(
         md,
         "| scene | triangles | pixel | vertex (floor) | ceiling | empty | multirate | speedup | share | estimated above | as pixel | every triangle estimated | share |"
@@ -117,10 +128,17 @@ fn bounds_table(md: &mut String, rows: &[Row], (w, h): (u32, u32)) {
         md,
         "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
     );
+    let mut slower = Vec::new();
     for pixel in rows.iter().filter(|r| r.mode == "pixel" && (r.width, r.height) == (w, h)) {
-        let Some((vertex, model, every)) = measured(rows, &pixel.scene) else {
+        let Some((vertex, model, every)) = measured(rows, pixel) else {
             continue;
         };
+        if model.gpu_ms.median > pixel.gpu_ms.median {
+            slower.push(format!(
+                "{} ({:.1} against {:.1} ms)",
+                pixel.scene, model.gpu_ms.median, pixel.gpu_ms.median
+            ));
+        }
         let _ = writeln!(
             md,
             "| {} | {} | {:.1} | {:.1} | {:.2}× | {:.1} | {} | {} | {} | {:.1} px | {} of {} | {} | {} |",
@@ -140,7 +158,11 @@ fn bounds_table(md: &mut String, rows: &[Row], (w, h): (u32, u32)) {
             share(every),
         );
     }
-    let _ = writeln!(md);
+    let verdict = if slower.is_empty() { "none".to_string() } else { slower.join(", ") };
+    let _ = writeln!(
+        md,
+        "\nScenes where multirate (with the cost model) took longer than `pixel` at {w}×{h}: {verdict}.\n"
+    );
 }
 
 fn light_sweep(md: &mut String, rows: &[Row], (w, h): (u32, u32)) {
@@ -155,7 +177,7 @@ fn light_sweep(md: &mut String, rows: &[Row], (w, h): (u32, u32)) {
     );
     let _ = writeln!(md, "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
     for (pixel, count) in rows.iter().filter(|r| r.mode == "pixel").zip(SWEEP_LIGHTS) {
-        let Some((vertex, model, every)) = measured(rows, &pixel.scene) else {
+        let Some((vertex, model, every)) = measured(rows, pixel) else {
             continue;
         };
         let _ = writeln!(
