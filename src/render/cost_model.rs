@@ -13,11 +13,11 @@
 //! Per-pixel shading is exact, so the choice never costs accuracy; the area bounds the image
 //! from above, so it never sends a triangle that would pay per pixel.
 //!
-//! A mesh most of whose visible triangles are that small is drawn whole as `pixel` mode draws
-//! it ([`MeshSample::mostly_small`]): the pre-pass would list nearly all of them per pixel, and
-//! its per-pixel path (a depth prime, then the shading, pulling each triangle's corners) costs
-//! more than `pixel`'s one indexed pass. The renderer decides per mesh and frame from a sample
-//! of the mesh's triangles.
+//! A mesh most of whose visible triangles the pre-pass would shade per pixel without an estimate
+//! (small, and not settled by the range class) is drawn whole as `pixel` mode draws it
+//! ([`MeshSample::mostly_small`]): its per-pixel path (a depth prime, then the shading, pulling
+//! each triangle's corners) costs more than `pixel`'s one indexed pass. The renderer decides per
+//! mesh and frame from a sample of the mesh's triangles.
 //!
 //! Both costs grow linearly with the lights (a fixed part, a part per light) and depend on the
 //! device: `multirate calibrate` measures them ([`Calibration`]) and stores them per device
@@ -26,7 +26,8 @@
 
 use crate::error::{Error, Result};
 use crate::geometry::cull::{clip_of, culled, small_image};
-use crate::scene::{Mesh, Scene};
+use crate::scene::{Light, Material, MaterialKind, Mesh, ParameterRange, Scene};
+use crate::shading::estimator::{settled_by_range, TriangleInput};
 use glam::{Mat4, Vec2, Vec3};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -157,37 +158,62 @@ pub fn weighed_lights(scene: &Scene) -> usize {
 pub const MESH_SAMPLE_TRIANGLES: usize = 256;
 
 /// Triangles of one mesh, evenly spread over its index list, that stand for it in the
-/// per-mesh choice.
+/// per-mesh choice, with what the range class needs to try them.
 #[derive(Clone, Debug)]
 pub struct MeshSample {
     triangles: Vec<[Vec3; 3]>,
+    normals: Vec<[Vec3; 3]>,
     one_sided: bool,
+    /// The mesh's BRDF where the range class can try its triangles; `None` where a parameter
+    /// map varies the shininess or roughness over them (the GPU bounds it per triangle from the
+    /// map's pyramid, which the sample does not hold): every small triangle then counts.
+    material: Option<MaterialKind>,
 }
 
 impl MeshSample {
-    /// Up to [`MESH_SAMPLE_TRIANGLES`] of `mesh`'s triangles, evenly strided.
-    pub fn of(mesh: &Mesh) -> MeshSample {
+    /// Up to [`MESH_SAMPLE_TRIANGLES`] of `mesh`'s triangles, evenly strided; `material` is the
+    /// mesh's.
+    pub fn of(mesh: &Mesh, material: &Material) -> MeshSample {
         let count = mesh.indices.len() / 3;
         let stride = count.div_ceil(MESH_SAMPLE_TRIANGLES).max(1);
-        let triangles = (0..count)
-            .step_by(stride)
-            .map(|t| [0, 1, 2].map(|k| mesh.positions[mesh.indices[3 * t + k] as usize]))
-            .collect();
-        MeshSample { triangles, one_sided: !mesh.two_sided }
+        let corners = |t: usize, of: &[Vec3]| [0, 1, 2].map(|k| of[mesh.indices[3 * t + k] as usize]);
+        MeshSample {
+            triangles: (0..count).step_by(stride).map(|t| corners(t, &mesh.positions)).collect(),
+            normals: (0..count).step_by(stride).map(|t| corners(t, &mesh.normals)).collect(),
+            one_sided: !mesh.two_sided,
+            material: material.maps.parameter.is_none().then_some(material.kind),
+        }
     }
 
-    /// Whether more than half of the sampled triangles that are not culled have an image
-    /// smaller than `min_area` pixels of a `viewport` (width, height) seen through
-    /// `view_proj` from `eye`.
-    pub fn mostly_small(&self, view_proj: &Mat4, eye: Vec3, viewport: Vec2, min_area: f32) -> bool {
+    /// Whether more than half of the sampled triangles that are not culled would be shaded
+    /// per pixel without an estimate: an image smaller than `min_area` pixels of a `viewport`
+    /// (width, height) seen through `view_proj` from `eye`, that the range class does not
+    /// settle for `epsilon` under `lights` (as the pre-pass decides, `triangle_level.glsl`'s
+    /// `visible_level`).
+    pub fn mostly_small(
+        &self,
+        view_proj: &Mat4,
+        eye: Vec3,
+        viewport: Vec2,
+        min_area: f32,
+        lights: &[Light],
+        epsilon: f32,
+    ) -> bool {
         let (mut visible, mut small) = (0usize, 0usize);
-        for &p in &self.triangles {
+        for (&p, &normals) in self.triangles.iter().zip(&self.normals) {
             if culled(view_proj, eye, p, self.one_sided) {
                 continue;
             }
             visible += 1;
             let [a, b, c] = p.map(|p| clip_of(view_proj, p));
-            small += usize::from(small_image(a, b, c, viewport, min_area));
+            if !small_image(a, b, c, viewport, min_area) {
+                continue;
+            }
+            let settled = self.material.is_some_and(|material| {
+                let input = TriangleInput { positions: p, normals, eye };
+                settled_by_range(&input, &material, ParameterRange::of(&material), lights, epsilon)
+            });
+            small += usize::from(!settled);
         }
         2 * small > visible
     }

@@ -49,7 +49,7 @@ use pipelines::{Instrumentation, Pipelines, Variant};
 use scene_buffers::{SceneBuffers, SceneGeometry};
 
 use crate::error::Result;
-use crate::scene::Scene;
+use crate::scene::{Light, Scene};
 use crate::vk::context::DeviceLimits;
 use crate::vk::target::{AfterPass, Attachments, FloatImage, RenderTarget};
 use crate::vk::Context;
@@ -89,6 +89,8 @@ pub struct Renderer {
     light_count: usize,
     /// Per draw, the triangles that stand for its mesh in the cost model's per-mesh choice.
     mesh_samples: Vec<MeshSample>,
+    /// The scene's lights, for the range class in that choice.
+    lights: Vec<Light>,
     /// The frame guards of the configurations drawn so far (`guarded`, `report_frame_time`).
     guards: Mutex<Guards>,
 }
@@ -123,7 +125,12 @@ impl Renderer {
             tessellated_vertex_budget: tessellated_vertex_budget(&context.info),
             cost_model: CostModel::for_device(&context.info.name),
             light_count: cost_model::weighed_lights(scene),
-            mesh_samples: scene.meshes.iter().map(MeshSample::of).collect(),
+            mesh_samples: scene
+                .meshes
+                .iter()
+                .map(|m| MeshSample::of(m, &scene.materials[m.material]))
+                .collect(),
+            lights: scene.lights.clone(),
             guards: Mutex::new(Guards::default()),
         })
     }
@@ -164,7 +171,16 @@ impl Renderer {
         let area = self.min_estimated_area(view);
         self.mesh_samples
             .iter()
-            .map(|s| s.mostly_small(&view_proj, view.camera.eye, viewport, area))
+            .map(|s| {
+                s.mostly_small(
+                    &view_proj,
+                    view.camera.eye,
+                    viewport,
+                    area,
+                    &self.lights,
+                    view.estimator.epsilon,
+                )
+            })
             .collect()
     }
 
