@@ -262,11 +262,13 @@ fn a_frame_the_guard_draws_as_pixel_is_pixels_image_in_both_placements() {
     let reference = renderer.render(&target, &pixel).expect("render pixel");
     for placement in [Placement::Compute, Placement::Tcs] {
         let guarded = View { mode: Mode::Multirate, cost_model: true, placement, ..pixel.clone() };
-        // A new configuration: the multirate way first, then the probe of `pixel`'s.
-        let frames: Vec<View> = (0..2 * PROBE_FRAMES).map(|_| renderer.guarded(&guarded, extent)).collect();
+        // A new configuration: the multirate way first, then the probe, `pixel`'s way frame
+        // by frame with the multirate way.
+        let frames: Vec<View> = (0..3 * PROBE_FRAMES).map(|_| renderer.guarded(&guarded, extent)).collect();
         let (own, probe) = frames.split_at(PROBE_FRAMES as usize);
         assert!(
-            own.iter().all(|v| !v.drawn_as_pixel) && probe.iter().all(|v| v.drawn_as_pixel),
+            own.iter().all(|v| !v.drawn_as_pixel)
+                && probe.iter().enumerate().all(|(k, v)| v.drawn_as_pixel == (k % 2 == 0)),
             "{placement}"
         );
         assert_eq!(renderer.meshes_drawn_per_pixel(&probe[0], extent), vec![true], "{placement}");

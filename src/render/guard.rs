@@ -5,10 +5,11 @@
 //! see why: spotlight cones that send most evaluations to the per-pixel fallback after the
 //! estimate, a driver setting in which a pixel costs a quarter of the calibration's, a frame
 //! with so little shading to save that the pre-pass's fixed cost alone outweighs it. The guard
-//! measures instead of predicting. It draws a few frames the multirate way, then a few as
-//! `pixel` mode draws them (every mesh whole, no pre-pass; the reference, so accuracy is never
-//! lost), and from then on draws the way whose recent frames were faster, probing the other
-//! again now and then ([`PathGuard`]), since the camera and the scene's costs move.
+//! measures instead of predicting. It draws a few frames the multirate way, then a probe whose
+//! frames alternate between the other way and the chosen one (`pixel` mode's way: every mesh
+//! whole, no pre-pass; the reference, so accuracy is never lost), and from then on draws the
+//! way whose recent frames were faster, probing the other again now and then ([`PathGuard`]),
+//! since the camera and the scene's costs move.
 //!
 //! The renderer keeps one guard per configuration ([`GuardKey`]: extent, ε, `n_max`, how the
 //! estimator runs); the camera is not part of it. The guard only schedules and compares:
@@ -21,7 +22,8 @@ use super::view::View;
 use crate::shading::estimator::{Discontinuity, Split};
 use ash::vk;
 
-/// Frames drawn the other way in a probe, and the recent frames of each way that are compared.
+/// Frames drawn the other way in a probe (each followed by one of the chosen way), and the
+/// recent frames of each way that are compared.
 pub const PROBE_FRAMES: u32 = 3;
 /// Frames of the chosen way from one probe to the next after a close decision.
 pub const REPROBE_EVERY: u32 = 120;
@@ -61,12 +63,14 @@ impl FramePath {
 
 /// Which way to draw, from the GPU times of recent frames drawn each way.
 ///
-/// It draws [`PROBE_FRAMES`] frames the chosen way (multirate at first), then as many the
-/// other way (the probe). Once the probe's times are in, the choice becomes the way whose
-/// fastest frame among its latest [`PROBE_FRAMES`] is faster (the fastest, since a frame is only
-/// ever slowed by what else the device does); a tie keeps multirate. It decides only then: the
-/// chosen way's latest frames were drawn next to the probe's, while a machine's speed drifts
-/// over seconds.
+/// It draws [`PROBE_FRAMES`] frames the chosen way (multirate at first), then the probe:
+/// [`PROBE_FRAMES`] frames the other way, each followed by one the chosen way. Once the probe's
+/// times are in, the choice becomes the way whose fastest frame among its latest
+/// [`PROBE_FRAMES`] is faster (the fastest, since a frame is only ever slowed by what else the
+/// device does); a tie keeps multirate. It decides only then, and the probe alternates the
+/// ways, so that the frames compared were drawn side by side: a machine's speed drifts over
+/// seconds, and a probe of three frames one way after three the other may compare two speeds
+/// of the machine rather than the two ways (docs/cost_model.md, "Per frame, the guard").
 ///
 /// A probe costs what the slower way costs more, and shows as a hitch in a window, so the gap
 /// to the next probe starts at [`REPROBE_EVERY`] frames and doubles (up to [`LONGEST_GAP`])
@@ -78,7 +82,7 @@ pub struct PathGuard {
     choice: FramePath,
     /// Frames of the chosen way still to draw before the next probe.
     until_probe: u32,
-    /// Frames of the current probe still to draw.
+    /// Frames of the current probe still to draw (both ways).
     probe_left: u32,
     /// Frames between the last decision and the next probe.
     gap: u32,
@@ -111,12 +115,13 @@ impl PathGuard {
     pub fn next_frame(&mut self) -> FramePath {
         if self.probe_left > 0 {
             self.probe_left -= 1;
-            return self.choice.other();
+            // The other way's frames are those with an odd count left after them.
+            return if self.probe_left % 2 == 1 { self.choice.other() } else { self.choice };
         }
         if self.until_probe == 0 {
             // Times of the other way still on their way back were drawn before a switch.
             self.probed = 0;
-            self.probe_left = PROBE_FRAMES - 1;
+            self.probe_left = 2 * PROBE_FRAMES - 1;
             self.until_probe = self.gap;
             return self.choice.other();
         }
@@ -156,6 +161,8 @@ impl PathGuard {
                 REPROBE_EVERY
             };
             self.choice = winner;
+            // The probe's last frame of the chosen way, if still to draw, is drawn the way chosen.
+            self.probe_left = 0;
             self.until_probe = self.gap;
             self.chosen_ms = Some(multirate.min(pixel));
             self.probed = 0;

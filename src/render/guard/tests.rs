@@ -23,33 +23,43 @@ fn count(drawn: &[FramePath], path: FramePath) -> usize {
     drawn.iter().filter(|&&p| p == path).count()
 }
 
+/// Whether `frames` alternate between the way other than `choice` and `choice`, the other first.
+fn alternates(frames: &[FramePath], choice: FramePath) -> bool {
+    frames.iter().enumerate().all(|(k, &p)| (p != choice) == (k % 2 == 0))
+}
+
 #[test]
-fn a_guard_starts_the_multirate_way_then_probes_pixel() {
+fn a_guard_starts_the_multirate_way_then_probes_pixel_frame_by_frame() {
     let mut guard = PathGuard::default();
-    let first: Vec<FramePath> = (0..2 * PROBE_FRAMES).map(|_| guard.next_frame()).collect();
+    let first: Vec<FramePath> = (0..3 * PROBE_FRAMES).map(|_| guard.next_frame()).collect();
     let probe = PROBE_FRAMES as usize;
     assert!(first[..probe].iter().all(|&p| p == FramePath::Multirate), "{first:?}");
-    assert!(first[probe..].iter().all(|&p| p == FramePath::Pixel), "{first:?}");
+    assert!(alternates(&first[probe..], FramePath::Multirate), "{first:?}");
+    assert_eq!(count(&first[probe..], FramePath::Pixel), probe, "{first:?}");
     // Without times it keeps multirate.
     assert_eq!(guard.next_frame(), FramePath::Multirate);
 }
 
-/// The frames at which probes began.
+/// The frames at which probes began, each checked to alternate the ways.
 fn probe_starts(drawn: &[FramePath]) -> Vec<usize> {
+    let probe = 2 * PROBE_FRAMES as usize;
     let mut choice = FramePath::Multirate;
     let mut starts = Vec::new();
     let mut k = 0;
-    while k + PROBE_FRAMES as usize <= drawn.len() {
-        let run = &drawn[k..k + PROBE_FRAMES as usize];
-        if run.iter().all(|&p| p != choice) && (k == 0 || drawn[k - 1] == choice) {
-            starts.push(k);
-            k += PROBE_FRAMES as usize;
-            // A probe the other way won turns the choice.
-            if drawn.get(k + 2).is_some_and(|&p| p != choice) {
-                choice = run[0];
-            }
-        } else {
+    while k + probe <= drawn.len() {
+        if drawn[k] == choice {
             k += 1;
+            continue;
+        }
+        // Its last frame, the chosen way's, is drawn the way it chose where the times of its
+        // other way came back before it was drawn.
+        assert!(alternates(&drawn[k..k + probe - 1], choice), "the probe at {k}: {:?}", &drawn[k..k + probe]);
+        starts.push(k);
+        // The frames after a probe are drawn the way it chose, from the second on (with times
+        // two frames late, the first is drawn before the probe's last time is back).
+        k += probe + 1;
+        if let Some(&after) = drawn.get(k) {
+            choice = after;
         }
     }
     starts
@@ -71,15 +81,12 @@ fn a_guard_keeps_the_faster_way_and_probes_ever_more_rarely_while_it_stays_faste
             assert!(gaps.windows(2).all(|w| w[1] >= w[0]), "lag {lag}: {gaps:?}");
             assert!(gaps.len() >= 4 && gaps.len() <= 7, "lag {lag}: {gaps:?}");
             assert!(*gaps.last().unwrap() >= LONGEST_GAP as usize, "lag {lag}: {gaps:?}");
-            // Frames drawn the slower way: the probes, and multirate's first frames where it
-            // is the slower, with those drawn while the first probe's times came back.
+            // Frames drawn the slower way: PROBE_FRAMES in each probe, and where multirate is
+            // the slower, its first frames, and the first probe's last frame and those after it
+            // drawn before its last time came back (one frame fewer than the lag).
             let slow = count(&drawn, slower);
-            let first = if slower == FramePath::Multirate { PROBE_FRAMES as usize + lag } else { 0 };
-            assert_eq!(
-                slow,
-                first + PROBE_FRAMES as usize * (starts.len() - usize::from(first > 0)),
-                "lag {lag}"
-            );
+            let first = if slower == FramePath::Multirate { PROBE_FRAMES as usize + lag - 1 } else { 0 };
+            assert_eq!(slow, first + PROBE_FRAMES as usize * starts.len(), "lag {lag}");
         }
     }
 }
