@@ -62,6 +62,7 @@ fn trade(
     write(&options.out.join("trade.csv"), &to_csv(&rows))?;
     bounds_table(md, &rows, plan.sweep, true);
     bounds_table(md, &rows, plan.table, false);
+    pre_pass_table(md, &rows, plan.sweep);
 
     both.resolutions = vec![plan.sweep];
 
@@ -163,6 +164,38 @@ fn bounds_table(md: &mut String, rows: &[Row], (w, h): (u32, u32), explain: bool
         md,
         "\nScenes where multirate (with the cost model) took longer than `pixel` at {w}×{h}: {verdict}.\n"
     );
+}
+
+/// The pre-pass's time per visible triangle (not culled, as the counting frame found them), with
+/// the cost model and estimating every triangle.
+fn pre_pass_table(md: &mut String, rows: &[Row], (w, h): (u32, u32)) {
+    let _ = writeln!(md, "## The pre-pass per visible triangle ({w}×{h})\n");
+    let _ = writeln!(
+        md,
+        "The pre-pass's median time over the triangles it finds visible (not culled: in view, not facing away on a one-sided mesh), in µs; \"–\" where no frame ran it (the mesh was drawn as `pixel` draws it).\n"
+    );
+    let _ = writeln!(md, "| scene | triangles | visible | multirate | per visible triangle | every triangle estimated | per visible triangle |");
+    let _ = writeln!(md, "| --- | ---: | ---: | ---: | ---: | ---: | ---: |");
+    let per_triangle = |row: &Row, visible: u64| match row.pre_pass_ms {
+        Some(pre_pass) if visible > 0 => {
+            (format!("{:.2}", pre_pass.median), format!("{:.2}", 1000.0 * pre_pass.median / visible as f64))
+        }
+        _ => ("–".to_string(), "–".to_string()),
+    };
+    for pixel in rows.iter().filter(|r| r.mode == "pixel" && (r.width, r.height) == (w, h)) {
+        let Some((_, model, every)) = measured(rows, pixel) else {
+            continue;
+        };
+        let visible = (pixel.triangles as u64).saturating_sub(every.evaluations.culled_patches);
+        let (model_ms, model_us) = per_triangle(model, visible);
+        let (every_ms, every_us) = per_triangle(every, visible);
+        let _ = writeln!(
+            md,
+            "| {} | {} | {visible} | {model_ms} | {model_us} | {every_ms} | {every_us} |",
+            pixel.scene, pixel.triangles
+        );
+    }
+    let _ = writeln!(md);
 }
 
 fn light_sweep(md: &mut String, rows: &[Row], (w, h): (u32, u32)) {
