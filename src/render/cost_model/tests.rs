@@ -86,4 +86,17 @@ fn a_mesh_is_drawn_per_pixel_when_most_of_its_visible_triangles_are_small() {
     let small = sample(&[0.05, 0.05, 0.2]);
     assert!(!mostly_small(&small, 30.0, 10.0));
     assert!(mostly_small(&MeshSample { material: None, ..small }, 30.0, 10.0));
+    // More small triangles than the class is tried on: the share of those tried stands for all.
+    let mut sizes = vec![0.005; 3 * RANGE_TRIED];
+    sizes.extend([0.2; 8]);
+    let many = MeshSample {
+        triangles: sizes
+            .iter()
+            .enumerate()
+            .map(|(k, &s)| triangle(s, (k % 40) as f32 * 0.05 - 1.0))
+            .collect(),
+        ..sample(&sizes)
+    };
+    assert!(mostly_small(&many, 30.0, 0.075));
+    assert!(!mostly_small(&many, 30.0, 10.0));
 }
