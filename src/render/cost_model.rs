@@ -192,9 +192,9 @@ impl MeshSample {
     /// `visible_level`).
     ///
     /// It runs every frame on the CPU, per mesh, so the range class (about half a microsecond
-    /// a triangle and light) runs only where the areas alone leave the answer open (more than
-    /// half small), and on at most [`RANGE_TRIED`] of the small triangles, evenly strided; the
-    /// share of those it settles stands for all of them.
+    /// a triangle with three lights) runs only where the areas alone leave the answer open (more
+    /// than half small), and on at most [`RANGE_TRIED`] of the small triangles, evenly strided;
+    /// the share of those it settles stands for all of them.
     pub fn mostly_small(
         &self,
         view_proj: &Mat4,
