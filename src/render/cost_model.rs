@@ -145,13 +145,13 @@ impl CostModel {
 
     /// [`CostModel::min_estimated_area`] with `scene`'s lights.
     pub fn min_estimated_area_of(&self, scene: &Scene) -> f32 {
-        self.min_estimated_area(weighed_lights(scene))
+        self.min_estimated_area(weighed_lights(&scene.lights))
     }
 }
 
-/// The light count the model weighs for `scene`: every light, at least one.
-pub fn weighed_lights(scene: &Scene) -> usize {
-    scene.lights.len().max(1)
+/// The light count the model weighs for a scene's `lights`: every light, at least one.
+pub fn weighed_lights(lights: &[Light]) -> usize {
+    lights.len().max(1)
 }
 
 /// Most triangles of a mesh [`MeshSample`] keeps.
@@ -177,9 +177,13 @@ impl MeshSample {
         let count = mesh.indices.len() / 3;
         let stride = count.div_ceil(MESH_SAMPLE_TRIANGLES).max(1);
         let corners = |t: usize, of: &[Vec3]| [0, 1, 2].map(|k| of[mesh.indices[3 * t + k] as usize]);
+        let (triangles, normals) = (0..count)
+            .step_by(stride)
+            .map(|t| (corners(t, &mesh.positions), corners(t, &mesh.normals)))
+            .unzip();
         MeshSample {
-            triangles: (0..count).step_by(stride).map(|t| corners(t, &mesh.positions)).collect(),
-            normals: (0..count).step_by(stride).map(|t| corners(t, &mesh.normals)).collect(),
+            triangles,
+            normals,
             one_sided: !mesh.two_sided,
             material: material.maps.parameter.is_none().then_some(material.kind),
         }
@@ -222,17 +226,15 @@ impl MeshSample {
         let Some(material) = self.material else {
             return true;
         };
-        let stride = small.len().div_ceil(RANGE_TRIED).max(1);
-        let tried: Vec<usize> = small.iter().copied().step_by(stride).collect();
-        let settled = tried
-            .iter()
-            .filter(|&&k| {
-                let input = TriangleInput { positions: self.triangles[k], normals: self.normals[k], eye };
-                settled_by_range(&input, &material, ParameterRange::of(&material), lights, epsilon)
-            })
-            .count();
+        let parameter = ParameterRange::of(&material);
+        let (mut tried, mut settled) = (0usize, 0usize);
+        for &k in small.iter().step_by(small.len().div_ceil(RANGE_TRIED)) {
+            let input = TriangleInput { positions: self.triangles[k], normals: self.normals[k], eye };
+            tried += 1;
+            settled += usize::from(settled_by_range(&input, &material, parameter, lights, epsilon));
+        }
         // small · (1 − settled / tried) > visible / 2, without a division.
-        2 * small.len() * (tried.len() - settled) > visible * tried.len()
+        2 * small.len() * (tried - settled) > visible * tried
     }
 }
 

@@ -85,11 +85,10 @@ pub struct Renderer {
     tessellated_vertex_budget: Option<u32>,
     /// Where estimating pays on this device (views with `cost_model` set).
     cost_model: CostModel,
-    /// The scene's light count, which the cost model weighs.
-    light_count: usize,
     /// Per draw, the triangles that stand for its mesh in the cost model's per-mesh choice.
     mesh_samples: Vec<MeshSample>,
-    /// The scene's lights, for the range class in that choice.
+    /// The scene's lights: the cost model weighs their count, and the per-mesh choice tries the
+    /// range class under them.
     lights: Vec<Light>,
     /// The frame guards of the configurations drawn so far (`guarded`, `report_frame_time`).
     guards: Mutex<Guards>,
@@ -124,7 +123,6 @@ impl Renderer {
             clear_color: [clear.x, clear.y, clear.z, 0.0],
             tessellated_vertex_budget: tessellated_vertex_budget(&context.info),
             cost_model: CostModel::for_device(&context.info.name),
-            light_count: cost_model::weighed_lights(scene),
             mesh_samples: scene
                 .meshes
                 .iter()
@@ -145,7 +143,7 @@ impl Renderer {
     /// `view.cost_model` is set, else `view.estimator.min_estimated_area`.
     pub fn min_estimated_area(&self, view: &View) -> f32 {
         if view.cost_model {
-            self.cost_model.min_estimated_area(self.light_count)
+            self.cost_model.min_estimated_area(cost_model::weighed_lights(&self.lights))
         } else {
             view.estimator.min_estimated_area
         }

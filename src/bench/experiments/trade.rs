@@ -113,13 +113,13 @@ fn share(row: &Row) -> String {
 fn bounds_table(md: &mut String, rows: &[Row], (w, h): (u32, u32), explain: bool) {
     let _ =
         writeln!(md, "## The trade's bounds: floor, ceiling and the share of the saving taken ({w}×{h})\n");
-    if !explain {
-        let _ = writeln!(md, "The columns are those of the table above.\n");
-    } else {
+    if explain {
         let _ = writeln!(
-        md,
-        "`vertex` shades once per vertex: its time is the floor any shading-rate method can approach, and `pixel` over it the ceiling of the speedup. The share of the possible saving a mode takes is (t_pixel − t) / (t_pixel − t_vertex): 100 % at the floor, 0 at `pixel`'s time, below 0 where it is slower. The empty frame draws nothing visible (every triangle behind the eye). multirate runs with the device's cost model (images below the break-even area, \"estimated above\", are shaded per pixel without an estimate; the frame guard draws a frame as `pixel` does where that measured faster, \"as pixel\" counting such frames among those measured: its probes, or all) and, for comparison, estimating every visible triangle. Times in ms (pre-pass in brackets, over the frames that ran it).\n"
-    );
+            md,
+            "`vertex` shades once per vertex: its time is the floor any shading-rate method can approach, and `pixel` over it the ceiling of the speedup. The share of the possible saving a mode takes is (t_pixel − t) / (t_pixel − t_vertex): 100 % at the floor, 0 at `pixel`'s time, below 0 where it is slower. The empty frame draws nothing visible (every triangle behind the eye). multirate runs with the device's cost model (images below the break-even area, \"estimated above\", are shaded per pixel without an estimate; the frame guard draws a frame as `pixel` does where that measured faster, \"as pixel\" counting such frames among those measured: its probes, or all) and, for comparison, estimating every visible triangle. Times in ms (pre-pass in brackets, over the frames that ran it).\n"
+        );
+    } else {
+        let _ = writeln!(md, "The columns are those of the table above.\n");
     }
     let _ = writeln!(
         md,
