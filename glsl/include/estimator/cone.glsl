@@ -15,9 +15,42 @@ Cone no_cone() {
     return Cone(vec3(0.0, 0.0, 1.0), PI);
 }
 
+// The angle between a and b as (|a x b|, a.b) (see `sine_cosine` in Rust).
+P vec2 sine_cosine(vec3 a, vec3 b) {
+    P vec2 sc = vec2(len(cross3(a, b)), dot3(a, b));
+    return sc;
+}
+
 // Angle between two vectors; 0 if one is zero.
 P float angle(vec3 a, vec3 b) {
-    return est_atan2(len(cross3(a, b)), dot3(a, b));
+    P vec2 sc = sine_cosine(a, b);
+    return est_atan2(sc.x, sc.y);
+}
+
+// A number that grows with atan2(s, c) on [0, pi] (see `pseudo_angle` in Rust).
+P float pseudo_angle(vec2 sc) {
+    P float t = sc.x + abs(sc.y);
+    P float p = t > 0.0 ? 1.0 - sc.y / t : 0.0;
+    return p;
+}
+
+// max_k angle(a, u[k]) with one arc tangent, CHOICE_PAD added (see `widest_angle` in Rust).
+P float widest_angle(vec3 a, vec3 u0, vec3 u1, vec3 u2) {
+    P vec2 sc = sine_cosine(a, u0);
+    P float widest = pseudo_angle(sc);
+    P vec2 sc1 = sine_cosine(a, u1);
+    P float p1 = pseudo_angle(sc1);
+    if (p1 > widest) {
+        sc = sc1;
+        widest = p1;
+    }
+    P vec2 sc2 = sine_cosine(a, u2);
+    P float p2 = pseudo_angle(sc2);
+    if (p2 > widest) {
+        sc = sc2;
+    }
+    P float w = est_atan2(sc.x, sc.y) + CHOICE_PAD;
+    return w;
 }
 
 P vec3 unit(vec3 v) {
@@ -50,7 +83,7 @@ Cone cone_of(vec3 w0, vec3 w1, vec3 w2) {
     if (is_zero(axis)) {
         return no_cone();
     }
-    P float half_angle = rmax(rmax(angle(axis, u[0]), angle(axis, u[1])), angle(axis, u[2])) + ANGLE_PAD;
+    P float half_angle = widest_angle(axis, u[0], u[1], u[2]) + ANGLE_PAD;
     if (is_nan(half_angle) || half_angle >= MAX_HALF) {
         return no_cone();
     }
@@ -126,21 +159,33 @@ P float hull_distance(vec3 a, vec3 u[3]) {
     if (inside) {
         return 0.0;
     }
-    P float best = PI;
+    // The corners' angles and the feet's on the edge arcs, the nearest measured once (see
+    // `nearest_angle` in Rust).
+    P vec2 nearest_sc = vec2(0.0);
+    P float nearest = 0.0;
     for (int e = 0; e < 3; ++e) {
         P vec3 p = u[e];
         P vec3 q = u[(e + 1) % 3];
-        P float ends = rmin(angle(a, p), angle(a, q));
+        P vec2 corner = sine_cosine(a, p);
+        P float pc = pseudo_angle(corner);
+        if (e == 0 || pc < nearest) {
+            nearest_sc = corner;
+            nearest = pc;
+        }
         P vec3 m = unit(cross3(p, q));
-        P float d = ends;
         if (!is_zero(m)) {
             P vec3 foot = a - m * dot3(a, m);
             if (dot3(cross3(p, foot), m) >= 0.0 && dot3(cross3(foot, q), m) >= 0.0 && !is_zero(foot)) {
-                d = rmin(d, est_atan2(abs(dot3(a, m)), len(foot)));
+                P vec2 at_foot = vec2(abs(dot3(a, m)), len(foot));
+                P float pf = pseudo_angle(at_foot);
+                if (pf < nearest) {
+                    nearest_sc = at_foot;
+                    nearest = pf;
+                }
             }
         }
-        best = rmin(best, d);
     }
+    P float best = est_atan2(nearest_sc.x, nearest_sc.y) - CHOICE_PAD;
     P float r = rmax(best * HULL_SHRINK - ANGLE_PAD, 0.0);
     return r;
 }
@@ -192,7 +237,7 @@ P vec2 narrowed(vec2 range, vec3 a[3], vec3 b[3], float curvature) {
 
 // Largest angle between a and the spherical triangle u when below pi/2, else PI.
 P float hull_max_angle(vec3 a, vec3 u[3]) {
-    P float m = rmax(rmax(angle(a, u[0]), angle(a, u[1])), angle(a, u[2])) + ANGLE_PAD;
+    P float m = widest_angle(a, u[0], u[1], u[2]) + ANGLE_PAD;
     return m < HALF_PI ? m : PI;
 }
 

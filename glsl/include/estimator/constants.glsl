@@ -33,6 +33,9 @@ const float BIG = 1.0e18;
 const float UNIFORM_TINY = 9.536743e-7;   // 1.0 / 1048576.0
 const float SAFETY = 1.01;
 const float ANGLE_PAD = 2.0e-6;
+// How far the widest or nearest of several angles chosen by pseudo_angle can miss (see
+// `CHOICE_PAD` in Rust).
+const float CHOICE_PAD = 1.0e-6;
 // Relative rounding allowance of the normal's radial scale (see `RADIAL_PAD` in Rust).
 const float RADIAL_PAD = 2.0e-6;
 // Relaxed: Lg - g <= E_f + TERMINATOR_KINK osc(f) where g = max(f, 0) has its kink (see Rust).

@@ -1,5 +1,6 @@
-// What the estimator knows of one triangle (Frame, make_frame) and its distances to a point
-// (height_of, distance_of, distance_along_line).
+// What the estimator knows of one triangle (Frame, make_frame), the cosine ranges
+// (cosine_range, cosine_range_of) and its distances to a point (height_of, distance_of,
+// distance_along_line).
 // Twin: `src/shading/estimator/frame.rs`; proven equal with the rest of the estimator by
 // `tests/multirate.rs` (`control_stage_levels_equal_the_twin`).
 // A part of estimator.glsl, which includes the parts in dependency order: include that
@@ -27,7 +28,50 @@ struct Frame {
     Cone v_cone;
     float e_min;
     vec3 v_center;
+    // The vectors from the corners to the eye and their directions; the range of the angle
+    // between n and v and the sign of n.v, for a specular material only (see Rust).
+    vec3 v_vectors[3];
+    vec3 v_units[3];
+    vec2 psi_nv;
+    int nv_sign;
 };
+
+// The range of the angle between n and w from the range q of n.w over the triangle and bounds
+// on |w| (see `cosine_range_of`); the sign of n.w goes to `sign_out`.
+P vec2 cosine_range_of(Frame frame, Cone w_cone, vec2 q, float w_max, float w_min, out int sign_out) {
+    P vec2 psi = psi_range(frame.n_cone, w_cone);
+    P float p0 = psi.x;
+    P float p1 = psi.y;
+    P float q_lo = q.x;
+    P float q_hi = q.y;
+    P float scale = frame.n_max_len * w_max;
+    P float tol = 1.0e-5 * scale;
+    int sign_of = q_lo > tol ? SIGN_POSITIVE : (q_hi < -tol ? SIGN_NON_POSITIVE : SIGN_BOTH);
+    sign_out = sign_of;
+    if (q_lo > tol && scale > 0.0) {
+        p1 = rmin(p1, est_acos(rmin(q_lo / scale, 1.0)) + ANGLE_PAD);
+    }
+    P float denom = frame.r_n * w_min;
+    if (q_hi > 0.0 && denom > 0.0) {
+        p0 = rmax(p0, est_acos(rmin(q_hi / denom, 1.0)) - ANGLE_PAD);
+    }
+    if (sign_of == SIGN_NON_POSITIVE) {
+        p0 = rmax(p0, HALF_PI);
+    }
+    if (p0 > p1) {
+        p0 = p1;
+    }
+    return vec2(p0, p1);
+}
+
+// Range of the angle between n and the field normalize(sum l_k w_k), and the sign of n.w.
+// Returns the range; the sign goes to `sign_out`.
+P vec2 cosine_range(Frame frame, Cone w_cone, vec3 w[3], out int sign_out) {
+    P vec2 q = bilinear_range(frame.normals, w);
+    P float w_max = rmax(rmax(len(w[0]), len(w[1])), len(w[2]));
+    P float w_min = min_length(w[0], w[1], w[2], w_cone);
+    return cosine_range_of(frame, w_cone, q, w_max, w_min, sign_out);
+}
 
 // max |sin| of the angle between a direction of the cone and the plane normal, 1 without a
 // plane (see `plane_sin` in Rust).
@@ -102,6 +146,15 @@ Frame make_frame(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye)
     }
     f.n_plane_sin = plane_sin(f.n_cone, f.plane);
     f.v_center = unit(eye - center);
+    f.v_vectors = vec3[3](to_eye0, to_eye1, to_eye2);
+    f.v_units = vec3[3](unit(to_eye0), unit(to_eye1), unit(to_eye2));
+    f.psi_nv = vec2(0.0, PI);
+    f.nv_sign = SIGN_BOTH;
+    if (MATERIAL_KIND != MATERIAL_LAMBERT) {
+        int nv_sign;
+        f.psi_nv = cosine_range(f, f.v_cone, f.v_vectors, nv_sign);
+        f.nv_sign = nv_sign;
+    }
     return f;
 }
 

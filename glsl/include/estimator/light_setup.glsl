@@ -1,4 +1,4 @@
-// One light as seen from the triangle (LightSetup, LightSource, AreaGeometry, cosine_range,
+// One light as seen from the triangle (LightSetup, LightSource, AreaGeometry,
 // light_weights, and the steps of `plan_light` in Rust: diffuse_setup, specular_setup; the steps
 // that may fall back are add_light's), and the sums the lights' bounds accumulate in (the Sums,
 // GRID_LEVELS).
@@ -50,43 +50,6 @@ const uint GRID_LEVELS[GRID_LEVEL_COUNT] = uint[](2u, 3u, 4u, 6u, 8u, 12u, 16u, 
 vec3 sum_grid[GRID_LEVEL_COUNT];
 // The effective levels of the GRID_LEVELS uniform patterns (up to n_max), read once per triangle.
 float grid_level[GRID_LEVEL_COUNT];
-
-// The range of the angle between n and w from the range q of n.w over the triangle and bounds
-// on |w| (see `cosine_range_of`); the sign of n.w goes to `sign_out`.
-P vec2 cosine_range_of(Frame frame, Cone w_cone, vec2 q, float w_max, float w_min, out int sign_out) {
-    P vec2 psi = psi_range(frame.n_cone, w_cone);
-    P float p0 = psi.x;
-    P float p1 = psi.y;
-    P float q_lo = q.x;
-    P float q_hi = q.y;
-    P float scale = frame.n_max_len * w_max;
-    P float tol = 1.0e-5 * scale;
-    int sign_of = q_lo > tol ? SIGN_POSITIVE : (q_hi < -tol ? SIGN_NON_POSITIVE : SIGN_BOTH);
-    sign_out = sign_of;
-    if (q_lo > tol && scale > 0.0) {
-        p1 = rmin(p1, est_acos(rmin(q_lo / scale, 1.0)) + ANGLE_PAD);
-    }
-    P float denom = frame.r_n * w_min;
-    if (q_hi > 0.0 && denom > 0.0) {
-        p0 = rmax(p0, est_acos(rmin(q_hi / denom, 1.0)) - ANGLE_PAD);
-    }
-    if (sign_of == SIGN_NON_POSITIVE) {
-        p0 = rmax(p0, HALF_PI);
-    }
-    if (p0 > p1) {
-        p0 = p1;
-    }
-    return vec2(p0, p1);
-}
-
-// Range of the angle between n and the field normalize(sum l_k w_k), and the sign of n.w.
-// Returns the range; the sign goes to `sign_out`.
-P vec2 cosine_range(Frame frame, Cone w_cone, vec3 w[3], out int sign_out) {
-    P vec2 q = bilinear_range(frame.normals, w);
-    P float w_max = rmax(rmax(len(w[0]), len(w[1])), len(w[2]));
-    P float w_min = min_length(w[0], w[1], w[2], w_cone);
-    return cosine_range_of(frame, w_cone, q, w_max, w_min, sign_out);
-}
 
 // Where a polygonal light is as seen from the triangle (see `AreaGeometry` in Rust).
 struct AreaGeometry {
@@ -281,10 +244,9 @@ int specular_setup(Frame frame, vec2 param, bool point, LightSource source, vec2
     } else {
         setup.psi_nh = c_nh;
     }
-    P vec3 v_vectors[3] = vec3[3](frame.eye - frame.vertices[0], frame.eye - frame.vertices[1],
-                                  frame.eye - frame.vertices[2]);
-    int nv_sign;
-    setup.psi_nv = cosine_range(frame, frame.v_cone, v_vectors, nv_sign);
+    P vec3 v_vectors[3] = frame.v_vectors;
+    int nv_sign = frame.nv_sign;
+    setup.psi_nv = frame.psi_nv;
     setup.nv_sign = nv_sign;
     // The same angle at the same point, from the mirror directions, where h's cone is wide
     // enough for it to matter (see Rust).
@@ -303,7 +265,7 @@ int specular_setup(Frame frame, vec2 param, bool point, LightSource source, vec2
         P vec3 h_units[3];
         for (int k = 0; k < 3; ++k) {
             P vec3 l_unit = point ? unit(l_vectors[k]) : l_vectors[k];
-            h_units[k] = unit(l_unit + unit(v_vectors[k]));
+            h_units[k] = unit(l_unit + frame.v_units[k]);
         }
         P float n_w = frame.s1.b / frame.r_n;
         P float l_w = frame.s1.a * inv_d;

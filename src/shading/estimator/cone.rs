@@ -7,7 +7,7 @@
 //! `tests/multirate.rs` `control_stage_levels_equal_the_twin` (the GPU's levels equal this twin's
 //! on every triangle of the shipped scenes, bit for bit).
 
-use super::constants::{ANGLE_PAD, HULL_WORTH, MAX_HALF};
+use super::constants::{ANGLE_PAD, CHOICE_PAD, HULL_WORTH, MAX_HALF};
 use crate::exact_math::{est_asin, est_atan2};
 use glam::Vec3;
 use std::f32::consts::{FRAC_PI_2, PI};
@@ -24,7 +24,56 @@ pub(super) const NO_CONE: Cone = Cone { axis: Vec3::Z, half: PI };
 
 /// Angle between two vectors, accurate for small and large angles; 0 if one is zero.
 pub(super) fn angle(a: Vec3, b: Vec3) -> f32 {
-    est_atan2(a.cross(b).length(), a.dot(b))
+    let (s, c) = sine_cosine(a, b);
+    est_atan2(s, c)
+}
+
+/// The angle between `a` and `b` as `(|a × b|, a·b)`: its sine and cosine, both times
+/// `|a|·|b|`, which [`angle`] measures and [`pseudo_angle`] orders without trigonometry.
+pub(super) fn sine_cosine(a: Vec3, b: Vec3) -> (f32, f32) {
+    (a.cross(b).length(), a.dot(b))
+}
+
+/// A number that grows with the angle `atan2(s, c)` on `[0, π]` (`s ≥ 0`): `1 − c/(s + |c|)`,
+/// from 0 at 0 through 1 at π/2 to 2 at π, never less steep than ½ per radian; 0 for `(0, 0)`,
+/// whose angle is 0. Its rounding (a few 10⁻⁷) can order two angles less than [`CHOICE_PAD`]
+/// apart wrongly; [`widest_angle`] and [`nearest_angle`] pad by that.
+pub(super) fn pseudo_angle(s: f32, c: f32) -> f32 {
+    let t = s + c.abs();
+    if t > 0.0 {
+        1.0 - c / t
+    } else {
+        0.0
+    }
+}
+
+/// `max_k angle(a, u[k])` (up to [`CHOICE_PAD`], added), with one arc tangent: the widest of
+/// the three chosen by [`pseudo_angle`].
+pub(super) fn widest_angle(a: Vec3, u: [Vec3; 3]) -> f32 {
+    let (mut s, mut c) = sine_cosine(a, u[0]);
+    let mut widest = pseudo_angle(s, c);
+    for &w in &u[1..] {
+        let (sk, ck) = sine_cosine(a, w);
+        let pk = pseudo_angle(sk, ck);
+        if pk > widest {
+            (s, c, widest) = (sk, ck, pk);
+        }
+    }
+    est_atan2(s, c) + CHOICE_PAD
+}
+
+/// The smallest angle of a non-empty list of `(sine, cosine)` pairs ([`sine_cosine`]), up to
+/// [`CHOICE_PAD`] (subtracted), with one arc tangent: the nearest chosen by [`pseudo_angle`].
+pub(super) fn nearest_angle(pairs: &[(f32, f32)]) -> f32 {
+    let (mut s, mut c) = pairs[0];
+    let mut nearest = pseudo_angle(s, c);
+    for &(sk, ck) in &pairs[1..] {
+        let pk = pseudo_angle(sk, ck);
+        if pk < nearest {
+            (s, c, nearest) = (sk, ck, pk);
+        }
+    }
+    est_atan2(s, c) - CHOICE_PAD
 }
 
 pub(super) fn unit(v: Vec3) -> Vec3 {
@@ -71,7 +120,7 @@ pub(super) fn cone_of(w: [Vec3; 3]) -> Cone {
     if axis == Vec3::ZERO {
         return NO_CONE;
     }
-    let half = angle(axis, u[0]).max(angle(axis, u[1])).max(angle(axis, u[2])) + ANGLE_PAD;
+    let half = widest_angle(axis, u) + ANGLE_PAD;
     if half.is_nan() || half >= MAX_HALF {
         NO_CONE
     } else {
@@ -145,19 +194,22 @@ pub(super) fn hull_distance(a: Vec3, u: [Vec3; 3]) -> f32 {
     if inside {
         return 0.0;
     }
-    let mut best = PI;
-    for (p, q) in [(u[0], u[1]), (u[1], u[2]), (u[2], u[0])] {
-        let ends = angle(a, p).min(angle(a, q));
+    // The corners' angles and the feet's on the edge arcs, the nearest measured once.
+    let mut pairs = [(0.0, 0.0); 6];
+    let mut count = 0;
+    for (k, (p, q)) in [(u[0], u[1]), (u[1], u[2]), (u[2], u[0])].into_iter().enumerate() {
+        pairs[count] = sine_cosine(a, u[k]);
+        count += 1;
         let m = unit(p.cross(q));
-        let mut d = ends;
         if m != Vec3::ZERO {
             let foot = a - m * a.dot(m);
             if p.cross(foot).dot(m) >= 0.0 && foot.cross(q).dot(m) >= 0.0 && foot != Vec3::ZERO {
-                d = d.min(est_atan2(a.dot(m).abs(), foot.length()));
+                pairs[count] = (a.dot(m).abs(), foot.length());
+                count += 1;
             }
         }
-        best = best.min(d);
     }
+    let best = nearest_angle(&pairs[..count]);
     (best * (1.0 - 1.0e-3) - ANGLE_PAD).max(0.0)
 }
 
@@ -252,7 +304,7 @@ pub(super) fn origin_distance(c: [Vec3; 3]) -> f32 {
 /// is below π/2 (then `n̂·a` is quasi-concave on the cone and its minimum sits at a corner);
 /// `π` otherwise.
 pub(super) fn hull_max_angle(a: Vec3, u: [Vec3; 3]) -> f32 {
-    let m = angle(a, u[0]).max(angle(a, u[1])).max(angle(a, u[2])) + ANGLE_PAD;
+    let m = widest_angle(a, u) + ANGLE_PAD;
     if m < FRAC_PI_2 {
         m
     } else {

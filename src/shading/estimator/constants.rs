@@ -43,6 +43,12 @@ pub(super) const TILT_PEAK: f32 = 24.0 / 7.0;
 pub(super) const TILT_FLAT: f32 = 2.683_281_7;
 /// Radians added to every cone half-angle (f32 rounding of the directions).
 pub(super) const ANGLE_PAD: f32 = 2.0e-6;
+/// Radians by which the widest or nearest of several angles, chosen by their
+/// [`pseudo_angle`]s, can miss the true one: the pseudo-angle grows at least ½ per radian and
+/// two of them round by at most 2.4·10⁻⁷ each, so a wrong choice is under 10⁻⁶ from the right.
+///
+/// [`pseudo_angle`]: super::cone::pseudo_angle
+pub(super) const CHOICE_PAD: f32 = 1.0e-6;
 /// Relative rounding allowance of the normal's radial scale ([`Scale::g`]), per unit of
 /// `max|Nₖ|·|Nδ|`.
 ///

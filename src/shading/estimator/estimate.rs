@@ -262,7 +262,7 @@ pub(super) fn light_sums(
     eps: f32,
     refine: bool,
 ) -> (Sums, Reason) {
-    let frame = Frame::new(tri);
+    let frame = Frame::new(tri, !matches!(material, MaterialKind::Lambert { .. }));
     let guard = Guard::default();
     let mut sum = Sums::default();
     let mut reason = Reason::None;

@@ -1,16 +1,19 @@
 //! The scale-free quantities of one triangle ([`Frame`]): its pattern scales, cones of normals
-//! and of view directions, plane, and the distance bounds to a light; and [`plane_sin`].
+//! and of view directions, plane, the range of the angle between the normal and the view, and
+//! the distance bounds to a light; [`plane_sin`] and the cosine ranges ([`cosine_range`]).
 //!
 //! GLSL twin: `glsl/include/estimator/frame.glsl`. Proof that the twins are equal:
 //! `tests/multirate.rs` `control_stage_levels_equal_the_twin` (the GPU's levels equal this twin's
 //! on every triangle of the shipped scenes, bit for bit).
 
-use super::cone::{cone_of, min_length, psi_range, unit, Cone};
-use super::constants::RADIAL_PAD;
+use super::cone::{bilinear_range, cone_of, min_length, psi_range, unit, Cone};
+use super::constants::{Sign, ANGLE_PAD, RADIAL_PAD};
 use super::estimate::TriangleInput;
 use super::jet::max_sin;
 use super::pattern::{jung_scales, pattern_constants, Scale};
+use crate::exact_math::est_acos;
 use glam::Vec3;
+use std::f32::consts::{FRAC_PI_2, PI};
 
 /// Scale-free quantities of the triangle.
 pub(super) struct Frame {
@@ -46,10 +49,20 @@ pub(super) struct Frame {
     /// Lower bound on the distance from the eye to the triangle.
     pub(super) e_min: f32,
     pub(super) v_center: Vec3,
+    /// The vectors from the corners to the eye, and their directions.
+    pub(super) v_vectors: [Vec3; 3],
+    pub(super) v_units: [Vec3; 3],
+    /// Range of the angle between n̂ and v̂, and the sign of `n·v` ([`cosine_range`]): the same
+    /// for every light, so taken once. Computed only for a specular material (`specular`);
+    /// `(0, π)` and `Sign::Both` otherwise.
+    pub(super) psi_nv: (f32, f32),
+    pub(super) nv_sign: Sign,
 }
 
 impl Frame {
-    pub(super) fn new(tri: &TriangleInput) -> Frame {
+    /// The frame of `tri`, with the angle between the normal and the view where `specular`
+    /// (only a specular lobe reads it).
+    pub(super) fn new(tri: &TriangleInput, specular: bool) -> Frame {
         let [p0, p1, p2] = tri.positions;
         let centroid = (p0 + p1 + p2) / 3.0;
         let rho_x = (p0 - centroid).length().max((p1 - centroid).length()).max((p2 - centroid).length());
@@ -83,7 +96,7 @@ impl Frame {
         let sn = Scale { a: px.sqrt_k, b: pn.sqrt_k, g: pg.1 + g_pad * pn.sqrt_k };
         let ratio = |one: f32, later: f32| if later > 0.0 { one / later } else { 0.0 };
         let rho = ratio(s1.a, sn.a).max(ratio(s1.b, sn.b)).max(ratio(s1.g, sn.g)).min(1.0);
-        Frame {
+        let mut frame = Frame {
             vertices: tri.positions,
             eye: tri.eye,
             centroid,
@@ -104,7 +117,15 @@ impl Frame {
             v_cone,
             e_min,
             v_center: unit(tri.eye - centroid),
+            v_vectors: to_eye,
+            v_units: to_eye.map(unit),
+            psi_nv: (0.0, PI),
+            nv_sign: Sign::Both,
+        };
+        if specular {
+            (frame.psi_nv, frame.nv_sign) = cosine_range(&frame, &frame.v_cone, to_eye);
         }
+        frame
     }
 
     /// Lower and upper bounds on the height of `p` over the triangle's plane (0 without a
@@ -180,4 +201,50 @@ pub(super) fn plane_sin(cone: &Cone, plane: Vec3) -> f32 {
     }
     let (g0, g1) = psi_range(cone, &Cone { axis: plane, half: 0.0 });
     max_sin(g0, g1)
+}
+
+/// Range of the angle between n̂ and the field `ŵ = normalize(Σλₖwₖ)` (cone `w_cone`), and
+/// the sign of `n·w` over the triangle. The cones give one range (paper Eq. 20, 51); the
+/// exact range `[q₋, q₊]` of the bilinear form `n·w` gives the sign and, through
+/// `q₋/(max|n| max|w|) ≤ cos ≤ q₊/(min|n| min|w|)`, a second range; the tighter ends are kept.
+pub(super) fn cosine_range(frame: &Frame, w_cone: &Cone, w: [Vec3; 3]) -> ((f32, f32), Sign) {
+    let q = bilinear_range(frame.normals, w);
+    let w_max = w[0].length().max(w[1].length()).max(w[2].length());
+    cosine_range_of(frame, w_cone, q, w_max, min_length(w, w_cone))
+}
+
+/// [`cosine_range`] from the range `q` of `n·w` over the triangle and bounds on `|w|`.
+pub(super) fn cosine_range_of(
+    frame: &Frame,
+    w_cone: &Cone,
+    q: (f32, f32),
+    w_max: f32,
+    w_min: f32,
+) -> ((f32, f32), Sign) {
+    let (mut p0, mut p1) = psi_range(&frame.n_cone, w_cone);
+    let (q_lo, q_hi) = q;
+    let scale = frame.n_max_len * w_max;
+    let tol = 1.0e-5 * scale;
+    let sign = if q_lo > tol {
+        Sign::Positive
+    } else if q_hi < -tol {
+        Sign::NonPositive
+    } else {
+        Sign::Both
+    };
+
+    if q_lo > tol && scale > 0.0 {
+        p1 = p1.min(est_acos((q_lo / scale).min(1.0)) + ANGLE_PAD);
+    }
+    let denom = frame.r_n * w_min;
+    if q_hi > 0.0 && denom > 0.0 {
+        p0 = p0.max(est_acos((q_hi / denom).min(1.0)) - ANGLE_PAD);
+    }
+    if sign == Sign::NonPositive {
+        p0 = p0.max(FRAC_PI_2);
+    }
+    if p0 > p1 {
+        p0 = p1;
+    }
+    ((p0, p1), sign)
 }

@@ -13,7 +13,7 @@ use super::cone::{
 };
 use super::constants::{Sign, ANGLE_PAD, K23, MAX_HALF, MIRROR_WORTH};
 use super::estimate::{Discontinuity, Reason, TERM_COUNT};
-use super::frame::{plane_sin, Frame};
+use super::frame::{cosine_range, cosine_range_of, plane_sin, Frame};
 use crate::exact_math::{est_acos, est_asin, est_cos, est_sin};
 use crate::scene::{Light, MaterialKind, ParameterRange, PolygonLight};
 use crate::shading::brdf::MIN_LIGHT_DISTANCE_SQUARED;
@@ -127,52 +127,6 @@ pub(super) struct Sums {
 /// decides once, at `n_max`). A level found on this grid replaces the solved one where it is
 /// lower; levels above `n_max` are skipped.
 pub(super) const GRID_LEVELS: [u32; 8] = [2, 3, 4, 6, 8, 12, 16, 32];
-
-/// Range of the angle between n̂ and the field `ŵ = normalize(Σλₖwₖ)` (cone `w_cone`), and
-/// the sign of `n·w` over the triangle. The cones give one range (paper Eq. 20, 51); the
-/// exact range `[q₋, q₊]` of the bilinear form `n·w` gives the sign and, through
-/// `q₋/(max|n| max|w|) ≤ cos ≤ q₊/(min|n| min|w|)`, a second range; the tighter ends are kept.
-pub(super) fn cosine_range(frame: &Frame, w_cone: &Cone, w: [Vec3; 3]) -> ((f32, f32), Sign) {
-    let q = bilinear_range(frame.normals, w);
-    let w_max = w[0].length().max(w[1].length()).max(w[2].length());
-    cosine_range_of(frame, w_cone, q, w_max, min_length(w, w_cone))
-}
-
-/// [`cosine_range`] from the range `q` of `n·w` over the triangle and bounds on `|w|`.
-pub(super) fn cosine_range_of(
-    frame: &Frame,
-    w_cone: &Cone,
-    q: (f32, f32),
-    w_max: f32,
-    w_min: f32,
-) -> ((f32, f32), Sign) {
-    let (mut p0, mut p1) = psi_range(&frame.n_cone, w_cone);
-    let (q_lo, q_hi) = q;
-    let scale = frame.n_max_len * w_max;
-    let tol = 1.0e-5 * scale;
-    let sign = if q_lo > tol {
-        Sign::Positive
-    } else if q_hi < -tol {
-        Sign::NonPositive
-    } else {
-        Sign::Both
-    };
-
-    if q_lo > tol && scale > 0.0 {
-        p1 = p1.min(est_acos((q_lo / scale).min(1.0)) + ANGLE_PAD);
-    }
-    let denom = frame.r_n * w_min;
-    if q_hi > 0.0 && denom > 0.0 {
-        p0 = p0.max(est_acos((q_hi / denom).min(1.0)) - ANGLE_PAD);
-    }
-    if sign == Sign::NonPositive {
-        p0 = p0.max(FRAC_PI_2);
-    }
-    if p0 > p1 {
-        p0 = p1;
-    }
-    ((p0, p1), sign)
-}
 
 /// Where a polygonal light is as seen from the triangle: every direction from a point of the
 /// triangle to a point of the polygon, and the emitter's cosine. See `docs/estimator.md` §13.
@@ -461,9 +415,9 @@ fn specular_setup(
     } else {
         (c_nh0, c_nh1)
     };
-    let v_vectors = frame.vertices.map(|x| frame.eye - x);
-    let (psi_nv, nv_sign) = cosine_range(frame, &frame.v_cone, v_vectors);
-    setup.psi_nv = psi_nv;
+    let v_vectors = frame.v_vectors;
+    let nv_sign = frame.nv_sign;
+    setup.psi_nv = frame.psi_nv;
     setup.nv_sign = nv_sign;
     // The same angle at the same point, from the mirror directions: where n·v > 0, n̂ is
     // the half vector of v̂ and its mirror, and where n·l > 0 of l̂ and its mirror.
@@ -484,7 +438,7 @@ fn specular_setup(
             Some(w) => w.map(unit),
             None => [l_cone.axis; 3],
         };
-        let h_units: [Vec3; 3] = std::array::from_fn(|k| unit(l_units[k] + unit(v_vectors[k])));
+        let h_units: [Vec3; 3] = std::array::from_fn(|k| unit(l_units[k] + frame.v_units[k]));
         let n_w = frame.s1.b / frame.r_n;
         let (l_w, v_w) = (frame.s1.a * inv_d, frame.s1.a / frame.e_min);
         let h_w = (l_w + v_w) / m_min;

@@ -239,7 +239,7 @@ fn planned_irradiance_case(
 ) -> Option<(TriangleInput, Vec3, Frame, LightSetup)> {
     let (tri, position) = irradiance_case(rng, size, curved, kind)?;
     let light = Light::Point { position, color: Vec3::ONE, intensity: 1.0 };
-    let frame = Frame::new(&tri);
+    let frame = Frame::new(&tri, true);
     let material = MaterialKind::Lambert { kd: Vec3::ONE };
     let own = ParameterRange::of(&material);
     let (setup, _, _) = plan_light(&frame, &material, own, &light, Discontinuity::Relaxed).ok()??;
