@@ -42,21 +42,20 @@ const vec4 PATTERN_SHAPES[7] = vec4[7](
     vec4(-1.0, 1.0, -FOUR_THIRDS, TWO_THIRDS),
     vec4(-1.0, 1.0, -THIRD, -THIRD));
 
+// The largest squares first and one square root of each (see `pattern_constants`).
 PatternConstants pattern_constants(vec3 e1, vec3 e2) {
-    PatternConstants o = PatternConstants(0.0, 0.0, 0.0, 0.0);
+    P vec2 first = vec2(0.0);
+    P vec2 largest = vec2(0.0);
     for (int s = 0; s < 7; ++s) {
         P vec3 u = e1 * PATTERN_SHAPES[s].x + e2 * PATTERN_SHAPES[s].y;
         P vec3 v = e1 * PATTERN_SHAPES[s].z + e2 * PATTERN_SHAPES[s].w;
         P vec2 kd = enclosing_radius2(u, v);
-        P float k = sqrt(kd.x);
-        P float d = sqrt(kd.y);
         if (s == 0) {
-            o.sqrt_k1 = k;
-            o.diam1 = d;
+            first = kd;
         }
-        o.sqrt_k = rmax(o.sqrt_k, k);
-        o.diam = rmax(o.diam, d);
+        largest = vec2(rmax(largest.x, kd.x), rmax(largest.y, kd.y));
     }
+    PatternConstants o = PatternConstants(sqrt(first.x), sqrt(largest.x), sqrt(first.y), sqrt(largest.y));
     return o;
 }
 

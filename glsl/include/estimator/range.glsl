@@ -153,10 +153,17 @@ P vec3 specular_sup(GpuMaterial material, vec2 param, Spread n, Spread l, Spread
     return s;
 }
 
-// An upper bound, per channel, on the shading's range over the triangle (see `range_bound`);
-// ok false: none (a polygonal light, a varying GGX roughness, a spread of 90° or more).
+// Whether every channel of range, padded for rounding, is at most eps (see `within`).
+bool range_within(vec3 range, float eps) {
+    P vec3 padded = range * (1.0 + RANGE_RELATIVE_PAD) + 1.0e-6;
+    return padded.x <= eps && padded.y <= eps && padded.z <= eps;
+}
+
+// An upper bound, per channel, on the shading's range over the triangle (see `range_bound`),
+// returned as soon as the lights summed so far cannot prove level 1 for `limit`; ok false:
+// none (a polygonal light, a varying GGX roughness, a spread of 90° or more).
 P vec3 range_bound(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye, GpuMaterial material,
-                   vec2 param, out bool ok) {
+                   vec2 param, float limit, out bool ok) {
     ok = false;
     if (POLYGON_LIGHT_COUNT > 0) {
         return vec3(0.0);
@@ -165,7 +172,11 @@ P vec3 range_bound(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 ey
     if (!n.ok) {
         return vec3(0.0);
     }
-    Spread v = spread_of(eye - p0, eye - p1, eye - p2);
+    // The view's spread matters to the specular parts only.
+    Spread v = Spread(vec3(0.0), 0.0, 0.0, false);
+    if (MATERIAL_KIND != MATERIAL_LAMBERT) {
+        v = spread_of(eye - p0, eye - p1, eye - p2);
+    }
     P vec3 kd = material.diffuse.rgb;
     P vec3 total = vec3(0.0);
     for (int i = 0; i < POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT; ++i) {
@@ -185,6 +196,10 @@ P vec3 range_bound(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 ey
             return vec3(0.0);
         }
         total = total + lights[i].radiance.rgb * (diffuse + specular * scale.y);
+        if (!range_within(total, limit)) {
+            ok = true;
+            return total;
+        }
     }
     ok = true;
     return total;
@@ -192,8 +207,7 @@ P vec3 range_bound(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 ey
 
 // Whether the range class proves level 1 for eps (see `range_proves`).
 bool range_proves(vec3 range, bool ok, float eps) {
-    P vec3 padded = range * (1.0 + RANGE_RELATIVE_PAD) + 1.0e-6;
-    return ok && padded.x <= eps && padded.y <= eps && padded.z <= eps;
+    return ok && range_within(range, eps);
 }
 
 // Whether the triangle is settled by the range class (level 1, no estimate), as estimate_pass's
@@ -202,6 +216,6 @@ bool settled_by_range(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3
                       vec2 param, float epsilon) {
     P float eps = epsilon > 0.0 ? epsilon : 0.0;
     bool ok;
-    P vec3 range = range_bound(p0, p1, p2, n0, n1, n2, eye, materials[material_index], param, ok);
+    P vec3 range = range_bound(p0, p1, p2, n0, n1, n2, eye, materials[material_index], param, eps, ok);
     return range_proves(range, ok, eps);
 }

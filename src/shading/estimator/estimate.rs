@@ -228,7 +228,7 @@ pub fn estimate_textured(
     let eps = if settings.epsilon > 0.0 { settings.epsilon } else { 0.0 };
     // The range class: where the shading's whole range over the triangle is within ε, level 1
     // holds without an estimate.
-    let range = range_bound(tri.positions, tri.normals, tri.eye, material, parameter, lights);
+    let range = range_bound(tri.positions, tri.normals, tri.eye, material, parameter, lights, eps);
     if range_proves(range, eps) {
         let predicted_error = range.map_or(0.0, |r| r.max_element());
         return Estimate {

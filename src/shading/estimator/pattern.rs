@@ -72,22 +72,25 @@ pub(super) fn enclosing_radius2(u: Vec3, v: Vec3) -> (f32, f32) {
 }
 
 /// The pattern constants of the attribute triangle with edge vectors `e1 = W(B) − W(A)`,
-/// `e2 = W(C) − W(A)`: see [`PatternConstants`].
+/// `e2 = W(C) − W(A)`: see [`PatternConstants`]. The largest squares are found first and their
+/// roots taken once (a correctly rounded square root is monotone, so this is the largest root).
 pub fn pattern_constants(e1: Vec3, e2: Vec3) -> PatternConstants {
-    let mut out = PatternConstants::default();
+    let (mut first, mut largest) = ((0.0f32, 0.0f32), (0.0f32, 0.0f32));
     for (s, shape) in SHAPES.iter().enumerate() {
         let u = e1 * shape[0].0 + e2 * shape[0].1;
         let v = e1 * shape[1].0 + e2 * shape[1].1;
-        let (k, d2) = enclosing_radius2(u, v);
-        let (k, d) = (k.sqrt(), d2.sqrt());
+        let (k2, d2) = enclosing_radius2(u, v);
         if s == 0 {
-            out.sqrt_k1 = k;
-            out.diam1 = d;
+            first = (k2, d2);
         }
-        out.sqrt_k = out.sqrt_k.max(k);
-        out.diam = out.diam.max(d);
+        largest = (largest.0.max(k2), largest.1.max(d2));
     }
-    out
+    PatternConstants {
+        sqrt_k1: first.0.sqrt(),
+        sqrt_k: largest.0.sqrt(),
+        diam1: first.1.sqrt(),
+        diam: largest.1.sqrt(),
+    }
 }
 
 /// Upper bounds `(√K₁, √K)` on [`pattern_constants`] from the longest edge `d` of the shapes

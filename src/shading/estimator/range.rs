@@ -177,7 +177,11 @@ fn specular_sup(
 }
 
 /// An upper bound, per colour channel, on `M − m` of the shading over the triangle, or `None`
-/// where this class gives none. See the module docs.
+/// where this class gives none. See the module docs. The lights' parts are summed in order and
+/// the sum returned as soon as it cannot prove level 1 for `limit` ([`within`]): the lights
+/// after it only add to it (every part is `≥ 0`), so such a result is below the bound but
+/// decides [`range_proves`] for `limit` as the whole bound would (`f32::INFINITY`: the whole
+/// bound).
 pub(super) fn range_bound(
     positions: [Vec3; 3],
     normals: [Vec3; 3],
@@ -185,10 +189,14 @@ pub(super) fn range_bound(
     material: &MaterialKind,
     parameter: ParameterRange,
     lights: &[Light],
+    limit: f32,
 ) -> Option<Vec3> {
     let n = spread_of(normals)?;
     // The view's spread matters to the specular parts only.
-    let v = spread_of(positions.map(|p| eye - p));
+    let v = match material {
+        MaterialKind::Lambert { .. } => None,
+        _ => spread_of(positions.map(|p| eye - p)),
+    };
     let kd = match *material {
         MaterialKind::Lambert { kd } | MaterialKind::BlinnPhong { kd, .. } => kd,
         MaterialKind::Ggx { albedo, .. } => albedo,
@@ -207,18 +215,23 @@ pub(super) fn range_bound(
         let diffuse = kd * (most * nl_hi - least * nl_lo.max(0.0));
         let specular = specular_sup(material, parameter, n, l, v, nl_hi)?;
         total += radiance * (diffuse + specular * most);
+        if !within(total, limit) {
+            return Some(total);
+        }
     }
     Some(total)
 }
 
-/// Whether [`range_bound`] proves level 1 for `ε`: each channel, padded for rounding, is at
-/// most `ε` (never for NaN or a bound that overflowed).
+/// Whether every channel of `range`, padded for rounding, is at most `eps` (never for NaN or a
+/// bound that overflowed).
+pub(super) fn within(range: Vec3, eps: f32) -> bool {
+    let fits = |c: f32| c * (1.0 + RANGE_RELATIVE_PAD) + 1.0e-6 <= eps;
+    fits(range.x) && fits(range.y) && fits(range.z)
+}
+
+/// Whether [`range_bound`] proves level 1 for `ε`: a bound [`within`] it.
 pub(super) fn range_proves(bound: Option<Vec3>, eps: f32) -> bool {
-    let within = |c: f32| c * (1.0 + RANGE_RELATIVE_PAD) + 1.0e-6 <= eps;
-    match bound {
-        Some(range) => within(range.x) && within(range.y) && within(range.z),
-        None => false,
-    }
+    bound.is_some_and(|range| within(range, eps))
 }
 
 /// Whether the range class settles the triangle (level 1 without an estimate), as
@@ -231,5 +244,5 @@ pub fn settled_by_range(
     epsilon: f32,
 ) -> bool {
     let eps = if epsilon > 0.0 { epsilon } else { 0.0 };
-    range_proves(range_bound(tri.positions, tri.normals, tri.eye, material, parameter, lights), eps)
+    range_proves(range_bound(tri.positions, tri.normals, tri.eye, material, parameter, lights, eps), eps)
 }

@@ -53,9 +53,15 @@ fn the_range_bound_holds_the_sampled_shading() {
         let material = &materials()[case % materials().len()];
         let tri = TriangleInput { positions, normals, eye };
         cases += 1;
-        let Some(bound) =
-            range_bound(positions, normals, eye, material, ParameterRange::of(material), &lights)
-        else {
+        let Some(bound) = range_bound(
+            positions,
+            normals,
+            eye,
+            material,
+            ParameterRange::of(material),
+            &lights,
+            f32::INFINITY,
+        ) else {
             continue;
         };
         bounded += 1;
@@ -96,7 +102,15 @@ fn the_range_class_settles_nothing_it_cannot_bound() {
         for (set, mut lights) in light_sets(&tri) {
             for material in materials() {
                 let parameter = ParameterRange::of(&material);
-                let bound = range_bound(tri.positions, tri.normals, tri.eye, &material, parameter, &lights);
+                let bound = range_bound(
+                    tri.positions,
+                    tri.normals,
+                    tri.eye,
+                    &material,
+                    parameter,
+                    &lights,
+                    f32::INFINITY,
+                );
                 if let Some(range) = bound {
                     assert!(range.is_finite() && range.min_element() >= 0.0, "{name}, {set}: {range}");
                 }
@@ -107,7 +121,16 @@ fn the_range_class_settles_nothing_it_cannot_bound() {
                 }
                 lights.push(Light::Polygon(polygon));
                 assert!(
-                    range_bound(tri.positions, tri.normals, tri.eye, &material, parameter, &lights).is_none(),
+                    range_bound(
+                        tri.positions,
+                        tri.normals,
+                        tri.eye,
+                        &material,
+                        parameter,
+                        &lights,
+                        f32::INFINITY
+                    )
+                    .is_none(),
                     "{name}, {set}: a bound with a polygonal light"
                 );
                 lights.pop();
