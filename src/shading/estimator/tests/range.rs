@@ -21,10 +21,18 @@ fn sampled_range(tri: &TriangleInput, material: &MaterialKind, lights: &[Light],
     hi - lo
 }
 
+/// The range class's whole bound (no early stop) of `tri` under `lights`, the material's own
+/// parameter.
+fn whole_bound(tri: &TriangleInput, material: &MaterialKind, lights: &[Light]) -> Option<Vec3> {
+    let parameter = ParameterRange::of(material);
+    range_bound(tri.positions, tri.normals, tri.eye, material, parameter, lights, f32::INFINITY)
+}
+
 /// Random patches of sizes 10⁻³ to 0.3 with normals spread by up to 0.3 rad, each BRDF, one to
 /// three point or directional lights: wherever the class gives a bound, the sampled shading
 /// varies by no more (1 ‰ and 10⁻⁶ for the sampling's own rounding), and it gives one on most
-/// patches.
+/// patches. Stopped early for an ε (`limit`), the bound decides `range_proves` for that ε as the
+/// whole bound does, for ε just above the bound, below it and far below it.
 #[test]
 fn the_range_bound_holds_the_sampled_shading() {
     let mut rng = crate::test_rng::Rng(0x7a46_e0c1_a55e_0001);
@@ -53,18 +61,20 @@ fn the_range_bound_holds_the_sampled_shading() {
         let material = &materials()[case % materials().len()];
         let tri = TriangleInput { positions, normals, eye };
         cases += 1;
-        let Some(bound) = range_bound(
-            positions,
-            normals,
-            eye,
-            material,
-            ParameterRange::of(material),
-            &lights,
-            f32::INFINITY,
-        ) else {
+        let Some(bound) = whole_bound(&tri, material, &lights) else {
             continue;
         };
         bounded += 1;
+        let largest = bound.max_element();
+        for eps in [largest * 1.001 + 2.0e-6, 0.5 * largest, 1.0e-3 * largest] {
+            let stopped =
+                range_bound(positions, normals, eye, material, ParameterRange::of(material), &lights, eps);
+            assert_eq!(
+                range_proves(stopped, eps),
+                range_proves(Some(bound), eps),
+                "case {case}, ε {eps}: stopped at {stopped:?}, whole {bound}"
+            );
+        }
         let sampled = sampled_range(&tri, material, &lights, 12);
         for c in 0..3 {
             assert!(
@@ -101,16 +111,7 @@ fn the_range_class_settles_nothing_it_cannot_bound() {
     for (name, tri) in triangles() {
         for (set, mut lights) in light_sets(&tri) {
             for material in materials() {
-                let parameter = ParameterRange::of(&material);
-                let bound = range_bound(
-                    tri.positions,
-                    tri.normals,
-                    tri.eye,
-                    &material,
-                    parameter,
-                    &lights,
-                    f32::INFINITY,
-                );
+                let bound = whole_bound(&tri, &material, &lights);
                 if let Some(range) = bound {
                     assert!(range.is_finite() && range.min_element() >= 0.0, "{name}, {set}: {range}");
                 }
@@ -121,16 +122,7 @@ fn the_range_class_settles_nothing_it_cannot_bound() {
                 }
                 lights.push(Light::Polygon(polygon));
                 assert!(
-                    range_bound(
-                        tri.positions,
-                        tri.normals,
-                        tri.eye,
-                        &material,
-                        parameter,
-                        &lights,
-                        f32::INFINITY
-                    )
-                    .is_none(),
+                    whole_bound(&tri, &material, &lights).is_none(),
                     "{name}, {set}: a bound with a polygonal light"
                 );
                 lights.pop();
