@@ -7,12 +7,14 @@
 //! - compared with the reference image: L∞, mean L2, PSNR, FLIP (`analysis::metrics`).
 //!
 //! The results are rows (CSV and JSON), SVG plots of time against error with the Pareto front
-//! ([`plot`]), and a Chrome trace of every measured frame ([`trace`]).
+//! ([`plot`]), and a Chrome trace of every measured frame ([`trace`]). The estimator's Rust twin
+//! is timed apart, without a frame ([`twin`]).
 
 pub mod calibrate;
 pub mod experiments;
 pub mod plot;
 pub mod trace;
+pub mod twin;
 
 use crate::analysis::metrics::{self, fallback_mask, fallback_pixels, scaled_difference, ImageError};
 use crate::error::Result;

@@ -6,6 +6,7 @@
 
 use super::{config, create_results, header, load_scene, percent, write, ExperimentOptions, Plan};
 use crate::bench::calibrate::lit_by;
+use crate::bench::twin::twin_cost;
 use crate::bench::{run, to_csv, BenchScene, Progress, Row};
 use crate::error::Result;
 use crate::render::Mode;
@@ -62,7 +63,7 @@ fn trade(
     write(&options.out.join("trade.csv"), &to_csv(&rows))?;
     bounds_table(md, &rows, plan.sweep, true);
     bounds_table(md, &rows, plan.table, false);
-    pre_pass_table(md, &rows, plan.sweep);
+    pre_pass_table(md, &rows, plan.sweep, scenes);
 
     both.resolutions = vec![plan.sweep];
 
@@ -166,16 +167,20 @@ fn bounds_table(md: &mut String, rows: &[Row], (w, h): (u32, u32), explain: bool
     );
 }
 
+/// Passes over a scene's triangles of which the Rust twin's time is the median.
+const TWIN_PASSES: usize = 3;
+
 /// The pre-pass's time per visible triangle (not culled, as the counting frame found them), with
-/// the cost model and estimating every triangle.
-fn pre_pass_table(md: &mut String, rows: &[Row], (w, h): (u32, u32)) {
+/// the cost model and estimating every triangle; and the Rust twin's time per triangle on the
+/// same scene.
+fn pre_pass_table(md: &mut String, rows: &[Row], (w, h): (u32, u32), scenes: &[BenchScene]) {
     let _ = writeln!(md, "## The pre-pass per visible triangle ({w}×{h})\n");
     let _ = writeln!(
         md,
-        "The pre-pass's median time over the triangles it finds visible (not culled: in view, not facing away on a one-sided mesh), in µs; \"–\" where no frame ran it (the mesh was drawn as `pixel` draws it).\n"
+        "The pre-pass's median time over the triangles it finds visible (not culled: in view, not facing away on a one-sided mesh), in µs; \"–\" where no frame ran it (the mesh was drawn as `pixel` draws it). The last column is the estimator's Rust twin on the CPU, over every triangle of the scene, back faces included (`multirate::bench::twin`, the median of {TWIN_PASSES} passes; `cargo bench --bench estimator` runs the same).\n"
     );
-    let _ = writeln!(md, "| scene | triangles | visible | multirate | per visible triangle | every triangle estimated | per visible triangle |");
-    let _ = writeln!(md, "| --- | ---: | ---: | ---: | ---: | ---: | ---: |");
+    let _ = writeln!(md, "| scene | triangles | visible | multirate | per visible triangle | every triangle estimated | per visible triangle | Rust twin per triangle |");
+    let _ = writeln!(md, "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
     let per_triangle = |row: &Row, visible: u64| match row.pre_pass_ms {
         Some(pre_pass) if visible > 0 => {
             (format!("{:.2}", pre_pass.median), format!("{:.2}", 1000.0 * pre_pass.median / visible as f64))
@@ -189,9 +194,13 @@ fn pre_pass_table(md: &mut String, rows: &[Row], (w, h): (u32, u32)) {
         let visible = (pixel.triangles as u64).saturating_sub(every.evaluations.culled_patches);
         let (model_ms, model_us) = per_triangle(model, visible);
         let (every_ms, every_us) = per_triangle(every, visible);
+        let twin = scenes.iter().find(|s| s.name == pixel.scene).map_or_else(
+            || "–".to_string(),
+            |s| format!("{:.2}", twin_cost(&s.scene, TWIN_PASSES).per_triangle_us),
+        );
         let _ = writeln!(
             md,
-            "| {} | {} | {visible} | {model_ms} | {model_us} | {every_ms} | {every_us} |",
+            "| {} | {} | {visible} | {model_ms} | {model_us} | {every_ms} | {every_us} | {twin} |",
             pixel.scene, pixel.triangles
         );
     }
