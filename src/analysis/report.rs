@@ -125,11 +125,7 @@ pub fn analyze(
     let mut reports = Vec::new();
     for (mesh_index, mesh) in scene.meshes.iter().enumerate() {
         let material = &scene.materials[mesh.material].kind;
-        let input = |corners: &[u32]| TriangleInput {
-            positions: [0, 1, 2].map(|k| mesh.positions[corners[k] as usize]),
-            normals: [0, 1, 2].map(|k| mesh.normals[corners[k] as usize]),
-            eye: scene.camera.eye,
-        };
+        let input = |corners: &[u32]| TriangleInput::of(mesh, corners, scene.camera.eye);
         let map = scene.materials[mesh.material].maps.parameter.as_ref();
         let sat = match (map, bounds) {
             (Some(map), TextureBounds::PowerSat(p)) => Some(PowerSat::new(&map.texture, p)),

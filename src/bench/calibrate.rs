@@ -140,14 +140,12 @@ pub fn estimated_triangles(scene: &Scene) -> usize {
     for mesh in &scene.meshes {
         let material = &scene.materials[mesh.material].kind;
         for corners in mesh.indices.chunks_exact(3) {
-            let p = [0, 1, 2].map(|k| mesh.positions[corners[k] as usize]);
-            let one_sided = !mesh.two_sided;
+            let input = TriangleInput::of(mesh, corners, scene.camera.eye);
+            let (p, one_sided) = (input.positions, !mesh.two_sided);
             if culled(&view_proj, scene.camera.eye, p, one_sided) || back_face_per_pixel(&rule, p, one_sided)
             {
                 continue;
             }
-            let normals = [0, 1, 2].map(|k| mesh.normals[corners[k] as usize]);
-            let input = TriangleInput { positions: p, normals, eye: scene.camera.eye };
             let parameter = ParameterRange::of(material);
             if !settled_by_range(&input, material, parameter, &scene.lights, scene.settings.epsilon) {
                 count += 1;

@@ -35,13 +35,7 @@ pub fn twin_cost(scene: &Scene, passes: usize) -> TwinCost {
     for mesh in &scene.meshes {
         let material = &scene.materials[mesh.material].kind;
         for corners in mesh.indices.chunks_exact(3) {
-            let at = |k: usize| corners[k] as usize;
-            let input = TriangleInput {
-                positions: [0, 1, 2].map(|k| mesh.positions[at(k)]),
-                normals: [0, 1, 2].map(|k| mesh.normals[at(k)]),
-                eye: scene.camera.eye,
-            };
-            work.push((input, material));
+            work.push((TriangleInput::of(mesh, corners, scene.camera.eye), material));
         }
     }
     let pass = || {

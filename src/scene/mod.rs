@@ -305,6 +305,13 @@ pub enum MaterialKind {
     Ggx { albedo: Vec3, f0: Vec3, roughness: f32 },
 }
 
+impl MaterialKind {
+    /// Whether it has a specular lobe (Blinn-Phong or GGX), which reads the view direction.
+    pub fn is_specular(&self) -> bool {
+        !matches!(self, MaterialKind::Lambert { .. })
+    }
+}
+
 /// A light. Irradiance from a point light falls off as 1/d²; a directional light's does not.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Light {

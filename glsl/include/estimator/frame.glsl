@@ -147,10 +147,11 @@ Frame make_frame(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye)
     f.n_plane_sin = plane_sin(f.n_cone, f.plane);
     f.v_center = unit(eye - center);
     f.v_vectors = vec3[3](to_eye0, to_eye1, to_eye2);
-    f.v_units = vec3[3](unit(to_eye0), unit(to_eye1), unit(to_eye2));
+    f.v_units = vec3[3](vec3(0.0), vec3(0.0), vec3(0.0));
     f.psi_nv = vec2(0.0, PI);
     f.nv_sign = SIGN_BOTH;
     if (MATERIAL_KIND != MATERIAL_LAMBERT) {
+        f.v_units = vec3[3](unit(to_eye0), unit(to_eye1), unit(to_eye2));
         int nv_sign;
         f.psi_nv = cosine_range(f, f.v_cone, f.v_vectors, nv_sign);
         f.nv_sign = nv_sign;

@@ -19,12 +19,8 @@ fn the_twin_cost_covers_every_triangle_and_counts_what_the_range_class_settles()
     let mut settled = 0;
     for mesh in &scene.meshes {
         let material = &scene.materials[mesh.material].kind;
-        for c in mesh.indices.chunks_exact(3) {
-            let input = TriangleInput {
-                positions: [0, 1, 2].map(|k| mesh.positions[c[k] as usize]),
-                normals: [0, 1, 2].map(|k| mesh.normals[c[k] as usize]),
-                eye: scene.camera.eye,
-            };
+        for corners in mesh.indices.chunks_exact(3) {
+            let input = TriangleInput::of(mesh, corners, scene.camera.eye);
             let parameter = ParameterRange::of(material);
             settled +=
                 usize::from(settled_by_range(&input, material, parameter, &scene.lights, settings.epsilon));

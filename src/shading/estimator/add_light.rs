@@ -365,8 +365,7 @@ pub(super) fn values_over_children(
     for k in 0..REFINE_CHILDREN {
         let positions = midpoint_child(frame.vertices, k);
         let normals = midpoint_child(frame.normals, k);
-        let specular = !matches!(material, MaterialKind::Lambert { .. });
-        let child = Frame::new(&TriangleInput { positions, normals, eye: frame.eye }, specular);
+        let child = Frame::new(&TriangleInput { positions, normals, eye: frame.eye }, material.is_specular());
         match plan_light(&child, material, parameter, light, mode) {
             Err(_) => return None,
             // The light adds exactly 0 on this child.

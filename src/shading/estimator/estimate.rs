@@ -15,7 +15,7 @@ use super::frame::Frame;
 use super::jet::Guard;
 use super::light_setup::Sums;
 use super::range::{range_bound, range_proves};
-use crate::scene::{Light, MaterialKind, ParameterRange};
+use crate::scene::{Light, MaterialKind, Mesh, ParameterRange};
 use glam::Vec3;
 
 /// One patch as the TCS sees it: world-space corner positions and (not necessarily unit)
@@ -25,6 +25,14 @@ pub struct TriangleInput {
     pub positions: [Vec3; 3],
     pub normals: [Vec3; 3],
     pub eye: Vec3,
+}
+
+impl TriangleInput {
+    /// The triangle of `mesh` with the vertex indices `corners` (three), seen from `eye`.
+    pub fn of(mesh: &Mesh, corners: &[u32], eye: Vec3) -> TriangleInput {
+        let at = |of: &[Vec3]| [0, 1, 2].map(|k| of[corners[k] as usize]);
+        TriangleInput { positions: at(&mesh.positions), normals: at(&mesh.normals), eye }
+    }
 }
 
 /// How `ε` is shared between the error terms.
@@ -262,7 +270,7 @@ pub(super) fn light_sums(
     eps: f32,
     refine: bool,
 ) -> (Sums, Reason) {
-    let frame = Frame::new(tri, !matches!(material, MaterialKind::Lambert { .. }));
+    let frame = Frame::new(tri, material.is_specular());
     let guard = Guard::default();
     let mut sum = Sums::default();
     let mut reason = Reason::None;

@@ -49,12 +49,12 @@ pub(super) struct Frame {
     /// Lower bound on the distance from the eye to the triangle.
     pub(super) e_min: f32,
     pub(super) v_center: Vec3,
-    /// The vectors from the corners to the eye, and their directions.
+    /// The vectors from the corners to the eye...
     pub(super) v_vectors: [Vec3; 3],
+    /// ...their directions, and the range of the angle between n̂ and v̂ with the sign of `n·v`
+    /// ([`cosine_range`]): the same for every light, so taken once, and only for a specular
+    /// material (`specular`); zero, `(0, π)` and `Sign::Both` otherwise.
     pub(super) v_units: [Vec3; 3],
-    /// Range of the angle between n̂ and v̂, and the sign of `n·v` ([`cosine_range`]): the same
-    /// for every light, so taken once. Computed only for a specular material (`specular`);
-    /// `(0, π)` and `Sign::Both` otherwise.
     pub(super) psi_nv: (f32, f32),
     pub(super) nv_sign: Sign,
 }
@@ -118,11 +118,12 @@ impl Frame {
             e_min,
             v_center: unit(tri.eye - centroid),
             v_vectors: to_eye,
-            v_units: to_eye.map(unit),
+            v_units: [Vec3::ZERO; 3],
             psi_nv: (0.0, PI),
             nv_sign: Sign::Both,
         };
         if specular {
+            frame.v_units = to_eye.map(unit);
             (frame.psi_nv, frame.nv_sign) = cosine_range(&frame, &frame.v_cone, to_eye);
         }
         frame

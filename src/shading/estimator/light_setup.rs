@@ -233,8 +233,7 @@ pub(super) fn plan_light(
     let Some(mut setup) = diffuse_setup(frame, light, &source, mode)? else {
         return Ok(None);
     };
-    let specular = !matches!(material, MaterialKind::Lambert { .. });
-    if specular {
+    if material.is_specular() {
         specular_setup(frame, material, parameter, mode, &source, &mut setup)?;
     }
     Ok(Some((setup, diff_w, spec_w)))

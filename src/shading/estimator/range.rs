@@ -193,10 +193,7 @@ pub(super) fn range_bound(
 ) -> Option<Vec3> {
     let n = spread_of(normals)?;
     // The view's spread matters to the specular parts only.
-    let v = match material {
-        MaterialKind::Lambert { .. } => None,
-        _ => spread_of(positions.map(|p| eye - p)),
-    };
+    let v = if material.is_specular() { spread_of(positions.map(|p| eye - p)) } else { None };
     let kd = match *material {
         MaterialKind::Lambert { kd } | MaterialKind::BlinnPhong { kd, .. } => kd,
         MaterialKind::Ggx { albedo, .. } => albedo,
