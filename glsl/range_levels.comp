@@ -7,7 +7,10 @@
 // the rest are listed in estimate_triangles for the estimator step (triangle_levels.comp), which
 // then runs the full estimator side by side on those only. The range bound costs a small part of an
 // estimate, and on a CPU rasteriser every SIMD batch with one triangle to estimate would pay the
-// whole estimator.
+// whole estimator. Those whose every light's specular part the estimate bounds by its cap
+// (estimator/range.glsl, range_bound's every_capped) are listed apart, from the end of the mesh's range
+// of estimate_triangles down, for the estimator step's variant without specular setup or jets: a
+// CPU rasteriser runs both sides of every branch, so only a list of their own spares them that code.
 #include "triangle_level.glsl"
 
 layout(local_size_x = PRE_PASS_GROUP) in;
@@ -24,8 +27,9 @@ void main() {
     vec3 p0 = scene_vec3(a, 0u);
     vec3 p1 = scene_vec3(b, 0u);
     vec3 p2 = scene_vec3(c, 0u);
+    bool capped;
     if (settled_triangle(p0, p1, p2, scene_vec3(a, 3u), scene_vec3(b, 3u), scene_vec3(c, 3u), scene_uv(a),
-                         scene_uv(b), scene_uv(c))) {
+                         scene_uv(b), scene_uv(c), capped)) {
         triangle_levels[triangle] = 1.0;
         return;
     }
@@ -35,10 +39,11 @@ void main() {
         triangle_levels[triangle] = FALLBACK_LEVEL;
         return;
     }
-    uint slot = atomicAdd(level_dispatches[level_dispatch(FULL_ESTIMATE_DISPATCH)].w, 1u);
-    estimate_triangles[draw.patch_base + slot] = triangle;
-    // Each PRE_PASS_GROUP-th triangle left opens one more workgroup of the estimator step.
+    uint list = capped ? CAPPED_ESTIMATE_DISPATCH : FULL_ESTIMATE_DISPATCH;
+    uint slot = atomicAdd(level_dispatches[level_dispatch(list)].w, 1u);
+    estimate_triangles[draw.patch_base + (capped ? draw.triangle_count - 1u - slot : slot)] = triangle;
+    // Each PRE_PASS_GROUP-th triangle of a list opens one more workgroup of its estimator step.
     if (slot % PRE_PASS_GROUP == 0u) {
-        atomicAdd(level_dispatches[level_dispatch(FULL_ESTIMATE_DISPATCH)].x, 1u);
+        atomicAdd(level_dispatches[level_dispatch(list)].x, 1u);
     }
 }

@@ -88,7 +88,7 @@ void take_children_turns(uint block, uint count) {
         est_bad = false;
         int added = add_light(child, material, draw_parameter_range(scene_uv(a), scene_uv(b), scene_uv(c)),
                               i < POINT_LIGHT_COUNT, light.position.xyz, light.radiance.rgb, -1, top, n_max, eps,
-                              ADD_VALUES, values);
+                              ADD_VALUES, NO_SPECULAR_CAPS, values);
         uint at = child_turn(t, i, r);
         turn_added[at] = added;
         turn_bad[at] = est_bad;
@@ -112,10 +112,19 @@ void main() {
             uint a = scene_indices[3u * triangle];
             uint b = scene_indices[3u * triangle + 1u];
             uint c = scene_indices[3u * triangle + 2u];
+            vec3 p0 = scene_vec3(a, 0u);
+            vec3 p1 = scene_vec3(b, 0u);
+            vec3 p2 = scene_vec3(c, 0u);
+            vec3 n0 = scene_vec3(a, 3u);
+            vec3 n1 = scene_vec3(b, 3u);
+            vec3 n2 = scene_vec3(c, 3u);
+            // The range class again, for whether every light's specular part is capped (it did not
+            // settle the triangle, which the estimator step listed here).
+            bool capped;
+            settled_triangle(p0, p1, p2, n0, n1, n2, scene_uv(a), scene_uv(b), scene_uv(c), capped);
             bool again;
-            triangle_levels[triangle] = estimated_level_pass(scene_vec3(a, 0u), scene_vec3(b, 0u), scene_vec3(c, 0u),
-                                                             scene_vec3(a, 3u), scene_vec3(b, 3u), scene_vec3(c, 3u),
-                                                             scene_uv(a), scene_uv(b), scene_uv(c), true, again);
+            triangle_levels[triangle] = estimated_level_pass(p0, p1, p2, n0, n1, n2, scene_uv(a), scene_uv(b),
+                                                             scene_uv(c), capped, true, again);
         }
     }
 }

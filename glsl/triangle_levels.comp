@@ -23,10 +23,14 @@ const uint REFINE_MAX_GROUPS = 65535u;
 
 void main() {
     uint local = gl_GlobalInvocationID.x;
-    if (local >= level_dispatches[level_dispatch(FULL_ESTIMATE_DISPATCH)].w) {
+    // The variant without specular code (SPECULAR_ALL_CAPPED) takes the range step's second list,
+    // from the end of the mesh's range down.
+    uint list = SPECULAR_ALL_CAPPED ? CAPPED_ESTIMATE_DISPATCH : FULL_ESTIMATE_DISPATCH;
+    if (local >= level_dispatches[level_dispatch(list)].w) {
         return;
     }
-    uint triangle = estimate_triangles[draw.patch_base + local];
+    uint at = SPECULAR_ALL_CAPPED ? draw.triangle_count - 1u - local : local;
+    uint triangle = estimate_triangles[draw.patch_base + at];
     uint a = scene_indices[3u * triangle];
     uint b = scene_indices[3u * triangle + 1u];
     uint c = scene_indices[3u * triangle + 2u];
@@ -35,7 +39,8 @@ void main() {
     bool again;
     triangle_levels[triangle] = estimated_level_pass(scene_vec3(a, 0u), scene_vec3(b, 0u), scene_vec3(c, 0u),
                                                      scene_vec3(a, 3u), scene_vec3(b, 3u), scene_vec3(c, 3u),
-                                                     scene_uv(a), scene_uv(b), scene_uv(c), false, again);
+                                                     scene_uv(a), scene_uv(b), scene_uv(c), SPECULAR_ALL_CAPPED,
+                                                     false, again);
     if (again) {
         uint slot = atomicAdd(level_dispatches[level_dispatch(REFINE_DISPATCH)].w, 1u);
         refine_triangles[draw.patch_base + slot] = triangle;

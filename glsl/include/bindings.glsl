@@ -98,7 +98,9 @@ layout(set = 0, binding = 18, std430) buffer FlatDraws { uvec4 flat_draws[]; };
 // culling step. level_dispatch(REFINE_DISPATCH) of the refining step over the triangles the
 // estimator step lists in refine_triangles, w their count; level_dispatch(FULL_ESTIMATE_DISPATCH)
 // of the estimator step over the triangles the range step lists in estimate_triangles, w their
-// count. Only those run: on a CPU rasteriser
+// count; level_dispatch(CAPPED_ESTIMATE_DISPATCH) of its variant without specular code over those
+// it lists from the end of the mesh's range down (every light's specular part capped). Only those
+// run: on a CPU rasteriser
 // every SIMD batch of a workgroup runs the estimator's whole code, returned lanes or not.
 layout(set = 0, binding = 19, std430) buffer LevelDispatches { uvec4 level_dispatches[]; };
 // The triangles whose estimate is refined (estimator/estimate.glsl, estimate_pass), listed per mesh from
@@ -106,7 +108,9 @@ layout(set = 0, binding = 19, std430) buffer LevelDispatches { uvec4 level_dispa
 // the children's work runs side by side on those triangles only.
 layout(set = 0, binding = 20, std430) buffer RefineTriangles { uint refine_triangles[]; };
 // The triangles to estimate that the range class does not settle (estimator/range.glsl), listed
-// per mesh from draw.patch_base on by the range step (range_levels.comp) for the estimator step.
+// per mesh from draw.patch_base on by the range step (range_levels.comp) for the estimator step;
+// those whose every light's specular part is capped from draw.patch_base + draw.triangle_count - 1
+// down, for its variant without specular code.
 layout(set = 0, binding = 21, std430) buffer EstimateTriangles { uint estimate_triangles[]; };
 // Where a mesh's material has no parameter map, its flat patches shaded on their corners are
 // drawn instead by one indexed draw of the whole mesh in its own order, from this index buffer:
@@ -135,11 +139,12 @@ void write_flat_corners(uint triangle, bool shaded) {
 }
 
 // The per-mesh slots of the pre-pass's indirect buffers (`src/gpu_interface/slots.rs`).
-const uint LEVEL_DISPATCHES = 4u;
+const uint LEVEL_DISPATCHES = 5u;
 const uint ESTIMATE_DISPATCH = 0u;
 const uint PATCH_DISPATCH = 1u;
 const uint REFINE_DISPATCH = 2u;
 const uint FULL_ESTIMATE_DISPATCH = 3u;
+const uint CAPPED_ESTIMATE_DISPATCH = 4u;
 const uint PATCH_LISTS = 2u;
 const uint INTERPOLATED_LIST = 0u;
 const uint FALLBACK_LIST = 1u;

@@ -32,10 +32,10 @@
 // | src/shading/estimator/irradiance.rs   | estimator/irradiance.glsl   | control_stage_levels_equal_the_twin |
 // | src/shading/estimator/terminator.rs   | estimator/terminator.glsl   | control_stage_levels_equal_the_twin |
 // | src/shading/estimator/decide.rs       | estimator/decide.glsl       | control_stage_levels_equal_the_twin |
+// | src/shading/estimator/range.rs        | estimator/range.glsl        | control_stage_levels_equal_the_twin |
 // | src/shading/estimator/add_light.rs    | estimator/add_light.glsl    | control_stage_levels_equal_the_twin |
 // | src/shading/estimator/patch_levels.rs | estimator/patch_levels.glsl | control_stage_levels_equal_the_twin |
 // | src/shading/estimator/estimate.rs     | estimator/estimate.glsl     | control_stage_levels_equal_the_twin |
-// | src/shading/estimator/range.rs        | estimator/range.glsl        | control_stage_levels_equal_the_twin |
 // (`control_stage_levels_equal_the_twin` is in `tests/multirate.rs`.)
 #ifndef ESTIMATOR_GLSL
 #define ESTIMATOR_GLSL
@@ -51,8 +51,8 @@
 #include "estimator/irradiance.glsl"
 #include "estimator/terminator.glsl"
 #include "estimator/decide.glsl"
+#include "estimator/range.glsl"
 #include "estimator/add_light.glsl"
 #include "estimator/patch_levels.glsl"
 #include "estimator/estimate.glsl"
-#include "estimator/range.glsl"
 #endif

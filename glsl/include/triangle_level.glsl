@@ -162,25 +162,28 @@ vec2 draw_parameter_range(vec2 t0, vec2 t1, vec2 t2) {
 }
 
 // Whether the range class settles the draw's triangle (estimator/range.glsl): level 1 without
-// an estimate.
-bool settled_triangle(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2) {
+// an estimate; `every_capped`: whether its estimate bounds every light's specular part by its cap.
+bool settled_triangle(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2,
+                      out bool every_capped) {
     return settled_by_range(p0, p1, p2, n0, n1, n2, draw.eye.xyz, draw.material_index,
-                            draw_parameter_range(t0, t1, t2), draw.epsilon);
+                            draw_parameter_range(t0, t1, t2), draw.epsilon, every_capped);
 }
 
 // The estimator's level of the draw's triangle (positions p, normals n, texture coordinates t),
 // not culled and not settled by the range class: >= 1, or FALLBACK_LEVEL for per-pixel shading.
-float estimated_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2) {
+// `every_capped`: settled_triangle's.
+float estimated_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2,
+                      bool every_capped) {
     return required_level(p0, p1, p2, n0, n1, n2, draw.eye.xyz, draw.material_index,
-                          draw_parameter_range(t0, t1, t2), draw.epsilon, float(draw.n_max));
+                          draw_parameter_range(t0, t1, t2), draw.epsilon, float(draw.n_max), every_capped);
 }
 
 // One of the two passes of estimated_level (estimate_pass): the compute pre-pass runs the
 // second, with `refine`, as a step of its own over the triangles the first lists.
 float estimated_level_pass(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2,
-                           bool refine, out bool refine_next) {
+                           bool every_capped, bool refine, out bool refine_next) {
     return estimate_pass(p0, p1, p2, n0, n1, n2, draw.eye.xyz, draw.material_index,
-                         draw_parameter_range(t0, t1, t2), draw.epsilon, float(draw.n_max), refine,
+                         draw_parameter_range(t0, t1, t2), draw.epsilon, float(draw.n_max), every_capped, refine,
                          refine_next);
 }
 
@@ -225,13 +228,14 @@ float visible_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t
     if (back_face_per_pixel(p0, p1, p2)) {
         return FALLBACK_LEVEL;
     }
-    if (settled_triangle(p0, p1, p2, n0, n1, n2, t0, t1, t2)) {
+    bool every_capped;
+    if (settled_triangle(p0, p1, p2, n0, n1, n2, t0, t1, t2, every_capped)) {
         return 1.0;
     }
     if (small_per_pixel(p0, p1, p2)) {
         return FALLBACK_LEVEL;
     }
-    return estimated_level(p0, p1, p2, n0, n1, n2, t0, t1, t2);
+    return estimated_level(p0, p1, p2, n0, n1, n2, t0, t1, t2, every_capped);
 }
 
 // The level of the draw's triangle: CULLED_LEVEL, or its visible_level.

@@ -8,7 +8,7 @@
 
 super::named_constants! {
     /// Dispatches per mesh in `LevelDispatches`.
-    LEVEL_DISPATCHES = 4;
+    LEVEL_DISPATCHES = 5;
     /// The range step's dispatch (`range_levels.comp`) over the triangles to estimate, counted
     /// by the culling step.
     ESTIMATE_DISPATCH = 0;
@@ -19,6 +19,10 @@ super::named_constants! {
     /// The estimator step's dispatch (`triangle_levels.comp`) over the triangles the range step
     /// leaves, counted by it.
     FULL_ESTIMATE_DISPATCH = 3;
+    /// The estimator step's variant without specular code (`SPECULAR_ALL_CAPPED`) over the
+    /// triangles whose every light's specular part is capped, listed by the range step from the
+    /// end of the mesh's range down.
+    CAPPED_ESTIMATE_DISPATCH = 4;
     /// Patch lists per mesh.
     PATCH_LISTS = 2;
     /// The list of patches shaded on their sub-vertices (flat triangles: on their corners).

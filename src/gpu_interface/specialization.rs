@@ -38,13 +38,16 @@ pub const REFINE_LANES: SpecId = SpecId { name: LOCAL_SIZE_X, id: 13 };
 pub const RECORD_LEVELS: SpecId = SpecId { name: "RECORD_LEVELS", id: 14 };
 /// multirate.tesc (its instrumented module): count the patches culled before their estimate.
 pub const COUNT_CULLED_PATCHES: SpecId = SpecId { name: "COUNT_CULLED_PATCHES", id: 15 };
+/// estimator/constants.glsl: the estimator step's variant over the triangles whose every light's
+/// specular part is capped (no specular setup or jets).
+pub const SPECULAR_ALL_CAPPED: SpecId = SpecId { name: "SPECULAR_ALL_CAPPED", id: 16 };
 
 /// The polygonal lights' constants, which only the variants with polygonal lights contain.
 pub const POLYGON_LIGHTS: [SpecId; 4] =
     [POLYGON_LIGHT_COUNT, POLYGON_SAMPLES, POLYGON_TECHNIQUE, MIS_VISIBILITY];
 
 /// Every specialization constant, by id.
-pub const ALL: [SpecId; 12] = [
+pub const ALL: [SpecId; 13] = [
     ENCODE_SRGB,
     POINT_LIGHT_COUNT,
     DIRECTIONAL_LIGHT_COUNT,
@@ -57,4 +60,5 @@ pub const ALL: [SpecId; 12] = [
     REFINE_LANES,
     RECORD_LEVELS,
     COUNT_CULLED_PATCHES,
+    SPECULAR_ALL_CAPPED,
 ];

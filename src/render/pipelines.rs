@@ -290,6 +290,10 @@ pub(super) struct PrePassPipelines {
     /// range_levels.comp, the range class's step.
     pub range: Pipeline,
     pub levels: Pipeline,
+    /// triangle_levels.comp without specular code (`SPECULAR_ALL_CAPPED`), over the triangles
+    /// whose every light's specular part is capped: for a specular material without polygonal
+    /// lights (no other variant lists such triangles).
+    pub capped_levels: Option<Pipeline>,
     /// refine_levels.comp, the refining step.
     pub refine: Pipeline,
     pub patches: Pipeline,
@@ -684,6 +688,14 @@ impl PrePassPipelines {
         let name = format!("triangle levels, material kind {}", features.material_kind);
         let optimization = variant.instrumentation.optimization();
         let levels = Pipeline::compute(context, &name, layout, &module, Some(specialization), optimization)?;
+        let capped_levels = if features.material_kind != 0 && !features.polygon_lights {
+            let capped = specialization.clone().boolean(spec::SPECULAR_ALL_CAPPED.id, true);
+            let name =
+                format!("triangle levels, specular parts capped, material kind {}", features.material_kind);
+            Some(Pipeline::compute(context, &name, layout, &module, Some(&capped), optimization)?)
+        } else {
+            None
+        };
         let module = variant_module(context, "range_levels.comp", features)?;
         let name = format!("range class, material kind {}", features.material_kind);
         let range = Pipeline::compute(context, &name, layout, &module, Some(specialization), optimization)?;
@@ -695,6 +707,6 @@ impl PrePassPipelines {
         let cull = Pipeline::compute(context, "triangle culling", layout, &module, None, optimization)?;
         let module = variant_module(context, "patch_levels.comp", features)?;
         let patches = Pipeline::compute(context, "patch levels", layout, &module, None, optimization)?;
-        Ok(PrePassPipelines { cull, range, levels, refine, patches })
+        Ok(PrePassPipelines { cull, range, levels, capped_levels, refine, patches })
     }
 }

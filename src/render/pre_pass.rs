@@ -10,10 +10,11 @@ use super::view::View;
 use super::Renderer;
 use crate::gpu_interface::flags::FLAG_FALLBACK_PATCHES;
 use crate::gpu_interface::slots::{
-    ESTIMATE_DISPATCH, FALLBACK_LIST, FULL_ESTIMATE_DISPATCH, INTERPOLATED_LIST, LEVEL_DISPATCHES,
-    OPENED_DRAWS, PATCH_COUNT_WORDS, PATCH_DISPATCH, PATCH_LISTS, REFINE_DISPATCH,
+    CAPPED_ESTIMATE_DISPATCH, ESTIMATE_DISPATCH, FALLBACK_LIST, FULL_ESTIMATE_DISPATCH, INTERPOLATED_LIST,
+    LEVEL_DISPATCHES, OPENED_DRAWS, PATCH_COUNT_WORDS, PATCH_DISPATCH, PATCH_LISTS, REFINE_DISPATCH,
 };
 use crate::gpu_types::DrawConstants;
+use crate::vk::pipeline::Pipeline;
 use ash::vk;
 use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
 
@@ -185,39 +186,54 @@ impl Renderer {
         draw: &DrawCall,
         constants: &mut DrawConstants,
     ) {
-        let device = &self.context.device;
-        let pipeline = match step {
-            PrePassStep::Cull => &pre_pass.cull,
-            PrePassStep::Range => &pre_pass.range,
-            PrePassStep::Levels => &pre_pass.levels,
-            PrePassStep::Refine => &pre_pass.refine,
-            PrePassStep::Patches => &pre_pass.patches,
-        };
         self.set_draw_constants(constants, draw);
         constants.patch_base = draw.first_triangle;
         constants.triangle_count = draw.index_count / 3;
         let material_set = self.descriptors.textures.sets[draw.material_index as usize];
         self.bind_set_at(cmd, vk::PipelineBindPoint::COMPUTE, 1, material_set);
-        // SAFETY: recording outside a render pass; every bound object is owned by `self` and
-        // outlives the submission.
+        // The later steps cover the triangles the culling step (for the estimator step, the range
+        // step, in two lists; for the refining step, the estimator step) listed, in the workgroups
+        // it counted.
+        match step {
+            PrePassStep::Cull => self.dispatch(cmd, &pre_pass.cull, None, draw, constants),
+            PrePassStep::Range => {
+                self.dispatch(cmd, &pre_pass.range, Some(ESTIMATE_DISPATCH), draw, constants)
+            }
+            PrePassStep::Levels => {
+                self.dispatch(cmd, &pre_pass.levels, Some(FULL_ESTIMATE_DISPATCH), draw, constants);
+                if let Some(capped) = &pre_pass.capped_levels {
+                    self.dispatch(cmd, capped, Some(CAPPED_ESTIMATE_DISPATCH), draw, constants);
+                }
+            }
+            PrePassStep::Refine => {
+                self.dispatch(cmd, &pre_pass.refine, Some(REFINE_DISPATCH), draw, constants)
+            }
+            PrePassStep::Patches => {
+                self.dispatch(cmd, &pre_pass.patches, Some(PATCH_DISPATCH), draw, constants)
+            }
+        }
+    }
+
+    /// Binds `pipeline` and dispatches it over `draw`'s mesh: one invocation per triangle, or with
+    /// the workgroups counted in the mesh's indirect dispatch `slot`.
+    fn dispatch(
+        &self,
+        cmd: vk::CommandBuffer,
+        pipeline: &Pipeline,
+        slot: Option<u32>,
+        draw: &DrawCall,
+        constants: &DrawConstants,
+    ) {
+        let device = &self.context.device;
+        // SAFETY: recording outside a render pass; the pipeline is owned by `self` and outlives
+        // the submission.
         unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw) };
         self.push_draw_constants(cmd, constants);
         // SAFETY: as above; the dispatch buffer has INDIRECT_BUFFER usage.
         unsafe {
-            match step {
-                PrePassStep::Cull => {
-                    device.cmd_dispatch(cmd, constants.triangle_count.div_ceil(PRE_PASS_GROUP), 1, 1)
-                }
-                // The later steps cover the triangles the culling step (for the estimator step,
-                // the range step; for the refining step, the estimator step) listed, in the
-                // workgroups it counted.
-                PrePassStep::Range | PrePassStep::Levels | PrePassStep::Refine | PrePassStep::Patches => {
-                    let slot = match step {
-                        PrePassStep::Patches => PATCH_DISPATCH,
-                        PrePassStep::Refine => REFINE_DISPATCH,
-                        PrePassStep::Levels => FULL_ESTIMATE_DISPATCH,
-                        _ => ESTIMATE_DISPATCH,
-                    };
+            match slot {
+                None => device.cmd_dispatch(cmd, constants.triangle_count.div_ceil(PRE_PASS_GROUP), 1, 1),
+                Some(slot) => {
                     let mesh_dispatches =
                         vk::DeviceSize::from(LEVEL_DISPATCHES) * vk::DeviceSize::from(draw.mesh_index);
                     device.cmd_dispatch_indirect(

@@ -85,6 +85,8 @@ struct LightBounds {
     // The weight of the diffuse part, and whether n.l may change sign inside the triangle.
     vec3 diff_w;
     bool straddle;
+    // Whether the specular part is bounded by its cap (range_s) at every level.
+    bool specular_capped;
 };
 
 // One light's bounds from its jets at level 1 and at levels >= 2 (the first half of `add_light`
@@ -118,12 +120,13 @@ int light_bounds(Frame frame, GpuMaterial material, vec2 param, LightSetup setup
     bounds.terminator = terminator_band(frame, setup, frame.dn);
     bounds.diff_w = diff_w;
     bounds.straddle = setup.straddle;
+    bounds.specular_capped = false;
     if (setup.straddle) {
         bounds.band1 = gc(band_at(terminator_band(frame, setup, frame.d1), 1.0));
         bounds.bandn = gc(band_per_level(bounds.terminator, 0.0));
     }
     // Relaxed, GGX: the same for n.v where it may change sign (its kink in V).
-    bool view_kink = MATERIAL_KIND == MATERIAL_GGX && !setup.area && setup.nv_sign == SIGN_BOTH;
+    bool view_kink = MATERIAL_KIND == MATERIAL_GGX && !setup.area && setup.specular && setup.nv_sign == SIGN_BOTH;
     P float view1 = 0.0;
     P float viewn = 0.0;
     if (view_kink) {
@@ -224,7 +227,9 @@ void add_grid(LightBounds bounds, uint n_max, float low, vec3 zeron, vec3 whole_
             ? bounds.diff_w * (TERMINATOR_KINK * SAFETY * (bounds.att * band_at(bounds.terminator, l)))
             : vec3(0.0);
         P vec3 part_d = rmin3(bounds.tot_dn / (l * l) + kink_l, bounds.range_d);
-        P vec3 part_s = rmin3(bounds.tot_sn / (l * l) + bounds.linn_s / l + zero_l, bounds.range_s);
+        P vec3 part_s = bounds.specular_capped
+            ? bounds.range_s
+            : rmin3(bounds.tot_sn / (l * l) + bounds.linn_s / l + zero_l, bounds.range_s);
         sum_grid[k] = sum_grid[k] + (part_d + part_s);
     }
 }
@@ -235,8 +240,9 @@ void add_grid(LightBounds bounds, uint n_max, float low, vec3 zeron, vec3 whole_
 // n-independent parts at level 1 and from the light's lower bound on), else its range.
 void add_to_sums(LightBounds bounds, bvec3 interp_d, bvec3 interp_s, vec3 zero1, vec3 zeron) {
     const vec3 none = vec3(0.0);
-    sum_one = sum_one + (rmin3(bounds.tot_d1 + bounds.lin1, bounds.range_d)
-                         + rmin3(bounds.tot_s1 + bounds.lin1_s + zero1, bounds.range_s));
+    P vec3 one_s =
+        bounds.specular_capped ? bounds.range_s : rmin3(bounds.tot_s1 + bounds.lin1_s + zero1, bounds.range_s);
+    sum_one = sum_one + (rmin3(bounds.tot_d1 + bounds.lin1, bounds.range_d) + one_s);
     // Each part adds its interpolation bound or its range (diffuse first, as in Rust).
     sum_range = sum_range + mix(bounds.range_d, none, interp_d);
     sum_range = sum_range + mix(bounds.range_s, none, interp_s);
@@ -274,6 +280,9 @@ void add_bounds_or_ranges(P inout LightBounds bounds, LightSetup setup, vec2 par
     bvec3 interp_d = not(lessThanEqual(bounds.range_d, bounds.tot_dn / (top * top) + bounds.linn / top));
     bvec3 interp_s =
         not(lessThanEqual(bounds.range_s, bounds.tot_sn / (top * top) + bounds.linn_s / top + zero_top));
+    if (bounds.specular_capped) {
+        interp_s = bvec3(false);
+    }
     // The jump at levels >= 2 at a lower bound of the final level (see Rust).
     P vec3 zero_inf = terminator_jump(spec_w, spec_sup, param, setup, 0.0) + other;
     const vec3 none = vec3(0.0);
@@ -297,7 +306,7 @@ void add_bounds_or_ranges(P inout LightBounds bounds, LightSetup setup, vec2 par
     }
     P vec3 zeron = terminator_jump(spec_w, spec_sup, param, setup, bounds.bandn / low) + other;
     if (SPLIT == 1) {
-        P vec3 whole_lobe = setup.straddle && !setup.area ? spec_w * spec_sup * SAFETY : vec3(0.0);
+        P vec3 whole_lobe = setup.straddle && !setup.area && setup.specular ? spec_w * spec_sup * SAFETY : vec3(0.0);
         add_grid(bounds, n_max, low, zeron, whole_lobe, other);
     }
     add_to_sums(bounds, interp_d, interp_s, zero1, zeron);
@@ -308,6 +317,10 @@ void add_bounds_or_ranges(P inout LightBounds bounds, LightSetup setup, vec2 par
 // `radiance` unused); else `point`: a point light at `position`, or a directional light whose
 // travel direction is `position`.
 //
+// `caps`: the triangle's spreads for the specular caps (`SpecularCaps` in Rust), ok only where
+// every light's specular part is within its cap (range_bound): then each point or directional
+// light's is bounded by its cap, without specular_setup.
+//
 // `mode` ADD_VALUES: `frame` is a child of a patch (`values_over_children` in Rust); its values
 // join `values` and VALUES_ADDED is returned, or REASON_NONE where the light adds 0 on it, or the
 // reason it cannot be bounded. ADD_REFINED: the patch's ranges take `values` where they hold.
@@ -316,7 +329,7 @@ void add_bounds_or_ranges(P inout LightBounds bounds, LightSetup setup, vec2 par
 // in Rust; the checks of `diffuse_setup` and `specular_setup`): a helper that returned early would
 // leave its outputs undefined on that path, and the optimiser would no longer fold them.
 int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 position,
-              vec3 radiance, int polygon, float top, uint n_max, float eps, int mode,
+              vec3 radiance, int polygon, float top, uint n_max, float eps, int mode, SpecularCaps caps,
               inout ChildValues values) {
     bool area = polygon >= 0;
     AreaGeometry geometry;
@@ -396,7 +409,16 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     }
     LightSource source = LightSource(l_cone, inv_d, l_center, l_vectors, heights);
     LightSetup setup = diffuse_setup(frame, point, area, geometry.emitter, source, psi_nl, straddle);
-    if (MATERIAL_KIND != MATERIAL_LAMBERT) {
+    // caps.ok only where the range class found every light capped; SPECULAR_ALL_CAPPED makes it a
+    // constant, so that the specular code folds away.
+    bool capped = MATERIAL_KIND != MATERIAL_LAMBERT && (SPECULAR_ALL_CAPPED || caps.ok) && mode != ADD_VALUES && !area;
+    P vec3 cap = vec3(0.0);
+    if (capped) {
+        bool within_cap;
+        cap = specular_cap(caps, material, param, point, position, radiance, frame.vertices[0], frame.vertices[1],
+                           frame.vertices[2], eps, within_cap);
+    }
+    if (MATERIAL_KIND != MATERIAL_LAMBERT && !capped) {
         if (!(frame.e_min > 0.0)) {
             return REASON_SINGULAR;
         }
@@ -414,6 +436,10 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     if (light_bounds(frame, material, param, setup, diff_w, spec_w, mode, values, bounds) == VALUES_ADDED) {
         return VALUES_ADDED;
     }
+    if (capped) {
+        bounds.range_s = cap;
+        bounds.specular_capped = true;
+    }
     // A triangle that needs a high level: the parts' values over the children, where this
     // light's range is not small (see Rust).
     bool significant = rmax(max_el(bounds.range_d), max_el(bounds.range_s)) > REFINE_SHARE * eps;
@@ -421,14 +447,19 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
         P float diff_sup = rmin(bounds.later_diffuse.x, values.diffuse_sup);
         P float diff_inf = rmax(bounds.later_diffuse.y, values.diffuse_inf);
         bounds.range_d = diff_w * (rmax(diff_sup - diff_inf, 0.0) * SAFETY);
-        bounds.spec_sup = rmin3(bounds.spec_sup, values.specular_sup);
-        bounds.range_s = spec_w * bounds.spec_sup * SAFETY;
+        if (!bounds.specular_capped) {
+            bounds.spec_sup = rmin3(bounds.spec_sup, values.specular_sup);
+            bounds.range_s = spec_w * bounds.spec_sup * SAFETY;
+        }
     }
     P vec3 other;
     if (area) {
         // The sampled specular part: no interpolation bound, its range.
         other = polygon_specular_bound(material, param, setup, light) * SAFETY;
         bounds.range_s = bounds.range_s + other;
+    } else if (capped) {
+        // The cap bounds the part for every parameter.
+        other = vec3(0.0);
     } else {
         // A textured parameter: its variation over the range, an n-independent term.
         other = spec_w * parameter_variation(param, setup, bounds.spec_sup);

@@ -9,6 +9,10 @@
 layout(constant_id = 3) const int SPLIT = 1;
 // Terminator handling: 0 Conservative (fallback), 1 Relaxed.
 layout(constant_id = 4) const int DISCONTINUITY = 0;
+// The estimator step's variant over the triangles whose every light's specular part is capped
+// (range_levels.comp lists them apart, estimator/range.glsl every_specular_capped): no specular
+// setup or jets are compiled in.
+layout(constant_id = 16) const bool SPECULAR_ALL_CAPPED = false;
 
 const int TERM_COUNT = 13;
 const int T_NORMAL = 0;
@@ -73,6 +77,9 @@ const float MAX_FINITE = 3.4028235e38;
 const float REFINE_ABOVE = 8.0;
 const int REFINE_CHILDREN = 4;
 const float REFINE_SHARE = 0.125;
+// A light's specular part within eps * SPECULAR_CAP_SHARE / (number of lights) over the triangle is
+// bounded by that cap (`SPECULAR_CAP_SHARE` in Rust).
+const float SPECULAR_CAP_SHARE = 0.03125;
 // add_light's modes: a patch's bounds; a child's values only; a patch's bounds with its ranges
 // from its children's values.
 const int ADD_BOUNDS = 0;

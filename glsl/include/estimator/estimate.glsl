@@ -10,9 +10,11 @@ int worse(int a, int b) {
 }
 
 // Every light's bounds summed over the triangle in `frame` (`light_sums` in Rust): the reason to
-// fall back (REASON_NONE if none); with `refine`, each point or directional light's ranges over
-// the patch's REFINE_CHILDREN children.
-int light_sums(Frame frame, GpuMaterial material, vec2 param, float eps, uint n_max, float top, bool refine) {
+// fall back (REASON_NONE if none); with `every_capped` (the range class's), each light's specular
+// part bounded by its cap; with `refine`, each point or directional light's ranges over the patch's
+// REFINE_CHILDREN children.
+int light_sums(Frame frame, GpuMaterial material, vec2 param, float eps, uint n_max, float top, bool every_capped,
+               bool refine) {
     est_bad = false;
     if (SPLIT == 0) {
         for (int t = 0; t < TERM_COUNT; ++t) {
@@ -46,6 +48,12 @@ int light_sums(Frame frame, GpuMaterial material, vec2 param, float eps, uint n_
     int turns = refine ? REFINE_CHILDREN + 1 : 1;
     int light_turns = (POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT) * turns;
     ChildValues values = ChildValues(0.0, MAX_FINITE, vec3(0.0), true);
+    // Every light's specular part capped (the range class's `every_capped`): their spreads.
+    SpecularCaps caps = NO_SPECULAR_CAPS;
+    if (every_capped || SPECULAR_ALL_CAPPED) {
+        caps = specular_caps(frame.unit_normals[0], frame.unit_normals[1], frame.unit_normals[2], frame.v_units[0],
+                             frame.v_units[1], frame.v_units[2]);
+    }
     bool saved_bad = est_bad;
     for (int turn = 0; turn < light_turns + POLYGON_LIGHT_COUNT; ++turn) {
         int polygon = POLYGON_LIGHT_COUNT > 0 && turn >= light_turns ? turn - light_turns : -1;
@@ -88,7 +96,7 @@ int light_sums(Frame frame, GpuMaterial material, vec2 param, float eps, uint n_
             mode = ADD_REFINED;
         }
         int added = add_light(at, material, param, polygon < 0 && i < POINT_LIGHT_COUNT, light.position.xyz,
-                              light.radiance.rgb, polygon, top, n_max, eps, mode, values);
+                              light.radiance.rgb, polygon, top, n_max, eps, mode, caps, values);
         if (mode != ADD_VALUES) {
             reason = worse(reason, added);
         } else if (added == REASON_NONE) {
@@ -106,9 +114,9 @@ int light_sums(Frame frame, GpuMaterial material, vec2 param, float eps, uint n_
 // One estimate of the triangle in `frame` (`light_sums` and `decide` in Rust): the level before
 // the n_max test, and the reason to fall back (REASON_NONE if none); with `refine`, each point
 // or directional light's ranges over the patch's REFINE_CHILDREN children.
-float level_pass(Frame frame, GpuMaterial material, vec2 param, float eps, uint n_max, float top, bool refine,
-                 out int reason_out) {
-    int reason = light_sums(frame, material, param, eps, n_max, top, refine);
+float level_pass(Frame frame, GpuMaterial material, vec2 param, float eps, uint n_max, float top, bool every_capped,
+                 bool refine, out int reason_out) {
+    int reason = light_sums(frame, material, param, eps, n_max, top, every_capped, refine);
     reason_out = reason;
     if (reason != REASON_NONE) {
         return FALLBACK_LEVEL;
@@ -120,16 +128,18 @@ float level_pass(Frame frame, GpuMaterial material, vec2 param, float eps, uint 
 // >= 1, or FALLBACK_LEVEL when it must be shaded per pixel; never NaN. With `refine`, each light's
 // ranges are taken over the triangle's children. `refine_next`: whether this estimate (without
 // `refine`) is one that Rust estimates again with it: its `Estimate::level` (FALLBACK_LEVEL above
-// n_max) exceeds REFINE_ABOVE (`!(<=)`: true for NaN, as Rust's fallback level).
+// n_max) exceeds REFINE_ABOVE (`!(<=)`: true for NaN, as Rust's fallback level). `every_capped`:
+// the range class's (settled_by_range).
 float estimate_pass(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye, uint material_index,
-                    vec2 param, float epsilon, float n_max_value, bool refine, out bool refine_next) {
+                    vec2 param, float epsilon, float n_max_value, bool every_capped, bool refine,
+                    out bool refine_next) {
     uint n_max = uint(clamp(n_max_value, 1.0, 64.0));
     P float eps = epsilon > 0.0 ? epsilon : 0.0;
     P float top = pattern_level(n_max, n_max);
     GpuMaterial material = materials[material_index];
     Frame frame = make_frame(p0, p1, p2, n0, n1, n2, eye);
     int reason = REASON_NONE;
-    P float level = level_pass(frame, material, param, eps, n_max, top, refine, reason);
+    P float level = level_pass(frame, material, param, eps, n_max, top, every_capped, refine, reason);
     refine_next = !refine && reason == REASON_NONE && (!(level <= REFINE_ABOVE) || !(level <= top));
     // false for NaN and infinity
     if (reason != REASON_NONE || !(level <= top)) {
@@ -141,12 +151,12 @@ float estimate_pass(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 e
 // Estimate::level of the triangle: estimate_pass, and again with `refine` where it asks for it.
 // One call site in a loop: a second one would inline the whole estimator twice.
 float required_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye,
-                     uint material_index, vec2 param, float epsilon, float n_max_value) {
+                     uint material_index, vec2 param, float epsilon, float n_max_value, bool every_capped) {
     P float level = 0.0;
     bool again = false;
     for (int pass = 0; pass < 2; ++pass) {
         level = estimate_pass(p0, p1, p2, n0, n1, n2, eye, material_index, param, epsilon, n_max_value,
-                              pass == 1, again);
+                              every_capped, pass == 1, again);
         if (!again) {
             break;
         }

@@ -126,7 +126,7 @@ void light_jets(Frame frame, GpuMaterial material, vec2 param, LightSetup st, Sc
     spec[0] = zero;
     spec[1] = zero;
     spec[2] = zero;
-    if (MATERIAL_KIND == MATERIAL_LAMBERT || st.area) {
+    if (MATERIAL_KIND == MATERIAL_LAMBERT || st.area || !st.specular) {
         return;
     }
 

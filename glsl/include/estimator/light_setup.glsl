@@ -30,6 +30,9 @@ struct LightSetup {
     float att_inf;
     // The cosines at the ends of psi_nl.
     vec2 nl_cos;
+    // Whether the specular fields were planned (specular_setup): the specular part is bounded by
+    // its jets; else it has none or its cap bounds it.
+    bool specular;
 };
 
 // Accumulated bounds (see `Sums`): per term and channel, levels 1 and >= 2 (Uniform split
@@ -201,6 +204,7 @@ LightSetup diffuse_setup(Frame frame, bool point, bool area, vec2 emitter, Light
         }
     }
     setup.nl_cos = vec2(est_cos(setup.psi_nl.x), est_cos(setup.psi_nl.y));
+    setup.specular = false;
     return setup;
 }
 
@@ -234,6 +238,7 @@ int specular_setup(Frame frame, vec2 param, bool point, LightSource source, vec2
         h_half = half_a;
     }
     setup.h_cone = (is_zero(h_axis) || !(h_half < MAX_HALF)) ? no_cone() : Cone(h_axis, h_half);
+    setup.specular = true;
     setup.m_min = m_min;
     setup.psi_lv = psi_lv;
     P vec2 c_nh = psi_range(frame.n_cone, setup.h_cone);

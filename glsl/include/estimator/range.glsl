@@ -30,11 +30,8 @@ Spread new_spread(vec3 axis, float c) {
     return Spread(axis, c, sine_of(c), true);
 }
 
-// The spread of sum l_k w_k over the simplex (see `spread_of`).
-Spread spread_of(vec3 w0, vec3 w1, vec3 w2) {
-    P vec3 u0 = unit(w0);
-    P vec3 u1 = unit(w1);
-    P vec3 u2 = unit(w2);
+// The spread of a field from its corners' directions (see `spread_of_units`).
+Spread spread_of_units(vec3 u0, vec3 u1, vec3 u2) {
     if (is_zero(u0) || is_zero(u1) || is_zero(u2)) {
         return NO_SPREAD;
     }
@@ -47,6 +44,11 @@ Spread spread_of(vec3 w0, vec3 w1, vec3 w2) {
         return NO_SPREAD;
     }
     return new_spread(axis, c);
+}
+
+// The spread of sum l_k w_k over the simplex (see `spread_of`).
+Spread spread_of(vec3 w0, vec3 w1, vec3 w2) {
+    return spread_of_units(unit(w0), unit(w1), unit(w2));
 }
 
 // Lower and upper bounds on x.y for x within spread a and y within b (see `cosine_bounds`).
@@ -82,19 +84,19 @@ Spread half_spread(Spread l, Spread v, out float vh_lo) {
 }
 
 // One light's direction spread over the triangle and its least and largest irradiance scale
-// (see `light_spread`); light index i of the lights buffer, `point` for a point light.
-Spread light_spread(GpuLight light, bool point, vec3 p0, vec3 p1, vec3 p2, out vec2 scale) {
+// (see `light_spread`): a point light at `position`, or a directional light travelling along it.
+Spread light_spread(vec3 position, bool point, vec3 p0, vec3 p1, vec3 p2, out vec2 scale) {
     scale = vec2(1.0);
     if (!point) {
-        P vec3 axis = unit(-light.position.xyz);
+        P vec3 axis = unit(-position);
         if (is_zero(axis)) {
             return NO_SPREAD;
         }
         return new_spread(axis, 1.0 - COS_PAD);
     }
-    P vec3 t0 = light.position.xyz - p0;
-    P vec3 t1 = light.position.xyz - p1;
-    P vec3 t2 = light.position.xyz - p2;
+    P vec3 t0 = position - p0;
+    P vec3 t1 = position - p1;
+    P vec3 t2 = position - p2;
     Spread s = spread_of(t0, t1, t2);
     if (!s.ok) {
         return NO_SPREAD;
@@ -153,18 +155,75 @@ P vec3 specular_sup(GpuMaterial material, vec2 param, Spread n, Spread l, Spread
     return s;
 }
 
+// What the specular shortcut needs of a triangle (`SpecularCaps` in Rust): the spreads of its
+// normal and view; ok false for a material without a specular part or a spread of 90° or more.
+struct SpecularCaps {
+    Spread n;
+    Spread v;
+    bool ok;
+};
+
+// For a child's values (add_light's ADD_VALUES), which take no caps.
+const SpecularCaps NO_SPECULAR_CAPS = SpecularCaps(NO_SPREAD, NO_SPREAD, false);
+
+// The caps' spreads of a triangle from its unit normals un and unit vectors to the eye uv (see
+// `SpecularCaps::new`; make_frame's unit_normals and v_units).
+SpecularCaps specular_caps(vec3 un0, vec3 un1, vec3 un2, vec3 uv0, vec3 uv1, vec3 uv2) {
+    SpecularCaps caps = NO_SPECULAR_CAPS;
+    if (MATERIAL_KIND == MATERIAL_LAMBERT) {
+        return caps;
+    }
+    caps.n = spread_of_units(un0, un1, un2);
+    if (!caps.n.ok) {
+        return caps;
+    }
+    caps.v = spread_of_units(uv0, uv1, uv2);
+    caps.ok = caps.v.ok;
+    return caps;
+}
+
+// The cap of a point or directional light's specular part over the triangle (p0, p1, p2) where
+// it is within the light's share of eps * SPECULAR_CAP_SHARE (`SpecularCaps::cap` in Rust); ok
+// false where it is larger or there is no bound.
+P vec3 specular_cap(SpecularCaps caps, GpuMaterial material, vec2 param, bool point, vec3 position,
+                    vec3 radiance, vec3 p0, vec3 p1, vec3 p2, float eps, out bool ok) {
+    ok = false;
+    vec2 scale;
+    Spread l = light_spread(position, point, p0, p1, p2, scale);
+    if (!l.ok) {
+        return vec3(0.0);
+    }
+    P float nl_hi = cosine_bounds(caps.n, l).y;
+    if (!(nl_hi > 0.0)) {
+        ok = true;
+        return vec3(0.0);
+    }
+    bool has_specular;
+    P vec3 specular = specular_sup(material, param, caps.n, l, caps.v, nl_hi, has_specular);
+    if (!has_specular) {
+        return vec3(0.0);
+    }
+    P vec3 cap = radiance * (specular * scale.y) * (1.0 + RANGE_RELATIVE_PAD);
+    P float lights = float(POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT + POLYGON_LIGHT_COUNT);
+    ok = max_el(cap) * lights <= eps * SPECULAR_CAP_SHARE;
+    return cap;
+}
+
 // Whether every channel of range, padded for rounding, is at most eps (see `within`).
 bool range_within(vec3 range, float eps) {
     P vec3 padded = range * (1.0 + RANGE_RELATIVE_PAD) + 1.0e-6;
     return padded.x <= eps && padded.y <= eps && padded.z <= eps;
 }
 
-// An upper bound, per channel, on the shading's range over the triangle (see `range_bound`),
-// returned as soon as the lights summed so far cannot prove level 1 for `limit`; ok false:
-// none (a polygonal light, a varying GGX roughness, a spread of 90° or more).
+// An upper bound, per channel, on the shading's range over the triangle (`RangeClass::bound` in
+// Rust), returned as soon as the lights summed so far cannot prove level 1 for `eps` and a light's
+// specular part is not capped; ok false: none (a polygonal light, a varying GGX roughness, a
+// spread of 90° or more). `every_capped`: whether every light's specular part is within its cap
+// (`RangeClass::every_specular_capped`; specular_cap from the same quantities).
 P vec3 range_bound(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye, GpuMaterial material,
-                   vec2 param, float limit, out bool ok) {
+                   vec2 param, float eps, out bool ok, out bool every_capped) {
     ok = false;
+    every_capped = false;
     if (POLYGON_LIGHT_COUNT > 0) {
         return vec3(0.0);
     }
@@ -177,11 +236,14 @@ P vec3 range_bound(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 ey
     if (MATERIAL_KIND != MATERIAL_LAMBERT) {
         v = spread_of(eye - p0, eye - p1, eye - p2);
     }
+    bool capped = MATERIAL_KIND != MATERIAL_LAMBERT && v.ok;
+    P float budget = eps * SPECULAR_CAP_SHARE;
+    P float count = float(POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT + POLYGON_LIGHT_COUNT);
     P vec3 kd = material.diffuse.rgb;
     P vec3 total = vec3(0.0);
     for (int i = 0; i < POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT; ++i) {
         vec2 scale;
-        Spread l = light_spread(lights[i], i < POINT_LIGHT_COUNT, p0, p1, p2, scale);
+        Spread l = light_spread(lights[i].position.xyz, i < POINT_LIGHT_COUNT, p0, p1, p2, scale);
         if (!l.ok) {
             return vec3(0.0);
         }
@@ -195,13 +257,18 @@ P vec3 range_bound(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 ey
         if (!has_specular) {
             return vec3(0.0);
         }
-        total = total + lights[i].radiance.rgb * (diffuse + specular * scale.y);
-        if (!range_within(total, limit)) {
+        P vec3 radiance = lights[i].radiance.rgb;
+        P vec3 specular_most = specular * scale.y;
+        total = total + radiance * (diffuse + specular_most);
+        P vec3 cap = radiance * specular_most * (1.0 + RANGE_RELATIVE_PAD);
+        capped = capped && max_el(cap) * count <= budget;
+        if (!range_within(total, eps) && !capped) {
             ok = true;
             return total;
         }
     }
     ok = true;
+    every_capped = capped;
     return total;
 }
 
@@ -211,11 +278,12 @@ bool range_proves(vec3 range, bool ok, float eps) {
 }
 
 // Whether the triangle is settled by the range class (level 1, no estimate), as estimate_pass's
-// callers decide it (`estimate_textured` in Rust).
+// callers decide it (`estimate_textured` in Rust); `every_capped`: whether the estimate bounds
+// every light's specular part by its cap (see range_bound).
 bool settled_by_range(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye, uint material_index,
-                      vec2 param, float epsilon) {
+                      vec2 param, float epsilon, out bool every_capped) {
     P float eps = epsilon > 0.0 ? epsilon : 0.0;
     bool ok;
-    P vec3 range = range_bound(p0, p1, p2, n0, n1, n2, eye, materials[material_index], param, eps, ok);
+    P vec3 range = range_bound(p0, p1, p2, n0, n1, n2, eye, materials[material_index], param, eps, ok, every_capped);
     return range_proves(range, ok, eps);
 }

@@ -92,7 +92,7 @@ P float lobe_band_share(vec2 param, LightSetup st, float beta) {
 
 // Relaxed: the jump of the specular lobe that n.l > 0 switches on, on the band of width beta.
 P vec3 terminator_jump(vec3 spec_w, vec3 spec_sup, vec2 param, LightSetup st, float beta) {
-    if (!st.straddle || st.area) {
+    if (!st.straddle || st.area || !st.specular) {
         return vec3(0.0);
     }
     return spec_w * spec_sup * (lobe_band_share(param, st, beta) * SAFETY);

@@ -13,9 +13,10 @@ use super::estimate::{Discontinuity, Reason, Split, TriangleInput, TERM_COUNT};
 use super::frame::Frame;
 use super::irradiance::light_jets;
 use super::jet::{Guard, Jet};
-use super::light_setup::{plan_light, LightSetup, Sums, GRID_LEVELS};
+use super::light_setup::{plan_light, plan_parts, LightSetup, Sums, GRID_LEVELS};
 use super::lobe::{parameter_variation, polygon_specular_bound};
 use super::patch_levels::pattern_level;
+use super::range::SpecularCaps;
 use super::terminator::{lobe_band_share, view_band, TerminatorBand};
 use crate::scene::{Light, MaterialKind, ParameterRange};
 use glam::Vec3;
@@ -24,7 +25,9 @@ use glam::Vec3;
 /// ([`light_bounds`]), their ranges narrowed over the patch's children where `refine`
 /// ([`values_over_children`]), the n-independent parts and the light's own lower bound on the
 /// level, then the parts at the grid levels ([`LightBounds::add_grid`]) and at the solver's
-/// ([`LightBounds::add_to_sums`]). `Err`: the reason for fallback.
+/// ([`LightBounds::add_to_sums`]). Where `caps` bounds the specular part by a small constant
+/// ([`SpecularCaps::cap`]), that bounds it, without its setup and jets. `Err`: the reason for
+/// fallback.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn add_light(
     frame: &Frame,
@@ -36,13 +39,21 @@ pub(super) fn add_light(
     n_max: u32,
     eps: f32,
     refine: bool,
+    caps: Option<&SpecularCaps>,
     sum: &mut Sums,
     gd: &Guard,
 ) -> Result<(), Reason> {
-    let Some((setup, diff_w, spec_w)) = plan_light(frame, material, parameter, light, mode)? else {
+    let cap = caps.and_then(|caps| caps.cap(material, parameter, light, frame.vertices));
+    let planned =
+        plan_parts(frame, material, parameter, light, mode, material.is_specular() && cap.is_none());
+    let Some((setup, diff_w, spec_w)) = planned? else {
         return Ok(());
     };
     let mut bounds = light_bounds(frame, material, parameter, &setup, diff_w, spec_w, split, gd);
+    if let Some(cap) = cap {
+        bounds.range[SPECULAR] = cap;
+        bounds.specular_capped = true;
+    }
     // A triangle that needs a high level: the parts' values over the children, where this
     // light's range is not small. Every child is a part of the patch, so the largest of their
     // sups and the smallest of their infs bound the parts over the patch (and so over every
@@ -56,25 +67,29 @@ pub(super) fn add_light(
             let diff_sup = bounds.later_diffuse_sup.min(children.diffuse_sup);
             let diff_inf = bounds.later_diffuse_inf.max(children.diffuse_inf);
             bounds.range[DIFFUSE] = diff_w * ((diff_sup - diff_inf).max(0.0) * SAFETY);
-            bounds.spec_sup = bounds.spec_sup.min(children.specular_sup);
-            bounds.range[SPECULAR] = spec_w * bounds.spec_sup * SAFETY;
+            if !bounds.specular_capped {
+                bounds.spec_sup = bounds.spec_sup.min(children.specular_sup);
+                bounds.range[SPECULAR] = spec_w * bounds.spec_sup * SAFETY;
+            }
         }
     }
     // The n-independent parts of the specular part: a textured parameter's variation
     // sup|f(α) − f(α')| over the range (Eq. 37), or a polygon's sampled specular part, bounded
-    // by its range (which also covers a textured parameter).
+    // by its range (which also covers a textured parameter). A capped part has neither: its
+    // cap bounds its values for every parameter.
     let other = match light {
         Light::Polygon(polygon) => {
             let bound = polygon_specular_bound(material, parameter, &setup, polygon, gd) * SAFETY;
             bounds.range[SPECULAR] += bound;
             bound
         }
+        _ if bounds.specular_capped => Vec3::ZERO,
         _ => spec_w * parameter_variation(material, parameter, &setup, bounds.spec_sup),
     };
     // Relaxed: the specular lobe that n·l > 0 switches on jumps on the sub-triangles the
     // terminator crosses, by at most its sup over the band 0 < n·l ≤ band/L.
     let jump = |beta: f32| {
-        if setup.straddle && setup.area.is_none() {
+        if setup.straddle && setup.area.is_none() && setup.specular {
             spec_w * bounds.spec_sup * (lobe_band_share(material, parameter, &setup, beta) * SAFETY)
         } else {
             Vec3::ZERO
@@ -91,7 +106,10 @@ pub(super) fn add_light(
         bounds.tot[DIFFUSE][1] / (top * top) + bounds.linn[DIFFUSE] / top,
         bounds.tot[SPECULAR][1] / (top * top) + bounds.linn[SPECULAR] / top + zero_top,
     ];
-    let interpolated = [0, 1].map(|part| [0, 1, 2].map(|c| !(bounds.range[part][c] <= at_top[part][c])));
+    let interpolated = [0, 1].map(|part| {
+        let capped = part == SPECULAR && bounds.specular_capped;
+        [0, 1, 2].map(|c| !capped && !(bounds.range[part][c] <= at_top[part][c]))
+    });
     // The jump at levels ≥ 2 is taken at a lower bound of the final level: the level this
     // light alone needs with the jump at its infimum (the band's width 0). Every level the
     // solver returns is at least that (it adds the other lights' non-negative bounds), and
@@ -123,8 +141,11 @@ pub(super) fn add_light(
         bounds.linn[DIFFUSE] = diff_w * (TERMINATOR_KINK * SAFETY * gd.mul(bounds.att, bandn));
     }
     let zeron = jump(bandn / low) + other;
-    let whole_lobe =
-        if setup.straddle && setup.area.is_none() { spec_w * bounds.spec_sup * SAFETY } else { Vec3::ZERO };
+    let whole_lobe = if setup.straddle && setup.area.is_none() && setup.specular {
+        spec_w * bounds.spec_sup * SAFETY
+    } else {
+        Vec3::ZERO
+    };
     bounds.add_grid(sum, n_max, low, zeron, whole_lobe, other);
     bounds.add_to_sums(sum, interpolated, zero1, zeron);
     Ok(())
@@ -159,6 +180,8 @@ struct LightBounds {
     diff_w: Vec3,
     /// Whether `n·l` may change sign inside the triangle.
     straddle: bool,
+    /// Whether the specular part is bounded by its cap (`range[SPECULAR]`) at every level.
+    specular_capped: bool,
 }
 
 /// This light's bounds ([`LightBounds`]): second order per term at level 1 and at levels ≥ 2,
@@ -191,8 +214,10 @@ fn light_bounds(
         (0.0, 0.0)
     };
     // Relaxed, GGX: the same for n·v where it may change sign (its kink in V).
-    let view_kink =
-        matches!(material, MaterialKind::Ggx { .. }) && setup.area.is_none() && setup.nv_sign == Sign::Both;
+    let view_kink = matches!(material, MaterialKind::Ggx { .. })
+        && setup.area.is_none()
+        && setup.specular
+        && setup.nv_sign == Sign::Both;
     let (view1, viewn) =
         if view_kink { (view_band(frame, frame.d1, gd), view_band(frame, frame.dn, gd)) } else { (0.0, 0.0) };
     // The kink's band on a sub-triangle: at most the patch's, and `viewn/L ≤ viewn` at the
@@ -254,6 +279,7 @@ fn light_bounds(
         bandn,
         diff_w,
         straddle: setup.straddle,
+        specular_capped: false,
     }
 }
 
@@ -280,8 +306,12 @@ impl LightBounds {
             };
             for c in 0..3 {
                 let d = (self.tot[DIFFUSE][1][c] / (l * l) + kink_l[c]).min(self.range[DIFFUSE][c]);
-                let sp = (self.tot[SPECULAR][1][c] / (l * l) + self.linn[SPECULAR][c] / l + zero_l[c])
-                    .min(self.range[SPECULAR][c]);
+                let sp = if self.specular_capped {
+                    self.range[SPECULAR][c]
+                } else {
+                    (self.tot[SPECULAR][1][c] / (l * l) + self.linn[SPECULAR][c] / l + zero_l[c])
+                        .min(self.range[SPECULAR][c])
+                };
                 sum.grid[k][c] += d + sp;
             }
         }
@@ -293,8 +323,11 @@ impl LightBounds {
     fn add_to_sums(&self, sum: &mut Sums, interpolated: [[bool; 3]; 2], zero1: Vec3, zeron: Vec3) {
         for c in 0..3 {
             let one_d = (self.tot[DIFFUSE][0][c] + self.lin1[DIFFUSE][c]).min(self.range[DIFFUSE][c]);
-            let one_s =
-                (self.tot[SPECULAR][0][c] + self.lin1[SPECULAR][c] + zero1[c]).min(self.range[SPECULAR][c]);
+            let one_s = if self.specular_capped {
+                self.range[SPECULAR][c]
+            } else {
+                (self.tot[SPECULAR][0][c] + self.lin1[SPECULAR][c] + zero1[c]).min(self.range[SPECULAR][c])
+            };
             sum.one[c] += one_d + one_s;
             for part in [DIFFUSE, SPECULAR] {
                 if !interpolated[part][c] {

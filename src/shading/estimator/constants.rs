@@ -83,6 +83,13 @@ pub(super) const REFINE_CHILDREN: usize = 4;
 /// ...for the lights whose diffuse or specular range exceeds this share of `ε` in a channel.
 pub(super) const REFINE_SHARE: f32 = 0.125;
 
+/// A light's specular part whose upper bound over the triangle (the range class's, without the
+/// specular setup and jets) is within `ε·SPECULAR_CAP_SHARE / (number of lights)` is bounded by
+/// that upper bound, a constant term (`add_light`): the lights' capped parts together take at
+/// most this share of `ε`, so a level rises by at most `1/√(1 − share)` − 1 (1.6 %) where caps
+/// reach it (`docs/notebook/speedups.md` step 35).
+pub(super) const SPECULAR_CAP_SHARE: f32 = 0.03125;
+
 /// Sign of a cosine over the whole triangle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Sign {

@@ -14,7 +14,7 @@ use super::decide::decide;
 use super::frame::Frame;
 use super::jet::Guard;
 use super::light_setup::Sums;
-use super::range::{range_bound, range_proves};
+use super::range::{range_class, range_proves, SpecularCaps};
 use crate::scene::{Light, MaterialKind, Mesh, ParameterRange};
 use glam::Vec3;
 
@@ -236,7 +236,8 @@ pub fn estimate_textured(
     let eps = if settings.epsilon > 0.0 { settings.epsilon } else { 0.0 };
     // The range class: where the shading's whole range over the triangle is within ε, level 1
     // holds without an estimate.
-    let range = range_bound(tri.positions, tri.normals, tri.eye, material, parameter, lights, eps);
+    let class = range_class(tri.positions, tri.normals, tri.eye, material, parameter, lights, eps);
+    let range = class.bound;
     if range_proves(range, eps) {
         let predicted_error = range.map_or(0.0, |r| r.max_element());
         return Estimate {
@@ -248,17 +249,22 @@ pub fn estimate_textured(
             predicted_error,
         };
     }
-    let (sum, reason) = light_sums(tri, material, parameter, lights, settings, n_max, eps, false);
+    let capped = class.every_specular_capped;
+    let (sum, reason) = light_sums(tri, material, parameter, lights, settings, n_max, eps, capped, false);
     let first = decide(&sum, eps, n_max, settings.split, reason);
     if first.level > REFINE_ABOVE && (!first.fallback || first.reason == Reason::Level) {
-        let (sum, reason) = light_sums(tri, material, parameter, lights, settings, n_max, eps, true);
+        let (sum, reason) = light_sums(tri, material, parameter, lights, settings, n_max, eps, capped, true);
         return decide(&sum, eps, n_max, settings.split, reason);
     }
     first
 }
 
 /// Every light's bounds, summed, and the worst reason for fallback met on the way; with
-/// `refine`, the ranges of the point and directional lights taken over the patch's children.
+/// `every_capped` ([`RangeClass::every_specular_capped`]), each light's specular part bounded by
+/// its cap; with `refine`, the ranges of the point and directional lights taken over the patch's
+/// children.
+///
+/// [`RangeClass::every_specular_capped`]: super::range::RangeClass::every_specular_capped
 #[allow(clippy::too_many_arguments)]
 pub(super) fn light_sums(
     tri: &TriangleInput,
@@ -268,9 +274,11 @@ pub(super) fn light_sums(
     settings: &EstimatorSettings,
     n_max: u32,
     eps: f32,
+    every_capped: bool,
     refine: bool,
 ) -> (Sums, Reason) {
     let frame = Frame::new(tri, material.is_specular());
+    let caps = if every_capped { SpecularCaps::new(&frame, material, lights.len(), eps) } else { None };
     let guard = Guard::default();
     let mut sum = Sums::default();
     let mut reason = Reason::None;
@@ -290,6 +298,7 @@ pub(super) fn light_sums(
             n_max,
             eps,
             refine,
+            caps.as_ref(),
             &mut sum,
             &guard,
         );

@@ -201,7 +201,7 @@ pub(super) fn light_jets(
     };
     let zero = Jet::constant(0.0);
     let only_diffuse = LightJets { diffuse, specular: [zero; 3], view_kink: Vec3::ZERO };
-    if matches!(material, MaterialKind::Lambert { .. }) || st.area.is_some() {
+    if matches!(material, MaterialKind::Lambert { .. }) || st.area.is_some() || !st.specular {
         return only_diffuse;
     }
 

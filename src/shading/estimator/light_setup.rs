@@ -56,6 +56,9 @@ pub(super) struct LightSetup {
     pub(super) att_inf: f32,
     /// The cosines at the ends of `psi_nl`, `(cos ψ_min, cos ψ_max)`.
     pub(super) nl_cos: (f32, f32),
+    /// Whether the specular fields above were planned ([`plan_parts`]): the specular part is
+    /// bounded by its jets; else it has none (a Lambert material) or its cap bounds it.
+    pub(super) specular: bool,
 }
 
 impl LightSetup {
@@ -84,6 +87,7 @@ impl LightSetup {
             far_cos: 1.0,
             att_inf: 0.0,
             nl_cos: (1.0, -1.0),
+            specular: false,
         }
     }
 }
@@ -220,6 +224,19 @@ pub(super) fn plan_light(
     light: &Light,
     mode: Discontinuity,
 ) -> Result<Option<(LightSetup, Vec3, Vec3)>, Reason> {
+    plan_parts(frame, material, parameter, light, mode, material.is_specular())
+}
+
+/// [`plan_light`], with the specular setup only where `specular` (false: the specular part is
+/// bounded without it, by its cap).
+pub(super) fn plan_parts(
+    frame: &Frame,
+    material: &MaterialKind,
+    parameter: ParameterRange,
+    light: &Light,
+    mode: Discontinuity,
+    specular: bool,
+) -> Result<Option<(LightSetup, Vec3, Vec3)>, Reason> {
     let Some(source) = light_source(frame, material, light)? else {
         return Ok(None);
     };
@@ -233,7 +250,7 @@ pub(super) fn plan_light(
     let Some(mut setup) = diffuse_setup(frame, light, &source, mode)? else {
         return Ok(None);
     };
-    if material.is_specular() {
+    if specular {
         specular_setup(frame, material, parameter, mode, &source, &mut setup)?;
     }
     Ok(Some((setup, diff_w, spec_w)))
@@ -403,6 +420,7 @@ fn specular_setup(
     } else {
         Cone { axis: h_axis, half: h_half }
     };
+    setup.specular = true;
     setup.m_min = m_min;
     setup.psi_lv = psi_lv;
     let (c_nh0, c_nh1) = psi_range(&frame.n_cone, &setup.h_cone);

@@ -17,6 +17,8 @@
 //! on every triangle of the shipped scenes, bit for bit).
 
 use super::cone::unit;
+use super::constants::SPECULAR_CAP_SHARE;
+use super::frame::Frame;
 use crate::exact_math::est_pow;
 use crate::scene::{Light, MaterialKind, ParameterRange};
 use crate::shading::brdf::{GGX_MIN_ALPHA, MIN_LIGHT_DISTANCE_SQUARED};
@@ -53,7 +55,11 @@ impl Spread {
 /// `a·y/|y| ≥ a·y ≥ min_k a·ŵₖ`, which is the bound while it is positive. `None` where a
 /// corner vanishes or the field may turn by 90° or more.
 pub(super) fn spread_of(w: [Vec3; 3]) -> Option<Spread> {
-    let u = w.map(unit);
+    spread_of_units(w.map(unit))
+}
+
+/// [`spread_of`] the fields whose corners' directions are `u` (`unit` of each corner).
+pub(super) fn spread_of_units(u: [Vec3; 3]) -> Option<Spread> {
     if u.contains(&Vec3::ZERO) {
         return None;
     }
@@ -176,12 +182,128 @@ fn specular_sup(
     }
 }
 
-/// An upper bound, per colour channel, on `M − m` of the shading over the triangle, or `None`
-/// where this class gives none. See the module docs. The lights' parts are summed in order and
-/// the sum returned as soon as it cannot prove level 1 for `limit` ([`within`]): the lights
-/// after it only add to it (every part is `≥ 0`), so such a result is below the bound but
-/// decides [`range_proves`] for `limit` as the whole bound would (`f32::INFINITY`: the whole
-/// bound).
+/// What the specular caps need of a triangle whose every light is capped
+/// ([`RangeClass::every_specular_capped`]; `add_light`): the spreads of its normal and of its
+/// view, and the budget its lights' specular caps share ([`SpecularCaps::cap`]).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct SpecularCaps {
+    n: Spread,
+    v: Spread,
+    /// `ε·SPECULAR_CAP_SHARE`: what all the lights' capped specular parts may take together...
+    budget: f32,
+    /// ...shared evenly between this many lights.
+    lights: f32,
+}
+
+impl SpecularCaps {
+    /// The triangle's spreads from its frame's unit normals and unit vectors to the eye; `None`
+    /// for a material without a specular part, or where a spread is not below 90°.
+    pub(super) fn new(
+        frame: &Frame,
+        material: &MaterialKind,
+        lights: usize,
+        eps: f32,
+    ) -> Option<SpecularCaps> {
+        if !material.is_specular() {
+            return None;
+        }
+        let n = spread_of_units(frame.unit_normals)?;
+        let v = spread_of_units(frame.v_units)?;
+        Some(SpecularCaps { n, v, budget: eps * SPECULAR_CAP_SHARE, lights: lights as f32 })
+    }
+
+    /// The upper bound of `light`'s specular part over the triangle (radiance and falloff
+    /// included, padded for rounding) where it is within this light's share of the budget; the
+    /// part's values and its interpolant's then lie in `[0, cap]`, so `cap` bounds its error at
+    /// every level. `None` where it is larger or the range class gives no bound. The same
+    /// quantities as [`range_class`]'s, which decides whether a triangle's lights are capped.
+    pub(super) fn cap(
+        &self,
+        material: &MaterialKind,
+        parameter: ParameterRange,
+        light: &Light,
+        positions: [Vec3; 3],
+    ) -> Option<Vec3> {
+        let (l, _, most, radiance) = light_spread(light, positions)?;
+        let nl_hi = cosine_bounds(self.n, l).1;
+        if !(nl_hi > 0.0) {
+            // The specular part is 0 where n·l ≤ 0.
+            return Some(Vec3::ZERO);
+        }
+        let specular = specular_sup(material, parameter, self.n, l, Some(self.v), nl_hi)?;
+        let cap = radiance * (specular * most) * (1.0 + RANGE_RELATIVE_PAD);
+        (cap.max_element() * self.lights <= self.budget).then_some(cap)
+    }
+}
+
+/// What the range class finds of a triangle ([`range_class`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct RangeClass {
+    /// An upper bound, per colour channel, on `M − m` of the shading over the triangle, or
+    /// `None` where this class gives none. See the module docs. The lights' parts are summed in
+    /// order and the sum returned as soon as it cannot prove level 1 for `ε` ([`within`]) and
+    /// a light's specular part is not capped: the lights after it only add to it (every part is
+    /// `≥ 0`), so such a result is below the bound but decides [`range_proves`] as the whole
+    /// bound would.
+    pub(super) bound: Option<Vec3>,
+    /// Whether the estimate bounds every light's specular part by its cap: a specular
+    /// material, and for each light the part's upper bound within `ε·SPECULAR_CAP_SHARE / (number
+    /// of lights)` ([`SpecularCaps::cap`], from the same quantities). A triangle's lights are
+    /// capped all together or not at all, so that a GPU lists such triangles apart and runs an
+    /// estimator without specular code on them.
+    pub(super) every_specular_capped: bool,
+}
+
+/// The range class of a triangle for `ε` ([`RangeClass`]).
+pub(super) fn range_class(
+    positions: [Vec3; 3],
+    normals: [Vec3; 3],
+    eye: Vec3,
+    material: &MaterialKind,
+    parameter: ParameterRange,
+    lights: &[Light],
+    eps: f32,
+) -> RangeClass {
+    let none = RangeClass { bound: None, every_specular_capped: false };
+    let Some(n) = spread_of(normals) else {
+        return none;
+    };
+    // The view's spread matters to the specular parts only.
+    let v = if material.is_specular() { spread_of(positions.map(|p| eye - p)) } else { None };
+    let kd = match *material {
+        MaterialKind::Lambert { kd } | MaterialKind::BlinnPhong { kd, .. } => kd,
+        MaterialKind::Ggx { albedo, .. } => albedo,
+    };
+    let mut capped = material.is_specular() && v.is_some();
+    let (budget, count) = (eps * SPECULAR_CAP_SHARE, lights.len() as f32);
+    let mut total = Vec3::ZERO;
+    // The order of the GPU's light buffer: point lights, then directional ones.
+    let points = lights.iter().filter(|l| matches!(l, Light::Point { .. }));
+    let directionals = lights.iter().filter(|l| matches!(l, Light::Directional { .. }));
+    let polygons = lights.iter().filter(|l| matches!(l, Light::Polygon(_)));
+    for light in points.chain(directionals).chain(polygons) {
+        let Some((l, least, most, radiance)) = light_spread(light, positions) else {
+            return none;
+        };
+        let (nl_lo, nl_hi) = cosine_bounds(n, l);
+        if !(nl_hi > 0.0) {
+            continue;
+        }
+        let diffuse = kd * (most * nl_hi - least * nl_lo.max(0.0));
+        let Some(specular) = specular_sup(material, parameter, n, l, v, nl_hi) else {
+            return none;
+        };
+        let specular = specular * most;
+        total += radiance * (diffuse + specular);
+        capped = capped && (radiance * specular * (1.0 + RANGE_RELATIVE_PAD)).max_element() * count <= budget;
+        if !within(total, eps) && !capped {
+            return RangeClass { bound: Some(total), every_specular_capped: false };
+        }
+    }
+    RangeClass { bound: Some(total), every_specular_capped: capped }
+}
+
+/// [`RangeClass::bound`]: `limit` for `ε` (`f32::INFINITY`: the whole bound).
 pub(super) fn range_bound(
     positions: [Vec3; 3],
     normals: [Vec3; 3],
@@ -191,32 +313,7 @@ pub(super) fn range_bound(
     lights: &[Light],
     limit: f32,
 ) -> Option<Vec3> {
-    let n = spread_of(normals)?;
-    // The view's spread matters to the specular parts only.
-    let v = if material.is_specular() { spread_of(positions.map(|p| eye - p)) } else { None };
-    let kd = match *material {
-        MaterialKind::Lambert { kd } | MaterialKind::BlinnPhong { kd, .. } => kd,
-        MaterialKind::Ggx { albedo, .. } => albedo,
-    };
-    let mut total = Vec3::ZERO;
-    // The order of the GPU's light buffer: point lights, then directional ones.
-    let points = lights.iter().filter(|l| matches!(l, Light::Point { .. }));
-    let directionals = lights.iter().filter(|l| matches!(l, Light::Directional { .. }));
-    let polygons = lights.iter().filter(|l| matches!(l, Light::Polygon(_)));
-    for light in points.chain(directionals).chain(polygons) {
-        let (l, least, most, radiance) = light_spread(light, positions)?;
-        let (nl_lo, nl_hi) = cosine_bounds(n, l);
-        if !(nl_hi > 0.0) {
-            continue;
-        }
-        let diffuse = kd * (most * nl_hi - least * nl_lo.max(0.0));
-        let specular = specular_sup(material, parameter, n, l, v, nl_hi)?;
-        total += radiance * (diffuse + specular * most);
-        if !within(total, limit) {
-            return Some(total);
-        }
-    }
-    Some(total)
+    range_class(positions, normals, eye, material, parameter, lights, limit).bound
 }
 
 /// Whether every channel of `range`, padded for rounding, is at most `eps` (never for NaN or a

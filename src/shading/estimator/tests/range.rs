@@ -130,3 +130,92 @@ fn the_range_class_settles_nothing_it_cannot_bound() {
         }
     }
 }
+
+/// Random patches as above with a specular material, at an ε the caps fit and at 0.075: where
+/// the range class caps every light's specular part, each light's cap holds its sampled
+/// specular part (the material without its diffuse part, that light alone), and the level the
+/// estimate then chooses keeps the sampled interpolation error of the whole shading under ε
+/// (a sampled error is at most the true one). Some patches at each ε are capped.
+#[test]
+fn specular_caps_bound_the_specular_parts() {
+    use super::super::frame::Frame;
+    use super::super::range::{range_class, SpecularCaps};
+    use crate::analysis::oracle::{true_error_sampled, SAMPLES_PER_EDGE};
+    use crate::analysis::tessellator::triangle_pattern;
+    let mut rng = crate::test_rng::Rng(0x5bec_ca95_0000_0001);
+    let specular: Vec<MaterialKind> = materials().into_iter().filter(MaterialKind::is_specular).collect();
+    let (mut capped, mut measured) = ([0usize; 2], 0);
+    for case in 0..1_200 {
+        let size = 1.0e-3 * (rng.range(0.0, 5.7)).exp();
+        let (centre, positions, eye_dir, eye) = random_patch(&mut rng, size);
+        let base = tilt(&mut rng, eye_dir, 0.0, 1.2);
+        let spread = rng.range(0.0, 0.3);
+        let normals = [0; 3].map(|_| tilt(&mut rng, base, 0.0, spread) * rng.range(0.5, 2.0));
+        let lights: Vec<Light> = (0..1 + rng.below(3))
+            .map(|_| {
+                let towards = tilt(&mut rng, base, 0.0, 1.6);
+                let position = centre + towards * rng.range(2.0 * size, 10.0);
+                Light::Point { position, color: Vec3::new(1.0, 0.8, 0.6), intensity: rng.range(0.1, 8.0) }
+            })
+            .collect();
+        let material = specular[case % specular.len()];
+        let parameter = ParameterRange::of(&material);
+        let tri = TriangleInput { positions, normals, eye };
+        for (k, eps) in [0.075f32, 2.0].into_iter().enumerate() {
+            let class = range_class(positions, normals, eye, &material, parameter, &lights, eps);
+            if !class.every_specular_capped {
+                continue;
+            }
+            capped[k] += 1;
+            let frame = Frame::new(&tri, true);
+            let caps = SpecularCaps::new(&frame, &material, lights.len(), eps).expect("the class's spreads");
+            let lobe_only = match material {
+                MaterialKind::BlinnPhong { ks, shininess, .. } => {
+                    MaterialKind::BlinnPhong { kd: Vec3::ZERO, ks, shininess }
+                }
+                MaterialKind::Ggx { f0, roughness, .. } => {
+                    MaterialKind::Ggx { albedo: Vec3::ZERO, f0, roughness }
+                }
+                MaterialKind::Lambert { .. } => unreachable!("a specular material"),
+            };
+            for light in &lights {
+                let cap = caps.cap(&material, parameter, light, positions).expect("every light capped");
+                let sampled = sampled_range(&tri, &lobe_only, std::slice::from_ref(light), 12);
+                for c in 0..3 {
+                    assert!(
+                        sampled[c] <= cap[c] * 1.001 + 1.0e-6,
+                        "case {case}, ε {eps}: channel {c} of the lobe varies by {} over its cap {}",
+                        sampled[c],
+                        cap[c]
+                    );
+                }
+            }
+            let settings = EstimatorSettings { epsilon: eps, ..EstimatorSettings::default() };
+            let estimate = estimate(&tri, &material, &lights, &settings);
+            if estimate.fallback || estimate.level <= 1.0 {
+                continue;
+            }
+            measured += 1;
+            let n = estimate.n as f32;
+            let error = true_error_sampled(
+                &tri,
+                &material,
+                &lights,
+                &triangle_pattern(n, [n; 3]),
+                SAMPLES_PER_EDGE,
+                f64::INFINITY,
+            );
+            assert!(
+                error.iter().all(|&e| e <= f64::from(eps)),
+                "case {case}, ε {eps}: level {} errs by {error:?}",
+                estimate.n
+            );
+        }
+    }
+    eprintln!(
+        "specular caps: every light capped on {} patches at ε 0.075, {} at ε 2; {measured} levels above 1 measured",
+        capped[0], capped[1]
+    );
+    assert!(capped.iter().all(|&k| k >= 20), "too few capped patches to test: {capped:?}");
+    assert!(measured >= 20, "too few levels above 1 to measure: {measured}");
+}

@@ -42,7 +42,7 @@ fn second_order_total_is_the_sum_of_its_terms() {
                         let settings =
                             EstimatorSettings { discontinuity: mode, ..EstimatorSettings::default() };
                         let (sum, reason) =
-                            light_sums(&t, &m, parameter, &lights, &settings, 16, 0.075, false);
+                            light_sums(&t, &m, parameter, &lights, &settings, 16, 0.075, false, false);
                         if reason != Reason::None {
                             continue;
                         }
