@@ -1,6 +1,6 @@
 //! The range class: a triangle whose shading provably varies by at most `ε` over it needs
 //! level 1, and no estimate. The linear interpolant of values in `[m, M]` stays in `[m, M]`,
-//! so its error is at most `M − m` wherever the shading itself stays there; [`range_bound`]
+//! so its error is at most `M − m` wherever the shading itself stays there; [`range_class`]
 //! bounds `M − m` from cosine cones of the normal, light and view directions and the lights'
 //! distances, without trigonometry, for a small fraction of an estimate's cost.
 //!
@@ -303,19 +303,6 @@ pub(super) fn range_class(
     RangeClass { bound: Some(total), every_specular_capped: capped }
 }
 
-/// [`RangeClass::bound`]: `limit` for `ε` (`f32::INFINITY`: the whole bound).
-pub(super) fn range_bound(
-    positions: [Vec3; 3],
-    normals: [Vec3; 3],
-    eye: Vec3,
-    material: &MaterialKind,
-    parameter: ParameterRange,
-    lights: &[Light],
-    limit: f32,
-) -> Option<Vec3> {
-    range_class(positions, normals, eye, material, parameter, lights, limit).bound
-}
-
 /// Whether every channel of `range`, padded for rounding, is at most `eps` (never for NaN or a
 /// bound that overflowed).
 pub(super) fn within(range: Vec3, eps: f32) -> bool {
@@ -323,7 +310,7 @@ pub(super) fn within(range: Vec3, eps: f32) -> bool {
     fits(range.x) && fits(range.y) && fits(range.z)
 }
 
-/// Whether [`range_bound`] proves level 1 for `ε`: a bound [`within`] it.
+/// Whether [`RangeClass::bound`] proves level 1 for `ε`: a bound [`within`] it.
 pub(super) fn range_proves(bound: Option<Vec3>, eps: f32) -> bool {
     bound.is_some_and(|range| within(range, eps))
 }
@@ -338,5 +325,8 @@ pub fn settled_by_range(
     epsilon: f32,
 ) -> bool {
     let eps = if epsilon > 0.0 { epsilon } else { 0.0 };
-    range_proves(range_bound(tri.positions, tri.normals, tri.eye, material, parameter, lights, eps), eps)
+    range_proves(
+        range_class(tri.positions, tri.normals, tri.eye, material, parameter, lights, eps).bound,
+        eps,
+    )
 }

@@ -1,7 +1,7 @@
 //! The range class (`range.rs`) against the sampled shading: its bound holds the shading's
 //! whole range over the triangle, and it settles nothing it cannot bound.
 
-use super::super::range::{range_bound, range_proves};
+use super::super::range::{range_class, range_proves};
 use super::*;
 use crate::shading::shade_point;
 
@@ -21,15 +21,50 @@ fn sampled_range(tri: &TriangleInput, material: &MaterialKind, lights: &[Light],
     hi - lo
 }
 
+/// Asserts that no channel of `sampled` exceeds `bound` (by more than 1 ‰ and 10⁻⁶, the sampling's
+/// own rounding); `context` names the case.
+fn assert_within(sampled: Vec3, bound: Vec3, context: &dyn Fn() -> String) {
+    for c in 0..3 {
+        assert!(
+            sampled[c] <= bound[c] * 1.001 + 1.0e-6,
+            "{}: channel {c} varies by {} over the bound {}",
+            context(),
+            sampled[c],
+            bound[c]
+        );
+    }
+}
+
 /// The range class's whole bound (no early stop) of `tri` under `lights`, the material's own
 /// parameter.
 fn whole_bound(tri: &TriangleInput, material: &MaterialKind, lights: &[Light]) -> Option<Vec3> {
     let parameter = ParameterRange::of(material);
-    range_bound(tri.positions, tri.normals, tri.eye, material, parameter, lights, f32::INFINITY)
+    range_class(tri.positions, tri.normals, tri.eye, material, parameter, lights, f32::INFINITY).bound
 }
 
-/// Random patches of sizes 10⁻³ to 0.3 with normals spread by up to 0.3 rad, each BRDF, one to
-/// three point or directional lights: wherever the class gives a bound, the sampled shading
+/// A random patch of size 10⁻³ to 0.3 with normals spread by up to 0.3 rad, seen from `eye`, and
+/// one to three point or directional lights around its normal.
+fn random_lit_patch(rng: &mut crate::test_rng::Rng) -> (TriangleInput, Vec<Light>) {
+    let size = 1.0e-3 * (rng.range(0.0, 5.7)).exp();
+    let (centre, positions, eye_dir, eye) = random_patch(rng, size);
+    let base = tilt(rng, eye_dir, 0.0, 1.2);
+    let spread = rng.range(0.0, 0.3);
+    let normals = [0; 3].map(|_| tilt(rng, base, 0.0, spread) * rng.range(0.5, 2.0));
+    let lights: Vec<Light> = (0..1 + rng.below(3))
+        .map(|_| {
+            let towards = tilt(rng, base, 0.0, 1.6);
+            if rng.below(2) == 0 {
+                let position = centre + towards * rng.range(2.0 * size, 10.0);
+                Light::Point { position, color: Vec3::new(1.0, 0.8, 0.6), intensity: rng.range(0.1, 8.0) }
+            } else {
+                Light::Directional { direction: -towards, color: Vec3::ONE, intensity: rng.range(0.1, 3.0) }
+            }
+        })
+        .collect();
+    (TriangleInput { positions, normals, eye }, lights)
+}
+
+/// Random patches ([`random_lit_patch`]), each BRDF: wherever the class gives a bound, the sampled shading
 /// varies by no more (1 ‰ and 10⁻⁶ for the sampling's own rounding), and it gives one on most
 /// patches. Stopped early for an ε (`limit`), the bound decides `range_proves` for that ε as the
 /// whole bound does, for ε just above the bound, below it and far below it.
@@ -38,28 +73,9 @@ fn the_range_bound_holds_the_sampled_shading() {
     let mut rng = crate::test_rng::Rng(0x7a46_e0c1_a55e_0001);
     let (mut bounded, mut cases, mut tightest) = (0, 0, 0.0f32);
     for case in 0..1_500 {
-        let size = 1.0e-3 * (rng.range(0.0, 5.7)).exp();
-        let (centre, positions, eye_dir, eye) = random_patch(&mut rng, size);
-        let base = tilt(&mut rng, eye_dir, 0.0, 1.2);
-        let spread = rng.range(0.0, 0.3);
-        let normals = [0; 3].map(|_| tilt(&mut rng, base, 0.0, spread) * rng.range(0.5, 2.0));
-        let lights: Vec<Light> = (0..1 + rng.below(3))
-            .map(|_| {
-                let towards = tilt(&mut rng, base, 0.0, 1.6);
-                if rng.below(2) == 0 {
-                    let position = centre + towards * rng.range(2.0 * size, 10.0);
-                    Light::Point { position, color: Vec3::new(1.0, 0.8, 0.6), intensity: rng.range(0.1, 8.0) }
-                } else {
-                    Light::Directional {
-                        direction: -towards,
-                        color: Vec3::ONE,
-                        intensity: rng.range(0.1, 3.0),
-                    }
-                }
-            })
-            .collect();
+        let (tri, lights) = random_lit_patch(&mut rng);
+        let TriangleInput { positions, normals, eye } = tri;
         let material = &materials()[case % materials().len()];
-        let tri = TriangleInput { positions, normals, eye };
         cases += 1;
         let Some(bound) = whole_bound(&tri, material, &lights) else {
             continue;
@@ -67,8 +83,8 @@ fn the_range_bound_holds_the_sampled_shading() {
         bounded += 1;
         let largest = bound.max_element();
         for eps in [largest * 1.001 + 2.0e-6, 0.5 * largest, 1.0e-3 * largest] {
-            let stopped =
-                range_bound(positions, normals, eye, material, ParameterRange::of(material), &lights, eps);
+            let parameter = ParameterRange::of(material);
+            let stopped = range_class(positions, normals, eye, material, parameter, &lights, eps).bound;
             assert_eq!(
                 range_proves(stopped, eps),
                 range_proves(Some(bound), eps),
@@ -76,13 +92,8 @@ fn the_range_bound_holds_the_sampled_shading() {
             );
         }
         let sampled = sampled_range(&tri, material, &lights, 12);
+        assert_within(sampled, bound, &|| format!("case {case}, {tri:?} {material:?} {lights:?}"));
         for c in 0..3 {
-            assert!(
-                sampled[c] <= bound[c] * 1.001 + 1.0e-6,
-                "case {case}: channel {c} varies by {} over the bound {}: {tri:?} {material:?} {lights:?}",
-                sampled[c],
-                bound[c]
-            );
             if bound[c] > 1.0e-3 {
                 tightest = tightest.max(sampled[c] / bound[c]);
             }
@@ -131,7 +142,7 @@ fn the_range_class_settles_nothing_it_cannot_bound() {
     }
 }
 
-/// Random patches as above with a specular material, at an ε the caps fit and at 0.075: where
+/// Random patches ([`random_lit_patch`]) with a specular material, at an ε the caps fit and at 0.075: where
 /// the range class caps every light's specular part, each light's cap holds its sampled
 /// specular part (the material without its diffuse part, that light alone), and the level the
 /// estimate then chooses keeps the sampled interpolation error of the whole shading under ε
@@ -146,21 +157,10 @@ fn specular_caps_bound_the_specular_parts() {
     let specular: Vec<MaterialKind> = materials().into_iter().filter(MaterialKind::is_specular).collect();
     let (mut capped, mut measured) = ([0usize; 2], 0);
     for case in 0..1_200 {
-        let size = 1.0e-3 * (rng.range(0.0, 5.7)).exp();
-        let (centre, positions, eye_dir, eye) = random_patch(&mut rng, size);
-        let base = tilt(&mut rng, eye_dir, 0.0, 1.2);
-        let spread = rng.range(0.0, 0.3);
-        let normals = [0; 3].map(|_| tilt(&mut rng, base, 0.0, spread) * rng.range(0.5, 2.0));
-        let lights: Vec<Light> = (0..1 + rng.below(3))
-            .map(|_| {
-                let towards = tilt(&mut rng, base, 0.0, 1.6);
-                let position = centre + towards * rng.range(2.0 * size, 10.0);
-                Light::Point { position, color: Vec3::new(1.0, 0.8, 0.6), intensity: rng.range(0.1, 8.0) }
-            })
-            .collect();
+        let (tri, lights) = random_lit_patch(&mut rng);
+        let TriangleInput { positions, normals, eye } = tri;
         let material = specular[case % specular.len()];
         let parameter = ParameterRange::of(&material);
-        let tri = TriangleInput { positions, normals, eye };
         for (k, eps) in [0.075f32, 2.0].into_iter().enumerate() {
             let class = range_class(positions, normals, eye, &material, parameter, &lights, eps);
             if !class.every_specular_capped {
@@ -181,14 +181,7 @@ fn specular_caps_bound_the_specular_parts() {
             for light in &lights {
                 let cap = caps.cap(&material, parameter, light, positions).expect("every light capped");
                 let sampled = sampled_range(&tri, &lobe_only, std::slice::from_ref(light), 12);
-                for c in 0..3 {
-                    assert!(
-                        sampled[c] <= cap[c] * 1.001 + 1.0e-6,
-                        "case {case}, ε {eps}: channel {c} of the lobe varies by {} over its cap {}",
-                        sampled[c],
-                        cap[c]
-                    );
-                }
+                assert_within(sampled, cap, &|| format!("case {case}, ε {eps}, the lobe of {light:?}"));
             }
             let settings = EstimatorSettings { epsilon: eps, ..EstimatorSettings::default() };
             let estimate = estimate(&tri, &material, &lights, &settings);
