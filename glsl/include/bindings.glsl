@@ -90,7 +90,7 @@ layout(set = 0, binding = 16, std430) buffer FallbackDraws { uvec4 fallback_draw
 // in the per-pixel draw (FLAG_FALLBACK_PATCHES), passes them on for multirate.frag to shade.
 layout(set = 0, binding = 17, std430) buffer FlatPatches { uint flat_patches[]; };
 layout(set = 0, binding = 18, std430) buffer FlatDraws { uvec4 flat_draws[]; };
-// Per mesh, the pre-pass's four indirect dispatches and the lengths of their lists
+// Per mesh, the pre-pass's five indirect dispatches and the lengths of their lists
 // (`VkDispatchIndirectCommand` in xyz, the length in w; the host resets each to (0, 1, 1, 0)):
 // level_dispatch(ESTIMATE_DISPATCH) of the range step, one workgroup per PRE_PASS_GROUP
 // triangles to estimate, w their count; level_dispatch(PATCH_DISPATCH) of the patch step, those
