@@ -414,9 +414,9 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     bool capped = MATERIAL_KIND != MATERIAL_LAMBERT && (SPECULAR_ALL_CAPPED || caps.ok) && mode != ADD_VALUES && !area;
     P vec3 cap = vec3(0.0);
     if (capped) {
-        bool within_cap;
+        bool bounded;
         cap = specular_cap(caps, material, param, point, position, radiance, frame.vertices[0], frame.vertices[1],
-                           frame.vertices[2], eps, within_cap);
+                           frame.vertices[2], bounded);
     }
     if (MATERIAL_KIND != MATERIAL_LAMBERT && !capped) {
         if (!(frame.e_min > 0.0)) {

@@ -182,11 +182,18 @@ SpecularCaps specular_caps(vec3 un0, vec3 un1, vec3 un2, vec3 uv0, vec3 uv1, vec
     return caps;
 }
 
-// The cap of a point or directional light's specular part over the triangle (p0, p1, p2) where
-// it is within the light's share of eps * SPECULAR_CAP_SHARE (`SpecularCaps::cap` in Rust); ok
-// false where it is larger or there is no bound.
+// A light's specular part's upper bound radiance sup(specular) sup(E') (specular_most: the last
+// two), padded for rounding: its cap (`padded_cap` in Rust).
+P vec3 padded_cap(vec3 radiance, vec3 specular_most) {
+    P vec3 cap = radiance * specular_most * (1.0 + RANGE_RELATIVE_PAD);
+    return cap;
+}
+
+// The cap of a point or directional light's specular part over the triangle (p0, p1, p2)
+// (`SpecularCaps::cap` in Rust; range_bound decides whether every light's is small enough); ok
+// false where there is no bound.
 P vec3 specular_cap(SpecularCaps caps, GpuMaterial material, vec2 param, bool point, vec3 position,
-                    vec3 radiance, vec3 p0, vec3 p1, vec3 p2, float eps, out bool ok) {
+                    vec3 radiance, vec3 p0, vec3 p1, vec3 p2, out bool ok) {
     ok = false;
     vec2 scale;
     Spread l = light_spread(position, point, p0, p1, p2, scale);
@@ -203,10 +210,8 @@ P vec3 specular_cap(SpecularCaps caps, GpuMaterial material, vec2 param, bool po
     if (!has_specular) {
         return vec3(0.0);
     }
-    P vec3 cap = radiance * (specular * scale.y) * (1.0 + RANGE_RELATIVE_PAD);
-    P float lights = float(POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT + POLYGON_LIGHT_COUNT);
-    ok = max_el(cap) * lights <= eps * SPECULAR_CAP_SHARE;
-    return cap;
+    ok = true;
+    return padded_cap(radiance, specular * scale.y);
 }
 
 // Whether every channel of range, padded for rounding, is at most eps (see `within`).
@@ -260,8 +265,7 @@ P vec3 range_bound(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 ey
         P vec3 radiance = lights[i].radiance.rgb;
         P vec3 specular_most = specular * scale.y;
         total = total + radiance * (diffuse + specular_most);
-        P vec3 cap = radiance * specular_most * (1.0 + RANGE_RELATIVE_PAD);
-        capped = capped && max_el(cap) * count <= budget;
+        capped = capped && max_el(padded_cap(radiance, specular_most)) * count <= budget;
         if (!range_within(total, eps) && !capped) {
             ok = true;
             return total;

@@ -278,7 +278,7 @@ pub(super) fn light_sums(
     refine: bool,
 ) -> (Sums, Reason) {
     let frame = Frame::new(tri, material.is_specular());
-    let caps = if every_capped { SpecularCaps::new(&frame, material, lights.len(), eps) } else { None };
+    let caps = if every_capped { SpecularCaps::new(&frame, material) } else { None };
     let guard = Guard::default();
     let mut sum = Sums::default();
     let mut reason = Reason::None;

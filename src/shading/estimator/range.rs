@@ -184,39 +184,35 @@ fn specular_sup(
 
 /// What the specular caps need of a triangle whose every light is capped
 /// ([`RangeClass::every_specular_capped`]; `add_light`): the spreads of its normal and of its
-/// view, and the budget its lights' specular caps share ([`SpecularCaps::cap`]).
+/// view.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct SpecularCaps {
     n: Spread,
     v: Spread,
-    /// `ε·SPECULAR_CAP_SHARE`: what all the lights' capped specular parts may take together...
-    budget: f32,
-    /// ...shared evenly between this many lights.
-    lights: f32,
+}
+
+/// A light's specular part's upper bound over the triangle, `radiance·sup(specular)·sup(E')`
+/// (`specular_most`: the last two), padded for rounding: its cap.
+fn padded_cap(radiance: Vec3, specular_most: Vec3) -> Vec3 {
+    radiance * specular_most * (1.0 + RANGE_RELATIVE_PAD)
 }
 
 impl SpecularCaps {
     /// The triangle's spreads from its frame's unit normals and unit vectors to the eye; `None`
     /// for a material without a specular part, or where a spread is not below 90°.
-    pub(super) fn new(
-        frame: &Frame,
-        material: &MaterialKind,
-        lights: usize,
-        eps: f32,
-    ) -> Option<SpecularCaps> {
+    pub(super) fn new(frame: &Frame, material: &MaterialKind) -> Option<SpecularCaps> {
         if !material.is_specular() {
             return None;
         }
         let n = spread_of_units(frame.unit_normals)?;
         let v = spread_of_units(frame.v_units)?;
-        Some(SpecularCaps { n, v, budget: eps * SPECULAR_CAP_SHARE, lights: lights as f32 })
+        Some(SpecularCaps { n, v })
     }
 
-    /// The upper bound of `light`'s specular part over the triangle (radiance and falloff
-    /// included, padded for rounding) where it is within this light's share of the budget; the
-    /// part's values and its interpolant's then lie in `[0, cap]`, so `cap` bounds its error at
-    /// every level. `None` where it is larger or the range class gives no bound. The same
-    /// quantities as [`range_class`]'s, which decides whether a triangle's lights are capped.
+    /// The cap of `light`'s specular part over the triangle ([`padded_cap`]): the part's values
+    /// and its interpolant's lie in `[0, cap]`, so `cap` bounds its error at every level.
+    /// [`range_class`] computes the same from the same quantities and decides whether every
+    /// light's cap is within its share of `ε`. `None` where the range class gives no bound.
     pub(super) fn cap(
         &self,
         material: &MaterialKind,
@@ -231,8 +227,7 @@ impl SpecularCaps {
             return Some(Vec3::ZERO);
         }
         let specular = specular_sup(material, parameter, self.n, l, Some(self.v), nl_hi)?;
-        let cap = radiance * (specular * most) * (1.0 + RANGE_RELATIVE_PAD);
-        (cap.max_element() * self.lights <= self.budget).then_some(cap)
+        Some(padded_cap(radiance, specular * most))
     }
 }
 
@@ -295,7 +290,7 @@ pub(super) fn range_class(
         };
         let specular = specular * most;
         total += radiance * (diffuse + specular);
-        capped = capped && (radiance * specular * (1.0 + RANGE_RELATIVE_PAD)).max_element() * count <= budget;
+        capped = capped && padded_cap(radiance, specular).max_element() * count <= budget;
         if !within(total, eps) && !capped {
             return RangeClass { bound: Some(total), every_specular_capped: false };
         }

@@ -168,7 +168,7 @@ fn specular_caps_bound_the_specular_parts() {
             }
             capped[k] += 1;
             let frame = Frame::new(&tri, true);
-            let caps = SpecularCaps::new(&frame, &material, lights.len(), eps).expect("the class's spreads");
+            let caps = SpecularCaps::new(&frame, &material).expect("the class's spreads");
             let lobe_only = match material {
                 MaterialKind::BlinnPhong { ks, shininess, .. } => {
                     MaterialKind::BlinnPhong { kd: Vec3::ZERO, ks, shininess }
@@ -179,7 +179,12 @@ fn specular_caps_bound_the_specular_parts() {
                 MaterialKind::Lambert { .. } => unreachable!("a specular material"),
             };
             for light in &lights {
-                let cap = caps.cap(&material, parameter, light, positions).expect("every light capped");
+                let cap = caps.cap(&material, parameter, light, positions).expect("a bound");
+                let share = eps * SPECULAR_CAP_SHARE / lights.len() as f32;
+                assert!(
+                    cap.max_element() <= share * 1.000_001,
+                    "case {case}, ε {eps}: cap {cap} over {share}"
+                );
                 let sampled = sampled_range(&tri, &lobe_only, std::slice::from_ref(light), 12);
                 assert_within(sampled, cap, &|| format!("case {case}, ε {eps}, the lobe of {light:?}"));
             }
