@@ -265,6 +265,71 @@ void add_to_sums(LightBounds bounds, bvec3 interp_d, bvec3 interp_s, vec3 zero1,
     }
 }
 
+// A point (`point`, at `position`) or directional light's parts per unit weight at the triangle's
+// corners (`corner_values` in Rust): the diffuse part's largest and smallest, and the specular
+// part at the corner of the largest n.h, Blinn-Phong's at the lowest shininess of the range (0 for
+// GGX and Lambert, and where not `specular`).
+P vec3 corner_values(Frame frame, vec2 param, bool point, vec3 position, bool specular) {
+    P vec3 values = vec3(0.0, MAX_FINITE, 0.0);
+    // The largest n.h of a corner the light is in front of, and its falloff.
+    P float peak = -1.0;
+    P float peak_falloff = 0.0;
+    for (int i = 0; i < 3; ++i) {
+        P vec3 l;
+        P float falloff;
+        if (point) {
+            P vec3 to_light = position - frame.vertices[i];
+            P float d2 = rmax(dot3(to_light, to_light), MIN_LIGHT_DISTANCE_SQUARED);
+            l = to_light * (1.0 / sqrt(d2));
+            falloff = 1.0 / d2;
+        } else {
+            l = unit(-position);
+            falloff = 1.0;
+        }
+        P vec3 n = frame.unit_normals[i];
+        P float n_dot_l = dot3(n, l);
+        P float diffuse = falloff * rmax(n_dot_l, 0.0);
+        values.x = rmax(values.x, diffuse);
+        values.y = rmin(values.y, diffuse);
+        if (MATERIAL_KIND == MATERIAL_BLINN_PHONG && specular && n_dot_l > 0.0) {
+            P float n_dot_h = rmax(dot3(n, unit(l + frame.v_units[i])), 0.0);
+            if (n_dot_h > peak) {
+                peak = n_dot_h;
+                peak_falloff = falloff;
+            }
+        }
+    }
+    if (MATERIAL_KIND == MATERIAL_BLINN_PHONG && specular && peak >= 0.0) {
+        values.z = peak_falloff * est_pow(peak, param.x);
+    }
+    return values;
+}
+
+// One light's share of the refining floor (`light_floor` in Rust): per channel a lower bound on
+// what it adds to the bound at every level up to `top` in the estimate refined over the children;
+// `narrowed`: whether refining narrows its ranges, which its values at the corners then bound.
+P vec3 light_floor(Frame frame, vec2 param, bool point, vec3 position, LightSetup setup, LightBounds bounds,
+                   vec3 spec_w, vec3 other, float top, bool narrowed) {
+    P vec3 range_d = bounds.range_d;
+    P vec3 range_s = bounds.range_s;
+    if (narrowed) {
+        // (A capped specular part keeps its cap: SPECULAR_ALL_CAPPED folds its corners' values away.)
+        P vec3 corners = corner_values(frame, param, point, position, !bounds.specular_capped);
+        P float spread =
+            rmax(corners.x * (1.0 - CORNER_VALUE_MARGIN) - corners.y * (1.0 + CORNER_VALUE_MARGIN), 0.0);
+        range_d = rmin3(range_d, bounds.diff_w * (spread * SAFETY));
+        if (!bounds.specular_capped) {
+            P vec3 spec_sup = rmin3(bounds.spec_sup, vec3(corners.z * (1.0 - CORNER_VALUE_MARGIN)));
+            range_s = rmin3(range_s, spec_w * spec_sup * SAFETY);
+            other = spec_w * parameter_variation(param, setup, spec_sup);
+        }
+    }
+    P vec3 second_d = rmin3(bounds.tot_d1, bounds.tot_dn / (top * top));
+    P vec3 second_s = rmin3(bounds.tot_s1, bounds.tot_sn / (top * top));
+    P vec3 part_s = bounds.specular_capped ? range_s : rmin3(range_s, second_s + other);
+    return rmin3(range_d, second_d) + part_s;
+}
+
 // The light's parts added to the sums, from its bounds (the end of `add_light` in Rust): per
 // part and channel the smaller of its interpolation bound and its range, the jumps of the specular
 // lobe where n.l changes sign (Relaxed), the light's own lower bound `low` on the level, then the
@@ -463,6 +528,10 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     } else {
         // A textured parameter: its variation over the range, an n-independent term.
         other = spec_w * parameter_variation(param, setup, bounds.spec_sup);
+    }
+    if (mode == ADD_BOUNDS) {
+        sum_floor = sum_floor
+            + light_floor(frame, param, point, position, setup, bounds, spec_w, other, top, !area && significant);
     }
     add_bounds_or_ranges(bounds, setup, param, diff_w, spec_w, other, top, n_max, eps);
     return REASON_NONE;

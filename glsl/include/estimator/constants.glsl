@@ -77,6 +77,10 @@ const float MAX_FINITE = 3.4028235e38;
 const float REFINE_ABOVE = 8.0;
 const int REFINE_CHILDREN = 4;
 const float REFINE_SHARE = 0.125;
+// Refining is skipped where the refining floor exceeds eps by REFINE_FLOOR_MARGIN; the corners'
+// values that bound it are shrunk by CORNER_VALUE_MARGIN (the constants of the same names in Rust).
+const float REFINE_FLOOR_MARGIN = 1.01;
+const float CORNER_VALUE_MARGIN = 1.0e-3;
 // A light's specular part within eps * SPECULAR_CAP_SHARE / (number of lights) over the triangle is
 // bounded by that cap (`SPECULAR_CAP_SHARE` in Rust).
 const float SPECULAR_CAP_SHARE = 0.03125;

@@ -29,6 +29,7 @@ int light_sums(Frame frame, GpuMaterial material, vec2 param, float eps, uint n_
     sum_jumps1 = vec3(0.0);
     sum_range = vec3(0.0);
     sum_one = vec3(0.0);
+    sum_floor = vec3(0.0);
     if (SPLIT == 1) {
         for (int k = 0; k < GRID_LEVEL_COUNT; ++k) {
             sum_grid[k] = vec3(0.0);
@@ -140,7 +141,9 @@ float estimate_pass(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 e
     Frame frame = make_frame(p0, p1, p2, n0, n1, n2, eye);
     int reason = REASON_NONE;
     P float level = level_pass(frame, material, param, eps, n_max, top, every_capped, refine, reason);
-    refine_next = !refine && reason == REASON_NONE && (!(level <= REFINE_ABOVE) || !(level <= top));
+    // Not where refining cannot keep the triangle from falling back (`refining_futile` in Rust).
+    bool futile = SPLIT == 1 && max_el(sum_floor) > eps * REFINE_FLOOR_MARGIN;
+    refine_next = !refine && reason == REASON_NONE && (!(level <= REFINE_ABOVE) || !(level <= top)) && !futile;
     // false for NaN and infinity
     if (reason != REASON_NONE || !(level <= top)) {
         return FALLBACK_LEVEL;

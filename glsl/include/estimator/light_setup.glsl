@@ -46,6 +46,8 @@ vec3 sum_jumps;
 vec3 sum_jumps1;
 vec3 sum_range;
 vec3 sum_one;
+// The refining floor (`Sums::floor` in Rust).
+vec3 sum_floor;
 // Heuristic split: the bound at the uniform levels of GRID_LEVELS, each light's parts at the
 // smaller of their interpolation bound and their range there (see `GRID_LEVELS` in Rust).
 const int GRID_LEVEL_COUNT = 8;

@@ -7,7 +7,8 @@
 //!
 //! [`Sums`]: super::light_setup::Sums
 
-use super::constants::{Sign, REFINE_CHILDREN, REFINE_SHARE, SAFETY, TERMINATOR_KINK};
+use super::cone::unit;
+use super::constants::{Sign, CORNER_VALUE_MARGIN, REFINE_CHILDREN, REFINE_SHARE, SAFETY, TERMINATOR_KINK};
 use super::decide::level_for;
 use super::estimate::{Discontinuity, Reason, Split, TriangleInput, TERM_COUNT};
 use super::frame::Frame;
@@ -18,7 +19,9 @@ use super::lobe::{parameter_variation, polygon_specular_bound};
 use super::patch_levels::pattern_level;
 use super::range::SpecularCaps;
 use super::terminator::{lobe_band_share, view_band, TerminatorBand};
+use crate::exact_math::est_pow;
 use crate::scene::{Light, MaterialKind, ParameterRange};
+use crate::shading::brdf::MIN_LIGHT_DISTANCE_SQUARED;
 use glam::Vec3;
 
 /// Adds one light's bounds to `sum`: its diffuse and specular parts bounded apart
@@ -86,6 +89,12 @@ pub(super) fn add_light(
         _ if bounds.specular_capped => Vec3::ZERO,
         _ => spec_w * parameter_variation(material, parameter, &setup, bounds.spec_sup),
     };
+    let top = pattern_level(n_max, n_max);
+    if !refine {
+        let narrowed = setup.area.is_none() && significant;
+        sum.floor +=
+            light_floor(frame, material, parameter, light, &setup, &bounds, spec_w, other, top, narrowed);
+    }
     // Relaxed: the specular lobe that n·l > 0 switches on jumps on the sub-triangles the
     // terminator crosses, by at most its sup over the band 0 < n·l ≤ band/L.
     let jump = |beta: f32| {
@@ -95,7 +104,6 @@ pub(super) fn add_light(
             Vec3::ZERO
         }
     };
-    let top = pattern_level(n_max, n_max);
     let zero1 = jump(bounds.band1) + other;
     let zero_top = jump(bounds.bandn / top) + other;
     // Per part and channel: the smaller of the part's interpolation bound and its range. The
@@ -153,7 +161,7 @@ pub(super) fn add_light(
 
 /// One light's bounds, for its diffuse and its specular part apart (indices [`DIFFUSE`] and
 /// [`SPECULAR`]), per channel.
-struct LightBounds {
+pub(super) struct LightBounds {
     /// Second order per term, at level 1 and at levels ≥ 2: `h[part][level][term]`...
     h: [[[Vec3; TERM_COUNT]; 2]; 2],
     /// ...and as one number ([`Jet::t`]): `tot[part][level]`.
@@ -348,6 +356,97 @@ impl LightBounds {
             }
         }
     }
+}
+
+/// One light's share of the refining floor ([`Sums::floor`]): per channel a lower bound on what
+/// it adds to the bound at every level up to `top` (the level-1 bound, the grid's, the solver's)
+/// in the estimate refined over the children. There each part adds the smaller of its range and
+/// its interpolation bound, whose second-order part (`tot`) and, but for GGX, n-independent part
+/// (`other`) refining leaves as they are; where it narrows the light's ranges (`narrowed`), the
+/// children's values still hold the light's values at the corners ([`corner_values`]), and so
+/// does the narrowed range. `docs/estimator.md` §16.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn light_floor(
+    frame: &Frame,
+    material: &MaterialKind,
+    parameter: ParameterRange,
+    light: &Light,
+    setup: &LightSetup,
+    bounds: &LightBounds,
+    spec_w: Vec3,
+    other: Vec3,
+    top: f32,
+    narrowed: bool,
+) -> Vec3 {
+    let (mut range_d, mut range_s, mut other) = (bounds.range[DIFFUSE], bounds.range[SPECULAR], other);
+    if narrowed {
+        let corners = corner_values(frame, material, parameter, light, !bounds.specular_capped);
+        let spread = (corners.diffuse_max * (1.0 - CORNER_VALUE_MARGIN)
+            - corners.diffuse_min * (1.0 + CORNER_VALUE_MARGIN))
+            .max(0.0);
+        range_d = range_d.min(bounds.diff_w * (spread * SAFETY));
+        if !bounds.specular_capped {
+            let spec_sup = bounds.spec_sup.min(Vec3::splat(corners.specular * (1.0 - CORNER_VALUE_MARGIN)));
+            range_s = range_s.min(spec_w * spec_sup * SAFETY);
+            other = spec_w * parameter_variation(material, parameter, setup, spec_sup);
+        }
+    }
+    let second_order = |part: usize| bounds.tot[part][0].min(bounds.tot[part][1] / (top * top));
+    let part_s = if bounds.specular_capped { range_s } else { range_s.min(second_order(SPECULAR) + other) };
+    range_d.min(second_order(DIFFUSE)) + part_s
+}
+
+/// A point or directional light's parts per unit weight at the triangle's corners: the
+/// diffuse part's largest and smallest, and the specular part at the corner nearest the lobe's
+/// peak (the largest `n̂·ĥ`; one power instead of three, and at most the largest), Blinn-Phong's
+/// at the lowest shininess of the range (0 for GGX, which takes no specular value here, and
+/// Lambert, and where not asked for).
+pub(super) struct CornerValues {
+    pub(super) diffuse_max: f32,
+    pub(super) diffuse_min: f32,
+    pub(super) specular: f32,
+}
+
+/// [`CornerValues`] of `light` on the triangle in `frame`, shaded as the evaluation stage
+/// shades a corner (`reflect_split`, `light_at`), the specular part only where `specular`; all
+/// 0 for a polygonal light.
+pub(super) fn corner_values(
+    frame: &Frame,
+    material: &MaterialKind,
+    parameter: ParameterRange,
+    light: &Light,
+    specular: bool,
+) -> CornerValues {
+    let mut values = CornerValues { diffuse_max: 0.0, diffuse_min: f32::MAX, specular: 0.0 };
+    // The largest n̂·ĥ of a corner the light is in front of, and its falloff.
+    let (mut peak, mut peak_falloff) = (-1.0f32, 0.0f32);
+    for i in 0..3 {
+        let x = frame.vertices[i];
+        let (l, falloff) = match *light {
+            Light::Point { position, .. } => {
+                let to_light = position - x;
+                let d2 = to_light.dot(to_light).max(MIN_LIGHT_DISTANCE_SQUARED);
+                (to_light * (1.0 / d2.sqrt()), 1.0 / d2)
+            }
+            Light::Directional { direction, .. } => (unit(-direction), 1.0),
+            Light::Polygon(_) => return CornerValues { diffuse_max: 0.0, diffuse_min: 0.0, specular: 0.0 },
+        };
+        let n = frame.unit_normals[i];
+        let n_dot_l = n.dot(l);
+        let diffuse = falloff * n_dot_l.max(0.0);
+        values.diffuse_max = values.diffuse_max.max(diffuse);
+        values.diffuse_min = values.diffuse_min.min(diffuse);
+        if n_dot_l > 0.0 {
+            let n_dot_h = n.dot(unit(l + frame.v_units[i])).max(0.0);
+            if n_dot_h > peak {
+                (peak, peak_falloff) = (n_dot_h, falloff);
+            }
+        }
+    }
+    if specular && matches!(material, MaterialKind::BlinnPhong { .. }) && peak >= 0.0 {
+        values.specular = peak_falloff * est_pow(peak, parameter.lo);
+    }
+    values
 }
 
 /// The shaded diffuse part `max(E'·c, 0)` per unit weight lies in `[inf, sup]`: at least

@@ -82,6 +82,14 @@ pub(super) const REFINE_ABOVE: f32 = 8.0;
 pub(super) const REFINE_CHILDREN: usize = 4;
 /// ...for the lights whose diffuse or specular range exceeds this share of `ε` in a channel.
 pub(super) const REFINE_SHARE: f32 = 0.125;
+/// Refining is skipped where the refining floor (`Sums::floor`, a lower bound on the bound at
+/// every level up to the top of the estimate refined over the children) exceeds `ε` by this
+/// factor: that estimate falls back as the first one did. The factor keeps the decision clear of
+/// the solver's rounding.
+pub(super) const REFINE_FLOOR_MARGIN: f32 = 1.01;
+/// The corners' values that bound the children's values from below are shrunk by this share
+/// (grown where they are subtracted), far more than their rounding.
+pub(super) const CORNER_VALUE_MARGIN: f32 = 1.0e-3;
 
 /// A light's specular part whose upper bound over the triangle (the range class's, without the
 /// specular setup and jets) is within `ε·SPECULAR_CAP_SHARE / (number of lights)` is bounded by

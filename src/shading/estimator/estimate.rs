@@ -9,7 +9,7 @@
 //! and the others) close the file.
 
 use super::add_light::add_light;
-use super::constants::REFINE_ABOVE;
+use super::constants::{REFINE_ABOVE, REFINE_FLOOR_MARGIN};
 use super::decide::decide;
 use super::frame::Frame;
 use super::jet::Guard;
@@ -252,11 +252,19 @@ pub fn estimate_textured(
     let capped = class.every_specular_capped;
     let (sum, reason) = light_sums(tri, material, parameter, lights, settings, n_max, eps, capped, false);
     let first = decide(&sum, eps, n_max, settings.split, reason);
-    if first.level > REFINE_ABOVE && (!first.fallback || first.reason == Reason::Level) {
+    let refining_can_help = !refining_futile(&sum, eps, settings.split);
+    if first.level > REFINE_ABOVE && (!first.fallback || first.reason == Reason::Level) && refining_can_help {
         let (sum, reason) = light_sums(tri, material, parameter, lights, settings, n_max, eps, capped, true);
         return decide(&sum, eps, n_max, settings.split, reason);
     }
     first
+}
+
+/// Whether the estimate refined over the children must fall back, as its refining floor
+/// ([`Sums::floor`]) exceeds `ε` at every level up to the top: then it is not computed. The
+/// Heuristic split only (the Uniform split's decision is not bounded by the floor).
+pub(super) fn refining_futile(sum: &Sums, eps: f32, split: Split) -> bool {
+    split == Split::Heuristic && sum.floor.max_element() > eps * REFINE_FLOOR_MARGIN
 }
 
 /// Every light's bounds, summed, and the worst reason for fallback met on the way; with

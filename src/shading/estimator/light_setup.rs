@@ -124,6 +124,12 @@ pub(super) struct Sums {
     /// bound `tn/L² + linn/L + jumps + range` does too. The level the solver returns is never
     /// below it; a grid level may be.
     pub(super) low: f32,
+    /// The refining floor: per channel a lower bound, summed over the lights, on the bound at
+    /// every level up to the top of the estimate refined over the children ([`light_floor`]).
+    /// Where it exceeds `ε`, refining cannot keep the triangle from falling back.
+    ///
+    /// [`light_floor`]: super::add_light::light_floor
+    pub(super) floor: Vec3,
 }
 
 /// Uniform levels at which the estimator also bounds each light's parts by the smaller of

@@ -28,6 +28,7 @@ mod light_bounds;
 mod patch_levels;
 mod pattern;
 mod range;
+mod refine_floor;
 mod robustness;
 mod terminator;
 
