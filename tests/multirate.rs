@@ -19,6 +19,7 @@ use common::{assert_validation_clean, cracks, on_an_edge, repo_path, validated_c
 use glam::DVec3;
 use multirate::analysis::{metrics, report};
 use multirate::geometry::cull::CULLED_LEVEL;
+use multirate::gpu_interface::slots::{LEVEL_DISPATCHES, REFINE_DISPATCH};
 use multirate::render::{Analysis, Mode, Placement, Renderer, View};
 use multirate::scene::Scene;
 use multirate::shading::estimator::{Discontinuity, EstimatorSettings, Reason, Split};
@@ -120,6 +121,57 @@ fn control_stage_levels_equal_the_twin() {
     // The GLSL estimator is bit-identical to the twin (its own elementary functions, precise
     // arithmetic): every level must agree exactly.
     assert_eq!(different, 0, "{different} of {compared} triangles differ from the twin");
+    assert_validation_clean(&context);
+}
+
+/// The refining step's list on the GPU holds as many triangles as the twin refines
+/// (`Estimate::refined`, culled triangles, back faces and small images left out as the GPU leaves
+/// them): the refining floor skips the same ones on both. On the spotted bunny it skips most of
+/// the triangles whose first estimate falls back (they would be listed without it); on the teapot
+/// (GGX) it skips none, and its refining step still has triangles to refine.
+#[test]
+fn the_refining_step_lists_what_the_twin_refines() {
+    let context = validated_context();
+    let (width, height) = (160, 120);
+    let target = RenderTarget::new(&context, vk::Extent2D { width, height }).expect("target");
+    for relative in ["scenes/bunny_spots.toml", "scenes/teapot.toml"] {
+        let mut scene = Scene::load(&repo_path(relative)).expect("scene");
+        (scene.settings.width, scene.settings.height) = (width, height);
+        let renderer = Renderer::new(&context, &scene).expect("renderer");
+        let scene_view = View::of_scene(&scene);
+        let view = View {
+            estimator: EstimatorSettings { min_estimated_area: 0.0, ..scene_view.estimator },
+            ..scene_view
+        };
+        let dispatches = renderer.pre_pass_dispatches(&target, &view).expect("dispatches");
+        let per_mesh = LEVEL_DISPATCHES as usize;
+        let listed: u32 = (0..scene.meshes.len())
+            .map(|mesh| dispatches[mesh * per_mesh + REFINE_DISPATCH as usize][3])
+            .sum();
+        let twin = report::analyze(
+            &scene,
+            &view.estimator,
+            report::Triangles::All,
+            false,
+            report::TextureBounds::Pyramid,
+        );
+        let estimated: Vec<_> = twin.iter().filter(|t| !t.culled && !t.back_face && !t.small_image).collect();
+        let refined = estimated.iter().filter(|t| t.estimate.refined).count();
+        let fallbacks = estimated.iter().filter(|t| t.estimate.fallback).count();
+        eprintln!("{relative}: {listed} listed to refine, the twin refines {refined}; {fallbacks} fall back");
+        assert_eq!(
+            listed as usize, refined,
+            "{relative}: the GPU lists {listed} to refine, the twin refines {refined}"
+        );
+        if relative.contains("spots") {
+            assert!(
+                4 * refined < fallbacks,
+                "{relative}: the floor skips too few ({refined} refined, {fallbacks} fall back)"
+            );
+        } else {
+            assert!(refined > 0, "{relative}: nothing to refine, the step goes untested");
+        }
+    }
     assert_validation_clean(&context);
 }
 

@@ -148,6 +148,48 @@ impl Renderer {
         Ok(bytemuck::pod_collect_to_vec::<u8, [f32; 4]>(&bytes[..self.buffers.level_records.size as usize]))
     }
 
+    /// Renders one frame of `view` (`multirate` mode, the compute placement) and returns its
+    /// pre-pass's indirect dispatches as the frame left them: per mesh, `LEVEL_DISPATCHES` words
+    /// `[workgroups x, y, z, listed triangles]` (`gpu_interface::slots`), so that a test can
+    /// compare each step's list with the twin's.
+    pub fn pre_pass_dispatches(&self, target: &RenderTarget, view: &View) -> Result<Vec<[u32; 4]>> {
+        let view = View { mode: Mode::Multirate, placement: Placement::Compute, ..view.clone() };
+        self.prepare(&view, target)?;
+        let source = &self.buffers.pre_pass.level_dispatches;
+        let readback = crate::vk::memory::Buffer::new(
+            &self.context,
+            "pre-pass dispatches read back",
+            source.size,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            gpu_allocator::MemoryLocation::GpuToCpu,
+        )?;
+        target.render_and_read(&self.context, |cmd| {
+            self.record(cmd, target, &view, AfterPass::Readback);
+            let before = [vk::MemoryBarrier2::default()
+                .src_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
+                .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE | vk::AccessFlags2::TRANSFER_WRITE)
+                .dst_stage_mask(vk::PipelineStageFlags2::COPY)
+                .dst_access_mask(vk::AccessFlags2::TRANSFER_READ)];
+            let after = [vk::MemoryBarrier2::default()
+                .src_stage_mask(vk::PipelineStageFlags2::COPY)
+                .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+                .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+                .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+            let region = [vk::BufferCopy::default().size(source.size)];
+            let device = &self.context.device;
+            // SAFETY: recording command buffer, outside the rendering `record` ended; both
+            // buffers are live, `source` has TRANSFER_SRC and `readback` TRANSFER_DST usage, and
+            // the region fits both.
+            unsafe {
+                device.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&before));
+                device.cmd_copy_buffer(cmd, source.raw, readback.raw, &region);
+                device.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&after));
+            }
+        })?;
+        let bytes = readback.mapped().expect("GpuToCpu memory is mapped");
+        Ok(bytemuck::pod_collect_to_vec::<u8, [u32; 4]>(&bytes[..source.size as usize]))
+    }
+
     /// Renders `warmup` frames (more for a guarded view whose guard has not decided yet: at most
     /// [`GUARD_START_FRAMES`] more), then `frames` measured ones, with up to two frames in flight:
     /// when the forward pass of each measured frame ran on the GPU (timestamps outside the

@@ -379,7 +379,10 @@ impl PrePassBuffers {
             context,
             "pre-pass dispatches",
             4 * LEVEL_DISPATCHES as usize * meshes,
-            vk::BufferUsageFlags::INDIRECT_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            // TRANSFER_SRC: `Renderer::pre_pass_dispatches` reads it back.
+            vk::BufferUsageFlags::INDIRECT_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_DST
+                | vk::BufferUsageFlags::TRANSFER_SRC,
         )?;
         let level_dispatch_reset = Buffer::with_data(
             context,

@@ -156,7 +156,15 @@ pub(super) fn decide(sum: &Sums, eps: f32, n_max: u32, split: Split, reason: Rea
     match reason {
         Reason::None => {
             let n = uniform_level(level, n_max);
-            Estimate { terms, level, n, fallback: false, reason, predicted_error: bound_at(sum, an, n) }
+            Estimate {
+                terms,
+                level,
+                n,
+                fallback: false,
+                reason,
+                predicted_error: bound_at(sum, an, n),
+                refined: false,
+            }
         }
         Reason::Level => Estimate {
             terms,
@@ -165,9 +173,16 @@ pub(super) fn decide(sum: &Sums, eps: f32, n_max: u32, split: Split, reason: Rea
             fallback: true,
             reason,
             predicted_error: bound_at(sum, an, n_max),
+            refined: false,
         },
-        Reason::Discontinuity | Reason::Singular => {
-            Estimate { terms, level: FALLBACK_LEVEL, n: 1, fallback: true, reason, predicted_error: f32::MAX }
-        }
+        Reason::Discontinuity | Reason::Singular => Estimate {
+            terms,
+            level: FALLBACK_LEVEL,
+            n: 1,
+            fallback: true,
+            reason,
+            predicted_error: f32::MAX,
+            refined: false,
+        },
     }
 }

@@ -194,6 +194,11 @@ pub struct Estimate {
     /// `n_max` when the level is the reason for fallback; `f32::MAX` for discontinuities and
     /// singularities).
     pub predicted_error: f32,
+    /// Whether this is the second estimate, with the point and directional lights' ranges over
+    /// the children: the first asked for it and the refining floor allowed it
+    /// ([`refining_futile`]). The GPU's estimator step lists exactly these triangles for its
+    /// refining step.
+    pub refined: bool,
 }
 
 impl Estimate {
@@ -247,6 +252,7 @@ pub fn estimate_textured(
             fallback: false,
             reason: Reason::None,
             predicted_error,
+            refined: false,
         };
     }
     let capped = class.every_specular_capped;
@@ -255,7 +261,7 @@ pub fn estimate_textured(
     let refining_can_help = !refining_futile(&sum, eps, settings.split);
     if first.level > REFINE_ABOVE && (!first.fallback || first.reason == Reason::Level) && refining_can_help {
         let (sum, reason) = light_sums(tri, material, parameter, lights, settings, n_max, eps, capped, true);
-        return decide(&sum, eps, n_max, settings.split, reason);
+        return Estimate { refined: true, ..decide(&sum, eps, n_max, settings.split, reason) };
     }
     first
 }
