@@ -80,13 +80,7 @@ fn control_stage_levels_equal_the_twin() {
             let tcs = renderer.record_levels(&target, &tcs).expect("levels");
             assert!(tcs == gpu, "{relative} ε {epsilon}: the placements differ");
             placements_compared += 1;
-            let twin = report::analyze(
-                &scene,
-                &view.estimator,
-                report::Triangles::All,
-                false,
-                report::TextureBounds::Pyramid,
-            );
+            let twin = twin_reports(&scene, &view);
             assert_eq!(gpu.len(), twin.len(), "{relative}: one record per triangle");
             let small_here = twin.iter().filter(|t| t.small_image && !t.culled).count();
             small += small_here;
@@ -148,13 +142,7 @@ fn the_refining_step_lists_what_the_twin_refines() {
         let listed: u32 = (0..scene.meshes.len())
             .map(|mesh| dispatches[mesh * per_mesh + REFINE_DISPATCH as usize][3])
             .sum();
-        let twin = report::analyze(
-            &scene,
-            &view.estimator,
-            report::Triangles::All,
-            false,
-            report::TextureBounds::Pyramid,
-        );
+        let twin = twin_reports(&scene, &view);
         let estimated: Vec<_> = twin.iter().filter(|t| !t.culled && !t.back_face && !t.small_image).collect();
         let refined = estimated.iter().filter(|t| t.estimate.refined).count();
         let fallbacks = estimated.iter().filter(|t| t.estimate.fallback).count();
@@ -173,6 +161,12 @@ fn the_refining_step_lists_what_the_twin_refines() {
         }
     }
     assert_validation_clean(&context);
+}
+
+/// The twin's report on every triangle of `scene` (culled ones included, in the GPU's order) as
+/// `view` estimates it, parameter maps bounded by their min/max pyramid as the GPU bounds them.
+fn twin_reports(scene: &Scene, view: &View) -> Vec<report::TriangleReport> {
+    report::analyze(scene, &view.estimator, report::Triangles::All, false, report::TextureBounds::Pyramid)
 }
 
 fn render(renderer: &Renderer, target: &RenderTarget, view: &View) -> FloatImage {
