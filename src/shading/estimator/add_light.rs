@@ -364,7 +364,7 @@ impl LightBounds {
 /// its interpolation bound, whose second-order part (`tot`) and, but for GGX, n-independent part
 /// (`other`) refining leaves as they are; where it narrows the light's ranges (`narrowed`), the
 /// children's values still hold the light's values at the corners ([`corner_values`]), and so
-/// does the narrowed range. `docs/estimator.md` §16.
+/// does the narrowed range. `docs/estimator.md` section 3, "Where refining cannot help".
 #[allow(clippy::too_many_arguments)]
 pub(super) fn light_floor(
     frame: &Frame,

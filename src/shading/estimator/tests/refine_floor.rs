@@ -88,7 +88,7 @@ fn on_the_spotted_bunny_refining_falls_back_wherever_the_floor_says_it_must() {
                 usize::from(futile_and_falls_back(&tri, &material.kind, parameter, &scene.lights, &context));
         }
     }
-    // Most of its triangles that fall back do so whatever their children (docs/estimator.md §16).
+    // Most of its triangles that fall back do so whatever their children (docs/estimator.md section 3, "Where refining cannot help").
     assert!(futile > 500, "only {futile} triangles called futile");
 }
 
