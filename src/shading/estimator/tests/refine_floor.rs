@@ -29,23 +29,16 @@ fn futile_and_falls_back(
     if !refining_futile(&first_sum, eps, settings.split) {
         return false;
     }
-    let first = decide(&first_sum, eps, n_max, settings.split, first_reason);
-    assert!(
-        first.fallback,
-        "{}: the floor {} exceeds ε {eps}, yet level {}",
-        context(),
-        first_sum.floor,
-        first.level
-    );
-    let (refined_sum, refined_reason) = sums(true);
-    let refined = decide(&refined_sum, eps, n_max, settings.split, refined_reason);
-    assert!(
-        refined.fallback,
-        "{}: the floor {} exceeds ε {eps}, yet refining gives level {}",
-        context(),
-        first_sum.floor,
-        refined.level
-    );
+    let floor = first_sum.floor;
+    for (refined, (sum, reason)) in [(false, (first_sum, first_reason)), (true, sums(true))] {
+        let estimate = decide(&sum, eps, n_max, settings.split, reason);
+        assert!(
+            estimate.fallback,
+            "{}: the floor {floor} exceeds ε {eps}, yet the estimate (refined: {refined}) gives level {}",
+            context(),
+            estimate.level
+        );
+    }
     true
 }
 
