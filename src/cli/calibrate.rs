@@ -1,12 +1,13 @@
 //! The binary's `calibrate` subcommand: measures this device's costs for the cost model
 //! (`bench::calibrate`), prints them with the break-even areas they give, and stores them
-//! where the renderer looks for them (`CostModel::for_device`).
+//! where the renderer looks for them (`CostModel::for_device`), under the device's
+//! `calibration_key`.
 
 use super::{load_scene, options, progress_bar, GpuArgs};
 use anyhow::{Context as _, Result};
 use clap::Args;
 use multirate::bench::{calibrate, BenchScene};
-use multirate::render::cost_model::CostModel;
+use multirate::render::cost_model::{calibration_key, CostModel, LavapipeCompiler};
 use multirate::vk::Context;
 use std::path::PathBuf;
 
@@ -62,7 +63,8 @@ pub fn calibrate(args: &CalibrateArgs, gpu: &GpuArgs) -> Result<()> {
     let store = args.store.clone().or_else(CostModel::default_store).context(
         "no place to store the calibration: set --store, MULTIRATE_COST_MODEL, XDG_CONFIG_HOME or HOME",
     )?;
-    CostModel::store(&store, &context.info.name, &calibration)?;
-    println!("stored for \"{}\" in {}", context.info.name, store.display());
+    let key = calibration_key(&context.info.name, LavapipeCompiler::current());
+    CostModel::store(&store, &key, &calibration)?;
+    println!("stored for \"{key}\" in {}", store.display());
     Ok(())
 }

@@ -21,8 +21,10 @@
 //!
 //! Both costs grow linearly with the lights (a fixed part, a part per light) and depend on the
 //! device: `multirate calibrate` measures them ([`Calibration`]) and stores them per device
-//! name ([`CostModel::store`], read back by [`CostModel::for_device`]); a device without a
-//! stored calibration uses the figures measured on lavapipe ([`CostModel::lavapipe`]).
+//! ([`calibration_key`]: its name, and on lavapipe the shader compiler's setting,
+//! [`LavapipeCompiler`]; [`CostModel::store`], read back by [`CostModel::for_device`]); a device
+//! without a stored calibration uses the figures measured on lavapipe
+//! ([`CostModel::built_in`]).
 
 use crate::error::{Error, Result};
 use crate::geometry::cull::{clip_of, culled, small_image};
@@ -83,9 +85,50 @@ struct Store {
     devices: BTreeMap<String, Calibration>,
 }
 
+/// lavapipe's shader compiler setting (`GALLIVM_PERF`): with `nopt` llvmpipe leaves out LLVM's
+/// optimisation passes (CI's setting: shaders build sooner and run slower). It changes what a
+/// shader costs there several times over, a pixel of `pixel` mode most (docs/cost_model.md), so a
+/// calibration holds for one setting.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LavapipeCompiler {
+    /// LLVM's optimisation passes on: llvmpipe's default.
+    Optimising,
+    /// `GALLIVM_PERF=nopt`.
+    Unoptimised,
+}
+
+impl LavapipeCompiler {
+    /// The setting `GALLIVM_PERF`'s value (if set) selects: `Unoptimised` where `nopt` is among
+    /// its flags.
+    pub fn of(gallivm_perf: Option<&str>) -> LavapipeCompiler {
+        let flags = gallivm_perf.unwrap_or_default();
+        if flags.split(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).any(|flag| flag == "nopt") {
+            LavapipeCompiler::Unoptimised
+        } else {
+            LavapipeCompiler::Optimising
+        }
+    }
+
+    /// This process's setting.
+    pub fn current() -> LavapipeCompiler {
+        LavapipeCompiler::of(std::env::var("GALLIVM_PERF").ok().as_deref())
+    }
+}
+
+/// The name under which `multirate calibrate` stores the calibration of the device named
+/// `device`, and under which the renderer looks it up: the name itself, with
+/// `", GALLIVM_PERF=nopt"` on lavapipe run with `compiler` `Unoptimised`.
+pub fn calibration_key(device: &str, compiler: LavapipeCompiler) -> String {
+    if device.contains("llvmpipe") && compiler == LavapipeCompiler::Unoptimised {
+        format!("{device}, GALLIVM_PERF=nopt")
+    } else {
+        device.to_string()
+    }
+}
+
 impl CostModel {
-    /// The figures measured on lavapipe (llvmpipe, Mesa 22.3.6, LLVM 15, 2 cores, x86_64):
-    /// `multirate calibrate` (docs/cost_model.md).
+    /// The figures measured on lavapipe (llvmpipe, Mesa 22.3.6, LLVM 15, 2 cores, x86_64) with
+    /// `GALLIVM_PERF=nopt`: `multirate calibrate` (docs/cost_model.md).
     pub fn lavapipe() -> CostModel {
         CostModel {
             calibration: Calibration {
@@ -97,19 +140,55 @@ impl CostModel {
                                 GALLIVM_PERF=nopt, 2 cores"
                     .into(),
             },
-            source: "built-in (lavapipe)".into(),
+            source: "built-in (lavapipe, GALLIVM_PERF=nopt)".into(),
         }
     }
 
-    /// The model of the device named `device`: its stored calibration (the default store, see
-    /// [`CostModel::default_store`]) if there is one, else [`CostModel::lavapipe`]'s figures.
+    /// The figures measured on the same lavapipe with LLVM's optimisation passes on (its
+    /// default): `multirate calibrate` (docs/cost_model.md).
+    pub fn lavapipe_optimising() -> CostModel {
+        CostModel {
+            calibration: Calibration {
+                estimate: LinearCost { fixed_ns: 1028.0, per_light_ns: 345.0 },
+                pixel: LinearCost { fixed_ns: 6.9, per_light_ns: 9.4 },
+                fallback: LinearCost { fixed_ns: 33.3, per_light_ns: 7.8 },
+                measured_with: "built in: the median of three runs of multirate calibrate --scene \
+                                scenes/bunny.toml on llvmpipe (LLVM 15.0.6, 256 bits), Mesa 22.3.6, \
+                                GALLIVM_PERF unset, 2 cores"
+                    .into(),
+            },
+            source: "built-in (lavapipe, LLVM's optimisation passes on)".into(),
+        }
+    }
+
+    /// The built-in figures for the device named `device` run with `compiler`: lavapipe's for
+    /// that setting on lavapipe; elsewhere those of lavapipe with `nopt`, which the frame guard
+    /// (`render::guard`) backs where they do not fit.
+    pub fn built_in(device: &str, compiler: LavapipeCompiler) -> CostModel {
+        if device.contains("llvmpipe") && compiler == LavapipeCompiler::Optimising {
+            CostModel::lavapipe_optimising()
+        } else {
+            CostModel::lavapipe()
+        }
+    }
+
+    /// The model of the device named `device`, run with this process's [`LavapipeCompiler`]:
+    /// its calibration in the default store ([`CostModel::default_store`]) if there is one,
+    /// else the built-in figures ([`CostModel::built_in`]).
     pub fn for_device(device: &str) -> CostModel {
-        CostModel::default_store()
+        CostModel::from_store(CostModel::default_store().as_deref(), device, LavapipeCompiler::current())
+    }
+
+    /// The model of the device named `device` run with `compiler`: the calibration stored for it
+    /// ([`calibration_key`]) in the store at `store`, else the built-in figures.
+    pub fn from_store(store: Option<&Path>, device: &str, compiler: LavapipeCompiler) -> CostModel {
+        store
             .and_then(|path| {
-                let calibration = load_store(&path).ok()?.devices.remove(device)?;
+                let calibration =
+                    load_store(path).ok()?.devices.remove(&calibration_key(device, compiler))?;
                 Some(CostModel { calibration, source: format!("calibrated ({})", path.display()) })
             })
-            .unwrap_or_else(CostModel::lavapipe)
+            .unwrap_or_else(|| CostModel::built_in(device, compiler))
     }
 
     /// Where `multirate calibrate` stores calibrations: `$MULTIRATE_COST_MODEL`, else

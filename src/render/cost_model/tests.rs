@@ -42,6 +42,45 @@ fn calibrations_are_stored_per_device_and_read_back() {
 }
 
 #[test]
+fn the_lavapipe_compiler_setting_is_read_from_gallivm_perf() {
+    use LavapipeCompiler::{Optimising, Unoptimised};
+    assert_eq!(LavapipeCompiler::of(None), Optimising);
+    assert_eq!(LavapipeCompiler::of(Some("")), Optimising);
+    assert_eq!(LavapipeCompiler::of(Some("nopt")), Unoptimised);
+    assert_eq!(LavapipeCompiler::of(Some("brilinear,nopt")), Unoptimised);
+    assert_eq!(LavapipeCompiler::of(Some("no_quad_lod")), Optimising);
+    assert_eq!(LavapipeCompiler::of(Some("noptx")), Optimising);
+}
+
+#[test]
+fn a_calibration_is_looked_up_for_the_device_and_its_compiler_setting() {
+    use LavapipeCompiler::{Optimising, Unoptimised};
+    let lavapipe = "llvmpipe (LLVM 15.0.6, 256 bits)";
+    assert_eq!(calibration_key(lavapipe, Optimising), lavapipe);
+    assert_eq!(calibration_key(lavapipe, Unoptimised), format!("{lavapipe}, GALLIVM_PERF=nopt"));
+    assert_eq!(calibration_key("NVIDIA H200", Unoptimised), "NVIDIA H200");
+    // Without a store, the built-in figures of the setting; elsewhere those of `nopt`.
+    assert_eq!(CostModel::from_store(None, lavapipe, Optimising), CostModel::lavapipe_optimising());
+    assert_eq!(CostModel::from_store(None, lavapipe, Unoptimised), CostModel::lavapipe());
+    assert_eq!(CostModel::from_store(None, "NVIDIA H200", Optimising), CostModel::lavapipe());
+    assert!(
+        CostModel::lavapipe_optimising().min_estimated_area(1) > CostModel::lavapipe().min_estimated_area(1),
+        "a pixel costs less with LLVM's passes, so estimating pays only on larger images"
+    );
+    // A store holding one setting's calibration serves that setting only.
+    let folder = std::env::temp_dir().join(format!("multirate-cost-model-key-{}", std::process::id()));
+    let path = folder.join("cost_model.toml");
+    let mut calibration = CostModel::lavapipe().calibration;
+    calibration.estimate.fixed_ns = 7.0;
+    CostModel::store(&path, &calibration_key(lavapipe, Unoptimised), &calibration).unwrap();
+    let stored = CostModel::from_store(Some(&path), lavapipe, Unoptimised);
+    assert_eq!(stored.calibration.estimate.fixed_ns, 7.0);
+    assert!(stored.source.contains("cost_model.toml"), "{}", stored.source);
+    assert_eq!(CostModel::from_store(Some(&path), lavapipe, Optimising), CostModel::lavapipe_optimising());
+    std::fs::remove_dir_all(&folder).unwrap();
+}
+
+#[test]
 fn a_mesh_is_drawn_per_pixel_when_most_of_its_visible_triangles_are_small() {
     use crate::geometry::camera::view_projection;
     use crate::scene::Camera;
