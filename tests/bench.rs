@@ -1,7 +1,8 @@
 //! `multirate bench` end to end on a small scene (lavapipe, validation layer on): every CSV
 //! field filled and consistent, the JSON rows, the plots, the images and a Chrome trace with
 //! one event per measured frame; multirate both estimating every triangle and with the cost
-//! model, whose frame guard decides in the warm-up.
+//! model, whose frame guard decides in the warm-up. `multirate calibrate` end to end: every
+//! cost measured, stored under the device's key and read back.
 
 mod common;
 
@@ -135,6 +136,47 @@ fn bench_writes_complete_rows_plots_images_and_a_capture() {
     }
 
     assert_capture(&capture, rows.len(), pre_passes_expected);
+}
+
+#[test]
+fn calibrate_stores_every_cost_under_the_device_and_its_compiler_setting() {
+    use multirate::render::cost_model::{calibration_key, CostModel, LavapipeCompiler};
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("calibrate");
+    let _ = std::fs::remove_dir_all(&out);
+    let store = out.join("cost_model.toml");
+    let scene = repo_path("scenes/test/lambert_directional.toml");
+    let output = Command::new(env!("CARGO_BIN_EXE_multirate"))
+        .args(["--validate", "calibrate", "--scene", scene.to_str().unwrap(), "--frames", "1"])
+        .args(["--store", store.to_str().unwrap()])
+        .env_remove("DISPLAY")
+        .output()
+        .expect("run multirate calibrate");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "calibrate failed:\n{stdout}\n{stderr}");
+    assert!(!stderr.contains("vulkan:"), "validation messages:\n{stderr}");
+    // The key it stored under: the device's name, and on lavapipe with `nopt` that setting.
+    let key = stdout
+        .lines()
+        .find_map(|line| line.strip_prefix("stored for \"")?.split('"').next())
+        .unwrap_or_else(|| panic!("no store line:\n{stdout}"));
+    let device = key.strip_suffix(", GALLIVM_PERF=nopt").unwrap_or(key);
+    assert_eq!(calibration_key(device, LavapipeCompiler::current()), key);
+    for printed in ["1 lights: estimate", "8 lights: estimate", "a sub-vertex", "tessellating pays"] {
+        assert!(stdout.contains(printed), "{printed:?} not printed:\n{stdout}");
+    }
+    let text = std::fs::read_to_string(&store).expect("the store is written");
+    assert!(text.contains(&format!("[devices.\"{key}\"]")), "{key} not in\n{text}");
+    let model = CostModel::from_store(Some(&store), device, LavapipeCompiler::current());
+    assert!(model.source.starts_with("calibrated"), "{}", model.source);
+    let c = &model.calibration;
+    let costs = [Some(c.estimate), Some(c.pixel), Some(c.fallback), c.tessellated_patch, c.sub_vertex];
+    for (k, cost) in costs.iter().enumerate() {
+        let cost = cost.unwrap_or_else(|| panic!("cost {k} not stored:\n{text}"));
+        assert!(cost.fixed_ns.is_finite() && cost.per_light_ns.is_finite(), "cost {k}: {cost:?}");
+    }
+    let area = model.tessellation_break_even(4, 1).expect("tessellation costs");
+    assert!(area.is_finite() && area >= 0.0, "{area}");
 }
 
 /// The capture: a track per row, named, one complete event per measured frame, and

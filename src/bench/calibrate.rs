@@ -1,14 +1,17 @@
 //! `multirate calibrate`: measures the device costs of the cost model
-//! (`render::cost_model`): the pre-pass's estimate per triangle and per-pixel shading per
-//! fragment, each at two light counts, from which the model draws its lines.
+//! (`render::cost_model`): the pre-pass's estimate per triangle, per-pixel shading per
+//! fragment, and a tessellated patch's and sub-vertex's cost, each at two light counts, from
+//! which the model draws its lines.
 //!
 //! Per light count `L`, the scene is lit by `L` point lights around its camera's target (its own
 //! lights replaced) and benchmarked in turns (`pixel`, `vertex`, `multirate` estimating every
-//! visible triangle, `multirate` shading every triangle per pixel): the estimate costs the estimate
-//! step's time over the triangles it estimated (those the range class leaves, counted by the twins,
-//! `geometry::cull` and `shading::estimator`), a pixel costs `pixel`'s time above `vertex`'s (which
-//! rasterises and tests the same depth) over its shaded fragments, and a pixel of multirate's
-//! per-pixel path the last configuration's time above `vertex`'s over the same fragments.
+//! visible triangle, `multirate` shading every triangle per pixel, `fixed:1` and `fixed:4`): the
+//! estimate costs the estimate step's time over the triangles it estimated (those the range
+//! class leaves, counted by the twins, `geometry::cull` and `shading::estimator`), a pixel costs
+//! `pixel`'s time above `vertex`'s (which rasterises and tests the same depth) over its shaded
+//! fragments, a pixel of multirate's per-pixel path the fourth configuration's time above
+//! `vertex`'s over the same fragments, a tessellated patch `fixed:1`'s time above `vertex`'s over
+//! the triangles, and a sub-vertex `fixed:4`'s above `fixed:1`'s over the sub-vertices it adds.
 
 use super::{run, BenchConfig, BenchScene, Progress, Row};
 use crate::error::Result;
@@ -38,9 +41,16 @@ pub struct CostSample {
     /// per-pixel path.
     pub pixel_ns: f64,
     pub fallback_ns: f64,
-    /// The triangles the pre-pass estimated, and the fragments `pixel` shaded.
+    /// Nanoseconds per triangle drawn as a patch at level 1 above `vertex`'s draw, and per
+    /// sub-vertex added at level 4.
+    pub patch_ns: f64,
+    pub sub_vertex_ns: f64,
+    /// The triangles the pre-pass estimated, the fragments `pixel` shaded, the patches drawn
+    /// and the sub-vertices `fixed:4` shaded above `fixed:1`.
     pub estimated_triangles: usize,
     pub fragments: u64,
+    pub patches: usize,
+    pub added_sub_vertices: u64,
 }
 
 /// Measures `scene` (at its own resolution) with each of [`LIGHT_COUNTS`] point lights, and
@@ -72,15 +82,20 @@ pub fn calibrate(
         min_estimated_areas: vec![Some(EVERY_IMAGE)],
         ..config.clone()
     };
+    // The tessellation stages at level 1 and 4, with `vertex` of the same turns.
+    let tessellated =
+        BenchConfig { modes: vec![Mode::Vertex, Mode::Fixed(1), Mode::Fixed(4)], ..config.clone() };
     let mut samples = Vec::new();
     for lights in LIGHT_COUNTS {
         let lit = BenchScene {
             name: format!("{} ({lights} lights)", scene.name),
             scene: lit_by(&scene.scene, lights),
         };
-        let rows = run(context, std::slice::from_ref(&lit), &config, progress)?.rows;
-        let per_pixel_rows = run(context, std::slice::from_ref(&lit), &per_pixel, progress)?.rows;
-        samples.push(sample(&lit.scene, lights, &rows, &per_pixel_rows));
+        let scenes = std::slice::from_ref(&lit);
+        let rows = run(context, scenes, &config, progress)?.rows;
+        let per_pixel_rows = run(context, scenes, &per_pixel, progress)?.rows;
+        let tessellated_rows = run(context, scenes, &tessellated, progress)?.rows;
+        samples.push(sample(&lit.scene, lights, [&rows, &per_pixel_rows, &tessellated_rows]));
     }
     let line = |cost: fn(&CostSample) -> f64| {
         LinearCost::through((samples[0].lights, cost(&samples[0])), (samples[1].lights, cost(&samples[1])))
@@ -89,6 +104,8 @@ pub fn calibrate(
         estimate: line(|s| s.estimate_ns),
         pixel: line(|s| s.pixel_ns),
         fallback: line(|s| s.fallback_ns),
+        tessellated_patch: Some(line(|s| s.patch_ns)),
+        sub_vertex: Some(line(|s| s.sub_vertex_ns)),
         measured_with: format!(
             "multirate calibrate --scene {} --frames {frames} on {} ({})",
             scene.scene.path.display(),
@@ -99,28 +116,37 @@ pub fn calibrate(
     Ok((calibration, samples))
 }
 
-/// The costs one light count's rows give: `rows` of `pixel`, `vertex` and `multirate`
-/// estimating every visible triangle, `per_pixel` of `vertex` and `multirate` shading every
-/// triangle per pixel.
-fn sample(scene: &Scene, lights: usize, rows: &[Row], per_pixel: &[Row]) -> CostSample {
+/// The costs one light count's rows give: those of `pixel`, `vertex` and `multirate` estimating
+/// every visible triangle; of `vertex` and `multirate` shading every triangle per pixel; of
+/// `vertex`, `fixed:1` and `fixed:4`.
+fn sample(scene: &Scene, lights: usize, [rows, per_pixel, tessellated]: [&[Row]; 3]) -> CostSample {
     fn find<'a>(rows: &'a [Row], mode: &str) -> &'a Row {
         rows.iter().find(|row| row.mode == mode).expect("measured")
     }
+    let above = |row: &Row, base: &Row| (row.gpu_ms.median - base.gpu_ms.median).max(0.0) * 1.0e6;
     let (pixel, vertex, multirate) = (find(rows, "pixel"), find(rows, "vertex"), find(rows, "multirate"));
     let (fallback_vertex, fallback) = (find(per_pixel, "vertex"), find(per_pixel, "multirate"));
+    let (patch_vertex, level_1, level_4) =
+        (find(tessellated, "vertex"), find(tessellated, "fixed:1"), find(tessellated, "fixed:4"));
     // The range class runs on every listed triangle before the area rule (`small_per_pixel`), so
     // what an image too small to pay would cost is the full estimate.
     let estimate_ms = multirate.pre_pass_steps_ms.map_or(0.0, |steps| steps[PrePassStep::Levels as usize]);
     let estimated_triangles = estimated_triangles(scene).max(1);
     let fragments = pixel.evaluations.fragments.max(1);
+    let patches = level_1.triangles.max(1);
+    let added_sub_vertices =
+        level_4.evaluations.sub_vertices.saturating_sub(level_1.evaluations.sub_vertices).max(1);
     CostSample {
         lights,
         estimate_ns: estimate_ms * 1.0e6 / estimated_triangles as f64,
-        pixel_ns: (pixel.gpu_ms.median - vertex.gpu_ms.median).max(0.0) * 1.0e6 / fragments as f64,
-        fallback_ns: (fallback.gpu_ms.median - fallback_vertex.gpu_ms.median).max(0.0) * 1.0e6
-            / fragments as f64,
+        pixel_ns: above(pixel, vertex) / fragments as f64,
+        fallback_ns: above(fallback, fallback_vertex) / fragments as f64,
+        patch_ns: above(level_1, patch_vertex) / patches as f64,
+        sub_vertex_ns: above(level_4, level_1) / added_sub_vertices as f64,
         estimated_triangles,
         fragments,
+        patches,
+        added_sub_vertices,
     }
 }
 

@@ -42,8 +42,17 @@ pub fn calibrate(args: &CalibrateArgs, gpu: &GpuArgs) -> Result<()> {
     println!("{} ({}), {}:", context.info.name, context.info.driver, args.scene.display());
     for s in &samples {
         println!(
-            "  {:>2} lights: estimate {:.0} ns per triangle ({} estimated); per fragment ({} shaded) pixel {:.1} ns, multirate's per-pixel path {:.1} ns",
-            s.lights, s.estimate_ns, s.estimated_triangles, s.fragments, s.pixel_ns, s.fallback_ns
+            "  {:>2} lights: estimate {:.0} ns per triangle ({} estimated); per fragment ({} shaded) pixel {:.1} ns, multirate's per-pixel path {:.1} ns; a patch at level 1 {:.0} ns ({}), a sub-vertex {:.0} ns ({} added at level 4)",
+            s.lights,
+            s.estimate_ns,
+            s.estimated_triangles,
+            s.fragments,
+            s.pixel_ns,
+            s.fallback_ns,
+            s.patch_ns,
+            s.patches,
+            s.sub_vertex_ns,
+            s.added_sub_vertices
         );
     }
     let (e, p, f) = (&calibration.estimate, &calibration.pixel, &calibration.fallback);
@@ -51,10 +60,21 @@ pub fn calibrate(args: &CalibrateArgs, gpu: &GpuArgs) -> Result<()> {
         "  estimate {:.0} + {:.0}·L ns, pixel {:.1} + {:.1}·L ns, per-pixel path {:.1} + {:.1}·L ns",
         e.fixed_ns, e.per_light_ns, p.fixed_ns, p.per_light_ns, f.fixed_ns, f.per_light_ns
     );
+    if let (Some(t), Some(v)) = (&calibration.tessellated_patch, &calibration.sub_vertex) {
+        println!(
+            "  a patch at level 1 {:.0} + {:.0}·L ns, a sub-vertex {:.0} + {:.0}·L ns",
+            t.fixed_ns, t.per_light_ns, v.fixed_ns, v.per_light_ns
+        );
+    }
     let model = CostModel { calibration: calibration.clone(), source: "this calibration".into() };
     let areas: Vec<String> =
         [1, 4, 16, 64].iter().map(|&l| format!("{l} lights {:.1} px", model.min_estimated_area(l))).collect();
     println!("  estimated above: {}", areas.join(", "));
+    let levels: Vec<String> = [2, 4, 8, 16]
+        .iter()
+        .filter_map(|&n| Some(format!("level {n} {:.0} px", model.tessellation_break_even(n, 1)?)))
+        .collect();
+    println!("  with 1 light, tessellating pays against the per-pixel path above: {}", levels.join(", "));
     let messages = context.validation().count();
     anyhow::ensure!(messages == 0, "the validation layer reported {messages} message(s)");
     if args.dry_run {

@@ -66,6 +66,15 @@ pub struct Calibration {
     /// The same through multirate's per-pixel path (every triangle shaded per pixel without an
     /// estimate, above `vertex`'s time, over `pixel`'s fragments).
     pub fallback: LinearCost,
+    /// A triangle drawn through the tessellation stages at level 1 (`fixed:1`), above `vertex`
+    /// mode's draw of it, per triangle: the fixed part of a tessellated patch. `None` in a
+    /// calibration stored before it was measured.
+    #[serde(default)]
+    pub tessellated_patch: Option<LinearCost>,
+    /// A sub-vertex shaded in the evaluation stage, with its share of the primitives around it
+    /// (`fixed:4` above `fixed:1`, over the sub-vertices it adds). `None` as above.
+    #[serde(default)]
+    pub sub_vertex: Option<LinearCost>,
     /// How the figures were measured (the command and the scene).
     pub measured_with: String,
 }
@@ -135,10 +144,13 @@ impl CostModel {
                 estimate: LinearCost { fixed_ns: 1239.0, per_light_ns: 576.0 },
                 pixel: LinearCost { fixed_ns: 36.5, per_light_ns: 27.3 },
                 fallback: LinearCost { fixed_ns: 70.7, per_light_ns: 28.3 },
-                measured_with: "built in: the median of three runs of multirate calibrate --scene \
+                tessellated_patch: Some(LinearCost { fixed_ns: 827.0, per_light_ns: 12.4 }),
+                sub_vertex: Some(LinearCost { fixed_ns: 242.0, per_light_ns: 11.7 }),
+                measured_with:
+                    "built in: per figure the median of three runs of multirate calibrate --scene \
                                 scenes/bunny.toml on llvmpipe (LLVM 15.0.6, 256 bits), Mesa 22.3.6, \
                                 GALLIVM_PERF=nopt, 2 cores"
-                    .into(),
+                        .into(),
             },
             source: "built-in (lavapipe, GALLIVM_PERF=nopt)".into(),
         }
@@ -152,10 +164,13 @@ impl CostModel {
                 estimate: LinearCost { fixed_ns: 1028.0, per_light_ns: 345.0 },
                 pixel: LinearCost { fixed_ns: 6.9, per_light_ns: 9.4 },
                 fallback: LinearCost { fixed_ns: 33.3, per_light_ns: 7.8 },
-                measured_with: "built in: the median of three runs of multirate calibrate --scene \
+                tessellated_patch: Some(LinearCost { fixed_ns: 785.0, per_light_ns: 5.0 }),
+                sub_vertex: Some(LinearCost { fixed_ns: 254.0, per_light_ns: 3.4 }),
+                measured_with:
+                    "built in: per figure the median of three runs of multirate calibrate --scene \
                                 scenes/bunny.toml on llvmpipe (LLVM 15.0.6, 256 bits), Mesa 22.3.6, \
                                 GALLIVM_PERF unset, 2 cores"
-                    .into(),
+                        .into(),
             },
             source: "built-in (lavapipe, LLVM's optimisation passes on)".into(),
         }
@@ -225,6 +240,18 @@ impl CostModel {
     /// [`CostModel::min_estimated_area`] with `scene`'s lights.
     pub fn min_estimated_area_of(&self, scene: &Scene) -> f32 {
         self.min_estimated_area(weighed_lights(&scene.lights))
+    }
+
+    /// The image area (pixels) above which a patch tessellated at `level` (uniformly, with
+    /// `(level + 1)·(level + 2)/2` sub-vertices) costs less than shading it through the per-pixel
+    /// path, with `lights` lights; `None` without the tessellation costs. The renderer does not
+    /// weigh it: on lavapipe the patches the estimator sends to such levels are mostly larger
+    /// (docs/cost_model.md, "Tessellating against the per-pixel path").
+    pub fn tessellation_break_even(&self, level: u32, lights: usize) -> Option<f32> {
+        let c = &self.calibration;
+        let (patch, sub_vertex) = (c.tessellated_patch?, c.sub_vertex?);
+        let added = f64::from((level + 1) * (level + 2) / 2).max(3.0) - 3.0;
+        Some(((patch.at(lights) + sub_vertex.at(lights) * added) / c.fallback.at(lights)) as f32)
     }
 }
 

@@ -10,6 +10,8 @@ fn the_break_even_area_weighs_an_estimate_against_its_pixels() {
             estimate: LinearCost { fixed_ns: 1000.0, per_light_ns: 500.0 },
             pixel: LinearCost { fixed_ns: 50.0, per_light_ns: 25.0 },
             fallback: LinearCost { fixed_ns: 100.0, per_light_ns: 50.0 },
+            tessellated_patch: Some(LinearCost { fixed_ns: 400.0, per_light_ns: 0.0 }),
+            sub_vertex: Some(LinearCost { fixed_ns: 200.0, per_light_ns: 50.0 }),
             measured_with: String::new(),
         },
         source: String::new(),
@@ -17,6 +19,12 @@ fn the_break_even_area_weighs_an_estimate_against_its_pixels() {
     // The estimate and three corners shaded, 1500 + 3 · 75 ns, against 150 ns a pixel.
     assert_eq!(model.min_estimated_area(1), 11.5);
     assert_eq!(model.min_estimated_area(2), (2000.0 + 300.0) / 200.0);
+    // Level 4 adds 12 sub-vertices to the corners: 400 + 12 · 250 ns against 150 ns a pixel.
+    assert_eq!(model.tessellation_break_even(4, 1), Some(3400.0 / 150.0));
+    assert_eq!(model.tessellation_break_even(1, 1), Some(400.0 / 150.0));
+    let mut unmeasured = model.clone();
+    unmeasured.calibration.sub_vertex = None;
+    assert_eq!(unmeasured.tessellation_break_even(4, 1), None);
     let line = LinearCost::through((1, 1500.0), (8, 5000.0));
     assert_eq!((line.fixed_ns, line.per_light_ns), (1000.0, 500.0));
     let free = LinearCost { fixed_ns: -5.0, per_light_ns: 0.0 };
@@ -30,11 +38,21 @@ fn calibrations_are_stored_per_device_and_read_back() {
     let mut calibration = CostModel::lavapipe().calibration;
     CostModel::store(&path, "device A", &calibration).unwrap();
     calibration.estimate.fixed_ns = 42.0;
+    calibration.tessellated_patch = Some(LinearCost { fixed_ns: 300.0, per_light_ns: 20.0 });
+    calibration.sub_vertex = Some(LinearCost { fixed_ns: 500.0, per_light_ns: 40.0 });
     CostModel::store(&path, "device B", &calibration).unwrap();
     let store = load_store(&path).unwrap();
     assert_eq!(store.devices.len(), 2);
-    assert_eq!(store.devices["device B"].estimate.fixed_ns, 42.0);
+    assert_eq!(store.devices["device B"], calibration);
     assert_eq!(store.devices["device A"], CostModel::lavapipe().calibration);
+    // A store written before the tessellation costs were measured still reads, without them.
+    let mut text = std::fs::read_to_string(&path).unwrap();
+    let measured = text.find("[devices.\"device B\".tessellated_patch]").expect("stored");
+    text.truncate(measured);
+    std::fs::write(&path, text).unwrap();
+    let older = load_store(&path).unwrap();
+    assert_eq!(older.devices["device B"].tessellated_patch, None);
+    assert_eq!(older.devices["device B"].estimate.fixed_ns, 42.0);
     std::fs::write(&path, "devices = 3").unwrap();
     let error = CostModel::store(&path, "device C", &calibration).unwrap_err().to_string();
     assert!(error.contains("cost_model.toml") && error.contains("not a cost-model store"), "{error}");
