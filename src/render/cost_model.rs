@@ -139,40 +139,51 @@ impl CostModel {
     /// The figures measured on lavapipe (llvmpipe, Mesa 22.3.6, LLVM 15, 2 cores, x86_64) with
     /// `GALLIVM_PERF=nopt`: `multirate calibrate` (docs/cost_model.md).
     pub fn lavapipe() -> CostModel {
-        CostModel {
-            calibration: Calibration {
-                estimate: LinearCost { fixed_ns: 1239.0, per_light_ns: 576.0 },
-                pixel: LinearCost { fixed_ns: 36.5, per_light_ns: 27.3 },
-                fallback: LinearCost { fixed_ns: 70.7, per_light_ns: 28.3 },
-                tessellated_patch: Some(LinearCost { fixed_ns: 827.0, per_light_ns: 12.4 }),
-                sub_vertex: Some(LinearCost { fixed_ns: 242.0, per_light_ns: 11.7 }),
-                measured_with:
-                    "built in: per figure the median of three runs of multirate calibrate --scene \
-                                scenes/bunny.toml on llvmpipe (LLVM 15.0.6, 256 bits), Mesa 22.3.6, \
-                                GALLIVM_PERF=nopt, 2 cores"
-                        .into(),
-            },
-            source: "built-in (lavapipe, GALLIVM_PERF=nopt)".into(),
-        }
+        CostModel::lavapipe_with(LavapipeCompiler::Unoptimised)
     }
 
     /// The figures measured on the same lavapipe with LLVM's optimisation passes on (its
     /// default): `multirate calibrate` (docs/cost_model.md).
     pub fn lavapipe_optimising() -> CostModel {
+        CostModel::lavapipe_with(LavapipeCompiler::Optimising)
+    }
+
+    /// lavapipe's built-in figures with `compiler`, each the median of three runs of
+    /// `multirate calibrate --dry-run` (docs/cost_model.md, "Calibration" and "Tessellating
+    /// against the per-pixel path").
+    fn lavapipe_with(compiler: LavapipeCompiler) -> CostModel {
+        let line = |fixed_ns, per_light_ns| LinearCost { fixed_ns, per_light_ns };
+        let (estimate, pixel, fallback, patch, sub_vertex, setting) = match compiler {
+            LavapipeCompiler::Unoptimised => (
+                line(1239.0, 576.0),
+                line(36.5, 27.3),
+                line(70.7, 28.3),
+                line(827.0, 12.4),
+                line(242.0, 11.7),
+                "GALLIVM_PERF=nopt",
+            ),
+            LavapipeCompiler::Optimising => (
+                line(1028.0, 345.0),
+                line(6.9, 9.4),
+                line(33.3, 7.8),
+                line(785.0, 5.0),
+                line(254.0, 3.4),
+                "GALLIVM_PERF unset",
+            ),
+        };
         CostModel {
             calibration: Calibration {
-                estimate: LinearCost { fixed_ns: 1028.0, per_light_ns: 345.0 },
-                pixel: LinearCost { fixed_ns: 6.9, per_light_ns: 9.4 },
-                fallback: LinearCost { fixed_ns: 33.3, per_light_ns: 7.8 },
-                tessellated_patch: Some(LinearCost { fixed_ns: 785.0, per_light_ns: 5.0 }),
-                sub_vertex: Some(LinearCost { fixed_ns: 254.0, per_light_ns: 3.4 }),
-                measured_with:
+                estimate,
+                pixel,
+                fallback,
+                tessellated_patch: Some(patch),
+                sub_vertex: Some(sub_vertex),
+                measured_with: format!(
                     "built in: per figure the median of three runs of multirate calibrate --scene \
-                                scenes/bunny.toml on llvmpipe (LLVM 15.0.6, 256 bits), Mesa 22.3.6, \
-                                GALLIVM_PERF unset, 2 cores"
-                        .into(),
+                     scenes/bunny.toml on llvmpipe (LLVM 15.0.6, 256 bits), Mesa 22.3.6, {setting}, 2 cores"
+                ),
             },
-            source: "built-in (lavapipe, LLVM's optimisation passes on)".into(),
+            source: format!("built-in (lavapipe, {setting})"),
         }
     }
 
