@@ -261,7 +261,8 @@ impl CostModel {
     pub fn tessellation_break_even(&self, level: u32, lights: usize) -> Option<f32> {
         let c = &self.calibration;
         let (patch, sub_vertex) = (c.tessellated_patch?, c.sub_vertex?);
-        let added = f64::from((level + 1) * (level + 2) / 2).max(3.0) - 3.0;
+        let n = f64::from(level);
+        let added = ((n + 1.0) * (n + 2.0) / 2.0).max(3.0) - 3.0;
         Some(((patch.at(lights) + sub_vertex.at(lights) * added) / c.fallback.at(lights)) as f32)
     }
 }
