@@ -30,6 +30,7 @@ use crate::error::{Error, Result};
 use crate::geometry::cull::{clip_of, culled, small_image};
 use crate::scene::{Light, Material, MaterialKind, Mesh, ParameterRange, Scene};
 use crate::shading::estimator::{settled_by_range, TriangleInput};
+use crate::vk::context::names_lavapipe;
 use glam::{Mat4, Vec2, Vec3};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -122,16 +123,21 @@ impl LavapipeCompiler {
     pub fn current() -> LavapipeCompiler {
         LavapipeCompiler::of(std::env::var("GALLIVM_PERF").ok().as_deref())
     }
+
+    /// `compiler` where the device named `device` is lavapipe; `None` elsewhere, where the
+    /// setting means nothing.
+    fn on(device: &str, compiler: LavapipeCompiler) -> Option<LavapipeCompiler> {
+        names_lavapipe(device).then_some(compiler)
+    }
 }
 
 /// The name under which `multirate calibrate` stores the calibration of the device named
 /// `device`, and under which the renderer looks it up: the name itself, with
 /// `", GALLIVM_PERF=nopt"` on lavapipe run with `compiler` `Unoptimised`.
 pub fn calibration_key(device: &str, compiler: LavapipeCompiler) -> String {
-    if device.contains("llvmpipe") && compiler == LavapipeCompiler::Unoptimised {
-        format!("{device}, GALLIVM_PERF=nopt")
-    } else {
-        device.to_string()
+    match LavapipeCompiler::on(device, compiler) {
+        Some(LavapipeCompiler::Unoptimised) => format!("{device}, GALLIVM_PERF=nopt"),
+        _ => device.to_string(),
     }
 }
 
@@ -191,10 +197,9 @@ impl CostModel {
     /// that setting on lavapipe; elsewhere those of lavapipe with `nopt`, which the frame guard
     /// (`render::guard`) backs where they do not fit.
     pub fn built_in(device: &str, compiler: LavapipeCompiler) -> CostModel {
-        if device.contains("llvmpipe") && compiler == LavapipeCompiler::Optimising {
-            CostModel::lavapipe_optimising()
-        } else {
-            CostModel::lavapipe()
+        match LavapipeCompiler::on(device, compiler) {
+            Some(LavapipeCompiler::Optimising) => CostModel::lavapipe_optimising(),
+            _ => CostModel::lavapipe(),
         }
     }
 

@@ -58,8 +58,13 @@ impl DeviceInfo {
     /// Lavapipe (Mesa's llvmpipe), the CPU device CI runs on, whose quirks the renderer and the
     /// tests know.
     pub fn is_lavapipe(&self) -> bool {
-        self.name.contains("llvmpipe")
+        names_lavapipe(&self.name)
     }
+}
+
+/// Whether `device` is the name of a lavapipe device ([`DeviceInfo::is_lavapipe`]).
+pub fn names_lavapipe(device: &str) -> bool {
+    device.contains("llvmpipe")
 }
 
 /// The device's limits that a scene and its resources must fit, read once when the context is

@@ -418,6 +418,7 @@ pub(super) fn corner_values(
     specular: bool,
 ) -> CornerValues {
     let mut values = CornerValues { diffuse_max: 0.0, diffuse_min: f32::MAX, specular: 0.0 };
+    let specular = specular && matches!(material, MaterialKind::BlinnPhong { .. });
     // The largest n̂·ĥ of a corner the light is in front of, and its falloff.
     let (mut peak, mut peak_falloff) = (-1.0f32, 0.0f32);
     for i in 0..3 {
@@ -436,14 +437,14 @@ pub(super) fn corner_values(
         let diffuse = falloff * n_dot_l.max(0.0);
         values.diffuse_max = values.diffuse_max.max(diffuse);
         values.diffuse_min = values.diffuse_min.min(diffuse);
-        if n_dot_l > 0.0 {
+        if specular && n_dot_l > 0.0 {
             let n_dot_h = n.dot(unit(l + frame.v_units[i])).max(0.0);
             if n_dot_h > peak {
                 (peak, peak_falloff) = (n_dot_h, falloff);
             }
         }
     }
-    if specular && matches!(material, MaterialKind::BlinnPhong { .. }) && peak >= 0.0 {
+    if specular && peak >= 0.0 {
         values.specular = peak_falloff * est_pow(peak, parameter.lo);
     }
     values
