@@ -41,6 +41,11 @@ void main() {
     if (triangle == ~0u) {
         return;
     }
+    // The level of a triangle this frame estimated (or reused) holds for the whole ball of eyes:
+    // kept for the frames that follow in it.
+    if (!back_face && (draw.flags & FLAG_REUSE_LEVELS) != 0u) {
+        estimated_levels[triangle] = triangle_levels[triangle];
+    }
     uvec4 across = triangle_neighbours[triangle];
     vec3 neighbours = vec3(triangle_levels[across.x], triangle_levels[across.y], triangle_levels[across.z]);
     PatchLevels levels = patch_levels(triangle_levels[triangle], neighbours, float(draw.n_max));

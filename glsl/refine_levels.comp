@@ -82,7 +82,7 @@ void take_children_turns(uint block, uint count) {
         vec3 m[3] = vec3[3](scene_vec3(a, 3u), scene_vec3(b, 3u), scene_vec3(c, 3u));
         midpoint_child(q, r);
         midpoint_child(m, r);
-        Frame child = make_frame(q[0], q[1], q[2], m[0], m[1], m[2], draw.eye.xyz);
+        Frame child = make_frame(q[0], q[1], q[2], m[0], m[1], m[2], estimator_eye());
         GpuLight light = lights[i];
         ChildValues values = ChildValues(0.0, MAX_FINITE, vec3(0.0), true);
         est_bad = false;

@@ -64,14 +64,18 @@ pub struct DrawConstants {
     pub n_max: u32,
     pub material_index: u32,
     pub mesh_index: u32,
-    /// Tessellation level of the `fixed:N` mode.
-    pub fixed_level: u32,
+    /// `fixed:N` draws: the tessellation level; emitter draws: the index of the polygonal light
+    /// drawn.
+    pub level_or_light: u32,
     /// Index of the draw's first triangle in the scene (level records).
     pub patch_base: u32,
     /// Bits of [`crate::gpu_interface::flags`].
     pub flags: u32,
-    /// Emitter draws: index of the polygonal light drawn.
-    pub light_index: u32,
+    /// multirate: the levels hold for every eye within this distance of `eye`
+    /// ([`EstimatorSettings::eye_radius`]).
+    ///
+    /// [`EstimatorSettings::eye_radius`]: crate::shading::estimator::EstimatorSettings::eye_radius
+    pub eye_radius: f32,
     /// The triangle-level pre-pass: how many triangles the dispatch covers.
     pub triangle_count: u32,
     /// `--estimator compute`: patches per indirect draw of a patch list (see `Renderer::patches_per_draw`).

@@ -3,7 +3,7 @@
 use anyhow::{Context as _, Result};
 use clap::{Args, Parser, Subcommand};
 use multirate::analysis::{metrics, report};
-use multirate::bench::{self, BenchConfig, BenchScene};
+use multirate::bench;
 use multirate::render::cost_model::CostModel;
 use multirate::render::{output, render_headless, Mode, Placement, Renderer, View, MAX_LEVEL};
 use multirate::scene::Scene;
@@ -12,6 +12,8 @@ use multirate::vk::target::RenderTarget;
 use multirate::vk::{Context, ContextOptions};
 use std::path::{Path, PathBuf};
 
+#[path = "cli/bench.rs"]
+mod bench_command;
 #[path = "cli/calibrate.rs"]
 mod calibrate;
 #[path = "cli/soak.rs"]
@@ -153,6 +155,15 @@ struct BenchArgs {
     /// Several values, comma-separated, are each measured.
     #[arg(long, value_name = "auto|PIXELS", value_delimiter = ',', default_value = "auto")]
     min_estimated_area: Vec<EstimatedArea>,
+    /// Degrees per frame by which the camera turns about its target while frames are timed
+    /// (0: still, where multirate reuses its levels from frame to frame).
+    #[arg(long, value_name = "DEGREES", default_value_t = 0.0)]
+    orbit: f32,
+    /// multirate: the radius of the ball of eyes its levels hold for and are reused in while
+    /// the eye stays in it, as a share of the camera's distance to its target (0: every frame
+    /// estimates for its own eye).
+    #[arg(long, value_name = "SHARE", default_value_t = multirate::render::EYE_BALL_SHARE)]
+    eye_ball: f32,
 }
 
 /// `--min-estimated-area`: the cost model's choice, or a given area.
@@ -278,6 +289,19 @@ struct ShadingArgs {
     /// pixels (0: estimate every visible triangle; unguarded).
     #[arg(long, value_name = "auto|PIXELS", default_value = "auto")]
     min_estimated_area: EstimatedArea,
+    /// multirate: the radius of the ball of eyes its levels hold for, kept while the eye stays
+    /// in it, as a share of the camera's distance to its target (0: for the eye alone).
+    #[arg(long, value_name = "SHARE", default_value_t = multirate::render::EYE_BALL_SHARE)]
+    eye_ball: f32,
+}
+
+/// `--eye-ball`: a share in [0, 1).
+fn check_eye_ball(share: f32) -> Result<f32> {
+    anyhow::ensure!(
+        share.is_finite() && (0.0..1.0).contains(&share),
+        "--eye-ball must be a share in [0, 1) of the camera's distance to its target (got {share})"
+    );
+    Ok(share)
 }
 
 fn parse_split(text: &str) -> Result<Split, String> {
@@ -306,6 +330,8 @@ impl ShadingArgs {
         view.placement = self.placement;
         view.cost_model = self.min_estimated_area.pixels().is_none();
         view.estimator.min_estimated_area = self.min_estimated_area.pixels().unwrap_or(0.0);
+        view.estimator.eye_radius =
+            check_eye_ball(self.eye_ball)? * scene.camera.eye.distance(scene.camera.target);
         if let Some(epsilon) = self.epsilon {
             anyhow::ensure!(
                 epsilon.is_finite() && epsilon > 0.0,
@@ -489,6 +515,7 @@ impl Default for ShadingArgs {
             discontinuity: Discontinuity::Relaxed,
             placement: Placement::default(),
             min_estimated_area: EstimatedArea::Auto,
+            eye_ball: multirate::render::EYE_BALL_SHARE,
         }
     }
 }
@@ -583,141 +610,6 @@ fn progress_bar() -> indicatif::ProgressBar {
     indicatif::ProgressBar::new(0).with_style(style)
 }
 
-fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
-    for &epsilon in &args.epsilon {
-        anyhow::ensure!(
-            epsilon.is_finite() && epsilon > 0.0,
-            "--epsilon values must be positive (got {epsilon})"
-        );
-    }
-    for &n_max in &args.nmax {
-        anyhow::ensure!(
-            (1..=MAX_LEVEL).contains(&n_max),
-            "--nmax values must be in 1..={MAX_LEVEL} (got {n_max})"
-        );
-    }
-    anyhow::ensure!(args.frames >= 1, "--frames must be at least 1");
-    let scenes = args.scene.iter().map(|path| BenchScene::load(path)).collect::<Result<Vec<_>, _>>()?;
-    scenes.iter().for_each(|s| print_warnings(&s.scene));
-    let context = Context::headless(&options(gpu))?;
-    let config = BenchConfig {
-        modes: args.modes.clone(),
-        epsilons: args.epsilon.clone(),
-        n_maxes: args.nmax.clone(),
-        resolutions: args.resolution.clone(),
-        warmup: args.warmup,
-        frames: args.frames,
-        split: args.split,
-        discontinuity: args.discontinuity,
-        placements: args.placements.clone(),
-        images: args.images.then(|| args.out.join("images")),
-        min_estimated_areas: args.min_estimated_area.iter().map(|a| a.pixels()).collect(),
-    };
-    std::fs::create_dir_all(&args.out).with_context(|| format!("{}: cannot create", args.out.display()))?;
-    let bar = progress_bar();
-    let result = bench::run(&context, &scenes, &config, &mut |progress| {
-        bar.set_length(progress.total as u64);
-        bar.set_position(progress.done as u64);
-        bar.set_message(progress.label.to_string());
-    })?;
-    bar.finish_and_clear();
-    let write = |name: &str, text: String| {
-        let path = args.out.join(name);
-        std::fs::write(&path, text).with_context(|| format!("{}: cannot write", path.display()))
-    };
-    write("bench.csv", bench::to_csv(&result.rows))?;
-    write("bench.json", bench::to_json(&result.rows))?;
-    bench::plot::time_against_error(
-        &result.rows,
-        "L∞ error",
-        |r| r.l_inf,
-        &args.out.join("time_vs_linf.svg"),
-    )?;
-    bench::plot::time_against_error(
-        &result.rows,
-        "mean FLIP",
-        |r| r.flip,
-        &args.out.join("time_vs_flip.svg"),
-    )?;
-    if let Some(path) = &args.capture {
-        std::fs::write(path, bench::trace::chrome_trace(&result.rows, &result.measurements))
-            .with_context(|| format!("{}: cannot write the capture", path.display()))?;
-    }
-    println!("{} on {} ({})", args.out.display(), context.info.name, context.info.driver);
-    if let Some(note) = multirate::render::draw_splitting_note(&context.info) {
-        println!("{note}");
-    }
-    println!(
-        "{:<44} {:>10} {:>9} {:>8} {:>7} {:>10} {:>9} {:>9} {:>10} {:>8}",
-        "configuration",
-        "GPU ms",
-        "pre-pass",
-        "speedup",
-        "share",
-        "evals",
-        "L∞ same",
-        "other px",
-        "mean L2",
-        "FLIP"
-    );
-    for row in &result.rows {
-        let name = format!("{} {}x{} {}", row.scene, row.width, row.height, bench::plot::row_label(row));
-        let pre_pass = row.pre_pass_ms.map_or_else(|| "-".to_string(), |t| format!("{:.3}", t.median));
-        let share = row.trade.map_or_else(|| "-".to_string(), |t| format!("{:.0}%", t.saving_share * 100.0));
-        println!(
-            "{name:<44} {:>10.3} {pre_pass:>9} {:>7.0}% {share:>7} {:>9.1}% {:>9.5} {:>9} {:>10.2e} {:>8.5}",
-            row.gpu_ms.median,
-            row.speedup * 100.0,
-            row.evaluation_ratio * 100.0,
-            row.l_inf_same_triangle,
-            row.other_triangle_pixels,
-            row.mean_l2,
-            row.flip
-        );
-    }
-    for row in result.rows.iter().filter(|row| row.frames_drawn_as_pixel.is_some_and(|n| n > 0)) {
-        println!(
-            "frame guard: {} {}x{} {} drew {} of {} measured frames as pixel does (its probes, or all where multirate was slower)",
-            row.scene,
-            row.width,
-            row.height,
-            bench::plot::row_label(row),
-            row.frames_drawn_as_pixel.unwrap_or(0),
-            row.frames
-        );
-    }
-    let mut bounds = result.rows.iter().filter(|row| row.mode == "pixel").peekable();
-    if bounds.peek().is_some() {
-        println!("floor (vertex), ceiling (pixel / vertex), empty frame; multirate's estimated-area floor:");
-    }
-    for reference in bounds {
-        let same = |row: &&bench::Row| {
-            row.scene == reference.scene && (row.width, row.height) == (reference.width, reference.height)
-        };
-        let areas: Vec<String> = result
-            .rows
-            .iter()
-            .filter(same)
-            .filter_map(|row| row.min_estimated_area.map(|a| format!("{a:.1} px")))
-            .collect();
-        let trade = reference.trade.map_or_else(
-            || "floor -, ceiling - (add vertex to --modes)".to_string(),
-            |t| format!("floor {:.3} ms, ceiling {:.2}×", t.floor_ms, t.ceiling),
-        );
-        println!(
-            "  {} {}x{}: {trade}, empty frame {:.3} ms; estimated above {}",
-            reference.scene,
-            reference.width,
-            reference.height,
-            reference.empty_ms,
-            if areas.is_empty() { "-".to_string() } else { areas.join(", ") }
-        );
-    }
-    let messages = context.validation().count();
-    anyhow::ensure!(messages == 0, "the validation layer reported {messages} message(s)");
-    Ok(())
-}
-
 fn run_experiments(args: &ExperimentArgs, gpu: &GpuArgs) -> Result<()> {
     anyhow::ensure!(args.frames >= 1, "--frames must be at least 1");
     let context = Context::headless(&options(gpu))?;
@@ -775,7 +667,7 @@ fn main() -> Result<()> {
     match &cli.command {
         Some(Command::Render(args)) => render(args, &cli.gpu),
         Some(Command::Analyze(args)) => analyze(args, &cli.gpu),
-        Some(Command::Bench(args)) => run_bench(args, &cli.gpu),
+        Some(Command::Bench(args)) => bench_command::run_bench(args, &cli.gpu),
         Some(Command::Experiments(args)) => run_experiments(args, &cli.gpu),
         Some(Command::Soak(args)) => {
             soak::soak(args, &cli.gpu).with_context(|| format!("soaking {}", args.scene.display()))

@@ -433,8 +433,7 @@ impl App {
             state.renderer.report_frame_time(&drawn, extent, ms);
             self.gpu_ms = Some(self.gpu_ms.map_or(ms, |smoothed| 0.9 * smoothed + 0.1 * ms));
         }
-        let mut view = self.view.clone();
-        view.camera = self.orbit.apply(&self.scene.camera);
+        let view = self.view.seen_from(self.orbit.apply(&self.scene.camera));
         let settings_changed = self.share.as_ref().is_none_or(|s| {
             (s.view.mode, s.view.estimator.epsilon, s.view.estimator.n_max, s.view.placement)
                 != (view.mode, view.estimator.epsilon, view.estimator.n_max, view.placement)

@@ -94,6 +94,12 @@ struct Case {
     lights: Vec<Light>,
     epsilon: f32,
     n_max: u32,
+    /// The estimate is asked to hold for every eye within this distance of `tri.eye`
+    /// ([`EstimatorSettings::eye_radius`]); the truth is then measured from an eye on that
+    /// sphere ([`ball_case`]).
+    eye_radius: f32,
+    /// Where the truth is measured from: `tri.eye`, or a point of the ball.
+    truth_eye: Vec3,
 }
 
 fn random_case(rng: &mut Rng, brdf: Brdf) -> Case {
@@ -168,7 +174,8 @@ fn random_case(rng: &mut Rng, brdf: Brdf) -> Case {
         },
     };
     let epsilon = [0.01, 0.03, 0.075, 0.2][(rng.next_u64() % 4) as usize];
-    Case { tri: TriangleInput { positions: corners, normals, eye }, material, lights, epsilon, n_max: N_MAX }
+    let tri = TriangleInput { positions: corners, normals, eye };
+    Case { tri, material, lights, epsilon, n_max: N_MAX, eye_radius: 0.0, truth_eye: eye }
 }
 
 fn hardware(n: u32) -> Pattern {
@@ -382,8 +389,11 @@ fn run(
     let mut s = Stats::default();
     for index in 0..count {
         let case = case_of(&mut rng, brdf);
-        let settings = EstimatorSettings { n_max: case.n_max, ..settings_of(case.epsilon) };
+        let settings =
+            EstimatorSettings { n_max: case.n_max, eye_radius: case.eye_radius, ..settings_of(case.epsilon) };
         let est = estimate(&case.tri, &case.material, &case.lights, &settings);
+        // The truth from the eye it is measured from (the estimate's own, or one of its ball).
+        let case = Case { tri: TriangleInput { eye: case.truth_eye, ..case.tri }, ..case };
         assert!(est.n >= 1 && est.n <= case.n_max);
         assert!(est.predicted_error.is_finite() && est.predicted_error >= 0.0);
         s.triangles += 1;
@@ -571,6 +581,7 @@ fn conservative(epsilon: f32) -> EstimatorSettings {
         split: Split::Heuristic,
         discontinuity: Discontinuity::Conservative,
         min_estimated_area: 0.0,
+        eye_radius: 0.0,
     }
 }
 
@@ -638,8 +649,60 @@ fn silhouette_case(rng: &mut Rng, brdf: Brdf) -> Case {
         let angle = rng.range(1.45, 1.7);
         let dir = tilt(rng, base, angle);
         case.tri.eye = centre + dir * (case.tri.eye - centre).length();
+        case.truth_eye = case.tri.eye;
     }
     case
+}
+
+/// [`random_case`], half of them with the lights at the terminator ([`terminator_case`]) or,
+/// for GGX, seen edge-on ([`silhouette_case`]), estimated for a ball of eyes of 0.1 to 20 % of
+/// the distance to the triangle and measured from a point of its sphere: in a random
+/// direction, or towards or across the triangle, where the view turns most.
+fn ball_case(rng: &mut Rng, brdf: Brdf) -> Case {
+    let mut case = match rng.next_u64() % 4 {
+        0 => terminator_case(rng, brdf),
+        1 if brdf == Brdf::Ggx => silhouette_case(rng, brdf),
+        _ => random_case(rng, brdf),
+    };
+    let [a, b, c] = case.tri.positions;
+    let to_triangle = (a + b + c) / 3.0 - case.tri.eye;
+    case.eye_radius = to_triangle.length() * rng.log(0.001, 0.2);
+    let across = to_triangle.cross(rng.unit()).normalize_or(rng.unit());
+    let direction = match rng.next_u64() % 3 {
+        0 => rng.unit(),
+        1 => to_triangle.normalize_or(rng.unit()),
+        _ => across,
+    };
+    case.truth_eye = case.tri.eye + direction * (case.eye_radius * 0.999);
+    case
+}
+
+/// Random triangles per BRDF estimated for a ball of eyes.
+const BALL_TRIANGLES: usize = 4_000;
+
+/// [`ball_case`]: the estimate for a ball of eyes holds from every eye of it: zero violations for
+/// every BRDF, Relaxed, both splits; and the truth must come near ε somewhere, so that a bound
+/// that ignored the ball would show.
+#[test]
+fn estimates_for_a_ball_of_eyes_hold_from_its_every_eye() {
+    let (mut text, mut violations, mut closest) = (String::new(), 0, 0.0f64);
+    type Config = (&'static str, fn(f32) -> EstimatorSettings);
+    let configs: [Config; 2] = [("Relaxed, Heuristic", relaxed), ("Relaxed, Uniform", relaxed_uniform)];
+    for (brdf, seed) in
+        [(Brdf::Lambert, 0xba11_0001), (Brdf::BlinnPhong, 0xba11_0002), (Brdf::Ggx, 0xba11_0003)]
+    {
+        for (name, settings_of) in configs {
+            let start = Instant::now();
+            let stats = run(brdf, seed, BALL_TRIANGLES, ball_case, settings_of);
+            violations += stats.violations;
+            closest = closest.max(stats.closest);
+            text +=
+                &report(&format!("{brdf:?}, a ball of eyes, {name}"), stats, start.elapsed().as_secs_f64());
+        }
+    }
+    println!("{text}");
+    assert_eq!(violations, 0, "{text}");
+    assert!(closest > 0.5, "the truth never came near eps: {text}");
 }
 
 /// Random GGX triangles seen edge-on.

@@ -36,7 +36,7 @@ fn control_stage_levels_equal_the_twin() {
     let target = RenderTarget::new(&context, vk::Extent2D { width, height }).expect("target");
     let (mut compared, mut different, mut culled, mut placements_compared) = (0usize, 0usize, 0usize, 0);
     let (mut small, mut estimated_beside_small) = (0usize, 0usize);
-    for relative in [
+    for (index, relative) in [
         "scenes/bunny.toml",
         "scenes/teapot.toml",
         "scenes/plane_lights.toml",
@@ -45,7 +45,10 @@ fn control_stage_levels_equal_the_twin() {
         "scenes/teapot_fabric.toml",
         "scenes/plane_polygons.toml",
         "scenes/teapot_polygons.toml",
-    ] {
+    ]
+    .into_iter()
+    .enumerate()
+    {
         let mut scene = Scene::load(&repo_path(relative)).expect("scene");
         // The twin culls with the scene's camera at the scene's size: the target's.
         (scene.settings.width, scene.settings.height) = (width, height);
@@ -56,10 +59,13 @@ fn control_stage_levels_equal_the_twin() {
         let settings_to_check = if untextured.contains(&relative) { 3 } else { 1 };
         // The later settings also shade small images per pixel unestimated (the cost model's
         // class, `geometry::cull::small_image`): areas of a few pixels of the 64×48 target.
-        for (epsilon, split, discontinuity, min_estimated_area) in [
-            (0.075, Split::Heuristic, Discontinuity::Relaxed, 0.0),
-            (0.3, Split::Heuristic, Discontinuity::Conservative, 2.0),
-            (0.02, Split::Uniform, Discontinuity::Relaxed, 0.5),
+        // Every other scene's first setting, and the second, estimate for a ball of eyes (2 % of
+        // the camera's distance to its target).
+        let ball = 0.02 * scene.camera.eye.distance(scene.camera.target);
+        for (epsilon, split, discontinuity, min_estimated_area, eye_radius) in [
+            (0.075, Split::Heuristic, Discontinuity::Relaxed, 0.0, if index % 2 == 1 { ball } else { 0.0 }),
+            (0.3, Split::Heuristic, Discontinuity::Conservative, 2.0, ball),
+            (0.02, Split::Uniform, Discontinuity::Relaxed, 0.5, 0.0),
         ]
         .into_iter()
         .take(settings_to_check)
@@ -70,6 +76,7 @@ fn control_stage_levels_equal_the_twin() {
                 split,
                 discontinuity,
                 min_estimated_area,
+                eye_radius,
                 ..scene_view.estimator
             };
             let view = View { estimator, ..scene_view };

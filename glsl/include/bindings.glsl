@@ -121,6 +121,10 @@ layout(set = 0, binding = 21, std430) buffer EstimateTriangles { uint estimate_t
 // others'. (A parameter map makes a corner's shading depend on its triangle's level of detail:
 // such a mesh keeps the flat list.)
 layout(set = 0, binding = 22, std430) writeonly buffer FlatIndices { uint flat_indices[]; };
+// Per triangle of the scene, the level the pre-pass found for it while the eye stays in the
+// current ball (the patch step keeps each estimated triangle's), 0 where none yet: the range step
+// reuses it where draw.flags has FLAG_REUSE_LEVELS. The host zeroes it when a ball begins.
+layout(set = 0, binding = 23, std430) buffer EstimatedLevels { float estimated_levels[]; };
 // The index of no vertex, 2^24 - 1 (`SKIPPED_VERTEX` in Rust, Vulkan's least
 // maxDrawIndexedIndexValue; render::limits refuses scenes with more vertices):
 // multirate_flat.vert shades nothing for it.

@@ -161,11 +161,16 @@ vec2 draw_parameter_range(vec2 t0, vec2 t1, vec2 t2) {
     return parameter_range_of(material, t0, t1, t2, material_lod_bound(t0, t1, t2));
 }
 
+// The eye the draw's estimates are for, and the radius of the ball of eyes they hold for.
+vec4 estimator_eye() {
+    return vec4(draw.eye.xyz, draw.eye_radius);
+}
+
 // Whether the range class settles the draw's triangle (estimator/range.glsl): level 1 without
 // an estimate; `every_capped`: whether its estimate bounds every light's specular part by its cap.
 bool settled_triangle(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2,
                       out bool every_capped) {
-    return settled_by_range(p0, p1, p2, n0, n1, n2, draw.eye.xyz, draw.material_index,
+    return settled_by_range(p0, p1, p2, n0, n1, n2, estimator_eye(), draw.material_index,
                             draw_parameter_range(t0, t1, t2), draw.epsilon, every_capped);
 }
 
@@ -174,7 +179,7 @@ bool settled_triangle(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2
 // `every_capped`: settled_triangle's.
 float estimated_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2,
                       bool every_capped) {
-    return required_level(p0, p1, p2, n0, n1, n2, draw.eye.xyz, draw.material_index,
+    return required_level(p0, p1, p2, n0, n1, n2, estimator_eye(), draw.material_index,
                           draw_parameter_range(t0, t1, t2), draw.epsilon, float(draw.n_max), every_capped);
 }
 
@@ -182,7 +187,7 @@ float estimated_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2
 // second, with `refine`, as a step of its own over the triangles the first lists.
 float estimated_level_pass(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2,
                            bool every_capped, bool refine, out bool refine_next) {
-    return estimate_pass(p0, p1, p2, n0, n1, n2, draw.eye.xyz, draw.material_index,
+    return estimate_pass(p0, p1, p2, n0, n1, n2, estimator_eye(), draw.material_index,
                          draw_parameter_range(t0, t1, t2), draw.epsilon, float(draw.n_max), every_capped, refine,
                          refine_next);
 }

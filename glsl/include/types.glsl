@@ -40,10 +40,10 @@ struct DrawConstants {
     uint n_max;          // multirate's highest level, in 1..=64 (clamped by the host)
     uint material_index; // index into the material buffer
     uint mesh_index;
-    uint fixed_level;    // tessellation level of the fixed:N mode
+    uint level_or_light; // fixed:N draws: the tessellation level; emitter draws: the polygonal light
     uint patch_base;     // index of this draw's first triangle in the scene (level records)
     uint flags;          // FLAG_ bits, below
-    uint light_index;    // emitter draws: the polygonal light drawn
+    float eye_radius;    // multirate: the levels hold for every eye this close to `eye`
     uint triangle_count; // the triangle-level pre-pass: triangles of this dispatch
     uint patches_per_draw; // the compute placement: patches per indirect draw of a patch list
 };
@@ -62,5 +62,7 @@ const uint FLAG_FALLBACK_PATCHES = 16u;
 // The mesh's flat patches shaded on their corners are drawn indexed from flat_indices (its
 // material has no parameter map).
 const uint FLAG_SHARED_CORNERS = 32u;
+// The multirate pre-pass reuses the levels of estimated_levels and keeps those it finds.
+const uint FLAG_REUSE_LEVELS = 64u;
 
 #endif

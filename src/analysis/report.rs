@@ -161,7 +161,13 @@ pub fn analyze(
         // without an estimate; then the range class settles a triangle at level 1, or an image
         // too small to pay for an estimate falls back without one.
         let settled_of = |corners: &[u32]| {
-            settled_by_range(&input(corners), material, range(corners), &scene.lights, settings.epsilon)
+            settled_by_range(
+                &input(corners),
+                material,
+                range(corners),
+                &scene.lights,
+                (settings.epsilon, settings.eye_radius),
+            )
         };
         let per_pixel_of = |corners: &[u32]| {
             let positions = positions_of(corners);

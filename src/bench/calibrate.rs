@@ -73,6 +73,9 @@ pub fn calibrate(
         placements: Vec::new(),
         images: None,
         min_estimated_areas: vec![Some(0.0)],
+        // What every frame costs: the camera still, each frame estimating for its own eye.
+        orbit_degrees: 0.0,
+        eye_ball_share: 0.0,
     };
     // Every triangle per pixel: ε 0, which the range class never settles, and an area floor
     // above every image; with `vertex` of the same turns.
@@ -173,7 +176,7 @@ pub fn estimated_triangles(scene: &Scene) -> usize {
                 continue;
             }
             let parameter = ParameterRange::of(material);
-            if !settled_by_range(&input, material, parameter, &scene.lights, scene.settings.epsilon) {
+            if !settled_by_range(&input, material, parameter, &scene.lights, (scene.settings.epsilon, 0.0)) {
                 count += 1;
             }
         }

@@ -16,7 +16,7 @@ pub use trade::trade_page;
 
 use super::{plot, run, to_csv, BenchConfig, BenchScene, Progress, Row};
 use crate::error::{Error, Result};
-use crate::render::Mode;
+use crate::render::{Mode, EYE_BALL_SHARE};
 use crate::scene::Scene;
 use crate::shading::estimator::{Discontinuity, Split};
 use crate::vk::Context;
@@ -88,6 +88,8 @@ fn config(options: &ExperimentOptions, modes: Vec<Mode>, resolutions: Vec<(u32, 
         placements: Vec::new(),
         images: None,
         min_estimated_areas: Vec::new(),
+        orbit_degrees: 0.0,
+        eye_ball_share: EYE_BALL_SHARE,
     }
 }
 
@@ -281,6 +283,11 @@ fn header(md: &mut String, context: &Context, options: &ExperimentOptions) {
         md,
         "| timing | GPU timestamps around the forward pass, median (p10–p90) of {} frames after {} warm-up frames, two frames in flight, the configurations of a scene and resolution taking turns of two frames |",
         options.frames, options.warmup
+    );
+    let _ = writeln!(
+        md,
+        "| camera | the scene's, still: multirate keeps each level while the eye stays in a ball of {} % of the camera's distance to its target (`docs/estimator.md` §16), so after a ball's first frame it estimates only what comes into view (`bench --orbit` times a turning camera) |",
+        100.0 * EYE_BALL_SHARE
     );
     let _ = writeln!(
         md,

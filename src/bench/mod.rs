@@ -19,8 +19,8 @@ pub mod twin;
 use crate::analysis::metrics::{self, fallback_mask, fallback_pixels, scaled_difference, ImageError};
 use crate::error::Result;
 use crate::render::{
-    output, Analysis, EvaluationCounts, Measurement, Mode, Placement, PrePassStep, Renderer, View,
-    PRE_PASS_STEPS,
+    output, Analysis, CameraTurn, EvaluationCounts, Measurement, Mode, Placement, PrePassStep, Renderer,
+    View, PRE_PASS_STEPS,
 };
 use crate::scene::Scene;
 use crate::shading::estimator::{Discontinuity, EstimatorSettings, Split};
@@ -69,6 +69,13 @@ pub struct BenchConfig {
     /// each measured; `None`: the renderer's cost model chooses (`Renderer::min_estimated_area`).
     /// Empty: the cost model.
     pub min_estimated_areas: Vec<Option<f32>>,
+    /// Degrees per frame by which the camera turns about its target while frames are timed (0:
+    /// it stays still; `CameraTurn`), each configuration along its own path.
+    pub orbit_degrees: f32,
+    /// multirate: the radius of the ball of eyes its levels hold for and are kept in, as a share
+    /// of the camera's distance to its target (`View`'s `EYE_BALL_SHARE`; 0: every frame
+    /// estimates for its own eye).
+    pub eye_ball_share: f32,
 }
 
 /// Median and spread of per-frame GPU milliseconds.
@@ -336,6 +343,7 @@ pub fn run(
                     split: config.split,
                     discontinuity: config.discontinuity,
                     min_estimated_area: job.min_estimated_area.unwrap_or(0.0),
+                    eye_radius: config.eye_ball_share * scene.camera.eye.distance(scene.camera.target),
                 },
                 placement: job.placement,
                 cost_model: job.min_estimated_area.is_none(),
@@ -477,13 +485,17 @@ fn measure_in_turns(
     turn_done: &mut dyn FnMut(usize),
 ) -> Result<Vec<Measurement>> {
     let mut measurements: Vec<Measurement> = views.iter().map(|_| Measurement::default()).collect();
+    // Each configuration's camera goes on turning from where its last turn left it.
+    let mut drawn = vec![0u32; views.len()];
     let mut measured = 0;
     let mut turn = 0;
     while measured < config.frames {
         let frames = FRAMES_PER_TURN.min(config.frames - measured);
         let warmup = if turn == 0 { config.warmup } else { config.warmup.min(1) };
-        for (view, measurement) in views.iter().zip(&mut measurements) {
-            let part = renderer.measure(target, view, warmup, frames)?;
+        for ((view, measurement), drawn) in views.iter().zip(&mut measurements).zip(&mut drawn) {
+            let turn = CameraTurn { degrees_per_frame: config.orbit_degrees, first_frame: *drawn };
+            let part = renderer.measure_turning(target, view, warmup, frames, turn)?;
+            *drawn += part.frames_drawn;
             measurement.frames.extend(part.frames);
             measurement.pre_pass.extend(part.pre_pass);
             measurement.pre_pass_steps.extend(part.pre_pass_steps);

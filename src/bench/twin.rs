@@ -48,8 +48,13 @@ pub fn twin_cost(scene: &Scene, passes: usize) -> TwinCost {
     let levels = pass();
     let (mut settled, mut front, mut front_settled) = (0, 0, 0);
     for (input, material) in &work {
-        let is_settled =
-            settled_by_range(input, material, ParameterRange::of(material), &scene.lights, settings.epsilon);
+        let is_settled = settled_by_range(
+            input,
+            material,
+            ParameterRange::of(material),
+            &scene.lights,
+            (settings.epsilon, settings.eye_radius),
+        );
         let [p0, p1, p2] = input.positions;
         let is_front = (p1 - p0).cross(p2 - p0).dot(input.eye - p0) > 0.0;
         settled += usize::from(is_settled);

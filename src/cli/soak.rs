@@ -6,7 +6,7 @@
 use super::{load_scene, options, print_warnings, progress_bar, GpuArgs, SoakArgs};
 use anyhow::{Context as _, Result};
 use multirate::bench::{self, BenchConfig, BenchScene};
-use multirate::render::{Mode, View};
+use multirate::render::{Mode, View, EYE_BALL_SHARE};
 use multirate::shading::estimator::{Discontinuity, Split};
 use multirate::vk::budget::{self, MemoryUse};
 use multirate::vk::{Context, ContextOptions};
@@ -207,6 +207,8 @@ fn soak_bench(args: &SoakArgs, options: &ContextOptions) -> Result<Soak> {
         placements: Vec::new(),
         images: None,
         min_estimated_areas: Vec::new(),
+        orbit_degrees: 0.0,
+        eye_ball_share: EYE_BALL_SHARE,
     };
     let bar = progress_bar();
     let started = std::time::Instant::now();

@@ -88,6 +88,9 @@ pub mod forward {
     pub const REFINE_TRIANGLES: Binding = storage(0, 20, "RefineTriangles");
     pub const ESTIMATE_TRIANGLES: Binding = storage(0, 21, "EstimateTriangles");
     pub const FLAT_INDICES: Binding = storage(0, 22, "FlatIndices");
+    /// Per triangle, the level the pre-pass found for it in the current ball of eyes (0 where it
+    /// has found none yet): what later frames reuse.
+    pub const ESTIMATED_LEVELS: Binding = storage(0, 23, "EstimatedLevels");
 
     pub const ALBEDO_MAP: Binding = sampler(1, 0, "albedo_map");
     pub const PARAMETER_MAP: Binding = sampler(1, 1, "parameter_map");
@@ -98,7 +101,7 @@ pub mod forward {
     pub const VISIBILITY: Binding = sampler(2, 0, "visibility");
 
     /// Set 0: the scene's storage buffers, bound once.
-    pub const SCENE_BUFFERS: [Binding; 23] = [
+    pub const SCENE_BUFFERS: [Binding; 24] = [
         LIGHTS,
         MATERIALS,
         LEVEL_RECORDS,
@@ -122,6 +125,7 @@ pub mod forward {
         REFINE_TRIANGLES,
         ESTIMATE_TRIANGLES,
         FLAT_INDICES,
+        ESTIMATED_LEVELS,
     ];
     /// Set 1: the draw's material textures, bound per draw.
     pub const MATERIAL_TEXTURES: [Binding; 3] = [ALBEDO_MAP, PARAMETER_MAP, PARAMETER_PYRAMID];

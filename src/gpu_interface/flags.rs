@@ -18,4 +18,7 @@ super::named_constants! {
     /// every triangle that shares it (`DrawCall::shared_corners`): the compute placement draws
     /// its flat patches shaded on their corners indexed, from `flat_indices`.
     FLAG_SHARED_CORNERS = 32;
+    /// The multirate pre-pass (`--estimator compute`) reuses the levels it found earlier in the
+    /// current ball of eyes (`estimated_levels`) and keeps those it finds now.
+    FLAG_REUSE_LEVELS = 64;
 }

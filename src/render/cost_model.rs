@@ -354,7 +354,7 @@ impl MeshSample {
         for &k in small.iter().step_by(small.len().div_ceil(RANGE_TRIED)) {
             let input = TriangleInput { positions: self.triangles[k], normals: self.normals[k], eye };
             tried += 1;
-            settled += usize::from(settled_by_range(&input, &material, parameter, lights, epsilon));
+            settled += usize::from(settled_by_range(&input, &material, parameter, lights, (epsilon, 0.0)));
         }
         // small · (1 − settled / tried) > visible / 2, without a division.
         2 * small.len() * (tried - settled) > visible * tried

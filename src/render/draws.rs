@@ -69,12 +69,13 @@ pub(super) fn draw_constants(view: &View, extent: vk::Extent2D, min_estimated_ar
         epsilon: estimator.epsilon,
         // The shaders' range (their estimator, patch levels and heat map read it in it).
         n_max: estimator.n_max.clamp(1, MAX_LEVEL),
-        fixed_level: match view.mode {
+        level_or_light: match view.mode {
             Mode::Fixed(level) => level,
             _ => 1,
         },
         flags: if view.heat_map { FLAG_HEAT_MAP } else { 0 }
             | if view.derivative_check { FLAG_DERIVATIVE_CHECK } else { 0 },
+        eye_radius: estimator.eye_radius,
         ..Default::default()
     }
 }
@@ -240,7 +241,7 @@ impl Renderer {
             device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, emitter.raw);
             device.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
             for draw in &self.emitters {
-                constants.light_index = draw.light_index;
+                constants.level_or_light = draw.light_index;
                 self.push_draw_constants(cmd, constants);
                 device.cmd_draw_indexed(cmd, draw.index_count, 1, draw.first_index, 0, 0);
             }

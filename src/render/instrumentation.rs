@@ -33,6 +33,32 @@ pub struct Measurement {
     /// Where the frame guard applies ([`guard::GuardKey::of`]): how many measured frames it drew
     /// as `pixel` does (`View::drawn_as_pixel`). None where it does not apply.
     pub drawn_as_pixel: Option<u32>,
+    /// Frames drawn, warm-up included: where a [`CameraTurn`] goes on from.
+    pub frames_drawn: u32,
+}
+
+/// The camera turning about its target while frames are measured: `degrees_per_frame` about its
+/// up direction, the first frame at `first_frame` turns. A camera that stays still measures the
+/// frames a still view gives, where the pre-pass reuses its levels (`render::level_ball`); a
+/// turning one, what a moving view costs.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CameraTurn {
+    pub degrees_per_frame: f32,
+    pub first_frame: u32,
+}
+
+impl CameraTurn {
+    /// `view` with its camera turned as in frame `frame` (counted from `first_frame`).
+    fn view_at(self, view: &View, frame: u32) -> View {
+        if self.degrees_per_frame == 0.0 {
+            return view.clone();
+        }
+        let camera = view.camera;
+        let angle = (self.degrees_per_frame * (self.first_frame + frame) as f32).to_radians();
+        let turn = glam::Quat::from_axis_angle(camera.up.normalize(), angle);
+        let eye = camera.target + turn * (camera.eye - camera.target);
+        view.seen_from(crate::scene::Camera { eye, ..camera })
+    }
 }
 
 impl Measurement {
@@ -204,6 +230,18 @@ impl Renderer {
         warmup: u32,
         frames: u32,
     ) -> Result<Measurement> {
+        self.measure_turning(target, view, warmup, frames, CameraTurn::default())
+    }
+
+    /// [`Renderer::measure`] with the camera turning as `turn` says, frame after frame.
+    pub fn measure_turning(
+        &self,
+        target: &RenderTarget,
+        view: &View,
+        warmup: u32,
+        frames: u32,
+        turn: CameraTurn,
+    ) -> Result<Measurement> {
         self.prepare(view, target)?;
         // Pass 0: the whole frame; pass 1: the pre-pass, within it; then its steps, where it
         // has them (every query read must have been written).
@@ -252,7 +290,7 @@ impl Renderer {
             let slot = frame as usize % FRAMES_IN_FLIGHT;
             collect(&mut ring, slot, in_slot[slot].take(), &mut measurement)?;
             let measured = frame >= warmup && (frame >= longest_warmup || self.guard_decided(view, extent));
-            let frame_view = self.guarded(view, extent);
+            let frame_view = self.guarded(&turn.view_at(view, frame), extent);
             let mut ran_pre_pass = false;
             ring.submit(slot, |cmd| {
                 let slot = slot as u32;
@@ -285,6 +323,7 @@ impl Renderer {
         for (slot, drawn) in in_slot.iter_mut().enumerate() {
             collect(&mut ring, slot, drawn.take(), &mut measurement)?;
         }
+        measurement.frames_drawn = frame;
         Ok(measurement)
     }
 

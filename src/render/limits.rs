@@ -173,6 +173,7 @@ impl SceneSizes {
                 "triangles",
             ),
             per_triangle("triangle levels", 1),
+            per_triangle("levels of the ball of eyes", 1),
             buffer(
                 "triangle neighbours",
                 data(triangles.max(1), size_of::<[u32; 4]>()),

@@ -23,6 +23,7 @@ mod descriptors;
 mod draws;
 pub mod guard;
 mod instrumentation;
+mod level_ball;
 pub mod limits;
 mod mode;
 pub mod output;
@@ -34,11 +35,11 @@ pub mod textures;
 mod view;
 
 pub use draws::draw_splitting_note;
-pub use instrumentation::{Analysis, EvaluationCounts, Measurement};
+pub use instrumentation::{Analysis, CameraTurn, EvaluationCounts, Measurement};
 pub use mode::{Mode, Placement, MAX_LEVEL};
 pub use pre_pass::{PrePassStep, PRE_PASS_GROUP, PRE_PASS_STEPS, REFINE_BLOCK};
 pub use scene_buffers::{gpu_lights, gpu_polygon_lights};
-pub use view::View;
+pub use view::{View, EYE_BALL_SHARE};
 
 use deferred::Deferred;
 use descriptors::ForwardDescriptors;
@@ -92,6 +93,8 @@ pub struct Renderer {
     lights: Vec<Light>,
     /// The frame guards of the configurations drawn so far (`guarded`, `report_frame_time`).
     guards: Mutex<Guards>,
+    /// The ball of eyes the pre-pass's kept levels hold for (`level_ball`).
+    level_ball: Mutex<Option<level_ball::LevelBall>>,
 }
 
 impl Renderer {
@@ -130,6 +133,7 @@ impl Renderer {
                 .collect(),
             lights: scene.lights.clone(),
             guards: Mutex::new(Guards::default()),
+            level_ball: Mutex::new(None),
         })
     }
 

@@ -5,10 +5,11 @@
 
 use super::draws::{draw_constants, DrawCall};
 use super::instrumentation::Timed;
+use super::level_ball::{self, BallKey, BallUse};
 use super::pipelines::{ListPipelines, PrePassPipelines, Variant};
 use super::view::View;
 use super::Renderer;
-use crate::gpu_interface::flags::FLAG_FALLBACK_PATCHES;
+use crate::gpu_interface::flags::{FLAG_FALLBACK_PATCHES, FLAG_REUSE_LEVELS};
 use crate::gpu_interface::slots::{
     CAPPED_ESTIMATE_DISPATCH, ESTIMATE_DISPATCH, FALLBACK_LIST, FULL_ESTIMATE_DISPATCH, INTERPOLATED_LIST,
     LEVEL_DISPATCHES, OPENED_DRAWS, PATCH_COUNT_WORDS, PATCH_DISPATCH, PATCH_LISTS, REFINE_DISPATCH,
@@ -113,7 +114,8 @@ impl Renderer {
     /// lists each mesh's visible triangles, the estimator over those lists, then the patch
     /// levels, which also sort the visible triangles into the flat, interpolated and fallback
     /// patch lists and fill their indirect draws; with the barriers that order it after the
-    /// previous frame's reads and before this frame's.
+    /// previous frame's reads and before this frame's. Where the view's levels hold for a ball of
+    /// eyes, the levels kept while the eye stays in it are reused (`level_ball`).
     pub(super) fn record_triangle_levels(
         &self,
         variants: &[Variant],
@@ -123,13 +125,27 @@ impl Renderer {
         stamp: &dyn Fn(Timed, bool),
         per_pixel: &[bool],
     ) {
+        // Whether this frame begins a ball of eyes or reuses the levels kept in one.
+        let min_estimated_area = self.min_estimated_area(view);
+        let key =
+            BallKey { estimator: view.estimator, extent: (extent.width, extent.height), min_estimated_area };
+        let ball_use = {
+            let mut ball = self.level_ball.lock().expect("level ball lock");
+            let (ball_use, next) = level_ball::next(*ball, view.camera.eye, key);
+            *ball = next;
+            ball_use
+        };
         // Each step's timestamps come right before a barrier, which settles them: the first
         // step's start before the resets (its interval holds them), each end and the next
         // step's start before the end's barrier.
         stamp(Timed::Step(PrePassStep::ALL[0]), false);
-        self.reset_pre_pass(cmd);
-        let mut constants = draw_constants(view, extent, self.min_estimated_area(view));
+        self.reset_pre_pass(cmd, matches!(ball_use, BallUse::Begin { .. }));
+        let mut constants = draw_constants(view, extent, min_estimated_area);
         constants.patches_per_draw = self.patches_per_draw(view.estimator.n_max);
+        constants.eye_radius = ball_use.radius();
+        if ball_use.keeps_levels() {
+            constants.flags |= FLAG_REUSE_LEVELS;
+        }
         self.bind_set_at(cmd, vk::PipelineBindPoint::COMPUTE, 0, self.descriptors.set);
         for (k, step) in PrePassStep::ALL.into_iter().enumerate() {
             // A mesh drawn whole as `pixel` draws it needs no levels.
@@ -153,12 +169,27 @@ impl Renderer {
     }
 
     /// Once the previous frame has read the lists and levels: zeroes the list lengths and
-    /// indirect draws and resets the indirect dispatches, before the first step.
-    fn reset_pre_pass(&self, cmd: vk::CommandBuffer) {
+    /// indirect draws and resets the indirect dispatches, before the first step; where a ball of
+    /// eyes begins (`begin_ball`), also the levels kept for the last one.
+    fn reset_pre_pass(&self, cmd: vk::CommandBuffer, begin_ball: bool) {
         let device = &self.context.device;
         let buffers = &self.buffers.pre_pass;
         let storage = A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE;
-        self.barrier(cmd, (LIST_READERS, A::NONE, S::COMPUTE_SHADER | S::CLEAR | S::COPY, A::NONE));
+        // The earlier frames' draws read the lists; their patch steps wrote the kept levels, which
+        // this frame's steps read, or a clear begins again.
+        self.barrier(
+            cmd,
+            (
+                LIST_READERS | S::COMPUTE_SHADER,
+                A::SHADER_STORAGE_WRITE,
+                S::COMPUTE_SHADER | S::CLEAR | S::COPY,
+                storage | A::TRANSFER_WRITE,
+            ),
+        );
+        if begin_ball {
+            // SAFETY: recording outside a render pass; the buffer has TRANSFER_DST usage.
+            unsafe { device.cmd_fill_buffer(cmd, buffers.estimated_levels.raw, 0, vk::WHOLE_SIZE, 0) };
+        }
         for buffer in [&buffers.patch_counts, &buffers.flat_draws].into_iter().chain(&buffers.patch_draws) {
             // SAFETY: recording outside a render pass; the buffers have TRANSFER_DST usage.
             unsafe { device.cmd_fill_buffer(cmd, buffer.raw, 0, vk::WHOLE_SIZE, 0) };

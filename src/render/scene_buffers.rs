@@ -209,6 +209,9 @@ pub(super) struct SceneBuffers {
 pub(super) struct PrePassBuffers {
     /// Per triangle: its level.
     pub triangle_levels: Buffer,
+    /// Per triangle: the level found for it in the current ball of eyes, 0 where none yet
+    /// (`ESTIMATED_LEVELS`; zeroed when a ball begins, `Renderer::record_triangle_levels`).
+    pub estimated_levels: Buffer,
     /// Per triangle: the triangles across its edges (`uvec4`, scene indices).
     pub triangle_neighbours: Buffer,
     /// Per mesh: its triangles the pre-pass did not cull, those to estimate from its first
@@ -343,6 +346,7 @@ impl SceneBuffers {
                 (set_0::REFINE_TRIANGLES, pre_pass.refine_triangles.raw),
                 (set_0::ESTIMATE_TRIANGLES, pre_pass.estimate_triangles.raw),
                 (set_0::FLAT_INDICES, pre_pass.flat_indices.raw),
+                (set_0::ESTIMATED_LEVELS, pre_pass.estimated_levels.raw),
             ],
         )
     }
@@ -354,6 +358,12 @@ impl PrePassBuffers {
         let (triangle_count, meshes) = (geometry.triangle_count, geometry.draws.len());
         let per_triangle = |name| device_words(context, name, triangle_count, vk::BufferUsageFlags::empty());
         let triangle_levels = per_triangle("triangle levels")?;
+        let estimated_levels = device_words(
+            context,
+            "levels of the ball of eyes",
+            triangle_count,
+            vk::BufferUsageFlags::TRANSFER_DST,
+        )?;
         let no_neighbours = [[0; 4]];
         let neighbours: &[[u32; 4]] = if geometry.triangle_neighbours.is_empty() {
             &no_neighbours
@@ -416,6 +426,7 @@ impl PrePassBuffers {
         )?;
         Ok(PrePassBuffers {
             triangle_levels,
+            estimated_levels,
             triangle_neighbours,
             visible_triangles,
             refine_triangles,

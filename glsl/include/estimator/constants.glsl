@@ -48,6 +48,8 @@ const float TERMINATOR_KINK = 0.25;
 const float TILT_PEAK = 3.42857146;       // 24.0 / 7.0 in f32
 const float TILT_FLAT = 2.6832817;        // sqrt(7.2), rounded up
 
+// The share by which the slack a ball of eyes adds to n.v is grown (see `BALL_SLACK_PAD` in Rust).
+const float BALL_SLACK_PAD = 1.0e-4;
 const float MAX_HALF = 1.5706964;         // FRAC_PI_2 - 1.0e-4 in f32
 const float INV_SQRT3 = 0.57735026;       // 1.0 / 3.0f32.sqrt()
 const float THIRD = 0.33333334;           // 1.0 / 3.0

@@ -52,8 +52,7 @@ int light_sums(Frame frame, GpuMaterial material, vec2 param, float eps, uint n_
     // Every light's specular part capped (the range class's `every_capped`): their spreads.
     SpecularCaps caps = NO_SPECULAR_CAPS;
     if (every_capped || SPECULAR_ALL_CAPPED) {
-        caps = specular_caps(frame.unit_normals[0], frame.unit_normals[1], frame.unit_normals[2], frame.v_units[0],
-                             frame.v_units[1], frame.v_units[2]);
+        caps = specular_caps(frame);
     }
     bool saved_bad = est_bad;
     for (int turn = 0; turn < light_turns + POLYGON_LIGHT_COUNT; ++turn) {
@@ -83,7 +82,7 @@ int light_sums(Frame frame, GpuMaterial material, vec2 param, float eps, uint n_
             midpoint_child(q, r);
             vec3 m[3] = frame.normals;
             midpoint_child(m, r);
-            at = make_frame(q[0], q[1], q[2], m[0], m[1], m[2], frame.eye);
+            at = make_frame(q[0], q[1], q[2], m[0], m[1], m[2], vec4(frame.eye, frame.eye_radius));
             mode = ADD_VALUES;
         } else if (refine) {
 #ifdef CHILDREN_GIVEN
@@ -130,15 +129,16 @@ float level_pass(Frame frame, GpuMaterial material, vec2 param, float eps, uint 
 // ranges are taken over the triangle's children. `refine_next`: whether this estimate (without
 // `refine`) is one that Rust estimates again with it: its `Estimate::level` (FALLBACK_LEVEL above
 // n_max) exceeds REFINE_ABOVE (`!(<=)`: true for NaN, as Rust's fallback level). `every_capped`:
-// the range class's (settled_by_range).
-float estimate_pass(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye, uint material_index,
+// the range class's (settled_by_range). The level holds for every eye within eye_ball.w of
+// eye_ball.xyz.
+float estimate_pass(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec4 eye_ball, uint material_index,
                     vec2 param, float epsilon, float n_max_value, bool every_capped, bool refine,
                     out bool refine_next) {
     uint n_max = uint(clamp(n_max_value, 1.0, 64.0));
     P float eps = epsilon > 0.0 ? epsilon : 0.0;
     P float top = pattern_level(n_max, n_max);
     GpuMaterial material = materials[material_index];
-    Frame frame = make_frame(p0, p1, p2, n0, n1, n2, eye);
+    Frame frame = make_frame(p0, p1, p2, n0, n1, n2, eye_ball);
     int reason = REASON_NONE;
     P float level = level_pass(frame, material, param, eps, n_max, top, every_capped, refine, reason);
     // Not where refining cannot keep the triangle from falling back (`refining_futile` in Rust).
@@ -153,12 +153,12 @@ float estimate_pass(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 e
 
 // Estimate::level of the triangle: estimate_pass, and again with `refine` where it asks for it.
 // One call site in a loop: a second one would inline the whole estimator twice.
-float required_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye,
+float required_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec4 eye_ball,
                      uint material_index, vec2 param, float epsilon, float n_max_value, bool every_capped) {
     P float level = 0.0;
     bool again = false;
     for (int pass = 0; pass < 2; ++pass) {
-        level = estimate_pass(p0, p1, p2, n0, n1, n2, eye, material_index, param, epsilon, n_max_value,
+        level = estimate_pass(p0, p1, p2, n0, n1, n2, eye_ball, material_index, param, epsilon, n_max_value,
                               every_capped, pass == 1, again);
         if (!again) {
             break;

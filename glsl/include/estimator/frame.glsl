@@ -10,6 +10,8 @@
 struct Frame {
     vec3 vertices[3];
     vec3 eye;
+    // The bounds hold for every eye within this distance of `eye` (see Rust).
+    float eye_radius;
     vec3 center;
     float rho_x;
     Scale s1;
@@ -100,10 +102,27 @@ Jet scaled_jet(Jet j, float rho) {
     return o;
 }
 
-Frame make_frame(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye) {
+// The angle by which a ball of eyes of `radius` widens the directions from a point at least
+// `distance` from its centre (see `ball_angle` in Rust).
+P float ball_angle(float radius, float distance) {
+    if (!(radius > 0.0)) {
+        return 0.0;
+    }
+    if (radius < 0.99 * distance) {
+        P float angle = est_asin(radius / distance) + ANGLE_PAD;
+        return angle;
+    }
+    return PI;
+}
+
+// The frame of the triangle for every eye within eye_ball.w of eye_ball.xyz (see `Frame::new`).
+Frame make_frame(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec4 eye_ball) {
     Frame f;
     f.vertices = vec3[3](p0, p1, p2);
+    P vec3 eye = eye_ball.xyz;
+    P float eye_radius = eye_ball.w;
     f.eye = eye;
+    f.eye_radius = eye_radius;
     P vec3 center = (p0 + p1 + p2) / 3.0;
     f.center = center;
     f.rho_x = rmax(rmax(len(p0 - center), len(p1 - center)), len(p2 - center));
@@ -126,6 +145,14 @@ Frame make_frame(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye)
     P vec3 to_eye2 = eye - p2;
     f.v_cone = cone_of(to_eye0, to_eye1, to_eye2);
     f.e_min = min_length(to_eye0, to_eye1, to_eye2, f.v_cone);
+    if (eye_radius > 0.0) {
+        P float widen = ball_angle(eye_radius, f.e_min);
+        f.v_cone.spread += widen;
+        if (!(f.v_cone.spread < MAX_HALF)) {
+            f.v_cone = no_cone();
+        }
+        f.e_min = widen < PI ? f.e_min - eye_radius : 0.0;
+    }
     f.s1 = Scale(px.sqrt_k1, pn.sqrt_k1, pg.x + g_pad * pn.sqrt_k1);
     f.sn = Scale(px.sqrt_k, pn.sqrt_k, pg.y + g_pad * pn.sqrt_k);
     f.rho = rmin(rmax(rmax(scale_ratio(f.s1.a, f.sn.a), scale_ratio(f.s1.b, f.sn.b)), scale_ratio(f.s1.g, f.sn.g)),
@@ -153,7 +180,14 @@ Frame make_frame(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye)
     if (MATERIAL_KIND != MATERIAL_LAMBERT) {
         f.v_units = vec3[3](unit(to_eye0), unit(to_eye1), unit(to_eye2));
         int nv_sign;
-        f.psi_nv = cosine_range(f, f.v_cone, f.v_vectors, nv_sign);
+        if (eye_radius > 0.0) {
+            P vec2 q = bilinear_range(f.normals, f.v_vectors);
+            P float slack = f.n_max_len * eye_radius * (1.0 + BALL_SLACK_PAD);
+            P float w_max = rmax(rmax(len(to_eye0), len(to_eye1)), len(to_eye2)) + eye_radius;
+            f.psi_nv = cosine_range_of(f, f.v_cone, vec2(q.x - slack, q.y + slack), w_max, rmax(f.e_min, 0.0), nv_sign);
+        } else {
+            f.psi_nv = cosine_range(f, f.v_cone, f.v_vectors, nv_sign);
+        }
         f.nv_sign = nv_sign;
     }
     return f;

@@ -231,8 +231,10 @@ int specular_setup(Frame frame, vec2 param, bool point, LightSource source, vec2
     P float half_b = delta < len(m0) ? est_asin(delta / len(m0)) + ANGLE_PAD : PI;
     P vec3 h_axis;
     P float h_half;
-    // (a) follows one light point; a polygon needs (b), which holds for all of them.
-    if (half_b < half_a || area) {
+    // (a) follows one light point and one eye; a polygon or a ball of eyes needs (b), which holds
+    // for all of them.
+    bool one_eye = frame.eye_radius <= 0.0;
+    if (half_b < half_a || area || !one_eye) {
         h_axis = unit(m0);
         h_half = half_b;
     } else {
@@ -263,12 +265,13 @@ int specular_setup(Frame frame, vec2 param, bool point, LightSource source, vec2
             lo = mirror_lower_angle(frame.n_cone, frame.v_cone, l_cone, point, l_vectors, lo);
         }
         if (!straddle) {
-            lo = mirror_lower_angle(frame.n_cone, l_cone, frame.v_cone, true, v_vectors, lo);
+            // The corners' vectors to the eye span v's directions for one eye only.
+            lo = mirror_lower_angle(frame.n_cone, l_cone, frame.v_cone, one_eye, v_vectors, lo);
         }
         setup.psi_nh.x = rmin(lo, setup.psi_nh.y);
     }
-    // The same angle from the interpolant of n - h at the corners (see Rust: narrowed).
-    if (!area) {
+    // The same angle from the interpolant of n - h at the corners (see Rust: narrowed), one eye's.
+    if (!area && one_eye) {
         P vec3 h_units[3];
         for (int k = 0; k < 3; ++k) {
             P vec3 l_unit = point ? unit(l_vectors[k]) : l_vectors[k];

@@ -51,6 +51,25 @@ Spread spread_of(vec3 w0, vec3 w1, vec3 w2) {
     return spread_of_units(unit(w0), unit(w1), unit(w2));
 }
 
+// The spread s of the directions from the triangle (p0, p1, p2) to eye_ball.xyz, widened to hold
+// for every eye within eye_ball.w of it (see `widened` in Rust).
+Spread widened(Spread s, vec3 p0, vec3 p1, vec3 p2, vec4 eye_ball) {
+    if (!(eye_ball.w > 0.0)) {
+        return s;
+    }
+    P float nearest = rmin(rmin(len(eye_ball.xyz - p0), len(eye_ball.xyz - p1)), len(eye_ball.xyz - p2));
+    P float longest = rmax(rmax(len(p1 - p0), len(p2 - p1)), len(p0 - p2));
+    P float turn = ball_angle(eye_ball.w, nearest - longest);
+    if (!(turn < HALF_PI)) {
+        return NO_SPREAD;
+    }
+    P float c = s.cos * est_cos(turn) - s.sin * est_sin(turn);
+    if (!(c > 0.0)) {
+        return NO_SPREAD;
+    }
+    return new_spread(s.axis, c);
+}
+
 // Lower and upper bounds on x.y for x within spread a and y within b (see `cosine_bounds`).
 P vec2 cosine_bounds(Spread a, Spread b) {
     P float ct = clamp(dot3(a.axis, b.axis), -1.0, 1.0);
@@ -166,18 +185,22 @@ struct SpecularCaps {
 // For a child's values (add_light's ADD_VALUES), which take no caps.
 const SpecularCaps NO_SPECULAR_CAPS = SpecularCaps(NO_SPREAD, NO_SPREAD, false);
 
-// The caps' spreads of a triangle from its unit normals un and unit vectors to the eye uv (see
-// `SpecularCaps::new`; make_frame's unit_normals and v_units).
-SpecularCaps specular_caps(vec3 un0, vec3 un1, vec3 un2, vec3 uv0, vec3 uv1, vec3 uv2) {
+// The caps' spreads of the triangle of `frame` from its unit normals and unit vectors to the eye,
+// for every eye of its ball (see `SpecularCaps::new`).
+SpecularCaps specular_caps(Frame frame) {
     SpecularCaps caps = NO_SPECULAR_CAPS;
     if (MATERIAL_KIND == MATERIAL_LAMBERT) {
         return caps;
     }
-    caps.n = spread_of_units(un0, un1, un2);
+    caps.n = spread_of_units(frame.unit_normals[0], frame.unit_normals[1], frame.unit_normals[2]);
     if (!caps.n.ok) {
         return caps;
     }
-    caps.v = spread_of_units(uv0, uv1, uv2);
+    caps.v = spread_of_units(frame.v_units[0], frame.v_units[1], frame.v_units[2]);
+    if (caps.v.ok) {
+        caps.v = widened(caps.v, frame.vertices[0], frame.vertices[1], frame.vertices[2],
+                         vec4(frame.eye, frame.eye_radius));
+    }
     caps.ok = caps.v.ok;
     return caps;
 }
@@ -225,7 +248,7 @@ bool range_within(vec3 range, float eps) {
 // specular part is not capped; ok false: none (a polygonal light, a varying GGX roughness, a
 // spread of 90° or more). `every_capped`: whether every light's specular part is within its cap
 // (`RangeClass::every_specular_capped`; specular_cap from the same quantities).
-P vec3 range_bound(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye, GpuMaterial material,
+P vec3 range_bound(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec4 eye_ball, GpuMaterial material,
                    vec2 param, float eps, out bool ok, out bool every_capped) {
     ok = false;
     every_capped = false;
@@ -239,7 +262,10 @@ P vec3 range_bound(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 ey
     // The view's spread matters to the specular parts only.
     Spread v = Spread(vec3(0.0), 0.0, 0.0, false);
     if (MATERIAL_KIND != MATERIAL_LAMBERT) {
-        v = spread_of(eye - p0, eye - p1, eye - p2);
+        v = spread_of(eye_ball.xyz - p0, eye_ball.xyz - p1, eye_ball.xyz - p2);
+        if (v.ok) {
+            v = widened(v, p0, p1, p2, eye_ball);
+        }
     }
     bool capped = MATERIAL_KIND != MATERIAL_LAMBERT && v.ok;
     P float budget = eps * SPECULAR_CAP_SHARE;
@@ -281,13 +307,14 @@ bool range_proves(vec3 range, bool ok, float eps) {
     return ok && range_within(range, eps);
 }
 
-// Whether the triangle is settled by the range class (level 1, no estimate), as estimate_pass's
-// callers decide it (`estimate_textured` in Rust); `every_capped`: whether the estimate bounds
-// every light's specular part by its cap (see range_bound).
-bool settled_by_range(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec3 eye, uint material_index,
+// Whether the triangle is settled by the range class (level 1, no estimate) for every eye within
+// eye_ball.w of eye_ball.xyz, as estimate_pass's callers decide it (`estimate_textured` in Rust);
+// `every_capped`: whether the estimate bounds every light's specular part by its cap (see
+// range_bound).
+bool settled_by_range(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec4 eye_ball, uint material_index,
                       vec2 param, float epsilon, out bool every_capped) {
     P float eps = epsilon > 0.0 ? epsilon : 0.0;
     bool ok;
-    P vec3 range = range_bound(p0, p1, p2, n0, n1, n2, eye, materials[material_index], param, eps, ok, every_capped);
+    P vec3 range = range_bound(p0, p1, p2, n0, n1, n2, eye_ball, materials[material_index], param, eps, ok, every_capped);
     return range_proves(range, ok, eps);
 }

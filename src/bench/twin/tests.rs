@@ -22,8 +22,13 @@ fn the_twin_cost_covers_every_triangle_and_counts_what_the_range_class_settles()
         for corners in mesh.indices.chunks_exact(3) {
             let input = TriangleInput::of(mesh, corners, scene.camera.eye);
             let parameter = ParameterRange::of(material);
-            settled +=
-                usize::from(settled_by_range(&input, material, parameter, &scene.lights, settings.epsilon));
+            settled += usize::from(settled_by_range(
+                &input,
+                material,
+                parameter,
+                &scene.lights,
+                (settings.epsilon, settings.eye_radius),
+            ));
         }
     }
     assert_eq!(cost.settled, settled);

@@ -498,7 +498,8 @@ pub(super) fn values_over_children(
     for k in 0..REFINE_CHILDREN {
         let positions = midpoint_child(frame.vertices, k);
         let normals = midpoint_child(frame.normals, k);
-        let child = Frame::new(&TriangleInput { positions, normals, eye: frame.eye }, material.is_specular());
+        let tri = TriangleInput { positions, normals, eye: frame.eye };
+        let child = Frame::new(&tri, frame.eye_radius, material.is_specular());
         match plan_light(&child, material, parameter, light, mode) {
             Err(_) => return None,
             // The light adds exactly 0 on this child.

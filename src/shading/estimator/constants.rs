@@ -65,6 +65,9 @@ pub(super) const MIRROR_WORTH: f32 = 0.05;
 ///
 /// [`mirror_lower_angle`]: super::cone::mirror_lower_angle
 pub(super) const HULL_WORTH: f32 = 0.03;
+/// The share by which the slack a ball of eyes adds to `n·v` is grown, for its rounding
+/// (`Frame::new`).
+pub(super) const BALL_SLACK_PAD: f32 = 1.0e-4;
 /// A cone wider than this is no bound at all (a cap wider than a hemisphere is not convex).
 pub(super) const MAX_HALF: f32 = FRAC_PI_2 - 1.0e-4;
 

@@ -72,6 +72,10 @@ pub struct EstimatorSettings {
     /// `render::cost_model` chooses it per device and scene). 0: every visible triangle is
     /// estimated.
     pub min_estimated_area: f32,
+    /// The estimate holds for every eye within this distance of the triangle's eye
+    /// ([`TriangleInput::eye`]), not only for that one (0): the renderer keeps levels while the
+    /// camera stays in such a ball (`docs/estimator.md` §16).
+    pub eye_radius: f32,
 }
 
 impl Default for EstimatorSettings {
@@ -82,6 +86,7 @@ impl Default for EstimatorSettings {
             split: Split::Heuristic,
             discontinuity: Discontinuity::Relaxed,
             min_estimated_area: 0.0,
+            eye_radius: 0.0,
         }
     }
 }
@@ -241,7 +246,8 @@ pub fn estimate_textured(
     let eps = if settings.epsilon > 0.0 { settings.epsilon } else { 0.0 };
     // The range class: where the shading's whole range over the triangle is within ε, level 1
     // holds without an estimate.
-    let class = range_class(tri.positions, tri.normals, tri.eye, material, parameter, lights, eps);
+    let eye = (tri.eye, settings.eye_radius);
+    let class = range_class(tri.positions, tri.normals, eye, material, parameter, lights, eps);
     let range = class.bound;
     if range_proves(range, eps) {
         let predicted_error = range.map_or(0.0, |r| r.max_element());
@@ -291,7 +297,7 @@ pub(super) fn light_sums(
     every_capped: bool,
     refine: bool,
 ) -> (Sums, Reason) {
-    let frame = Frame::new(tri, material.is_specular());
+    let frame = Frame::new(tri, settings.eye_radius, material.is_specular());
     let caps = if every_capped { SpecularCaps::new(&frame, material) } else { None };
     let guard = Guard::default();
     let mut sum = Sums::default();

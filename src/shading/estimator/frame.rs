@@ -6,19 +6,38 @@
 //! `tests/multirate.rs` `control_stage_levels_equal_the_twin` (the GPU's levels equal this twin's
 //! on every triangle of the shipped scenes, bit for bit).
 
-use super::cone::{bilinear_range, cone_of, min_length, psi_range, unit, Cone};
-use super::constants::{Sign, ANGLE_PAD, RADIAL_PAD};
+use super::cone::{bilinear_range, cone_of, min_length, psi_range, unit, Cone, NO_CONE};
+use super::constants::{Sign, ANGLE_PAD, BALL_SLACK_PAD, MAX_HALF, RADIAL_PAD};
 use super::estimate::TriangleInput;
 use super::jet::max_sin;
 use super::pattern::{jung_scales, pattern_constants, Scale};
-use crate::exact_math::est_acos;
+use crate::exact_math::{est_acos, est_asin};
 use glam::Vec3;
 use std::f32::consts::{FRAC_PI_2, PI};
+
+/// The angle by which a ball of eyes of radius `radius` widens the directions from a point at
+/// least `distance` from its centre: the directions to the ball's points lie within
+/// `asin(radius/distance)` of the direction to its centre (padded); π where the ball comes
+/// within 1 % of the point (no bound).
+pub(super) fn ball_angle(radius: f32, distance: f32) -> f32 {
+    if !(radius > 0.0) {
+        0.0
+    } else if radius < 0.99 * distance {
+        est_asin(radius / distance) + ANGLE_PAD
+    } else {
+        PI
+    }
+}
 
 /// Scale-free quantities of the triangle.
 pub(super) struct Frame {
     pub(super) vertices: [Vec3; 3],
     pub(super) eye: Vec3,
+    /// The bounds below hold for every eye within this distance of `eye`
+    /// ([`EstimatorSettings::eye_radius`]).
+    ///
+    /// [`EstimatorSettings::eye_radius`]: super::estimate::EstimatorSettings::eye_radius
+    pub(super) eye_radius: f32,
     pub(super) centroid: Vec3,
     /// `max_k |xₖ − centroid|`: how far any point is from the centroid.
     pub(super) rho_x: f32,
@@ -46,10 +65,10 @@ pub(super) struct Frame {
     /// `max |sin|` of the angle between n̂ and the plane normal (see [`plane_sin`]): bounds
     /// `|n̂·Xδ|/|Xδ|`.
     pub(super) n_plane_sin: f32,
-    /// Lower bound on the distance from the eye to the triangle.
+    /// Lower bound on the distance from the eye (every eye of the ball) to the triangle.
     pub(super) e_min: f32,
     pub(super) v_center: Vec3,
-    /// The vectors from the corners to the eye...
+    /// The vectors from the corners to the eye (the ball's centre)...
     pub(super) v_vectors: [Vec3; 3],
     /// ...their directions, and the range of the angle between n̂ and v̂ with the sign of `n·v`
     /// ([`cosine_range`]): the same for every light, so taken once, and only for a specular
@@ -60,9 +79,9 @@ pub(super) struct Frame {
 }
 
 impl Frame {
-    /// The frame of `tri`, with the angle between the normal and the view where `specular`
-    /// (only a specular lobe reads it).
-    pub(super) fn new(tri: &TriangleInput, specular: bool) -> Frame {
+    /// The frame of `tri` for every eye within `eye_radius` of `tri.eye`, with the angle between
+    /// the normal and the view where `specular` (only a specular lobe reads it).
+    pub(super) fn new(tri: &TriangleInput, eye_radius: f32, specular: bool) -> Frame {
         let [p0, p1, p2] = tri.positions;
         let centroid = (p0 + p1 + p2) / 3.0;
         let rho_x = (p0 - centroid).length().max((p1 - centroid).length()).max((p2 - centroid).length());
@@ -80,8 +99,19 @@ impl Frame {
             r_n = 0.0;
         }
         let to_eye = [tri.eye - p0, tri.eye - p1, tri.eye - p2];
-        let v_cone = cone_of(to_eye);
-        let e_min = min_length(to_eye, &v_cone);
+        let mut v_cone = cone_of(to_eye);
+        let mut e_min = min_length(to_eye, &v_cone);
+        if eye_radius > 0.0 {
+            // Every eye of the ball sees each point within `ball_angle` of the centre's view of
+            // it, and is at most `eye_radius` nearer; a ball that reaches the triangle leaves no
+            // bound (the specular setup then falls back).
+            let widen = ball_angle(eye_radius, e_min);
+            v_cone.half += widen;
+            if !(v_cone.half < MAX_HALF) {
+                v_cone = NO_CONE;
+            }
+            e_min = if widen < PI { e_min - eye_radius } else { 0.0 };
+        }
         let (plane, plane_tilt) = {
             let c = (p1 - p0).cross(p2 - p0);
             let scale = (p1 - p0).length() * (p2 - p0).length();
@@ -99,6 +129,7 @@ impl Frame {
         let mut frame = Frame {
             vertices: tri.positions,
             eye: tri.eye,
+            eye_radius,
             centroid,
             rho_x,
             s1,
@@ -124,7 +155,18 @@ impl Frame {
         };
         if specular {
             frame.v_units = to_eye.map(unit);
-            (frame.psi_nv, frame.nv_sign) = cosine_range(&frame, &frame.v_cone, to_eye);
+            if eye_radius > 0.0 {
+                // n·(e' − x) is within |N|·|e' − e| of n·(e − x): the bilinear range widened by
+                // that, with the lengths of e' − x bounded as the ball allows.
+                let (q_lo, q_hi) = bilinear_range(frame.normals, to_eye);
+                let slack = frame.n_max_len * eye_radius * (1.0 + BALL_SLACK_PAD);
+                let w_max = to_eye[0].length().max(to_eye[1].length()).max(to_eye[2].length()) + eye_radius;
+                let q = (q_lo - slack, q_hi + slack);
+                (frame.psi_nv, frame.nv_sign) =
+                    cosine_range_of(&frame, &frame.v_cone, q, w_max, frame.e_min.max(0.0));
+            } else {
+                (frame.psi_nv, frame.nv_sign) = cosine_range(&frame, &frame.v_cone, to_eye);
+            }
         }
         frame
     }

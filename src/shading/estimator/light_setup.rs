@@ -418,9 +418,11 @@ fn specular_setup(
     let m0 = l_cone.axis + frame.v_cone.axis;
     let delta = 2.0 * est_sin(0.5 * l_cone.half) + 2.0 * est_sin(0.5 * frame.v_cone.half);
     let half_b = if delta < m0.length() { est_asin(delta / m0.length()) + ANGLE_PAD } else { PI };
-    // (a) follows one light point; a polygon needs (b), which holds for all of them.
+    // (a) follows one light point and one eye; a polygon or a ball of eyes needs (b), which holds
+    // for all of them.
+    let one_eye = frame.eye_radius <= 0.0;
     let (h_axis, h_half) =
-        if half_b < half_a || area.is_some() { (unit(m0), half_b) } else { (axis_a, half_a) };
+        if half_b < half_a || area.is_some() || !one_eye { (unit(m0), half_b) } else { (axis_a, half_a) };
     setup.h_cone = if h_axis == Vec3::ZERO || !(h_half < MAX_HALF) {
         NO_CONE
     } else {
@@ -450,13 +452,16 @@ fn specular_setup(
             lo = mirror_lower_angle(&frame.n_cone, &frame.v_cone, &l_cone, l_vectors, lo);
         }
         if !straddle {
-            lo = mirror_lower_angle(&frame.n_cone, &l_cone, &frame.v_cone, Some(v_vectors), lo);
+            // The corners' vectors to the eye span v̂'s directions for one eye only.
+            let v_corners = if one_eye { Some(v_vectors) } else { None };
+            lo = mirror_lower_angle(&frame.n_cone, &l_cone, &frame.v_cone, v_corners, lo);
         }
         setup.psi_nh.0 = lo.min(setup.psi_nh.1);
     }
     // The same angle from the interpolant of n̂ − ĥ at the corners (`narrowed`), where n̂ and
-    // ĥ turn together: n̂'s and ĥ's second derivatives at level 1 bound its error.
-    if area.is_none() {
+    // ĥ turn together: n̂'s and ĥ's second derivatives at level 1 bound its error. The corners'
+    // ĥ are one eye's.
+    if area.is_none() && one_eye {
         let l_units = match l_vectors {
             Some(w) => w.map(unit),
             None => [l_cone.axis; 3],

@@ -18,11 +18,12 @@
 
 use super::cone::unit;
 use super::constants::SPECULAR_CAP_SHARE;
-use super::frame::Frame;
-use crate::exact_math::est_pow;
+use super::frame::{ball_angle, Frame};
+use crate::exact_math::{est_cos, est_pow, est_sin};
 use crate::scene::{Light, MaterialKind, ParameterRange};
 use crate::shading::brdf::{GGX_MIN_ALPHA, MIN_LIGHT_DISTANCE_SQUARED};
 use glam::Vec3;
+use std::f32::consts::FRAC_PI_2;
 
 /// Taken from every lower bound on a cosine and added to every upper bound: the f32 rounding
 /// of the unit vectors and their dot products, with room to spare.
@@ -72,6 +73,28 @@ pub(super) fn spread_of_units(u: [Vec3; 3]) -> Option<Spread> {
         return None;
     }
     Some(Spread::new(axis, cos))
+}
+
+/// The spread `s` of the directions from the triangle (corners `positions`) to `eye`, widened
+/// to hold for every eye within `radius` of it (`s` itself where `radius` is 0): by the
+/// [`ball_angle`] at a lower bound on the distance (the nearest corner's less the longest edge,
+/// as every point is within it of a corner). `None` where the spread reaches 90°.
+fn widened(s: Spread, positions: [Vec3; 3], (eye, radius): (Vec3, f32)) -> Option<Spread> {
+    if !(radius > 0.0) {
+        return Some(s);
+    }
+    let [p0, p1, p2] = positions;
+    let nearest = (eye - p0).length().min((eye - p1).length()).min((eye - p2).length());
+    let longest = (p1 - p0).length().max((p2 - p1).length()).max((p0 - p2).length());
+    let turn = ball_angle(radius, nearest - longest);
+    if !(turn < FRAC_PI_2) {
+        return None;
+    }
+    let cos = s.cos * est_cos(turn) - s.sin * est_sin(turn);
+    if !(cos > 0.0) {
+        return None;
+    }
+    Some(Spread::new(s.axis, cos))
 }
 
 /// Lower and upper bounds on `x̂·ŷ` for `x̂` within spread `a` and `ŷ` within `b`: the angle
@@ -205,7 +228,7 @@ impl SpecularCaps {
             return None;
         }
         let n = spread_of_units(frame.unit_normals)?;
-        let v = spread_of_units(frame.v_units)?;
+        let v = widened(spread_of_units(frame.v_units)?, frame.vertices, (frame.eye, frame.eye_radius))?;
         Some(SpecularCaps { n, v })
     }
 
@@ -249,11 +272,12 @@ pub(super) struct RangeClass {
     pub(super) every_specular_capped: bool,
 }
 
-/// The range class of a triangle for `ε` ([`RangeClass`]).
+/// The range class of a triangle for `ε` ([`RangeClass`]), for every eye within `eye.1` of
+/// `eye.0`.
 pub(super) fn range_class(
     positions: [Vec3; 3],
     normals: [Vec3; 3],
-    eye: Vec3,
+    eye: (Vec3, f32),
     material: &MaterialKind,
     parameter: ParameterRange,
     lights: &[Light],
@@ -264,7 +288,11 @@ pub(super) fn range_class(
         return none;
     };
     // The view's spread matters to the specular parts only.
-    let v = if material.is_specular() { spread_of(positions.map(|p| eye - p)) } else { None };
+    let v = if material.is_specular() {
+        spread_of(positions.map(|p| eye.0 - p)).and_then(|s| widened(s, positions, eye))
+    } else {
+        None
+    };
     let kd = match *material {
         MaterialKind::Lambert { kd } | MaterialKind::BlinnPhong { kd, .. } => kd,
         MaterialKind::Ggx { albedo, .. } => albedo,
@@ -310,18 +338,16 @@ pub(super) fn range_proves(bound: Option<Vec3>, eps: f32) -> bool {
     bound.is_some_and(|range| within(range, eps))
 }
 
-/// Whether the range class settles the triangle (level 1 without an estimate), as
-/// [`estimate_textured`](super::estimate_textured) decides it.
+/// Whether the range class settles the triangle (level 1 without an estimate) for every eye
+/// within `eye_radius` of `tri.eye`, as [`estimate_textured`](super::estimate_textured) decides it.
 pub fn settled_by_range(
     tri: &super::TriangleInput,
     material: &MaterialKind,
     parameter: ParameterRange,
     lights: &[Light],
-    epsilon: f32,
+    (epsilon, eye_radius): (f32, f32),
 ) -> bool {
     let eps = if epsilon > 0.0 { epsilon } else { 0.0 };
-    range_proves(
-        range_class(tri.positions, tri.normals, tri.eye, material, parameter, lights, eps).bound,
-        eps,
-    )
+    let eye = (tri.eye, eye_radius);
+    range_proves(range_class(tri.positions, tri.normals, eye, material, parameter, lights, eps).bound, eps)
 }

@@ -14,7 +14,7 @@ fn distance_along_a_line_bounds_the_nearest_point() {
         let b = a + rng.point(Vec3::splat(-1.0), Vec3::splat(1.0));
         let c = a.lerp(b, rng.range(-0.5, 1.5));
         let tri = TriangleInput { positions: [a, b, c], normals: [Vec3::Z; 3], eye: Vec3::splat(5.0) };
-        let frame = Frame::new(&tri, true);
+        let frame = Frame::new(&tri, 0.0, true);
         if frame.plane != Vec3::ZERO {
             continue;
         }
@@ -56,7 +56,7 @@ fn distance_of_a_light_bounds_the_nearest_point() {
         let Some((tri, position)) = irradiance_case(&mut rng, size, false, case % 3) else {
             continue;
         };
-        let frame = Frame::new(&tri, true);
+        let frame = Frame::new(&tri, 0.0, true);
         let bound = f64::from(frame.distance_of(position, frame.height_of(position).0));
         let nearest = sampled_distance(&tri, position);
         let [p, q, r] = tri.positions.map(|x| x.as_dvec3());
@@ -137,7 +137,7 @@ fn half_vector_angle_range_holds_the_sampled_angles() {
         };
         let tri = TriangleInput { positions, normals, eye };
         let material = MaterialKind::BlinnPhong { kd: Vec3::ZERO, ks: Vec3::ONE, shininess: 100.0 };
-        let frame = Frame::new(&tri, true);
+        let frame = Frame::new(&tri, 0.0, true);
         let Ok(Some((setup, _, _))) =
             plan_light(&frame, &material, ParameterRange::of(&material), &light, Discontinuity::Relaxed)
         else {

@@ -87,7 +87,7 @@ fn values_over_children_hold_the_sampled_parts() {
         let light = random_light(&mut rng, centre, base, eye_dir.any_orthonormal_vector(), size);
         let material = random_material(&mut rng, brdf);
         let tri = TriangleInput { positions, normals, eye };
-        let frame = Frame::new(&tri, true);
+        let frame = Frame::new(&tri, 0.0, true);
         let own = ParameterRange::of(&material);
         let Ok(Some((setup, diff_w, spec_w))) =
             plan_light(&frame, &material, own, &light, Discontinuity::Relaxed)
@@ -215,7 +215,7 @@ fn level_one_jets_scaled_from_the_later_ones_bound_the_direct_ones() {
             ParameterRange { lo: own.lo * 0.5, hi: (own.hi * 2.0).min(own.hi.max(1.0)) }
         };
         let tri = TriangleInput { positions, normals, eye };
-        let frame = Frame::new(&tri, true);
+        let frame = Frame::new(&tri, 0.0, true);
         let Ok(Some((setup, _, _))) =
             plan_light(&frame, &material, parameter, &light, Discontinuity::Relaxed)
         else {
@@ -266,7 +266,7 @@ fn lobe_slope_against_the_worst_direction() {
         let (tri, light, towards) = tiny_patch(&mut rng);
         let material = MaterialKind::BlinnPhong { kd: Vec3::ZERO, ks: Vec3::ONE, shininess: 100.0 };
         let (positions, normals, eye) = (tri.positions, tri.normals, tri.eye);
-        let frame = Frame::new(&tri, true);
+        let frame = Frame::new(&tri, 0.0, true);
         let own = ParameterRange::of(&material);
         let Ok(Some((setup, _, _))) = plan_light(&frame, &material, own, &light, Discontinuity::Conservative)
         else {
@@ -361,7 +361,7 @@ fn jets_at_a_point_against_the_worst_direction() {
             }
             MaterialKind::Lambert { .. } => None,
         };
-        let frame = Frame::new(&tri, true);
+        let frame = Frame::new(&tri, 0.0, true);
         for (material, slot) in [(Some(full), brdf), (lobe, brdf + 2)] {
             let Some(material) = material else { continue };
             let own = ParameterRange::of(&material);
@@ -510,7 +510,7 @@ fn light_jets_bound_the_exact_derivatives() {
         let light = random_light(&mut rng, centre, base, tangent, size);
         let material = random_material(&mut rng, brdf);
         let tri = TriangleInput { positions, normals, eye };
-        let frame = Frame::new(&tri, true);
+        let frame = Frame::new(&tri, 0.0, true);
         // Half the cases: a textured parameter, whose range the jets bound over; the
         // shading then takes one value of the range.
         let own = ParameterRange::of(&material);

@@ -167,6 +167,7 @@ fn all_settings(eps: f32) -> Vec<EstimatorSettings> {
                 split,
                 discontinuity,
                 min_estimated_area: 0.0,
+                eye_radius: 0.0,
             });
         }
     }
@@ -240,7 +241,7 @@ fn planned_irradiance_case(
 ) -> Option<(TriangleInput, Vec3, Frame, LightSetup)> {
     let (tri, position) = irradiance_case(rng, size, curved, kind)?;
     let light = Light::Point { position, color: Vec3::ONE, intensity: 1.0 };
-    let frame = Frame::new(&tri, true);
+    let frame = Frame::new(&tri, 0.0, true);
     let material = MaterialKind::Lambert { kd: Vec3::ONE };
     let own = ParameterRange::of(&material);
     let (setup, _, _) = plan_light(&frame, &material, own, &light, Discontinuity::Relaxed).ok()??;

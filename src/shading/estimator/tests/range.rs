@@ -39,7 +39,7 @@ fn assert_within(sampled: Vec3, bound: Vec3, context: &dyn Fn() -> String) {
 /// parameter.
 fn whole_bound(tri: &TriangleInput, material: &MaterialKind, lights: &[Light]) -> Option<Vec3> {
     let parameter = ParameterRange::of(material);
-    range_class(tri.positions, tri.normals, tri.eye, material, parameter, lights, f32::INFINITY).bound
+    range_class(tri.positions, tri.normals, (tri.eye, 0.0), material, parameter, lights, f32::INFINITY).bound
 }
 
 /// A random patch of size 10⁻³ to 0.3 with normals spread by up to 0.3 rad, seen from `eye`, and
@@ -84,7 +84,8 @@ fn the_range_bound_holds_the_sampled_shading() {
         let largest = bound.max_element();
         for eps in [largest * 1.001 + 2.0e-6, 0.5 * largest, 1.0e-3 * largest] {
             let parameter = ParameterRange::of(material);
-            let stopped = range_class(positions, normals, eye, material, parameter, &lights, eps).bound;
+            let stopped =
+                range_class(positions, normals, (eye, 0.0), material, parameter, &lights, eps).bound;
             assert_eq!(
                 range_proves(stopped, eps),
                 range_proves(Some(bound), eps),
@@ -162,12 +163,12 @@ fn specular_caps_bound_the_specular_parts() {
         let material = specular[case % specular.len()];
         let parameter = ParameterRange::of(&material);
         for (k, eps) in [0.075f32, 2.0].into_iter().enumerate() {
-            let class = range_class(positions, normals, eye, &material, parameter, &lights, eps);
+            let class = range_class(positions, normals, (eye, 0.0), &material, parameter, &lights, eps);
             if !class.every_specular_capped {
                 continue;
             }
             capped[k] += 1;
-            let frame = Frame::new(&tri, true);
+            let frame = Frame::new(&tri, 0.0, true);
             let caps = SpecularCaps::new(&frame, &material).expect("the class's spreads");
             let lobe_only = match material {
                 MaterialKind::BlinnPhong { ks, shininess, .. } => {

@@ -19,7 +19,7 @@ fn futile_and_falls_back(
 ) -> bool {
     let settings = EstimatorSettings::default();
     let (eps, n_max) = (settings.epsilon, settings.n_max);
-    let class = range_class(tri.positions, tri.normals, tri.eye, material, parameter, lights, eps);
+    let class = range_class(tri.positions, tri.normals, (tri.eye, 0.0), material, parameter, lights, eps);
     if range_proves(class.bound, eps) {
         return false;
     }
@@ -102,7 +102,7 @@ fn corner_values_are_the_shading_at_the_corners() {
         eye: Vec3::new(0.2, 0.3, 4.0),
     };
     let light = Light::Point { position: Vec3::new(1.0, 1.0, 2.0), color: Vec3::ONE, intensity: 1.0 };
-    let frame = super::super::frame::Frame::new(&tri, true);
+    let frame = super::super::frame::Frame::new(&tri, 0.0, true);
     let values = corner_values(&frame, &material, ParameterRange::of(&material), &light, true);
     // Per corner: (diffuse, specular, n̂·ĥ) of the first channel.
     let shaded = [0, 1, 2].map(|i| {

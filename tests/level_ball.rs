@@ -1,0 +1,86 @@
+//! Levels kept while the eye stays in a ball (`render::level_ball`), on lavapipe with the
+//! validation layer on: a frame whose eye is in the ball estimates only what comes into view,
+//! its image keeps every pixel that shows the same triangle as `pixel` mode within ε, and a
+//! frame whose eye has left the ball estimates again, as a renderer that never drew does.
+
+mod common;
+
+use ash::vk;
+use common::{assert_validation_clean, cracks, repo_path, validated_context};
+use glam::Quat;
+use multirate::analysis::metrics;
+use multirate::gpu_interface::slots::{CAPPED_ESTIMATE_DISPATCH, FULL_ESTIMATE_DISPATCH, LEVEL_DISPATCHES};
+use multirate::render::{Mode, Renderer, View};
+use multirate::scene::{Camera, Scene};
+use multirate::vk::target::RenderTarget;
+
+const WIDTH: u32 = 160;
+const HEIGHT: u32 = 120;
+
+/// How many triangles the range step sent to the estimator in the frame of `view` (every
+/// mesh, both lists).
+fn estimated(renderer: &Renderer, target: &RenderTarget, view: &View, meshes: usize) -> u32 {
+    let dispatches = renderer.pre_pass_dispatches(target, view).expect("dispatches");
+    let per_mesh = LEVEL_DISPATCHES as usize;
+    (0..meshes)
+        .map(|mesh| {
+            let at = |slot: u32| dispatches[mesh * per_mesh + slot as usize][3];
+            at(FULL_ESTIMATE_DISPATCH) + at(CAPPED_ESTIMATE_DISPATCH)
+        })
+        .sum()
+}
+
+/// `camera` turned about its target (about its up direction) so that its eye moves by `distance`.
+fn turned(camera: Camera, distance: f32) -> Camera {
+    let radius = camera.eye.distance(camera.target);
+    let angle = 2.0 * (0.5 * distance / radius).asin();
+    let eye =
+        camera.target + Quat::from_axis_angle(camera.up.normalize(), angle) * (camera.eye - camera.target);
+    Camera { eye, ..camera }
+}
+
+#[test]
+fn levels_are_kept_while_the_eye_stays_in_its_ball() {
+    let context = validated_context();
+    let target = RenderTarget::new(&context, vk::Extent2D { width: WIDTH, height: HEIGHT }).expect("target");
+    for relative in ["scenes/teapot.toml", "scenes/bunny.toml"] {
+        let mut scene = Scene::load(&repo_path(relative)).expect("scene");
+        (scene.settings.width, scene.settings.height) = (WIDTH, HEIGHT);
+        let meshes = scene.meshes.len();
+        let renderer = Renderer::new(&context, &scene).expect("renderer");
+        let view = View { mode: Mode::Multirate, ..View::of_scene(&scene) };
+        let radius = view.estimator.eye_radius;
+        assert!(radius > 0.0, "{relative}: the default view keeps its levels in a ball");
+
+        // The first frame begins the ball; the same view again estimates nothing.
+        let first = estimated(&renderer, &target, &view, meshes);
+        let again = estimated(&renderer, &target, &view, meshes);
+        assert!(first > 0, "{relative}: the first frame estimates");
+        assert_eq!(again, 0, "{relative}: the same eye keeps every level");
+
+        // An eye 0.9 of the radius away stays in the ball: it estimates only what came into
+        // view, and what it draws is within ε of `pixel` mode at that eye.
+        let inside = View { camera: turned(view.camera, 0.9 * radius), ..view.clone() };
+        let moved = estimated(&renderer, &target, &inside, meshes);
+        assert!(
+            2 * moved < first,
+            "{relative}: {moved} estimated after a move within the ball, {first} first"
+        );
+        let reference =
+            renderer.analyze(&target, &View { mode: Mode::Pixel, ..inside.clone() }).expect("pixel");
+        let analysis = renderer.analyze(&target, &inside).expect("multirate");
+        assert_eq!(cracks(&reference.image, &analysis.image), 0, "{relative}: cracks");
+        let epsilon = f64::from(view.estimator.epsilon);
+        let over = metrics::pixels_over(reference.frame(), analysis.frame(), epsilon);
+        assert_eq!(over, 0, "{relative}: {over} pixels of the same triangle over ε with kept levels");
+
+        // An eye twice the radius away has left the ball: it estimates again, as a renderer
+        // that never drew does.
+        let outside = View { camera: turned(view.camera, 2.0 * radius), ..view.clone() };
+        let anew = estimated(&renderer, &target, &outside, meshes);
+        let fresh = Renderer::new(&context, &scene).expect("renderer");
+        assert_eq!(anew, estimated(&fresh, &target, &outside, meshes), "{relative}: a new ball");
+        eprintln!("{relative}: estimated {first} first, {again} again, {moved} moved within the ball, {anew} outside");
+    }
+    assert_validation_clean(&context);
+}
