@@ -598,7 +598,6 @@ fn uniform(epsilon: f32) -> EstimatorSettings {
 fn check(brdf: Brdf, seed: u64) {
     let mut text = String::new();
     let mut violations = 0;
-    type Config = (&'static str, fn(f32) -> EstimatorSettings);
     let configs: [Config; 3] = [
         ("Conservative, Heuristic", conservative),
         ("Relaxed, Heuristic", relaxed),
@@ -623,7 +622,6 @@ fn relaxed_uniform(epsilon: f32) -> EstimatorSettings {
 /// (so that the first-order term and the lobe's band are exercised, not only level 1).
 fn check_terminator(brdf: Brdf, seed: u64) {
     let (mut text, mut violations, mut few) = (String::new(), 0, false);
-    type Config = (&'static str, fn(f32) -> EstimatorSettings);
     let configs: [Config; 2] = [("Relaxed, Heuristic", relaxed), ("Relaxed, Uniform", relaxed_uniform)];
     for (name, settings_of) in configs {
         let start = Instant::now();
@@ -685,21 +683,9 @@ const BALL_TRIANGLES: usize = 4_000;
 /// that ignored the ball would show.
 #[test]
 fn estimates_for_a_ball_of_eyes_hold_from_its_every_eye() {
-    let (mut text, mut violations, mut closest) = (String::new(), 0, 0.0f64);
-    type Config = (&'static str, fn(f32) -> EstimatorSettings);
+    let brdfs = [(Brdf::Lambert, 0xba11_0001), (Brdf::BlinnPhong, 0xba11_0002), (Brdf::Ggx, 0xba11_0003)];
     let configs: [Config; 2] = [("Relaxed, Heuristic", relaxed), ("Relaxed, Uniform", relaxed_uniform)];
-    for (brdf, seed) in
-        [(Brdf::Lambert, 0xba11_0001), (Brdf::BlinnPhong, 0xba11_0002), (Brdf::Ggx, 0xba11_0003)]
-    {
-        for (name, settings_of) in configs {
-            let start = Instant::now();
-            let stats = run(brdf, seed, BALL_TRIANGLES, ball_case, settings_of);
-            violations += stats.violations;
-            closest = closest.max(stats.closest);
-            text +=
-                &report(&format!("{brdf:?}, a ball of eyes, {name}"), stats, start.elapsed().as_secs_f64());
-        }
-    }
+    let (text, violations, closest) = run_all(&brdfs, &configs, BALL_TRIANGLES, ball_case, "a ball of eyes");
     println!("{text}");
     assert_eq!(violations, 0, "{text}");
     assert!(closest > 0.5, "the truth never came near eps: {text}");
@@ -713,7 +699,6 @@ const SILHOUETTE_TRIANGLES: usize = 5_000;
 #[test]
 fn ggx_silhouettes_never_exceed_epsilon() {
     let (mut text, mut violations, mut fine) = (String::new(), 0, usize::MAX);
-    type Config = (&'static str, fn(f32) -> EstimatorSettings);
     let configs: [Config; 2] = [("Relaxed, Heuristic", relaxed), ("Relaxed, Uniform", relaxed_uniform)];
     for (name, settings_of) in configs {
         let start = Instant::now();
@@ -761,23 +746,37 @@ const EXTENDED_TRIANGLES: usize = 3_000;
 /// [`extended_case`]: zero violations for every BRDF, Conservative and Relaxed.
 #[test]
 fn extended_distribution_never_exceeds_epsilon() {
-    let mut text = String::new();
-    let mut violations = 0;
-    type Config = (&'static str, fn(f32) -> EstimatorSettings);
+    let brdfs = [(Brdf::Lambert, 0x3e1a_0001), (Brdf::BlinnPhong, 0x3e1a_0002), (Brdf::Ggx, 0x3e1a_0003)];
     let configs: [Config; 2] = [("Conservative, Heuristic", conservative), ("Relaxed, Heuristic", relaxed)];
-    for (brdf, seed) in
-        [(Brdf::Lambert, 0x3e1a_0001), (Brdf::BlinnPhong, 0x3e1a_0002), (Brdf::Ggx, 0x3e1a_0003)]
-    {
-        for (name, settings_of) in configs {
-            let start = Instant::now();
-            let stats = run(brdf, seed, EXTENDED_TRIANGLES, extended_case, settings_of);
-            violations += stats.violations;
-            let title = format!("{brdf:?}, extended (close and grazing lights, n_max 1 to 32), {name}");
-            text += &report(&title, stats, start.elapsed().as_secs_f64());
-        }
-    }
+    let what = "extended (close and grazing lights, n_max 1 to 32)";
+    let (text, violations, _) = run_all(&brdfs, &configs, EXTENDED_TRIANGLES, extended_case, what);
     println!("{text}");
     assert_eq!(violations, 0, "{text}");
+}
+
+/// A named estimator configuration.
+type Config = (&'static str, fn(f32) -> EstimatorSettings);
+
+/// [`run`] on `count` cases of `case_of` for each BRDF (with its seed) and configuration: the
+/// report of each, the violations summed, and the largest true error over ε.
+fn run_all(
+    brdfs: &[(Brdf, u64)],
+    configs: &[Config],
+    count: usize,
+    case_of: fn(&mut Rng, Brdf) -> Case,
+    what: &str,
+) -> (String, usize, f64) {
+    let (mut text, mut violations, mut closest) = (String::new(), 0, 0.0f64);
+    for &(brdf, seed) in brdfs {
+        for &(name, settings_of) in configs {
+            let start = Instant::now();
+            let stats = run(brdf, seed, count, case_of, settings_of);
+            violations += stats.violations;
+            closest = closest.max(stats.closest);
+            text += &report(&format!("{brdf:?}, {what}, {name}"), stats, start.elapsed().as_secs_f64());
+        }
+    }
+    (text, violations, closest)
 }
 
 /// Random triangles per BRDF with the lights at the terminator.
