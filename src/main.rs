@@ -323,15 +323,13 @@ fn parse_discontinuity(text: &str) -> Result<Discontinuity, String> {
 impl ShadingArgs {
     /// The scene's view with these settings applied; rejects out-of-range values.
     fn view(&self, scene: &Scene) -> Result<View> {
-        let mut view = View::of_scene(scene);
+        let mut view = View::of_scene(scene).with_eye_ball(check_eye_ball(self.eye_ball)?);
         view.mode = self.mode;
         view.estimator.split = self.split;
         view.estimator.discontinuity = self.discontinuity;
         view.placement = self.placement;
         view.cost_model = self.min_estimated_area.pixels().is_none();
         view.estimator.min_estimated_area = self.min_estimated_area.pixels().unwrap_or(0.0);
-        view.estimator.eye_radius =
-            check_eye_ball(self.eye_ball)? * scene.camera.eye.distance(scene.camera.target);
         if let Some(epsilon) = self.epsilon {
             anyhow::ensure!(
                 epsilon.is_finite() && epsilon > 0.0,

@@ -335,19 +335,23 @@ pub fn run(
         let target = target.as_ref().expect("created above");
         let views: Vec<View> = group
             .iter()
-            .map(|job| View {
-                mode: job.mode,
-                estimator: EstimatorSettings {
-                    epsilon: job.epsilon,
-                    n_max: job.n_max,
-                    split: config.split,
-                    discontinuity: config.discontinuity,
-                    min_estimated_area: job.min_estimated_area.unwrap_or(0.0),
-                    eye_radius: config.eye_ball_share * scene.camera.eye.distance(scene.camera.target),
-                },
-                placement: job.placement,
-                cost_model: job.min_estimated_area.is_none(),
-                ..View::of_scene(scene)
+            .map(|job| {
+                let scene_view = View::of_scene(scene);
+                View {
+                    mode: job.mode,
+                    estimator: EstimatorSettings {
+                        epsilon: job.epsilon,
+                        n_max: job.n_max,
+                        split: config.split,
+                        discontinuity: config.discontinuity,
+                        min_estimated_area: job.min_estimated_area.unwrap_or(0.0),
+                        ..scene_view.estimator
+                    },
+                    placement: job.placement,
+                    cost_model: job.min_estimated_area.is_none(),
+                    ..scene_view
+                }
+                .with_eye_ball(config.eye_ball_share)
             })
             .collect();
         // Images are compared with the reference as they come (it is the group's first), so

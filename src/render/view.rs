@@ -40,9 +40,10 @@ pub struct View {
 pub const EYE_BALL_SHARE: f32 = 0.01;
 
 impl View {
-    /// The scene's own camera and settings.
+    /// The scene's own camera and settings, its levels holding for a ball of eyes of
+    /// [`EYE_BALL_SHARE`].
     pub fn of_scene(scene: &Scene) -> View {
-        View {
+        let view = View {
             camera: scene.camera,
             mode: Mode::Pixel,
             estimator: EstimatorSettings {
@@ -51,7 +52,7 @@ impl View {
                 split: Split::Heuristic,
                 discontinuity: Discontinuity::Relaxed,
                 min_estimated_area: 0.0,
-                eye_radius: EYE_BALL_SHARE * scene.camera.eye.distance(scene.camera.target),
+                eye_radius: 0.0,
             },
             placement: Placement::default(),
             cost_model: false,
@@ -59,15 +60,22 @@ impl View {
             heat_map: false,
             wireframe: false,
             derivative_check: false,
-        }
+        };
+        view.with_eye_ball(EYE_BALL_SHARE)
+    }
+
+    /// This view with multirate's ball of eyes `share` of the camera's distance to its target
+    /// (0: the levels hold for the eye alone).
+    pub fn with_eye_ball(&self, share: f32) -> View {
+        let eye_radius = share * self.camera.eye.distance(self.camera.target);
+        View { estimator: EstimatorSettings { eye_radius, ..self.estimator }, ..self.clone() }
     }
 
     /// This view from `camera`, its ball of eyes keeping its share of the camera's distance to its
     /// target.
     pub fn seen_from(&self, camera: Camera) -> View {
         let before = self.camera.eye.distance(self.camera.target);
-        let after = camera.eye.distance(camera.target);
-        let eye_radius = if before > 0.0 { self.estimator.eye_radius * (after / before) } else { 0.0 };
-        View { camera, estimator: EstimatorSettings { eye_radius, ..self.estimator }, ..self.clone() }
+        let share = if before > 0.0 { self.estimator.eye_radius / before } else { 0.0 };
+        View { camera, ..self.clone() }.with_eye_ball(share)
     }
 }
