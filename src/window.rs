@@ -18,6 +18,7 @@ use crate::error::{Error, Result, VkContext as _};
 use crate::geometry::camera::Orbit;
 use crate::render::present::PresentPass;
 use crate::render::{Mode, Placement, Renderer, View, MAX_LEVEL};
+use crate::scene::settings::{check_epsilon, EPSILON_KEYS, N_MAX_RANGE};
 use crate::scene::Scene;
 use crate::vk::budget::MemoryUse;
 use crate::vk::swapchain::{Acquired, Swapchain};
@@ -641,15 +642,17 @@ impl App {
             }
             "[" | "]" => {
                 let factor = if text == "[" { 0.5 } else { 2.0 };
-                self.view.estimator.epsilon = (self.view.estimator.epsilon * factor).clamp(1.0e-4, 10.0);
+                let stepped =
+                    (self.view.estimator.epsilon * factor).clamp(*EPSILON_KEYS.start(), *EPSILON_KEYS.end());
+                self.view.estimator.epsilon = check_epsilon(stepped).unwrap_or(self.view.estimator.epsilon);
                 return;
             }
             "<" | "," => {
-                self.view.estimator.n_max = (self.view.estimator.n_max / 2).max(1);
+                self.view.estimator.n_max = (self.view.estimator.n_max / 2).max(*N_MAX_RANGE.start());
                 return;
             }
             ">" | "." => {
-                self.view.estimator.n_max = (self.view.estimator.n_max * 2).min(MAX_LEVEL);
+                self.view.estimator.n_max = (self.view.estimator.n_max * 2).min(*N_MAX_RANGE.end());
                 return;
             }
             "e" => {

@@ -66,14 +66,15 @@
 //! This file holds the scene as the renderer sees it (the types below) and [`Scene::load`];
 //! `schema.rs` the file as written (serde), `validate.rs` the checks from one to the other,
 //! `mesh.rs` the OBJ reader, `texture.rs` the textures, `obj_scene.rs` an OBJ file as a scene,
-//! `adjacency.rs` the triangle neighbourhoods and `parameter_range.rs` the range of a material
-//! parameter over a triangle.
+//! `adjacency.rs` the triangle neighbourhoods, `parameter_range.rs` the range of a material
+//! parameter over a triangle and `settings.rs` each render setting's default and bounds.
 
 pub mod adjacency;
 mod mesh;
 pub mod obj_scene;
 mod parameter_range;
 mod schema;
+pub mod settings;
 pub mod texture;
 mod validate;
 
@@ -184,10 +185,10 @@ pub enum PolygonSampling {
 impl Default for RenderSettings {
     fn default() -> Self {
         RenderSettings {
-            width: 1280,
-            height: 720,
-            epsilon: 0.075,
-            n_max: 16,
+            width: settings::DEFAULT_WIDTH,
+            height: settings::DEFAULT_HEIGHT,
+            epsilon: settings::DEFAULT_EPSILON,
+            n_max: settings::DEFAULT_N_MAX,
             exposure: 1.0,
             clear_color: Vec3::ZERO,
             light_sampling: LightSampling::default(),

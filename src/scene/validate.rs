@@ -6,6 +6,7 @@
 use super::schema::{
     CameraFile, LightFile, LightType, MaterialFile, MaterialType, MeshFile, RenderFile, Scale, SceneFile,
 };
+use super::settings::{check_n_max, range_text, IMAGE_SIZE_RANGE, N_MAX_RANGE};
 use super::texture::{MinMaxPyramid, Texture, TextureUsage};
 use super::{
     adjacency, bounds_of, mesh, Camera, Light, LightSampling, Material, MaterialKind, MaterialMaps, Mesh,
@@ -235,16 +236,16 @@ pub(super) fn build(path: &Path, file: SceneFile) -> Result<Scene, SceneError> {
 fn check_render(path: &Path, r: &RenderFile) -> Result<RenderSettings, SceneError> {
     let item = Item { path, item: "[render]".to_string() };
     let size = |key: &str, v: u32| {
-        if (1..=16384).contains(&v) {
+        if IMAGE_SIZE_RANGE.contains(&v) {
             Ok(v)
         } else {
-            Err(item.error(format!("`{key}` = {v} is outside 1..=16384")))
+            Err(item.error(format!("`{key}` = {v} is outside {}", range_text(&IMAGE_SIZE_RANGE))))
         }
     };
     let width = size("width", r.width)?;
     let height = size("height", r.height)?;
-    if !(1..=64).contains(&r.n_max) {
-        return Err(item.error(format!("`n_max` = {} is outside 1..=64", r.n_max)));
+    if check_n_max(r.n_max).is_err() {
+        return Err(item.error(format!("`n_max` = {} is outside {}", r.n_max, range_text(&N_MAX_RANGE))));
     }
     if !(1..=256).contains(&r.polygon_samples) {
         return Err(item.error(format!("`polygon_samples` = {} is outside 1..=256", r.polygon_samples)));

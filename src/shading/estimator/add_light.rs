@@ -10,7 +10,7 @@
 use super::cone::unit;
 use super::constants::{Sign, CORNER_VALUE_MARGIN, REFINE_CHILDREN, REFINE_SHARE, SAFETY, TERMINATOR_KINK};
 use super::decide::level_for;
-use super::estimate::{Discontinuity, Reason, Split, TriangleInput, TERM_COUNT};
+use super::estimate::{Reason, TriangleInput, TERM_COUNT};
 use super::frame::Frame;
 use super::irradiance::light_jets;
 use super::jet::{Guard, Jet};
@@ -18,6 +18,7 @@ use super::light_setup::{plan_light, plan_parts, LightSetup, Sums, GRID_LEVELS};
 use super::lobe::{parameter_variation, polygon_specular_bound};
 use super::patch_levels::pattern_level;
 use super::range::SpecularCaps;
+use super::settings::{Discontinuity, Split};
 use super::terminator::{lobe_band_share, view_band, TerminatorBand};
 use crate::exact_math::est_pow;
 use crate::scene::{Light, MaterialKind, ParameterRange};

@@ -36,7 +36,7 @@ pub(super) struct Frame {
     /// The bounds below hold for every eye within this distance of `eye`
     /// ([`EstimatorSettings::eye_radius`]).
     ///
-    /// [`EstimatorSettings::eye_radius`]: super::estimate::EstimatorSettings::eye_radius
+    /// [`EstimatorSettings::eye_radius`]: super::settings::EstimatorSettings::eye_radius
     pub(super) eye_radius: f32,
     pub(super) centroid: Vec3,
     /// `max_k |xₖ − centroid|`: how far any point is from the centroid.

@@ -12,8 +12,9 @@ use super::cone::{
     psi_range, unit, Cone, NO_CONE,
 };
 use super::constants::{Sign, ANGLE_PAD, K23, MAX_HALF, MIRROR_WORTH};
-use super::estimate::{Discontinuity, Reason, TERM_COUNT};
+use super::estimate::{Reason, TERM_COUNT};
 use super::frame::{cosine_range, cosine_range_of, plane_sin, Frame};
+use super::settings::Discontinuity;
 use crate::exact_math::{est_acos, est_asin, est_cos, est_sin};
 use crate::scene::{Light, MaterialKind, ParameterRange, PolygonLight};
 use crate::shading::brdf::MIN_LIGHT_DISTANCE_SQUARED;

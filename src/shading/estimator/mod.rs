@@ -78,11 +78,11 @@ mod patch_levels;
 mod pattern;
 mod pattern_table;
 mod range;
+mod settings;
 mod terminator;
 
 pub use estimate::{
-    estimate, estimate_textured, Discontinuity, Estimate, EstimatorSettings, Reason, Split, Term,
-    TriangleInput, TERM_COUNT, TERM_NAMES,
+    estimate, estimate_textured, Estimate, Reason, Term, TriangleInput, TERM_COUNT, TERM_NAMES,
 };
 pub use patch_levels::{
     patch_levels, pattern_level, pattern_level_entry, uniform_level, PatchLevels, FALLBACK_LEVEL,
@@ -90,6 +90,7 @@ pub use patch_levels::{
 pub use pattern::{pattern_constants, PatternConstants, SHAPES};
 pub use pattern_table::PATTERN_LEVELS;
 pub use range::settled_by_range;
+pub use settings::{Discontinuity, EstimatorSettings, Split};
 
 #[cfg(test)]
 mod tests;

@@ -13,6 +13,7 @@ use super::light_setup::*;
 use super::lobe::*;
 use super::patch_levels::*;
 use super::pattern::*;
+use super::settings::*;
 use super::terminator::*;
 use crate::analysis::tessellator::{triangle_pattern, Pattern};
 use crate::exact_math::*;
