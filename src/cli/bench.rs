@@ -2,26 +2,87 @@
 //! (`bench::run`), writes the rows (CSV, JSON), plots and trace, and prints the table with the
 //! trade's floor and ceiling.
 
-use super::{check_eye_ball, options, print_warnings, progress_bar, BenchArgs, GpuArgs};
+use super::common::{check_frames, options, parse_resolution, print_warnings, progress_bar, GpuArgs};
+use super::shading::{check_eye_ball, parse_discontinuity, parse_split, EstimatedArea};
 use anyhow::{Context as _, Result};
+use clap::Args;
 use multirate::bench::{self, BenchConfig, BenchScene};
-use multirate::render::MAX_LEVEL;
+use multirate::render::{Mode, Placement, EYE_BALL_SHARE};
+use multirate::scene::settings::{check_epsilon, check_n_max};
+use multirate::shading::estimator::{Discontinuity, Split};
 use multirate::vk::Context;
+use std::path::PathBuf;
 
-pub(super) fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
+#[derive(Args)]
+pub struct BenchArgs {
+    /// Scene file (TOML), or an OBJ model (camera and lights added); repeat for several scenes.
+    #[arg(long, required = true)]
+    pub scene: Vec<PathBuf>,
+    /// Modes to measure besides the pixel reference (which always runs).
+    #[arg(long, value_delimiter = ',', default_value = "pixel,vertex,fixed:1,fixed:2,fixed:4,multirate")]
+    pub modes: Vec<Mode>,
+    /// multirate: ε values (default: the scene's).
+    #[arg(long, value_delimiter = ',')]
+    pub epsilon: Vec<f32>,
+    /// multirate: n_max values (default: the scene's).
+    #[arg(long, value_delimiter = ',')]
+    pub nmax: Vec<u32>,
+    /// Resolutions as WxH (default: the scene's).
+    #[arg(long, value_delimiter = ',', value_parser = parse_resolution)]
+    pub resolution: Vec<(u32, u32)>,
+    /// Measured frames per configuration.
+    #[arg(long, default_value_t = 30)]
+    pub frames: u32,
+    /// Frames rendered before measuring.
+    #[arg(long, default_value_t = 5)]
+    pub warmup: u32,
+    /// Output folder (bench.csv, bench.json, time_vs_linf.svg, time_vs_flip.svg).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Also write the measured frames' GPU intervals as a Chrome trace (Perfetto).
+    #[arg(long)]
+    pub capture: Option<PathBuf>,
+    /// Also write each configuration's image, error ×30, level map and fallback mask into
+    /// OUT/images.
+    #[arg(long)]
+    pub images: bool,
+    /// multirate: how ε is shared between error terms.
+    #[arg(long, value_parser = parse_split, default_value = "heuristic")]
+    pub split: Split,
+    /// multirate: relaxed (a bound valid across the terminator) or conservative (per-pixel
+    /// shading wherever it may cross a triangle) handling of the terminator.
+    #[arg(long, value_parser = parse_discontinuity, default_value = "relaxed")]
+    pub discontinuity: Discontinuity,
+    /// multirate: where the estimator runs, each measured: tcs, compute or both
+    /// (tcs,compute); default: compute.
+    #[arg(long = "estimator", value_name = "ESTIMATOR", value_delimiter = ',')]
+    pub placements: Vec<Placement>,
+    /// multirate: triangles whose image covers fewer pixels are shaded per pixel without an
+    /// estimate: auto (the device's cost model, `multirate calibrate`; its frame guard draws
+    /// frames as pixel does where that measured faster) or a number of pixels (0: estimate
+    /// every visible triangle; unguarded).
+    /// Several values, comma-separated, are each measured.
+    #[arg(long, value_name = "auto|PIXELS", value_delimiter = ',', default_value = "auto")]
+    pub min_estimated_area: Vec<EstimatedArea>,
+    /// Degrees per frame by which the camera turns about its target while frames are timed
+    /// (0: still, where multirate reuses its levels from frame to frame).
+    #[arg(long, value_name = "DEGREES", default_value_t = 0.0)]
+    pub orbit: f32,
+    /// multirate: the radius of the ball of eyes its levels hold for and are reused in while
+    /// the eye stays in it, as a share of the camera's distance to its target (0: every frame
+    /// estimates for its own eye).
+    #[arg(long, value_name = "SHARE", default_value_t = EYE_BALL_SHARE)]
+    pub eye_ball: f32,
+}
+
+pub fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
     for &epsilon in &args.epsilon {
-        anyhow::ensure!(
-            epsilon.is_finite() && epsilon > 0.0,
-            "--epsilon values must be positive (got {epsilon})"
-        );
+        check_epsilon(epsilon).map_err(|e| anyhow::anyhow!("--epsilon {e}"))?;
     }
     for &n_max in &args.nmax {
-        anyhow::ensure!(
-            (1..=MAX_LEVEL).contains(&n_max),
-            "--nmax values must be in 1..={MAX_LEVEL} (got {n_max})"
-        );
+        check_n_max(n_max).map_err(|e| anyhow::anyhow!("--nmax {e}"))?;
     }
-    anyhow::ensure!(args.frames >= 1, "--frames must be at least 1");
+    check_frames(args.frames)?;
     anyhow::ensure!(args.orbit.is_finite(), "--orbit must be a number of degrees (got {})", args.orbit);
     check_eye_ball(args.eye_ball)?;
     let scenes = args.scene.iter().map(|path| BenchScene::load(path)).collect::<Result<Vec<_>, _>>()?;

@@ -3,7 +3,7 @@
 //! where the renderer looks for them (`CostModel::for_device`), under the device's
 //! `calibration_key`.
 
-use super::{load_scene, options, progress_bar, GpuArgs};
+use super::common::{check_frames, default_scene, load_scene, options, progress_bar, GpuArgs};
 use anyhow::{Context as _, Result};
 use clap::Args;
 use multirate::bench::{calibrate, BenchScene};
@@ -14,7 +14,7 @@ use std::path::PathBuf;
 #[derive(Args)]
 pub struct CalibrateArgs {
     /// The scene measured (its camera, resolution and meshes; its lights are replaced).
-    #[arg(long, default_value_os_t = super::default_scene())]
+    #[arg(long, default_value_os_t = default_scene())]
     pub scene: PathBuf,
     /// Measured frames per configuration.
     #[arg(long, default_value_t = 6)]
@@ -29,7 +29,7 @@ pub struct CalibrateArgs {
 }
 
 pub fn calibrate(args: &CalibrateArgs, gpu: &GpuArgs) -> Result<()> {
-    anyhow::ensure!(args.frames >= 1, "--frames must be at least 1");
+    check_frames(args.frames)?;
     let scene = BenchScene { name: "calibration".into(), scene: load_scene(&args.scene)? };
     let context = Context::headless(&options(gpu))?;
     let bar = progress_bar();

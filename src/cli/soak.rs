@@ -3,13 +3,43 @@
 //! and at the end, printed and written as JSON; fails on any validation message or a growth
 //! over `--max-growth`.
 
-use super::{load_scene, options, print_warnings, progress_bar, GpuArgs, SoakArgs};
+use super::common::{
+    check_frames, default_scene, load_scene, options, parse_resolution, print_warnings, progress_bar, GpuArgs,
+};
 use anyhow::{Context as _, Result};
+use clap::Args;
 use multirate::bench::{self, BenchConfig, BenchScene};
 use multirate::render::{Mode, View, EYE_BALL_SHARE};
 use multirate::shading::estimator::{Discontinuity, Split};
 use multirate::vk::budget::{self, MemoryUse};
 use multirate::vk::{Context, ContextOptions};
+use std::path::PathBuf;
+
+#[derive(Args)]
+pub struct SoakArgs {
+    /// Scene file (TOML), or an OBJ model with its MTL materials (camera and lights added).
+    #[arg(long, default_value_os_t = default_scene())]
+    pub scene: PathBuf,
+    /// Frames presented by the window; with --bench, measured frames per configuration.
+    #[arg(long, default_value_t = 10_000)]
+    pub frames: u32,
+    /// The window's initial size, or with --bench the resolution, as WxH (default: the
+    /// scene's).
+    #[arg(long, value_parser = parse_resolution)]
+    pub size: Option<(u32, u32)>,
+    /// Soak `bench` (the pixel reference and --modes, timed in turns) instead of the window.
+    #[arg(long)]
+    pub bench: bool,
+    /// --bench: the modes measured besides the pixel reference.
+    #[arg(long, value_delimiter = ',', default_value = "pixel,vertex,fixed:1,fixed:2,fixed:4,multirate")]
+    pub modes: Vec<Mode>,
+    /// The largest growth of each memory figure from the first sample to the last, in percent.
+    #[arg(long, default_value_t = 1.0)]
+    pub max_growth: f64,
+    /// Also write the figures as JSON into this file.
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+}
 
 /// What a soak did, for the printed report and its JSON.
 struct Soak {
@@ -121,7 +151,7 @@ impl Soak {
 }
 
 pub fn soak(args: &SoakArgs, gpu: &GpuArgs) -> Result<()> {
-    anyhow::ensure!(args.frames >= 1, "--frames must be at least 1");
+    check_frames(args.frames)?;
     anyhow::ensure!(
         args.max_growth.is_finite() && args.max_growth >= 0.0,
         "--max-growth must be a percentage, 0 or more"
