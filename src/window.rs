@@ -13,6 +13,9 @@
 //! A [`ViewScript`] drives the same loop without a person: key presses, resizes, minimising
 //! and memory samples at given turns of the loop. [`ViewScript::soak`] builds the long one
 //! that `multirate soak` runs and tests/window.rs checks.
+//!
+//! Files, bottom to top: each imports through `super::` only from those listed before it.
+//! 1. [`speed`]: the viewer's speed against `pixel` mode, timed in the same window.
 
 use crate::error::{Error, Result, VkContext as _};
 use crate::geometry::camera::Orbit;

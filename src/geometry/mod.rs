@@ -1,6 +1,10 @@
 //! Camera and culling math in world, view and clip space: the projection Vulkan's clip space
 //! expects, the viewer's orbit, and which triangles the multirate pre-pass culls before their
 //! estimate. Knows no Vulkan; imports only [`crate::scene`].
+//!
+//! Files, bottom to top: each imports through `super::` only from those listed before it.
+//! 1. [`camera`]: camera matrices for Vulkan's clip space and the viewer's orbit.
+//! 2. [`cull`]: which triangles are culled, or shaded per pixel, before their estimate.
 
 pub mod camera;
 pub mod cull;

@@ -1,7 +1,9 @@
 //! The bits of `DrawConstants::flags` (twins: the `FLAG_` constants of
 //! `glsl/include/types.glsl`, their only GLSL declaration).
 
-super::named_constants! {
+use super::named_constants::named_constants;
+
+named_constants! {
     /// Colour by tessellation level instead of shading.
     FLAG_HEAT_MAP = 1;
     /// `pixel-deferred` writes the analytic against hardware uv derivative difference instead

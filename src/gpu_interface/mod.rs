@@ -8,23 +8,19 @@
 //! `tests/layout.rs` reads the twins back — the bindings and specialization ids out of every
 //! embedded SPIR-V module, the folded flag and slot constants out of the GLSL source — and fails
 //! on any difference, so that two buffers swapped on one side only cannot pass unseen.
+//!
+//! Files, bottom to top: each imports through `super::` only from those listed before it.
+//! 1. [`named_constants`]: the macro that declares named constants with the table of their names.
+//! 2. [`bindings`]: every descriptor binding of every layout.
+//! 3. [`flags`]: the bits of `DrawConstants::flags`.
+//! 4. [`slots`]: the per-mesh slots of the pre-pass's indirect buffers.
+//! 5. [`specialization`]: the specialization constants' ids.
 
 pub mod bindings;
 pub mod flags;
+mod named_constants;
 pub mod slots;
 pub mod specialization;
-
-/// Declares `u32` constants and `ALL`, the table of their names and values (for the test that
-/// compares them with their GLSL twins of the same names).
-macro_rules! named_constants {
-    ($($(#[$doc:meta])* $name:ident = $value:expr;)*) => {
-        $($(#[$doc])* pub const $name: u32 = $value;)*
-
-        /// Every constant of this module: its name (that of its GLSL twin) and its value.
-        pub const ALL: &[(&str, u32)] = &[$((stringify!($name), $name)),*];
-    };
-}
-pub(crate) use named_constants;
 
 #[cfg(test)]
 mod tests;

@@ -6,7 +6,9 @@
 //! the count of each and of its draws in `PatchCounts`, the flat triangles' draw of each in `FlatDraws`, and
 //! `InterpolatedDraws` and `FallbackDraws` for the tessellated ones.
 
-super::named_constants! {
+use super::named_constants::named_constants;
+
+named_constants! {
     /// Dispatches per mesh in `LevelDispatches`.
     LEVEL_DISPATCHES = 5;
     /// The range step's dispatch (`range_levels.comp`) over the triangles to estimate, counted

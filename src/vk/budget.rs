@@ -4,7 +4,7 @@
 //! process's resident set (Linux, `/proc/self/status`). On a CPU device such as lavapipe,
 //! device memory is host memory, so the resident set includes it.
 
-use super::Context;
+use super::context::Context;
 use ash::vk;
 
 /// Memory figures taken at one moment.
