@@ -481,7 +481,7 @@ impl App {
         let drawn = state.renderer.guarded(&view, state.target.extent());
         state.timer.reset(frame.cmd, 0);
         state.timer.timestamp(frame.cmd, 0, 0, false);
-        state.renderer.record(frame.cmd, &state.target, &drawn, AfterPass::Sampled);
+        let recorded = state.renderer.record(frame.cmd, &state.target, &drawn, AfterPass::Sampled);
         state.timer.timestamp(frame.cmd, 0, 0, true);
         state.timed = Some((drawn, state.target.extent()));
         state.present.record(
@@ -505,6 +505,7 @@ impl App {
             .command_buffer_infos(&cmd_info)
             .signal_semaphore_infos(&signal)];
         state.context.submit(&submit, frame.in_flight)?;
+        state.renderer.submitted(recorded);
         if state.swapchain.present(index)? {
             state.needs_recreate = true;
         }

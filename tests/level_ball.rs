@@ -12,7 +12,7 @@ use multirate::analysis::metrics;
 use multirate::gpu_interface::slots::{CAPPED_ESTIMATE_DISPATCH, FULL_ESTIMATE_DISPATCH, LEVEL_DISPATCHES};
 use multirate::render::{Mode, Renderer, View};
 use multirate::scene::{Camera, Scene};
-use multirate::vk::target::RenderTarget;
+use multirate::vk::target::{AfterPass, RenderTarget};
 
 const WIDTH: u32 = 160;
 const HEIGHT: u32 = 120;
@@ -82,5 +82,65 @@ fn levels_are_kept_while_the_eye_stays_in_its_ball() {
         assert_eq!(anew, estimated(&fresh, &target, &outside, meshes), "{relative}: a new ball");
         eprintln!("{relative}: estimated {first} first, {again} again, {moved} moved within the ball, {anew} outside");
     }
+    assert_validation_clean(&context);
+}
+
+/// Records a frame of `view` into a command buffer that is never submitted, and drops it.
+fn record_without_submitting(
+    context: &multirate::vk::Context,
+    renderer: &Renderer,
+    target: &RenderTarget,
+    view: &View,
+) {
+    let device = &context.device;
+    let pool_info = vk::CommandPoolCreateInfo::default().queue_family_index(context.queue_family);
+    // SAFETY: the pool and its buffer live only in this function; the buffer is never submitted.
+    unsafe {
+        let pool = device.create_command_pool(&pool_info, None).expect("pool");
+        let allocate = vk::CommandBufferAllocateInfo::default().command_pool(pool).command_buffer_count(1);
+        let cmd = device.allocate_command_buffers(&allocate).expect("command buffer")[0];
+        device.begin_command_buffer(cmd, &vk::CommandBufferBeginInfo::default()).expect("begin");
+        let _never_submitted = renderer.record(cmd, target, view, AfterPass::Readback);
+        device.end_command_buffer(cmd).expect("end");
+        device.destroy_command_pool(pool, None);
+    }
+}
+
+/// Recording is pure: the ball moves only when a frame drawn for the image is submitted
+/// (`Renderer::submitted`). Frames recorded and never submitted, and the analysis, counting and
+/// level-recording frames, leave it where it was, and leave its kept levels holding for it,
+/// wherever their eye is.
+#[test]
+fn only_submitted_frames_move_the_ball() {
+    let context = validated_context();
+    let target = RenderTarget::new(&context, vk::Extent2D { width: WIDTH, height: HEIGHT }).expect("target");
+    let mut scene = Scene::load(&repo_path("scenes/bunny.toml")).expect("scene");
+    (scene.settings.width, scene.settings.height) = (WIDTH, HEIGHT);
+    let meshes = scene.meshes.len();
+    let renderer = Renderer::new(&context, &scene).expect("renderer");
+    let view = View { mode: Mode::Multirate, ..View::of_scene(&scene) };
+    let away = View { camera: turned(view.camera, 2.0 * view.estimator.eye_radius), ..view.clone() };
+    let frames_that_commit_nothing = |at: &View| {
+        renderer.prepare(at, &target).expect("prepare");
+        record_without_submitting(&context, &renderer, &target, at);
+        record_without_submitting(&context, &renderer, &target, at);
+        renderer.analyze(&target, at).expect("analysis");
+        renderer.count_evaluations(&target, at).expect("counts");
+        renderer.record_levels(&target, at).expect("level records");
+    };
+
+    frames_that_commit_nothing(&away);
+    assert_eq!(renderer.level_ball_centre(), None, "no frame was submitted for the image");
+    assert!(estimated(&renderer, &target, &view, meshes) > 0, "so the first frame for the image estimates");
+    assert_eq!(estimated(&renderer, &target, &view, meshes), 0, "and the next one reuses its levels");
+
+    assert_eq!(renderer.level_ball_centre(), Some(view.camera.eye), "a frame for the image begins the ball");
+    let before = renderer.analyze(&target, &view).expect("analysis").image;
+    frames_that_commit_nothing(&away);
+    assert_eq!(renderer.level_ball_centre(), Some(view.camera.eye), "the ball stays where it was");
+    // Its kept levels were neither cleared nor replaced by the frames from outside it.
+    let after = renderer.analyze(&target, &view).expect("analysis").image;
+    assert!(before.pixels == after.pixels, "the frames from outside the ball changed the kept levels");
+    assert_eq!(estimated(&renderer, &target, &view, meshes), 0, "the kept levels still hold");
     assert_validation_clean(&context);
 }

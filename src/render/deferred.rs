@@ -5,30 +5,25 @@
 //! their screen derivatives analytically (seed 002, `glsl/include/derivatives.glsl`) and shades.
 //! The same id buffer gives `analyze --measured` each pixel's triangle.
 
-use super::descriptors::PUSH_STAGES;
-use super::draws::{draw_constants, DrawCall, Draws};
+use super::descriptors::Recorder;
+use super::draws::{ForwardDraws, IndirectCounts};
+use super::frame_config::FrameConfig;
 use super::pipelines::{
     scene_pipeline, variant_module, Instrumentation, MeshPipelines, VERTEX_ATTRIBUTES, VERTEX_BINDINGS,
 };
-use super::{Renderer, View};
 use crate::error::{Error, Result};
 use crate::gpu_interface::bindings::forward;
 use crate::shaders::{self, Features};
 use crate::vk::pipeline::{
-    bind_sampled_images, shader_binding, DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout,
-    ShaderModule, Specialization, Stage,
+    bind_sampled_images, DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderModule,
+    Specialization, Stage,
 };
-use crate::vk::target::{AfterPass, Attachments, FloatImage, RenderTarget};
+use crate::vk::target::{AfterPass, Attachments, RenderTarget};
 use crate::vk::texture::Sampler;
 use crate::vk::Context;
 use ash::vk;
 use std::cell::RefCell;
 use std::sync::Arc;
-
-/// Set 2 of the forward layout: the id image (the vertices and indices are set 0's).
-pub fn deferred_set_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; 1] {
-    forward::DEFERRED_INPUTS.map(|b| shader_binding(b.binding, b.kind.descriptor_type()))
-}
 
 /// The pipelines, the id target (sized on use) and set 2.
 pub struct Deferred {
@@ -165,99 +160,66 @@ impl Deferred {
         *self.ids.borrow_mut() = Some(target);
         Ok(())
     }
-}
 
-impl Renderer {
-    fn deferred(&self) -> Result<&Deferred> {
-        if let Some(deferred) = self.deferred.get() {
-            return Ok(deferred);
-        }
-        let deferred =
-            Deferred::new(&self.context, &self.descriptors.layout, &self.pipelines.specializations)?;
-        Ok(self.deferred.get_or_init(|| deferred))
+    /// Builds the id target for `extent` where it has another size or none.
+    pub fn prepare(&self, extent: vk::Extent2D) -> Result<()> {
+        self.size_ids(extent)
     }
 
-    /// Builds the deferred passes (once) and sizes the id target for `extent`.
-    pub(super) fn prepare_deferred(&self, extent: vk::Extent2D) -> Result<()> {
-        self.deferred()?.size_ids(extent)
-    }
-
-    /// Records the id pass into the visibility buffer, leaving it ready to be `after`.
-    fn record_ids(&self, cmd: vk::CommandBuffer, ids: &RenderTarget, view: &View, after: AfterPass) {
-        let deferred = self.deferred.get().expect("prepared");
-        let pick = |_: &DrawCall, _: &View| {
-            Some(MeshPipelines { first: deferred.visibility.raw, lists: None, back_faces: None })
-        };
-        let draws = Draws { pick: &pick, per_pixel: &[], emitters: false, clear: [0.0; 4] };
-        self.record_draws(&draws, cmd, ids, Attachments::Color, view, after);
-    }
-
-    /// `pixel-deferred`: the id pass, then one full-screen shading pass per mesh into `target`,
-    /// with the counting pipelines for `Instrumentation::CountEvaluations`. `prepare` must
-    /// have run for `target`'s size.
-    pub(super) fn record_deferred(
+    /// Records the id pass of `frame`'s meshes into `ids`, leaving it ready to be `after`.
+    pub(super) fn record_ids(
         &self,
-        instrumentation: Instrumentation,
-        cmd: vk::CommandBuffer,
-        target: &RenderTarget,
-        view: &View,
+        rec: &Recorder<'_>,
+        draws: &ForwardDraws,
+        frame: &FrameConfig,
+        ids: &RenderTarget,
         after: AfterPass,
     ) {
-        let Some(deferred) = self.deferred.get() else {
-            debug_assert!(false, "render, measure and the viewer prepare the view first");
-            return;
-        };
-        let ids = deferred.ids.borrow();
+        let pick =
+            |_: &_, _: &_| Some(MeshPipelines { first: self.visibility.raw, lists: None, back_faces: None });
+        // The id pass draws no patch lists.
+        let counts = IndirectCounts { supported: false, max_count: 0 };
+        ids.begin(rec.device, rec.cmd, [0.0; 4], Attachments::Color);
+        let _ = draws.record_meshes(rec, frame, &pick, None, counts, Attachments::Color);
+        ids.end(rec.device, rec.cmd, after, Attachments::Color);
+    }
+
+    /// `pixel-deferred`: the id pass, then one full-screen shading pass per mesh into `target`
+    /// (cleared to `clear`), with the counting pipelines for `Instrumentation::CountEvaluations`.
+    /// [`Deferred::prepare`] must have run for `target`'s size.
+    pub(super) fn record(
+        &self,
+        rec: &Recorder<'_>,
+        draws: &ForwardDraws,
+        frame: &FrameConfig,
+        instrumentation: Instrumentation,
+        target: &RenderTarget,
+        (clear, after): ([f32; 4], AfterPass),
+    ) {
+        let ids = self.ids.borrow();
         let Some(ids) = ids.as_ref().filter(|ids| ids.extent() == target.extent()) else {
             debug_assert!(false, "prepare sizes the id target for the target");
             return;
         };
-        let shade = &deferred.shade[usize::from(instrumentation == Instrumentation::CountEvaluations)];
-        self.record_ids(cmd, ids, view, AfterPass::Sampled);
-        let device = &self.context.device;
-        let extent = target.extent();
+        let shade = &self.shade[usize::from(instrumentation == Instrumentation::CountEvaluations)];
+        self.record_ids(rec, draws, frame, ids, AfterPass::Sampled);
+        let device = rec.device;
         let attachments = instrumentation.attachments();
-        target.begin(device, cmd, self.clear_color, attachments);
-        let mut constants = draw_constants(view, extent, 0.0);
-        // SAFETY: recording inside the rendering begun above; every object is owned by `self`
-        // and outlives the submission.
-        unsafe {
-            self.bind_set(cmd, 0, self.descriptors.set);
-            self.bind_set(cmd, 2, deferred.set);
-            for draw in &self.draws {
-                constants.material_index = draw.material_index;
-                constants.mesh_index = draw.mesh_index;
-                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, shade[draw.pipeline].raw);
-                self.bind_set(cmd, 1, self.descriptors.textures.sets[draw.material_index as usize]);
-                device.cmd_push_constants(
-                    cmd,
-                    self.descriptors.layout.raw,
-                    PUSH_STAGES,
-                    0,
-                    bytemuck::bytes_of(&constants),
-                );
-                device.cmd_draw(cmd, 3, 1, 0, 0);
-            }
+        target.begin(device, rec.cmd, clear, attachments);
+        let mut constants = frame.draw_constants();
+        // Its shaders read no estimator.
+        constants.min_estimated_area = 0.0;
+        rec.bind_set(0, rec.descriptors.set);
+        rec.bind_set(2, self.set);
+        for draw in &draws.meshes {
+            constants.material_index = draw.material_index;
+            constants.mesh_index = draw.mesh_index;
+            rec.bind_pipeline(vk::PipelineBindPoint::GRAPHICS, shade[draw.pipeline].raw);
+            rec.bind_set(1, rec.descriptors.textures.sets[draw.material_index as usize]);
+            rec.push(&constants);
+            // SAFETY: recording inside the rendering begun above; the pass reads no vertices.
+            unsafe { device.cmd_draw(rec.cmd, 3, 1, 0, 0) };
         }
-        target.end(device, cmd, after, attachments);
-    }
-
-    /// The visibility buffer of `view` at `target`'s size: per pixel (rows from the top),
-    /// `Some((mesh, triangle))` with the triangle's index in its mesh, or `None`.
-    pub fn triangle_ids(&self, target: &RenderTarget, view: &View) -> Result<Vec<Option<(usize, usize)>>> {
-        self.deferred()?;
-        let image: FloatImage = target
-            .render_and_read(&self.context, |cmd| self.record_ids(cmd, target, view, AfterPass::Readback))?;
-        Ok(image
-            .pixels
-            .iter()
-            .map(|p| {
-                (p[3] > 0.0 && p[0] >= 1.0).then(|| {
-                    let mesh = p[0] as usize - 1;
-                    let first = self.draws[mesh].first_triangle as usize;
-                    (mesh, p[1] as usize - first)
-                })
-            })
-            .collect())
+        target.end(device, rec.cmd, after, attachments);
     }
 }

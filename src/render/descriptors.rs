@@ -1,11 +1,10 @@
 //! The forward layout every pass of the renderer shares: set 0 (the scene's storage buffers,
 //! bound once), set 1 (a material's textures, bound per draw), set 2 (the deferred pass's id
-//! image) and the push constants (`DrawConstants`).
+//! image) and the push constants (`DrawConstants`); and the [`Recorder`] the passes record
+//! with, which binds them.
 
-use super::deferred::deferred_set_bindings;
-use super::scene_buffers::{SceneBuffers, SCENE_BINDINGS};
+use super::scene_buffers::SceneBuffers;
 use super::textures::{material_set_bindings, SceneTextures};
-use super::Renderer;
 use crate::error::Result;
 use crate::gpu_interface::bindings::forward;
 use crate::gpu_types::DrawConstants;
@@ -21,22 +20,32 @@ pub(crate) const PUSH_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_
     vk::ShaderStageFlags::ALL_GRAPHICS.as_raw() | vk::ShaderStageFlags::COMPUTE.as_raw(),
 );
 
+/// Storage buffers in set 0 of the forward layout (`Renderer`'s `binding_table`).
+pub(super) const SCENE_BINDINGS: usize = forward::SCENE_BUFFERS.len();
+
+/// Set 2 of the forward layout: the id image of `pixel-deferred` mode (the vertices and
+/// indices are set 0's).
+fn deferred_set_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; 1] {
+    forward::DEFERRED_INPUTS.map(|b| shader_binding(b.binding, b.kind.descriptor_type()))
+}
+
 /// The forward layout, set 0 written with the scene's buffers, and the materials' sets.
 pub(super) struct ForwardDescriptors {
     pub layout: PipelineLayout,
     _pool: DescriptorPool,
-    /// Set 0: the scene's storage buffers ([`SceneBuffers::binding_table`]).
+    /// Set 0: the scene's and the pre-pass's storage buffers.
     pub set: vk::DescriptorSet,
     /// The scene's textures and, per material, its set 1.
     pub textures: SceneTextures,
 }
 
 impl ForwardDescriptors {
-    /// The layout, the scene's textures uploaded into their sets, and set 0 bound to `buffers`.
+    /// The layout, the scene's textures uploaded into their sets, and set 0 bound to the buffers
+    /// of `binding_table` (in binding order).
     pub(super) fn new(
         context: &Arc<Context>,
         scene: &Scene,
-        buffers: &SceneBuffers,
+        binding_table: &[vk::Buffer; SCENE_BINDINGS],
     ) -> Result<ForwardDescriptors> {
         let bindings = forward::SCENE_BUFFERS.map(|b| shader_binding(b.binding, b.kind.descriptor_type()));
         let push = [vk::PushConstantRange::default()
@@ -61,31 +70,33 @@ impl ForwardDescriptors {
             }],
         )?;
         let set = pool.allocate(layout.set_layouts[0])?;
-        bind_storage_buffers(context, set, forward::SCENE_BUFFERS[0].binding, &buffers.binding_table());
+        bind_storage_buffers(context, set, forward::SCENE_BUFFERS[0].binding, binding_table);
         context.name(set, "forward descriptor set");
         Ok(ForwardDescriptors { layout, _pool: pool, set, textures })
     }
 }
 
-impl Renderer {
-    /// Binds `set` as set `index` of the forward layout for graphics on `cmd` (recording).
-    pub(super) fn bind_set(&self, cmd: vk::CommandBuffer, index: u32, set: vk::DescriptorSet) {
-        self.bind_set_at(cmd, vk::PipelineBindPoint::GRAPHICS, index, set);
+/// What the passes record with: the command buffer, the scene's buffers and the forward
+/// layout's sets.
+pub(super) struct Recorder<'a> {
+    pub device: &'a ash::Device,
+    pub cmd: vk::CommandBuffer,
+    pub buffers: &'a SceneBuffers,
+    pub descriptors: &'a ForwardDescriptors,
+}
+
+impl Recorder<'_> {
+    /// Binds `set` as set `index` of the forward layout for graphics.
+    pub(super) fn bind_set(&self, index: u32, set: vk::DescriptorSet) {
+        self.bind_set_at(vk::PipelineBindPoint::GRAPHICS, index, set);
     }
 
-    /// Binds `set` as set `index` of the forward layout at `bind_point` on `cmd` (recording).
-    pub(super) fn bind_set_at(
-        &self,
-        cmd: vk::CommandBuffer,
-        bind_point: vk::PipelineBindPoint,
-        index: u32,
-        set: vk::DescriptorSet,
-    ) {
-        // SAFETY: `cmd` is recording; the set belongs to this renderer's layout and outlives
-        // the submission.
+    /// Binds `set` as set `index` of the forward layout at `bind_point`.
+    pub(super) fn bind_set_at(&self, bind_point: vk::PipelineBindPoint, index: u32, set: vk::DescriptorSet) {
+        // SAFETY: `cmd` is recording; the set belongs to this layout and outlives the submission.
         unsafe {
-            self.context.device.cmd_bind_descriptor_sets(
-                cmd,
+            self.device.cmd_bind_descriptor_sets(
+                self.cmd,
                 bind_point,
                 self.descriptors.layout.raw,
                 index,
@@ -95,17 +106,52 @@ impl Renderer {
         };
     }
 
-    /// Pushes `constants` to every stage of the forward layout on `cmd` (recording).
-    pub(super) fn push_draw_constants(&self, cmd: vk::CommandBuffer, constants: &DrawConstants) {
+    /// Binds material `material`'s set 1 at `bind_point`.
+    pub(super) fn bind_material(&self, bind_point: vk::PipelineBindPoint, material: u32) {
+        self.bind_set_at(bind_point, 1, self.descriptors.textures.sets[material as usize]);
+    }
+
+    /// Pushes `constants` to every stage of the forward layout.
+    pub(super) fn push(&self, constants: &DrawConstants) {
         // SAFETY: `cmd` is recording; the layout's push range covers `DrawConstants`.
         unsafe {
-            self.context.device.cmd_push_constants(
-                cmd,
+            self.device.cmd_push_constants(
+                self.cmd,
                 self.descriptors.layout.raw,
                 PUSH_STAGES,
                 0,
                 bytemuck::bytes_of(constants),
             )
+        };
+    }
+
+    /// Binds `pipeline` at `bind_point`.
+    pub(super) fn bind_pipeline(&self, bind_point: vk::PipelineBindPoint, pipeline: vk::Pipeline) {
+        // SAFETY: `cmd` is recording; the pipeline was built with the forward layout and outlives
+        // the submission.
+        unsafe { self.device.cmd_bind_pipeline(self.cmd, bind_point, pipeline) };
+    }
+
+    /// A global memory barrier from `(source stages, source accesses)` to `(destination
+    /// stages, destination accesses)`; outside a rendering.
+    pub(super) fn barrier(
+        &self,
+        (src, src_access, dst, dst_access): (
+            vk::PipelineStageFlags2,
+            vk::AccessFlags2,
+            vk::PipelineStageFlags2,
+            vk::AccessFlags2,
+        ),
+    ) {
+        let barriers = [vk::MemoryBarrier2::default()
+            .src_stage_mask(src)
+            .src_access_mask(src_access)
+            .dst_stage_mask(dst)
+            .dst_access_mask(dst_access)];
+        // SAFETY: `cmd` is recording outside a rendering.
+        unsafe {
+            self.device
+                .cmd_pipeline_barrier2(self.cmd, &vk::DependencyInfo::default().memory_barriers(&barriers))
         };
     }
 }

@@ -1,132 +1,90 @@
-//! The forward draws: one [`DrawCall`] per mesh and one [`EmitterDraw`] per polygonal light,
-//! their push constants, and how a draw is split into chunks where lavapipe needs it (the
-//! lavapipe workarounds at the end of this file).
+//! The forward draws ([`ForwardDraws`]): each mesh's draw as its frame says (whole, in chunks,
+//! or from the pre-pass's patch lists, with the back faces after them), the polygonal lights'
+//! emissive geometry, and how a draw is split into chunks where lavapipe needs it (the lavapipe
+//! workarounds at the end of this file).
 
-use super::mode::{Mode, MAX_LEVEL};
-use super::pipelines::MeshPipelines;
+use super::descriptors::Recorder;
+use super::frame_config::{back_faces_per_pixel, FrameConfig};
+use super::mode::Mode;
+use super::pipelines::{ListPipelines, MeshPipelines};
+use super::pre_pass::buffers::PatchLists;
+use super::scene_geometry::{DrawCall, EmitterDraw};
 use super::view::View;
-use super::Renderer;
 use crate::analysis::tessellator::uniform_vertex_count;
-use crate::geometry::camera;
-use crate::gpu_interface::flags::{
-    FLAG_DERIVATIVE_CHECK, FLAG_HEAT_MAP, FLAG_ONE_SIDED, FLAG_SHARED_CORNERS,
+use crate::gpu_interface::flags::FLAG_FALLBACK_PATCHES;
+use crate::gpu_interface::slots::{
+    FALLBACK_LIST, INTERPOLATED_LIST, OPENED_DRAWS, PATCH_COUNT_WORDS, PATCH_LISTS,
 };
 use crate::gpu_types::DrawConstants;
 use crate::scene::adjacency::PATCH_SIZE;
-use crate::vk::target::{AfterPass, Attachments, RenderTarget};
+use crate::vk::pipeline::Pipeline;
+use crate::vk::target::Attachments;
 use ash::vk;
-use glam::Vec2;
 
-/// One mesh's draw: where its triangles lie in the scene's buffers and what it is drawn with.
-pub(super) struct DrawCall {
-    /// Index of the mesh's first triangle in the scene.
-    pub first_triangle: u32,
-    pub first_index: u32,
-    pub index_count: u32,
-    /// Where this mesh's 12-index adjacency patches start in the patch index buffer.
-    pub first_patch_index: u32,
-    /// Back faces are culled (`Mesh::two_sided` false).
-    pub one_sided: bool,
-    /// Its material has no parameter map, so a flat patch's corner shades the same in every
-    /// triangle that shares it: the compute placement draws those patches indexed, from
-    /// `PrePassBuffers::flat_indices`.
-    pub shared_corners: bool,
-    pub material_index: u32,
-    pub mesh_index: u32,
-    /// The variant of its material kind (index into the renderer's variants).
-    pub pipeline: usize,
+/// The scene's draws: one per mesh and one per polygonal light, and the most tessellated
+/// vertices one draw may emit on this device.
+pub(super) struct ForwardDraws {
+    /// One per mesh, in scene order.
+    pub meshes: Vec<DrawCall>,
+    /// The polygonal lights' emissive geometry, one fan each.
+    pub emitters: Vec<EmitterDraw>,
+    /// Most tessellated vertices one draw may emit, where the driver needs a limit
+    /// (lavapipe: [`tessellated_vertex_budget`]).
+    vertex_budget: Option<u32>,
 }
 
-/// What `Renderer::record_draws` draws with.
-pub(super) struct Draws<'a> {
-    /// The pipelines of a mesh drawn as the given view says (None: not prepared).
-    pub pick: &'a dyn Fn(&DrawCall, &View) -> Option<MeshPipelines>,
-    /// Per draw, whether a multirate view draws the mesh whole as `pixel` mode does
-    /// (`Renderer::meshes_drawn_per_pixel`; missing entries: no).
-    pub per_pixel: &'a [bool],
-    /// Whether the polygonal lights' emissive geometry is drawn too.
-    pub emitters: bool,
-    /// The colour the target is cleared to.
-    pub clear: [f32; 4],
+/// Whether a draw draws the draw-indirect counts (`drawIndirectCount`) of the patch lists, and
+/// how many commands a list has at most.
+#[derive(Clone, Copy)]
+pub(super) struct IndirectCounts {
+    pub supported: bool,
+    pub max_count: u32,
 }
 
-/// The emissive geometry of one polygonal light: a triangle fan in the scene's buffers.
-pub(super) struct EmitterDraw {
-    pub first_index: u32,
-    pub index_count: u32,
-    pub light_index: u32,
-}
-
-/// The push constants of `view` on a target of `extent` (per draw: material, mesh, first
-/// triangle), `min_estimated_area` from the cost model or the view (`Renderer::min_estimated_area`).
-pub(super) fn draw_constants(view: &View, extent: vk::Extent2D, min_estimated_area: f32) -> DrawConstants {
-    let estimator = &view.estimator;
-    DrawConstants {
-        view_proj: camera::view_projection(&view.camera, extent.width, extent.height),
-        eye: view.camera.eye,
-        min_estimated_area,
-        viewport_size: Vec2::new(extent.width as f32, extent.height as f32),
-        epsilon: estimator.epsilon,
-        // The shaders' range (their estimator, patch levels and heat map read it in it).
-        n_max: estimator.n_max.clamp(1, MAX_LEVEL),
-        level_or_light: match view.mode {
-            Mode::Fixed(level) => level,
-            _ => 1,
-        },
-        flags: if view.heat_map { FLAG_HEAT_MAP } else { 0 }
-            | if view.derivative_check { FLAG_DERIVATIVE_CHECK } else { 0 },
-        eye_radius: estimator.eye_radius,
-        ..Default::default()
-    }
-}
-
-impl Renderer {
-    /// The per-mesh fields of the push constants.
-    pub(super) fn set_draw_constants(&self, constants: &mut DrawConstants, draw: &DrawCall) {
-        constants.material_index = draw.material_index;
-        constants.mesh_index = draw.mesh_index;
-        let mesh_flags = FLAG_ONE_SIDED | FLAG_SHARED_CORNERS;
-        constants.flags = (constants.flags & !mesh_flags)
-            | if draw.one_sided { FLAG_ONE_SIDED } else { 0 }
-            | if draw.shared_corners { FLAG_SHARED_CORNERS } else { 0 };
+impl ForwardDraws {
+    /// The draws of `meshes` and `emitters` on the device `info`.
+    pub(super) fn new(
+        meshes: Vec<DrawCall>,
+        emitters: Vec<EmitterDraw>,
+        info: &crate::vk::context::DeviceInfo,
+    ) -> ForwardDraws {
+        ForwardDraws { meshes, emitters, vertex_budget: tessellated_vertex_budget(info) }
     }
 
-    /// The forward draws of every mesh with the pipelines `draws.pick` gives, into `target`'s
-    /// `attachments`, and where `draws.emitters` the polygonal lights' emissive geometry.
-    pub(super) fn record_draws(
+    /// The draws of every mesh of `frame` into the rendering begun on `rec`, each with the
+    /// pipelines `pick` gives for the view it is drawn with (the frame's, or `pixel` mode's for a
+    /// mesh drawn whole per pixel), into `attachments`; the multirate draws of the compute
+    /// placement from `lists`. Returns the push constants as the last draw left them.
+    pub(super) fn record_meshes(
         &self,
-        draws: &Draws<'_>,
-        cmd: vk::CommandBuffer,
-        target: &RenderTarget,
+        rec: &Recorder<'_>,
+        frame: &FrameConfig,
+        pick: &dyn Fn(&DrawCall, &View) -> Option<MeshPipelines>,
+        lists: Option<PatchLists<'_>>,
+        counts: IndirectCounts,
         attachments: Attachments,
-        view: &View,
-        after: AfterPass,
-    ) {
-        let device = &self.context.device;
-        let extent = target.extent();
-        target.begin(device, cmd, draws.clear, attachments);
-        let mut constants = draw_constants(view, extent, self.min_estimated_area(view));
-        // SAFETY: `cmd` is recording inside the rendering begun above; every bound object is
-        // owned by `self` and outlives the submission (callers wait before dropping).
+    ) -> DrawConstants {
+        let mut constants = frame.draw_constants();
+        // SAFETY: `cmd` is recording inside a rendering; the buffers are owned by the renderer and
+        // outlive the submission.
         unsafe {
-            device.cmd_bind_vertex_buffers(cmd, 0, &[self.buffers.vertices.raw], &[0]);
-            device.cmd_bind_index_buffer(cmd, self.buffers.indices.raw, 0, vk::IndexType::UINT32);
+            rec.device.cmd_bind_vertex_buffers(rec.cmd, 0, &[rec.buffers.vertices.raw], &[0]);
+            rec.device.cmd_bind_index_buffer(rec.cmd, rec.buffers.indices.raw, 0, vk::IndexType::UINT32);
         }
-        self.bind_set(cmd, 0, self.descriptors.set);
+        rec.bind_set(0, rec.descriptors.set);
+        let view = &frame.view;
         let pixel_view = View { mode: Mode::Pixel, ..view.clone() };
-        for (index, draw) in self.draws.iter().enumerate() {
-            let mesh_view = if draws.per_pixel.get(index) == Some(&true) { &pixel_view } else { view };
-            self.set_draw_constants(&mut constants, draw);
-            let Some(pipelines) = (draws.pick)(draw, mesh_view) else {
+        for (index, draw) in self.meshes.iter().enumerate() {
+            let mesh_view = if frame.mesh_per_pixel(index) { &pixel_view } else { view };
+            draw.set_constants(&mut constants);
+            let Some(pipelines) = pick(draw, mesh_view) else {
                 debug_assert!(false, "render, measure and the viewer prepare the view first");
                 continue;
             };
-            self.record_mesh(cmd, draw, pipelines, &mut constants, mesh_view, attachments);
+            let mesh = MeshDraw { draw, view: mesh_view, frame, attachments };
+            self.record_mesh(rec, &mesh, pipelines, lists, counts, &mut constants);
         }
-        if draws.emitters {
-            self.record_emitters(cmd, &mut constants, attachments);
-        }
-        target.end(device, cmd, after, attachments);
+        constants
     }
 
     /// The draws of one mesh with `pipelines`: the pre-pass's patch lists where they have
@@ -134,22 +92,24 @@ impl Renderer {
     /// of at most the patches one draw may hold.
     fn record_mesh(
         &self,
-        cmd: vk::CommandBuffer,
-        draw: &DrawCall,
+        rec: &Recorder<'_>,
+        mesh: &MeshDraw<'_>,
         pipelines: MeshPipelines,
+        lists: Option<PatchLists<'_>>,
+        counts: IndirectCounts,
         constants: &mut DrawConstants,
-        view: &View,
-        attachments: Attachments,
     ) {
-        let device = &self.context.device;
+        let (device, cmd) = (rec.device, rec.cmd);
+        let (draw, view, attachments) = (mesh.draw, mesh.view, mesh.attachments);
         let cull = if draw.one_sided { vk::CullModeFlags::BACK } else { vk::CullModeFlags::NONE };
-        // SAFETY: `cmd` is recording inside the rendering `record_draws` began.
+        // SAFETY: `cmd` is recording inside the rendering `record_meshes` draws into.
         unsafe { device.cmd_set_cull_mode(cmd, cull) };
-        self.bind_set(cmd, 1, self.descriptors.textures.sets[draw.material_index as usize]);
-        if let Some(lists) = pipelines.lists {
-            self.record_patch_lists(cmd, constants, draw, view, pipelines.first, lists);
-            if !draw.one_sided {
-                self.record_back_faces(cmd, constants, draw, pipelines.back_faces);
+        rec.bind_set(1, rec.descriptors.textures.sets[draw.material_index as usize]);
+        if let (Some(list_pipelines), Some(lists)) = (pipelines.lists, lists) {
+            let patch_draws = PatchDraws { lists, counts, per_draw: mesh.frame.patches_per_draw };
+            self.record_patch_lists(rec, &patch_draws, constants, draw, pipelines.first, list_pipelines);
+            if back_faces_per_pixel(view.placement, draw.one_sided) {
+                self.record_back_faces(rec, constants, draw, pipelines.back_faces);
             }
             return;
         }
@@ -165,7 +125,7 @@ impl Renderer {
             Mode::Multirate => (
                 draw.first_patch_index,
                 draw.index_count / 3 * PATCH_SIZE as u32,
-                self.multirate_patches_per_draw(view.estimator.n_max),
+                self.multirate_patches_per_draw(mesh.frame.multirate.estimator.n_max),
                 PATCH_SIZE as u32,
             ),
         };
@@ -174,21 +134,125 @@ impl Renderer {
         // built with the renderer's layout.
         unsafe {
             if adjacency {
-                device.cmd_bind_index_buffer(cmd, self.buffers.patch_indices.raw, 0, vk::IndexType::UINT32);
+                device.cmd_bind_index_buffer(cmd, rec.buffers.patch_indices.raw, 0, vk::IndexType::UINT32);
             }
             device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipelines.first);
             let mut first = 0;
             while first < index_count {
                 let count = chunk.min(index_count - first);
                 constants.patch_base = draw.first_triangle + first / indices_per_primitive;
-                self.push_draw_constants(cmd, constants);
+                rec.push(constants);
                 device.cmd_draw_indexed(cmd, count, 1, first_index + first, 0, 0);
                 first += count;
             }
             if adjacency {
-                device.cmd_bind_index_buffer(cmd, self.buffers.indices.raw, 0, vk::IndexType::UINT32);
+                device.cmd_bind_index_buffer(cmd, rec.buffers.indices.raw, 0, vk::IndexType::UINT32);
             }
         }
+    }
+
+    /// `Placement::Compute`: draws the mesh's three patch lists of this frame's pre-pass, the
+    /// interpolated patches with `interpolated`, the others with `lists`, each by the indirect
+    /// draws the pre-pass filled (those it did not reach draw nothing).
+    fn record_patch_lists(
+        &self,
+        rec: &Recorder<'_>,
+        patch_draws: &PatchDraws<'_>,
+        constants: &mut DrawConstants,
+        draw: &DrawCall,
+        interpolated: vk::Pipeline,
+        lists: ListPipelines<vk::Pipeline>,
+    ) {
+        let (device, cmd) = (rec.device, rec.cmd);
+        let buffers = &patch_draws.lists;
+        let per_draw = patch_draws.per_draw;
+        let commands = (draw.index_count / 3).div_ceil(per_draw);
+        let stride = std::mem::size_of::<vk::DrawIndirectCommand>() as u32;
+        constants.patch_base = draw.first_triangle;
+        constants.patches_per_draw = per_draw;
+        constants.triangle_count = draw.index_count / 3;
+        // Every list's draws are count draws, or none is: lavapipe (Mesa 22.3) keeps a count
+        // draw's count buffer for the plain indirect draws recorded after it.
+        let counted = patch_draws.counts.supported && commands <= patch_draws.counts.max_count;
+        let u32_size = std::mem::size_of::<u32>() as vk::DeviceSize;
+        // `max_draws` indirect draws from `draws` (a buffer and offset), as many as the word at
+        // `count` says where they are counted.
+        let indirect = |(buffer, offset): (vk::Buffer, vk::DeviceSize), count, max_draws: u32| {
+            // SAFETY: recording inside the rendering `record_meshes` draws into; the pre-pass wrote
+            // the commands and counts before the barrier it ends with; both buffers have
+            // INDIRECT_BUFFER usage; a count is at most `max_draws`, whose commands lie within
+            // the mesh's entries.
+            unsafe {
+                if counted {
+                    let (count_buffer, count_offset) = count;
+                    device.cmd_draw_indirect_count(
+                        cmd,
+                        buffer,
+                        offset,
+                        count_buffer,
+                        count_offset,
+                        max_draws,
+                        stride,
+                    );
+                } else {
+                    for k in 0..vk::DeviceSize::from(max_draws) {
+                        device.cmd_draw_indirect(
+                            cmd,
+                            buffer,
+                            offset + k * vk::DeviceSize::from(stride),
+                            1,
+                            stride,
+                        );
+                    }
+                }
+            }
+        };
+        let bind = |constants: &mut DrawConstants, pipeline, flag| {
+            constants.flags = (constants.flags & !FLAG_FALLBACK_PATCHES) | flag;
+            rec.bind_pipeline(vk::PipelineBindPoint::GRAPHICS, pipeline);
+            rec.push(constants);
+        };
+        // A flat list is one draw over the mesh (no tessellated-vertex limit applies), counted
+        // by its own instance count (1 once the list has a triangle).
+        let flat_draw = |constants: &mut DrawConstants, pipeline, list: u32, flag| {
+            bind(constants, pipeline, flag);
+            let offset = vk::DeviceSize::from((PATCH_LISTS * draw.mesh_index + list) * stride);
+            let flat_draws = buffers.flat_draws.raw;
+            indirect((flat_draws, offset), (flat_draws, offset + u32_size), 1);
+        };
+        // A tessellated list: the draws its patches opened, the first of its `commands` (all of
+        // them, mostly empty, where they are not counted).
+        let tessellated_draw = |constants: &mut DrawConstants, pipeline, list: u32, flag| {
+            bind(constants, pipeline, flag);
+            let first = vk::DeviceSize::from(draw.first_triangle * stride);
+            let count_word = PATCH_COUNT_WORDS * (PATCH_LISTS * draw.mesh_index + list) + OPENED_DRAWS;
+            let count = (buffers.patch_counts.raw, vk::DeviceSize::from(count_word) * u32_size);
+            indirect((buffers.patch_draws[list as usize].raw, first), count, commands);
+        };
+        // The flat patches first and the per-pixel ones last, so that the early depth test
+        // spares the per-pixel shading wherever the other lists cover it. Where their corners
+        // are shared, the flat patches shaded on them are one indexed draw of the mesh.
+        if draw.shared_corners {
+            bind(constants, lists.flat, 0);
+            // SAFETY: as above; the pre-pass wrote every word of the mesh's range of
+            // `flat_indices` (INDEX_BUFFER usage) before its last barrier; the scene's index
+            // buffer is bound back for the draws that follow.
+            unsafe {
+                device.cmd_bind_index_buffer(cmd, buffers.flat_indices.raw, 0, vk::IndexType::UINT32);
+                device.cmd_draw_indexed(cmd, draw.index_count, 1, draw.first_index, 0, 0);
+                device.cmd_bind_index_buffer(cmd, rec.buffers.indices.raw, 0, vk::IndexType::UINT32);
+            }
+        } else {
+            flat_draw(constants, lists.flat, INTERPOLATED_LIST, 0);
+        }
+        tessellated_draw(constants, interpolated, INTERPOLATED_LIST, 0);
+        // The per-pixel patches' depth first, then their shading where they are the nearest
+        // surface: each covered pixel is shaded once, whatever the lists' order.
+        tessellated_draw(constants, lists.fallback_prime, FALLBACK_LIST, FLAG_FALLBACK_PATCHES);
+        flat_draw(constants, lists.flat_fallback_prime, FALLBACK_LIST, FLAG_FALLBACK_PATCHES);
+        tessellated_draw(constants, lists.fallback, FALLBACK_LIST, FLAG_FALLBACK_PATCHES);
+        flat_draw(constants, lists.flat_fallback, FALLBACK_LIST, FLAG_FALLBACK_PATCHES);
+        constants.flags &= !FLAG_FALLBACK_PATCHES;
     }
 
     /// After a two-sided mesh's patch lists, its back faces as `pixel` mode draws them: one
@@ -199,7 +263,7 @@ impl Renderer {
     /// this draw then finds at their own depth.
     fn record_back_faces(
         &self,
-        cmd: vk::CommandBuffer,
+        rec: &Recorder<'_>,
         constants: &mut DrawConstants,
         draw: &DrawCall,
         pipeline: Option<vk::Pipeline>,
@@ -208,7 +272,7 @@ impl Renderer {
             debug_assert!(false, "prepare_variants builds pixel mode's pipeline for the back faces");
             return;
         };
-        let device = &self.context.device;
+        let (device, cmd) = (rec.device, rec.cmd);
         constants.patch_base = draw.first_triangle;
         // SAFETY: `cmd` is recording inside the rendering `record_draws` began, with the scene's
         // vertex and index buffers bound; the pipeline is owned by `self` and was built with the
@@ -216,41 +280,39 @@ impl Renderer {
         unsafe {
             device.cmd_set_cull_mode(cmd, vk::CullModeFlags::FRONT);
             device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
-            self.push_draw_constants(cmd, constants);
-            device.cmd_draw_indexed(cmd, draw.index_count, 1, draw.first_index, 0, 0);
         }
+        rec.push(constants);
+        // SAFETY: as above.
+        unsafe { device.cmd_draw_indexed(cmd, draw.index_count, 1, draw.first_index, 0, 0) };
     }
 
-    /// The polygonal lights' emissive geometry, with the emitter pipeline of `attachments`
-    /// (nothing where the scene has none).
-    fn record_emitters(
+    /// The polygonal lights' emissive geometry with `emitter` (nothing where the scene has
+    /// none), after the meshes' draws (`constants` as they left them).
+    pub(super) fn record_emitters(
         &self,
-        cmd: vk::CommandBuffer,
-        constants: &mut DrawConstants,
-        attachments: Attachments,
+        rec: &Recorder<'_>,
+        mut constants: DrawConstants,
+        emitter: Option<&Pipeline>,
     ) {
-        let device = &self.context.device;
-        let emitter = match attachments {
-            Attachments::Color => self.pipelines.emitter.as_ref(),
-            Attachments::ColorAndIds => self.pipelines.analysis_emitter.get(),
-        };
         let Some(emitter) = emitter else { return };
-        // SAFETY: `cmd` is recording inside the rendering `record_draws` began; the pipeline
-        // and the buffers it reads are owned by `self`.
+        let (device, cmd) = (rec.device, rec.cmd);
+        // SAFETY: `cmd` is recording inside the rendering the meshes were drawn into; the pipeline
+        // and the buffers it reads are owned by the renderer.
         unsafe {
             device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, emitter.raw);
             device.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
-            for draw in &self.emitters {
-                constants.level_or_light = draw.light_index;
-                self.push_draw_constants(cmd, constants);
-                device.cmd_draw_indexed(cmd, draw.index_count, 1, draw.first_index, 0, 0);
-            }
+        }
+        for draw in &self.emitters {
+            constants.level_or_light = draw.light_index;
+            rec.push(&constants);
+            // SAFETY: as above; the fan lies in the bound index buffer.
+            unsafe { device.cmd_draw_indexed(cmd, draw.index_count, 1, draw.first_index, 0, 0) };
         }
     }
 
     /// How many patches one draw may hold when every patch is tessellated at `level`.
     pub(super) fn patches_per_draw(&self, level: u32) -> u32 {
-        match self.tessellated_vertex_budget {
+        match self.vertex_budget {
             Some(budget) => (budget / uniform_vertex_count(level) as u32).max(1),
             None => u32::MAX,
         }
@@ -262,7 +324,7 @@ impl Renderer {
     /// (`Placement::Compute` draws need no `gl_PrimitiveID`.)
     fn multirate_patches_per_draw(&self, n_max: u32) -> u32 {
         let patches = self.patches_per_draw(n_max);
-        if self.tessellated_vertex_budget.is_some() {
+        if self.vertex_budget.is_some() {
             patches.min(LAVAPIPE_PRIMITIVE_ID_CONTROL_POINTS / PATCH_SIZE as u32)
         } else {
             patches
@@ -274,7 +336,7 @@ impl Renderer {
     /// `multirate_patches_per_draw`) limits a draw to 340 patches of 3.
     fn fixed_patches_per_draw(&self, level: u32, attachments: Attachments) -> u32 {
         let patches = self.patches_per_draw(level);
-        if self.tessellated_vertex_budget.is_some() && attachments == Attachments::ColorAndIds {
+        if self.vertex_budget.is_some() && attachments == Attachments::ColorAndIds {
             patches.min(LAVAPIPE_PRIMITIVE_ID_CONTROL_POINTS / 3)
         } else {
             patches
@@ -293,7 +355,7 @@ const LAVAPIPE_PRIMITIVE_ID_CONTROL_POINTS: u32 = 1020;
 /// about 2^16 vertices in one of its internal batches (measured: the 8192-patch plane renders
 /// whole at fixed:15 and loses rows of patches from fixed:16 on). Splitting draws so that each
 /// emits at most 65535 vertices avoids it; other drivers get no limit.
-pub(super) fn tessellated_vertex_budget(info: &crate::vk::context::DeviceInfo) -> Option<u32> {
+fn tessellated_vertex_budget(info: &crate::vk::context::DeviceInfo) -> Option<u32> {
     info.is_lavapipe().then_some(65535)
 }
 
@@ -308,4 +370,20 @@ pub fn draw_splitting_note(info: &crate::vk::context::DeviceInfo) -> Option<Stri
              each mesh whole"
         )
     })
+}
+
+/// One mesh's draw in a frame: the view it is drawn with and the attachments.
+struct MeshDraw<'a> {
+    draw: &'a DrawCall,
+    view: &'a View,
+    frame: &'a FrameConfig,
+    attachments: Attachments,
+}
+
+/// What the draws of a mesh's patch lists read: the pre-pass's lists, whether their draws are
+/// counted, and the most patches one of them holds.
+struct PatchDraws<'a> {
+    lists: PatchLists<'a>,
+    counts: IndirectCounts,
+    per_draw: u32,
 }

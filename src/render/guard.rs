@@ -17,10 +17,9 @@
 //! next frame ([`PathGuard::next_frame`]) and report each frame's GPU time with the way it
 //! was drawn ([`PathGuard::record`]), in whatever order the times come back.
 
-use super::mode::Placement;
+use super::mode::Mode;
+use super::multirate_config::MultirateConfig;
 use super::view::View;
-use crate::shading::estimator::{Discontinuity, Split};
-use ash::vk;
 
 /// Frames drawn the other way in a probe (each followed by one of the chosen way), and the
 /// recent frames of each way that are compared.
@@ -186,45 +185,25 @@ fn fastest(times: &[f64]) -> f64 {
     times.iter().copied().fold(f64::INFINITY, f64::min)
 }
 
-/// What a guard's measurements hold for: frames of another key draw other work.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct GuardKey {
-    extent: (u32, u32),
-    epsilon: f32,
-    n_max: u32,
-    split: Split,
-    discontinuity: Discontinuity,
-    placement: Placement,
-}
-
-impl GuardKey {
-    /// The key of `view` on a target of `extent`, or None where the guard does not apply: outside
-    /// `multirate` mode, without the cost model (a view that fixes the estimated area asks for
-    /// the multirate way itself), and in the debug views (heat map, wireframe), which show the
-    /// multirate way's own work.
-    pub fn of(view: &View, extent: vk::Extent2D) -> Option<GuardKey> {
-        let guarded =
-            view.mode == super::Mode::Multirate && view.cost_model && !view.heat_map && !view.wireframe;
-        guarded.then_some(GuardKey {
-            extent: (extent.width, extent.height),
-            epsilon: view.estimator.epsilon,
-            n_max: view.estimator.n_max,
-            split: view.estimator.split,
-            discontinuity: view.estimator.discontinuity,
-            placement: view.placement,
-        })
-    }
+/// The key of a frame of `view` in the multirate configuration `config`, or None where the guard
+/// does not apply: outside `multirate` mode, without the cost model (a view that fixes the
+/// estimated area asks for the multirate way itself), and in the debug views (heat map,
+/// wireframe), which show the multirate way's own work. Frames of another key draw other work;
+/// the camera, and with it the ball of eyes, is not part of it.
+pub fn key_of(view: &View, config: &MultirateConfig) -> Option<MultirateConfig> {
+    let guarded = view.mode == Mode::Multirate && view.cost_model && !view.heat_map && !view.wireframe;
+    guarded.then(|| config.without_eye())
 }
 
 /// The renderer's guards, one per key seen.
 #[derive(Debug, Default)]
 pub struct Guards {
-    guards: Vec<(GuardKey, PathGuard)>,
+    guards: Vec<(MultirateConfig, PathGuard)>,
 }
 
 impl Guards {
     /// The guard of `key`, new where the key was not seen.
-    pub fn of(&mut self, key: GuardKey) -> &mut PathGuard {
+    pub fn of(&mut self, key: MultirateConfig) -> &mut PathGuard {
         let at = match self.guards.iter().position(|(seen, _)| *seen == key) {
             Some(at) => at,
             None => {

@@ -7,24 +7,16 @@
 //! ball around their own eye wide enough to hold the first. A frame whose eye has left the ball,
 //! or whose settings differ, begins a new one.
 
-use crate::shading::estimator::EstimatorSettings;
+use super::multirate_config::MultirateConfig;
 use glam::Vec3;
 
-/// What the kept levels depend on besides the eye: the estimator's settings (the radius among
-/// them), the target's size and the cost model's area (which triangles are shaded per pixel
-/// without an estimate).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct BallKey {
-    pub(super) estimator: EstimatorSettings,
-    pub(super) extent: (u32, u32),
-    pub(super) min_estimated_area: f32,
-}
-
-/// The ball the kept levels hold for: every eye within `key.estimator.eye_radius` of `centre`.
+/// The ball the kept levels hold for: every eye within `key.estimator.eye_radius` of `centre`,
+/// in the multirate configuration `key` (the estimator's settings, the radius among them, the
+/// target's size and the resolved area below which triangles are shaded per pixel).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct LevelBall {
     centre: Vec3,
-    key: BallKey,
+    key: MultirateConfig,
 }
 
 /// How one frame's pre-pass uses the ball.
@@ -38,6 +30,17 @@ pub(super) enum BallUse {
     /// The eye is still in the ball: the kept levels are reused, and the triangles without one
     /// are estimated for every eye within `radius` of the frame's, which holds the whole ball.
     Continue { radius: f32 },
+    /// A frame that commits nothing (analysis, counting, level records) where a ball would
+    /// begin: every visible triangle is estimated for the ball around its eye, and the levels
+    /// kept for the committed ball are neither cleared, read nor replaced.
+    Detached { radius: f32 },
+}
+
+impl LevelBall {
+    /// The eye the ball is centred on.
+    pub(super) fn centre(&self) -> Vec3 {
+        self.centre
+    }
 }
 
 impl BallUse {
@@ -45,13 +48,13 @@ impl BallUse {
     pub(super) fn radius(self) -> f32 {
         match self {
             BallUse::Off => 0.0,
-            BallUse::Begin { radius } | BallUse::Continue { radius } => radius,
+            BallUse::Begin { radius } | BallUse::Continue { radius } | BallUse::Detached { radius } => radius,
         }
     }
 
     /// Whether the frame reuses and keeps levels.
     pub(super) fn keeps_levels(self) -> bool {
-        self != BallUse::Off
+        matches!(self, BallUse::Begin { .. } | BallUse::Continue { .. })
     }
 }
 
@@ -61,7 +64,7 @@ const RADIUS_PAD: f32 = 1.0e-5;
 
 /// How a frame with `eye` and `key` uses `ball` (the one the kept levels hold for, if any), and
 /// the ball that holds after it.
-pub(super) fn next(ball: Option<LevelBall>, eye: Vec3, key: BallKey) -> (BallUse, Option<LevelBall>) {
+pub(super) fn next(ball: Option<LevelBall>, eye: Vec3, key: MultirateConfig) -> (BallUse, Option<LevelBall>) {
     let radius = key.estimator.eye_radius;
     // Also no ball for NaN.
     if radius.is_nan() || radius <= 0.0 {

@@ -4,8 +4,8 @@
 //! and against what the shaders can index. [`check`] is a pure function, run once per scene
 //! load before any buffer or image exists; its error names the scene file and the limit.
 
+use super::pre_pass::steps::PRE_PASS_GROUP;
 use super::textures;
-use super::PRE_PASS_GROUP;
 use crate::error::{mib, Error, Result};
 use crate::gpu_interface::slots::{LEVEL_DISPATCHES, SKIPPED_VERTEX};
 use crate::gpu_types::{GpuLight, GpuMaterial, GpuPolygonLight, Vertex};

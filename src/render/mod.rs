@@ -1,100 +1,111 @@
 //! Rendering a scene: GPU copies of the scene, the pipeline variants specialised to its
 //! materials and lights, and the forward pass that draws into a render target.
 //!
-//! [`Renderer`] is the façade; its rooms:
-//! - `mode` and `view`: what a frame is rendered with ([`Mode`], [`Placement`], [`View`]);
-//! - `scene_buffers`: the scene uploaded, the per-scene buffers and set 0's binding table;
-//! - `descriptors`: the forward layout and its descriptor sets;
-//! - `pipelines`: the pipeline variants, built on first use;
-//! - `pre_pass`: the triangle-level pre-pass of `multirate` mode's compute placement;
-//! - `draws`: the forward draws (and lavapipe's limits on them);
-//! - `instrumentation`: timings, evaluation counts, analysis frames and level records;
-//! - [`deferred`]: the `pixel-deferred` passes;
-//! - [`cost_model`]: where estimating a triangle's level pays, per device;
-//! - [`guard`]: whether a frame is drawn the multirate way or as `pixel` draws it, from the
-//!   times of recent frames drawn each way;
-//! - [`capture`], [`limits`], [`output`], [`present`], [`textures`]: the tessellation
-//!   pattern check, the scene's limits, image files, presentation and the scene's textures.
+//! [`Renderer`] is the façade, and [`Renderer::record`] the frame: it resolves the frame's
+//! configuration (`frame_config`), records the pre-pass (`pre_pass`), the draws (`draws`, or
+//! `deferred`) and the emitters, in that order.
+//!
+//! Files, bottom to top: each imports through `super::` only from those listed before it.
+//! 1. [`mode`]: what a frame samples shading with ([`Mode`], [`Placement`]).
+//! 2. [`view`]: what one frame is rendered with ([`View`]).
+//! 3. [`textures`]: the scene's textures and the materials' sets.
+//! 4. [`capture`]: the tessellation pattern check.
+//! 5. [`output`]: image files.
+//! 6. [`present`]: presentation to a swapchain image.
+//! 7. [`cost_model`]: where estimating a triangle's level pays, per device.
+//! 8. [`multirate_config`]: the multirate configuration, resolved once per frame.
+//! 9. [`guard`]: whether a frame is drawn the multirate way or as `pixel` draws it.
+//! 10. [`level_ball`]: the ball of eyes the kept levels hold for.
+//! 11. [`frame_config`]: everything a frame is drawn with, and the per-pixel choice.
+//! 12. [`scene_geometry`]: the scene gathered for upload, one draw per mesh and emitter.
+//! 13. [`scene_buffers`]: the scene uploaded.
+//! 14. [`descriptors`]: the forward layout, its sets, and the recorder that binds them.
+//! 15. [`pipelines`]: the pipeline variants of the draws, built on first use.
+//! 16. [`pre_pass`]: the triangle-level pre-pass of the compute placement.
+//! 17. [`limits`]: the scene's limits against the device's.
+//! 18. [`draws`]: the forward draws (and lavapipe's limits on them).
+//! 19. [`deferred`]: the `pixel-deferred` passes.
+//! 20. [`instrumentation`]: timings, evaluation counts and what is read back.
 
 pub mod capture;
 pub mod cost_model;
 pub mod deferred;
 mod descriptors;
 mod draws;
+mod frame_config;
 pub mod guard;
 mod instrumentation;
 mod level_ball;
 pub mod limits;
 mod mode;
+mod multirate_config;
 pub mod output;
 mod pipelines;
 mod pre_pass;
 pub mod present;
 mod scene_buffers;
+mod scene_geometry;
 pub mod textures;
 mod view;
 
 pub use draws::draw_splitting_note;
-pub use instrumentation::{Analysis, CameraTurn, EvaluationCounts, Measurement};
+pub use frame_config::RecordedFrame;
+pub use instrumentation::{Analysis, CameraTurn, EvaluationCounts, Measurement, GUARD_START_FRAMES};
 pub use mode::{Mode, Placement, MAX_LEVEL};
-pub use pre_pass::{PrePassStep, PRE_PASS_GROUP, PRE_PASS_STEPS, REFINE_BLOCK};
-pub use scene_buffers::{gpu_lights, gpu_polygon_lights};
+pub use pre_pass::steps::{PrePassStep, PRE_PASS_GROUP, PRE_PASS_STEPS, REFINE_BLOCK};
+pub use scene_geometry::{gpu_lights, gpu_polygon_lights};
 pub use view::{View, EYE_BALL_SHARE};
 
-use deferred::Deferred;
-use descriptors::ForwardDescriptors;
-use draws::{tessellated_vertex_budget, DrawCall, Draws, EmitterDraw};
-use instrumentation::Timed;
-use limits::SceneSizes;
-use pipelines::{Instrumentation, Pipelines, Variant};
-use scene_buffers::{SceneBuffers, SceneGeometry};
-
 use crate::error::Result;
-use crate::scene::{Light, Scene};
+use crate::gpu_interface::bindings::in_binding_order;
+use crate::gpu_interface::slots::{FALLBACK_LIST, INTERPOLATED_LIST};
+use crate::scene::Scene;
 use crate::vk::context::DeviceLimits;
 use crate::vk::target::{AfterPass, Attachments, FloatImage, RenderTarget};
 use crate::vk::Context;
 use ash::vk;
-use cost_model::{CostModel, MeshSample};
-use guard::{FramePath, GuardKey, Guards};
+use cost_model::CostModel;
+use deferred::Deferred;
+use descriptors::{ForwardDescriptors, Recorder, SCENE_BINDINGS};
+use draws::{ForwardDraws, IndirectCounts};
+use frame_config::{Commit, FrameConfig, PerPixelChoice};
+use guard::{FramePath, Guards};
+use instrumentation::TimedFrames;
+use limits::SceneSizes;
+use pipelines::{Instrumentation, Pipelines, Variant};
+use pre_pass::buffers::PrePassBuffers;
+use pre_pass::steps::Timed;
+use pre_pass::PrePass;
+use scene_buffers::SceneBuffers;
+use scene_geometry::SceneGeometry;
 use std::cell::OnceCell;
 use std::sync::{Arc, Mutex};
 
 /// A scene uploaded to the GPU with its specialised pipelines.
 pub struct Renderer {
     context: Arc<Context>,
-    /// The scene's vertices, indices, lights and materials, the pre-pass's buffers and the
-    /// instrumentation's records.
+    /// The scene's vertices, indices, lights and materials and the instrumentation's records.
     buffers: SceneBuffers,
-    /// The forward layout, set 0 bound to `buffers`, and the materials' textures and sets.
+    /// The forward layout, set 0 bound to `buffers` and the pre-pass's, and the materials'
+    /// textures and sets.
     descriptors: ForwardDescriptors,
-    /// One per mesh, in scene order.
-    draws: Vec<DrawCall>,
-    /// The polygonal lights' emissive geometry, one fan each.
-    emitters: Vec<EmitterDraw>,
-    /// The pipeline variants (timed, wireframe, counting, level-recording) and the modules
-    /// they share.
+    /// One draw per mesh and per polygonal light.
+    draws: ForwardDraws,
+    /// The pipeline variants of the draws (timed, wireframe, counting, level-recording) and the
+    /// modules they share.
     pipelines: Pipelines,
+    /// The compute placement's pre-pass: its pipelines, its buffers and its ball of eyes.
+    pre_pass: PrePass,
+    /// What is shaded per pixel, at the scales the frame does not decide itself.
+    per_pixel: PerPixelChoice,
+    /// The frame guards of the configurations drawn so far (`guarded`, `report_frame_time`).
+    guards: Mutex<Guards>,
     /// The device's own effective-level table in `SceneBuffers::pattern_levels`, where the
     /// built-in one does not hold on it (`capture::check_patterns`).
     measured_table: Mutex<Option<Arc<Vec<u32>>>>,
     /// The `pixel-deferred` passes, built on first use.
     deferred: OnceCell<Deferred>,
     clear_color: [f32; 4],
-    /// Most tessellated vertices one draw may emit, where the driver needs a limit
-    /// (lavapipe: `draws::tessellated_vertex_budget`).
-    tessellated_vertex_budget: Option<u32>,
-    /// Where estimating pays on this device (views with `cost_model` set).
-    cost_model: CostModel,
-    /// Per draw, the triangles that stand for its mesh in the cost model's per-mesh choice.
-    mesh_samples: Vec<MeshSample>,
-    /// The scene's lights: the cost model weighs their count, and the per-mesh choice tries the
-    /// range class under them.
-    lights: Vec<Light>,
-    /// The frame guards of the configurations drawn so far (`guarded`, `report_frame_time`).
-    guards: Mutex<Guards>,
-    /// The ball of eyes the pre-pass's kept levels hold for (`level_ball`).
-    level_ball: Mutex<Option<level_ball::LevelBall>>,
 }
 
 impl Renderer {
@@ -111,88 +122,56 @@ impl Renderer {
         limits::check(&scene.path, &SceneSizes::of(scene), &limits.min(&context.limits))?;
         let geometry = SceneGeometry::of(scene);
         let buffers = SceneBuffers::upload(context, &geometry)?;
-        let descriptors = ForwardDescriptors::new(context, scene, &buffers)?;
+        let pre_pass = PrePass::new(context, &geometry, geometry.kinds.len())?;
+        let descriptors =
+            ForwardDescriptors::new(context, scene, &binding_table(&buffers, &pre_pass.buffers))?;
         let pipelines = Pipelines::new(context, scene, &descriptors.layout, &geometry)?;
         let clear = scene.settings.clear_color;
         Ok(Renderer {
             context: context.clone(),
             buffers,
             descriptors,
-            draws: geometry.draws,
-            emitters: geometry.emitters,
+            draws: ForwardDraws::new(geometry.draws, geometry.emitters, &context.info),
             pipelines,
+            pre_pass,
+            per_pixel: PerPixelChoice::new(&context.info.name, scene),
+            guards: Mutex::new(Guards::default()),
             measured_table: Mutex::new(None),
             deferred: OnceCell::new(),
             clear_color: [clear.x, clear.y, clear.z, 0.0],
-            tessellated_vertex_budget: tessellated_vertex_budget(&context.info),
-            cost_model: CostModel::for_device(&context.info.name),
-            mesh_samples: scene
-                .meshes
-                .iter()
-                .map(|m| MeshSample::of(m, &scene.materials[m.material]))
-                .collect(),
-            lights: scene.lights.clone(),
-            guards: Mutex::new(Guards::default()),
-            level_ball: Mutex::new(None),
         })
     }
 
     /// The device's cost model (a stored calibration or the built-in figures).
     pub fn cost_model(&self) -> &CostModel {
-        &self.cost_model
+        &self.per_pixel.cost_model
     }
 
     /// The image area (pixels) below which `view`'s multirate pass shades a triangle per pixel
-    /// without an estimate: the cost model's break-even area for the scene's lights where
-    /// `view.cost_model` is set, else `view.estimator.min_estimated_area`.
+    /// without an estimate (`frame_config::PerPixelChoice::min_estimated_area`).
     pub fn min_estimated_area(&self, view: &View) -> f32 {
-        if view.cost_model {
-            self.cost_model.min_estimated_area(cost_model::weighed_lights(&self.lights))
-        } else {
-            view.estimator.min_estimated_area
-        }
+        self.per_pixel.min_estimated_area(view)
     }
 
     /// Per draw, whether `view`'s multirate pass draws its mesh whole as `pixel` mode does on a
-    /// target of `extent`: with the cost model on, where most of the mesh's visible triangles
-    /// are too small for an estimate to pay ([`MeshSample::mostly_small`]). Empty outside
-    /// multirate or without the cost model; every draw where the frame guard draws the frame
-    /// as `pixel` does (`View::drawn_as_pixel`).
+    /// target of `extent` (`frame_config::PerPixelChoice::meshes`).
     pub fn meshes_drawn_per_pixel(&self, view: &View, extent: vk::Extent2D) -> Vec<bool> {
-        if view.mode != Mode::Multirate {
-            return Vec::new();
-        }
-        if view.drawn_as_pixel {
-            return vec![true; self.draws.len()];
-        }
-        if !view.cost_model {
-            return Vec::new();
-        }
-        let view_proj = crate::geometry::camera::view_projection(&view.camera, extent.width, extent.height);
-        let viewport = glam::Vec2::new(extent.width as f32, extent.height as f32);
-        let area = self.min_estimated_area(view);
-        self.mesh_samples
-            .iter()
-            .map(|s| {
-                s.mostly_small(
-                    &view_proj,
-                    view.camera.eye,
-                    viewport,
-                    area,
-                    &self.lights,
-                    view.estimator.epsilon,
-                )
-            })
-            .collect()
+        self.per_pixel.meshes(view, extent)
+    }
+
+    /// The centre of the ball of eyes the pre-pass's kept levels hold for, if any: where the
+    /// last submitted frame that commits it left it.
+    pub fn level_ball_centre(&self) -> Option<glam::Vec3> {
+        self.pre_pass.kept_ball().map(|ball| ball.centre())
     }
 
     /// `view` as the frame guard of its configuration draws the next frame on a target of
     /// `extent` (`View::drawn_as_pixel` set where it draws as `pixel` does); `view` itself
-    /// where no guard applies ([`GuardKey::of`]). Callers that time their frames report each
+    /// where no guard applies (`guard::key_of`). Callers that time their frames report each
     /// one's time with [`Renderer::report_frame_time`].
     pub fn guarded(&self, view: &View, extent: vk::Extent2D) -> View {
         let mut guarded = view.clone();
-        if let Some(key) = GuardKey::of(view, extent) {
+        if let Some(key) = self.guard_key(view, extent) {
             let path = self.guards.lock().expect("guards lock").of(key).next_frame();
             guarded.drawn_as_pixel = path == FramePath::Pixel;
         }
@@ -202,43 +181,141 @@ impl Renderer {
     /// Whether the frame guard of `view`'s configuration on a target of `extent` has decided
     /// which way to draw (true where no guard applies).
     pub fn guard_decided(&self, view: &View, extent: vk::Extent2D) -> bool {
-        GuardKey::of(view, extent)
+        self.guard_key(view, extent)
             .is_none_or(|key| self.guards.lock().expect("guards lock").of(key).decided())
     }
 
     /// A frame of `view` (as [`Renderer::guarded`] returned it) on a target of `extent` took
     /// `gpu_ms` on the GPU; its configuration's guard weighs it.
     pub fn report_frame_time(&self, view: &View, extent: vk::Extent2D, gpu_ms: f64) {
-        if let Some(key) = GuardKey::of(view, extent) {
+        if let Some(key) = self.guard_key(view, extent) {
             let path = if view.drawn_as_pixel { FramePath::Pixel } else { FramePath::Multirate };
             self.guards.lock().expect("guards lock").of(key).record(path, gpu_ms);
         }
     }
 
+    /// The key of `view`'s frame guard on a target of `extent` (None where none applies).
+    fn guard_key(&self, view: &View, extent: vk::Extent2D) -> Option<multirate_config::MultirateConfig> {
+        guard::key_of(view, &self.per_pixel.multirate_config(view, extent))
+    }
+
     /// Renders one frame into `target` and reads the float image back.
     pub fn render(&self, target: &RenderTarget, view: &View) -> Result<FloatImage> {
         self.prepare(view, target)?;
-        target.render_and_read(&self.context, |cmd| self.record(cmd, target, view, AfterPass::Readback))
+        let mut recorded = None;
+        let image = target.render_and_read(&self.context, |cmd| {
+            recorded = Some(self.record(cmd, target, view, AfterPass::Readback))
+        })?;
+        self.submitted(recorded.expect("the frame was recorded"));
+        Ok(image)
     }
 
-    /// Records the forward pass into `target`, leaving the colour image ready for `after`.
-    pub fn record(&self, cmd: vk::CommandBuffer, target: &RenderTarget, view: &View, after: AfterPass) {
-        let pipelines = &self.pipelines;
-        let variants = match (&pipelines.wireframe_variants, view.wireframe) {
+    /// Records the forward pass of `view` into `target`, leaving the colour image ready for
+    /// `after`. Changes nothing in the renderer: pass the frame to [`Renderer::submitted`] once
+    /// it is submitted.
+    pub fn record(
+        &self,
+        cmd: vk::CommandBuffer,
+        target: &RenderTarget,
+        view: &View,
+        after: AfterPass,
+    ) -> RecordedFrame {
+        let variants = match (&self.pipelines.wireframe_variants, view.wireframe) {
             (Some(lines), true) => lines,
-            _ => &pipelines.variants,
+            _ => &self.pipelines.variants,
         };
-        self.record_with(variants, cmd, target, view, after);
+        let frame = self.frame_config(view, target.extent(), Commit::OnSubmit);
+        self.record_frame(variants, Instrumentation::None, cmd, target, &frame, after, &|_, _| {})
+    }
+
+    /// A frame [`Renderer::record`] recorded was submitted: what it learnt holds from now on
+    /// (the ball of eyes its levels were kept for).
+    pub fn submitted(&self, frame: RecordedFrame) {
+        if let Some(ball) = frame.ball {
+            self.pre_pass.commit(ball);
+        }
+    }
+
+    /// The configuration of a frame of `view` on a target of `extent`, resolved once.
+    fn frame_config(&self, view: &View, extent: vk::Extent2D, commit: Commit) -> FrameConfig {
+        let patches_per_draw = self.draws.patches_per_draw(view.estimator.n_max);
+        FrameConfig::resolve(
+            &self.per_pixel,
+            view,
+            extent,
+            self.pre_pass.kept_ball(),
+            commit,
+            patches_per_draw,
+        )
+    }
+
+    /// One frame, top to bottom: the pre-pass of `frame`, then its draws with `variants` (of
+    /// `instrumentation`), then the polygonal lights' emissive geometry, into `target`, leaving
+    /// it ready for `after`. Calls `stamp(Timed::PrePass, false)` before and `(.., true)` after
+    /// the pre-pass (back to back where there is none), and the same around each of its steps
+    /// (`Timed::SkippedStep` where it does not run).
+    #[allow(clippy::too_many_arguments)]
+    fn record_frame(
+        &self,
+        variants: &[Variant],
+        instrumentation: Instrumentation,
+        cmd: vk::CommandBuffer,
+        target: &RenderTarget,
+        frame: &FrameConfig,
+        after: AfterPass,
+        stamp: &dyn Fn(Timed, bool),
+    ) -> RecordedFrame {
+        let rec = Recorder {
+            device: &self.context.device,
+            cmd,
+            buffers: &self.buffers,
+            descriptors: &self.descriptors,
+        };
+        // The pre-pass.
+        stamp(Timed::PrePass, false);
+        if frame.runs_pre_pass {
+            self.pre_pass.record(&rec, frame, &self.draws.meshes, instrumentation, stamp);
+        } else if frame.has_pre_pass() {
+            // Every step's interval is still written (empty), as the timing reads them.
+            for step in PrePassStep::ALL {
+                stamp(Timed::SkippedStep(step), false);
+                stamp(Timed::SkippedStep(step), true);
+            }
+        }
+        stamp(Timed::PrePass, true);
+        // The draws.
+        if frame.view.mode == Mode::PixelDeferred {
+            let Some(deferred) = self.deferred.get() else {
+                debug_assert!(false, "render, measure and the viewer prepare the view first");
+                return frame.recorded();
+            };
+            deferred.record(&rec, &self.draws, frame, instrumentation, target, (self.clear_color, after));
+            return frame.recorded();
+        }
+        let attachments = instrumentation.attachments();
+        target.begin(rec.device, cmd, self.clear_color, attachments);
+        let pick = |draw: &scene_geometry::DrawCall, mesh_view: &View| {
+            variants[draw.pipeline].for_view(mesh_view, &frame.multirate)
+        };
+        let lists = frame.has_pre_pass().then(|| self.pre_pass.patch_lists());
+        let counts = IndirectCounts {
+            supported: self.context.features.draw_indirect_count,
+            max_count: self.context.limits.max_draw_indirect_count,
+        };
+        let constants = self.draws.record_meshes(&rec, frame, &pick, lists, counts, attachments);
+        // The emitters.
+        self.draws.record_emitters(&rec, constants, self.pipelines.emitter_for(attachments));
+        target.end(rec.device, cmd, after, attachments);
+        frame.recorded()
     }
 
     /// Builds what `view` needs that is built on first use (the multirate pipelines, the
     /// deferred passes) and sizes the deferred id target for `target`.
     pub fn prepare(&self, view: &View, target: &RenderTarget) -> Result<()> {
         self.prepare_frame(view, target)?;
-        let pipelines = &self.pipelines;
-        let wireframe = pipelines.wireframe_variants.as_ref().filter(|_| view.wireframe);
-        for variants in std::iter::once(&pipelines.variants).chain(wireframe) {
-            self.prepare_variants(variants, view)?;
+        let wireframe = self.pipelines.wireframe_variants.as_ref().filter(|_| view.wireframe);
+        for variants in std::iter::once(&self.pipelines.variants).chain(wireframe) {
+            self.prepare_variants(variants, Instrumentation::None, view, target.extent())?;
         }
         Ok(())
     }
@@ -256,13 +333,33 @@ impl Renderer {
         Ok(true)
     }
 
+    /// Builds the pipelines of `view`'s mode in each of `variants` (of `instrumentation`) that it
+    /// lacks, and in multirate mode on the compute placement the pre-pass's.
+    fn prepare_variants(
+        &self,
+        variants: &[Variant],
+        instrumentation: Instrumentation,
+        view: &View,
+        extent: vk::Extent2D,
+    ) -> Result<()> {
+        let (context, layout) = (&self.context, &self.descriptors.layout);
+        let config = self.per_pixel.multirate_config(view, extent);
+        let one_sided = self.draws.meshes.iter().map(|draw| draw.one_sided);
+        self.pipelines.prepare(context, layout, variants, view, &config, one_sided)?;
+        if view.mode == Mode::Multirate && view.placement == Placement::Compute {
+            let specializations = &self.pipelines.specializations;
+            self.pre_pass.prepare(context, layout, specializations, instrumentation, &config)?;
+        }
+        Ok(())
+    }
+
     /// What a frame of `view` needs whichever variants draw it: the deferred passes, sized for
     /// `target`, and in multirate mode the device's tessellation patterns checked against the
     /// effective-level table. The analysis and recording frames prepare only their own
     /// variants' multirate pipelines: the timed ones are as slow to build and would go unused.
     fn prepare_frame(&self, view: &View, target: &RenderTarget) -> Result<()> {
         if view.mode == Mode::PixelDeferred {
-            self.prepare_deferred(target.extent())?;
+            self.deferred()?.prepare(target.extent())?;
         }
         if view.mode == Mode::Multirate {
             // The effective-level table holds only for the tessellator it was computed from.
@@ -288,57 +385,262 @@ impl Renderer {
         Ok(())
     }
 
-    fn record_with(
+    /// The deferred passes, built on first use.
+    fn deferred(&self) -> Result<&Deferred> {
+        if let Some(deferred) = self.deferred.get() {
+            return Ok(deferred);
+        }
+        let deferred =
+            Deferred::new(&self.context, &self.descriptors.layout, &self.pipelines.specializations)?;
+        Ok(self.deferred.get_or_init(|| deferred))
+    }
+
+    /// Renders `view` in `multirate` mode with the level-recording variant and returns, per
+    /// triangle of the scene (meshes in order), `[level, outer0, outer1, outer2]` as the
+    /// control stage chose them (level 0: per-pixel fallback).
+    pub fn record_levels(&self, target: &RenderTarget, view: &View) -> Result<Vec<[f32; 4]>> {
+        let recording = self.pipelines.instrumented(Instrumentation::RecordLevels);
+        let view = View { mode: Mode::Multirate, ..view.clone() };
+        self.prepare_frame(&view, target)?;
+        self.prepare_variants(recording, Instrumentation::RecordLevels, &view, target.extent())?;
+        let frame = self.frame_config(&view, target.extent(), Commit::Never);
+        target.render_and_read(&self.context, |cmd| {
+            let _ = self.record_frame(
+                recording,
+                Instrumentation::RecordLevels,
+                cmd,
+                target,
+                &frame,
+                AfterPass::Readback,
+                &|_, _| {},
+            );
+            let writers = vk::PipelineStageFlags2::COMPUTE_SHADER
+                | vk::PipelineStageFlags2::TESSELLATION_CONTROL_SHADER;
+            instrumentation::storage_to_host(&self.context.device, cmd, writers);
+        })?;
+        let bytes = self.buffers.level_records.mapped().expect("GpuToCpu memory is mapped");
+        Ok(bytemuck::pod_collect_to_vec::<u8, [f32; 4]>(&bytes[..self.buffers.level_records.size as usize]))
+    }
+
+    /// Renders one frame of `view` (`multirate` mode, the compute placement) and returns its
+    /// pre-pass's indirect dispatches as the frame left them: per mesh, `LEVEL_DISPATCHES` words
+    /// `[workgroups x, y, z, listed triangles]` (`gpu_interface::slots`), so that a test can
+    /// compare each step's list with the twin's. The frame is drawn as `render` draws it, and
+    /// commits what it learns as `render` does.
+    pub fn pre_pass_dispatches(&self, target: &RenderTarget, view: &View) -> Result<Vec<[u32; 4]>> {
+        let view = View { mode: Mode::Multirate, placement: Placement::Compute, ..view.clone() };
+        self.prepare(&view, target)?;
+        let source = &self.pre_pass.buffers.level_dispatches;
+        let readback = crate::vk::memory::Buffer::new(
+            &self.context,
+            "pre-pass dispatches read back",
+            source.size,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            gpu_allocator::MemoryLocation::GpuToCpu,
+        )?;
+        let mut recorded = None;
+        target.render_and_read(&self.context, |cmd| {
+            recorded = Some(self.record(cmd, target, &view, AfterPass::Readback));
+            instrumentation::copy_for_host(&self.context.device, cmd, source, &readback);
+        })?;
+        self.submitted(recorded.expect("the frame was recorded"));
+        let bytes = readback.mapped().expect("GpuToCpu memory is mapped");
+        Ok(bytemuck::pod_collect_to_vec::<u8, [u32; 4]>(&bytes[..source.size as usize]))
+    }
+
+    /// Renders `warmup` frames (more for a guarded view whose guard has not decided yet: at most
+    /// [`GUARD_START_FRAMES`] more), then `frames` measured ones, with up to two frames in flight:
+    /// when the forward pass of each measured frame ran on the GPU (timestamps outside the
+    /// pass), when its pre-pass did, and the pipeline statistics of the last one. A frame's
+    /// queries are read only once its slot comes round again, so reading never stalls the
+    /// frame being recorded. Every frame, warm-up included, is drawn as the frame guard of its
+    /// configuration says ([`Renderer::guarded`]) and reported to it.
+    pub fn measure(
         &self,
-        variants: &[Variant],
+        target: &RenderTarget,
+        view: &View,
+        warmup: u32,
+        frames: u32,
+    ) -> Result<Measurement> {
+        self.measure_turning(target, view, warmup, frames, CameraTurn::default())
+    }
+
+    /// [`Renderer::measure`] with the camera turning as `turn` says, frame after frame.
+    pub fn measure_turning(
+        &self,
+        target: &RenderTarget,
+        view: &View,
+        warmup: u32,
+        frames: u32,
+        turn: CameraTurn,
+    ) -> Result<Measurement> {
+        self.prepare(view, target)?;
+        instrumentation::measure(self, target, view, (warmup, frames), turn)
+    }
+
+    /// Renders one frame of `view` with the counting variant (never the timed one) and
+    /// returns how many times the full shading function ran, by stage. Needs storage writes
+    /// in the vertex pipeline and fragment stages (`vertexPipelineStoresAndAtomics`,
+    /// `fragmentStoresAndAtomics`) and primitive ids in the fragment stage (`geometryShader`).
+    pub fn count_evaluations(&self, target: &RenderTarget, view: &View) -> Result<EvaluationCounts> {
+        let analysis = self.analysis_variants(target, view)?;
+        self.context.run_once(|cmd| self.record_analysis(analysis, cmd, target, view, AfterPass::Sampled))?;
+        Ok(instrumentation::read_counters(&self.buffers.counters))
+    }
+
+    /// One frame of `view` drawn by the analysis variant, the counting one: its image, which
+    /// triangle each pixel shows, and how many times the full shading function ran. Its
+    /// rasterisation and shading are the timed variant's (tests/counts.rs compares the two).
+    pub fn analyze(&self, target: &RenderTarget, view: &View) -> Result<Analysis> {
+        let analysis = self.analysis_variants(target, view)?;
+        let (image, triangles) =
+            target.render_and_read_with(&self.context, Attachments::ColorAndIds, |cmd| {
+                self.record_analysis(analysis, cmd, target, view, AfterPass::Readback)
+            })?;
+        let triangles = triangles.expect("ColorAndIds reads the ids back");
+        Ok(Analysis { image, triangles, evaluations: instrumentation::read_counters(&self.buffers.counters) })
+    }
+
+    /// The analysis variants, built on first use and prepared for `view`.
+    fn analysis_variants(&self, target: &RenderTarget, view: &View) -> Result<&[Variant]> {
+        let features = &self.context.features;
+        if !(features.vertex_pipeline_stores && features.fragment_stores && features.geometry_shader) {
+            return Err(crate::Error::Unsupported {
+                device: self.context.info.name.clone(),
+                what: "count shading evaluations and read triangle ids",
+                missing: "vertexPipelineStoresAndAtomics, fragmentStoresAndAtomics and geometryShader",
+            });
+        }
+        let analysis = self.pipelines.instrumented(Instrumentation::CountEvaluations);
+        target.prepare_ids(&self.context)?;
+        if !self.draws.emitters.is_empty() {
+            self.pipelines.prepare_analysis_emitter(&self.context, &self.descriptors.layout)?;
+        }
+        self.prepare_frame(view, target)?;
+        self.prepare_variants(analysis, Instrumentation::CountEvaluations, view, target.extent())?;
+        Ok(analysis)
+    }
+
+    /// Records one analysis frame, which commits nothing: the counters zeroed, the frame, the
+    /// counters made visible to the host.
+    fn record_analysis(
+        &self,
+        analysis: &[Variant],
         cmd: vk::CommandBuffer,
         target: &RenderTarget,
         view: &View,
         after: AfterPass,
     ) {
-        self.record_timed(variants, cmd, target, view, after, &|_, _| {});
+        let device = &self.context.device;
+        instrumentation::zero_counters(device, cmd, &self.buffers.counters);
+        let frame = self.frame_config(view, target.extent(), Commit::Never);
+        let counting = Instrumentation::CountEvaluations;
+        let _ = self.record_frame(analysis, counting, cmd, target, &frame, after, &|_, _| {});
+        instrumentation::storage_to_host(device, cmd, vk::PipelineStageFlags2::ALL_GRAPHICS);
     }
 
-    /// `record_with`, calling `stamp(Timed::PrePass, false)` before and `stamp(Timed::PrePass,
-    /// true)` after the pre-pass (both back to back where there is none), and the same around
-    /// each of its steps (`Timed::SkippedStep` where it does not run). Returns whether the
-    /// pre-pass ran.
+    /// The visibility buffer of `view` at `target`'s size: per pixel (rows from the top),
+    /// `Some((mesh, triangle))` with the triangle's index in its mesh, or `None`.
+    pub fn triangle_ids(&self, target: &RenderTarget, view: &View) -> Result<Vec<Option<(usize, usize)>>> {
+        let deferred = self.deferred()?;
+        let mut frame = self.frame_config(view, target.extent(), Commit::Never);
+        // The id pass draws every mesh whole.
+        frame.meshes_per_pixel.clear();
+        let image: FloatImage = target.render_and_read(&self.context, |cmd| {
+            let rec = Recorder {
+                device: &self.context.device,
+                cmd,
+                buffers: &self.buffers,
+                descriptors: &self.descriptors,
+            };
+            deferred.record_ids(&rec, &self.draws, &frame, target, AfterPass::Readback)
+        })?;
+        Ok(image
+            .pixels
+            .iter()
+            .map(|p| {
+                (p[3] > 0.0 && p[0] >= 1.0).then(|| {
+                    let mesh = p[0] as usize - 1;
+                    let first = self.draws.meshes[mesh].first_triangle as usize;
+                    (mesh, p[1] as usize - first)
+                })
+            })
+            .collect())
+    }
+}
+
+impl TimedFrames for Renderer {
+    fn context(&self) -> &Arc<Context> {
+        &self.context
+    }
+
+    fn guard_applies(&self, view: &View, extent: vk::Extent2D) -> bool {
+        self.guard_key(view, extent).is_some()
+    }
+
+    fn guard_decided(&self, view: &View, extent: vk::Extent2D) -> bool {
+        Renderer::guard_decided(self, view, extent)
+    }
+
+    fn guarded(&self, view: &View, extent: vk::Extent2D) -> View {
+        Renderer::guarded(self, view, extent)
+    }
+
+    fn report_frame_time(&self, view: &View, extent: vk::Extent2D, gpu_ms: f64) {
+        Renderer::report_frame_time(self, view, extent, gpu_ms)
+    }
+
     fn record_timed(
         &self,
-        variants: &[Variant],
         cmd: vk::CommandBuffer,
         target: &RenderTarget,
         view: &View,
-        after: AfterPass,
         stamp: &dyn Fn(Timed, bool),
-    ) -> bool {
-        let per_pixel = self.meshes_drawn_per_pixel(view, target.extent());
-        stamp(Timed::PrePass, false);
-        // No pre-pass where every mesh is drawn as `pixel` draws it.
-        let estimates = per_pixel.len() < self.draws.len() || per_pixel.contains(&false);
-        let compute = view.mode == Mode::Multirate && view.placement == Placement::Compute;
-        let pre_pass = compute && estimates;
-        if pre_pass {
-            self.record_triangle_levels(variants, cmd, view, target.extent(), stamp, &per_pixel);
-        } else if compute {
-            // Every step's interval is still written (empty), as the timing reads them.
-            for step in PrePassStep::ALL {
-                stamp(Timed::SkippedStep(step), false);
-                stamp(Timed::SkippedStep(step), true);
-            }
-        }
-        stamp(Timed::PrePass, true);
-        if view.mode == Mode::PixelDeferred {
-            let instrumentation = variants.first().map_or(Instrumentation::None, |v| v.instrumentation);
-            self.record_deferred(instrumentation, cmd, target, view, after);
-            return false;
-        }
-        let pick = |draw: &DrawCall, mesh_view: &View| variants[draw.pipeline].for_view(mesh_view);
-        let attachments = variants.first().map_or(Attachments::Color, |v| v.instrumentation.attachments());
-        let draws = Draws { pick: &pick, per_pixel: &per_pixel, emitters: true, clear: self.clear_color };
-        self.record_draws(&draws, cmd, target, attachments, view, after);
-        pre_pass
+    ) -> RecordedFrame {
+        let frame = self.frame_config(view, target.extent(), Commit::OnSubmit);
+        let variants = &self.pipelines.variants;
+        self.record_frame(variants, Instrumentation::None, cmd, target, &frame, AfterPass::Sampled, stamp)
     }
+
+    fn submitted(&self, frame: RecordedFrame) {
+        Renderer::submitted(self, frame)
+    }
+}
+
+/// Set 0 of the forward layout: the buffer each binding holds, in binding order
+/// (`gpu_interface::bindings::forward`, twin of `glsl/include/bindings.glsl`); the one place that
+/// says so.
+fn binding_table(scene: &SceneBuffers, pre_pass: &PrePassBuffers) -> [vk::Buffer; SCENE_BINDINGS] {
+    use crate::gpu_interface::bindings::forward as set_0;
+    in_binding_order(
+        &set_0::SCENE_BUFFERS,
+        [
+            (set_0::LIGHTS, scene.lights.raw),
+            (set_0::MATERIALS, scene.materials.raw),
+            (set_0::LEVEL_RECORDS, scene.level_records.raw),
+            (set_0::EVALUATION_COUNTERS, scene.counters.raw),
+            (set_0::POLYGON_LIGHTS, scene.polygon_lights.raw),
+            (set_0::TRIANGLE_LEVELS, pre_pass.triangle_levels.raw),
+            (set_0::TRIANGLE_NEIGHBOURS, pre_pass.triangle_neighbours.raw),
+            (set_0::SCENE_VERTICES, scene.vertices.raw),
+            (set_0::SCENE_INDICES, scene.indices.raw),
+            (set_0::VISIBLE_TRIANGLES, pre_pass.visible_triangles.raw),
+            (set_0::PATCH_COUNTS, pre_pass.patch_counts.raw),
+            (set_0::PATTERN_LEVELS, scene.pattern_levels.raw),
+            (set_0::PATCH_TESS_LEVELS, pre_pass.patch_levels.raw),
+            (set_0::INTERPOLATED_PATCHES, pre_pass.patch_lists[0].raw),
+            (set_0::FALLBACK_PATCHES, pre_pass.patch_lists[1].raw),
+            (set_0::INTERPOLATED_DRAWS, pre_pass.patch_draws[INTERPOLATED_LIST as usize].raw),
+            (set_0::FALLBACK_DRAWS, pre_pass.patch_draws[FALLBACK_LIST as usize].raw),
+            (set_0::FLAT_PATCHES, pre_pass.patch_lists[2].raw),
+            (set_0::FLAT_DRAWS, pre_pass.flat_draws.raw),
+            (set_0::LEVEL_DISPATCHES, pre_pass.level_dispatches.raw),
+            (set_0::REFINE_TRIANGLES, pre_pass.refine_triangles.raw),
+            (set_0::ESTIMATE_TRIANGLES, pre_pass.estimate_triangles.raw),
+            (set_0::FLAT_INDICES, pre_pass.flat_indices.raw),
+            (set_0::ESTIMATED_LEVELS, pre_pass.estimated_levels.raw),
+        ],
+    )
 }
 
 /// Renders `scene` headless at `width`×`height` with `view`.

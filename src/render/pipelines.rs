@@ -3,19 +3,18 @@
 //! holding its modes' pipelines built on first use; the shader modules they share; and the
 //! specialization constants they are built with.
 
+use super::frame_config::may_draw_per_pixel;
 use super::mode::{Mode, Placement};
-use super::pre_pass::refine_lanes;
-use super::scene_buffers::SceneGeometry;
+use super::multirate_config::MultirateConfig;
+use super::scene_geometry::SceneGeometry;
 use super::textures::SceneTextures;
 use super::view::View;
-use super::Renderer;
 use crate::error::Result;
 use crate::gpu_interface::specialization as spec;
 use crate::gpu_types::Vertex;
 use crate::scene::adjacency::PATCH_SIZE;
 use crate::scene::{PolygonSampling, Scene};
 use crate::shaders::{self, Features};
-use crate::shading::estimator::{Discontinuity, Split};
 use crate::vk::pipeline::{
     DepthUse, GraphicsPipelineDesc, Optimization, Pipeline, PipelineLayout, ShaderModule, Specialization,
     Stage,
@@ -116,30 +115,30 @@ impl Pipelines {
         };
         cell.get_or_init(|| self.new_variants(instrumentation, vk::PolygonMode::FILL))
     }
-}
 
-impl Renderer {
-    /// Builds the pipelines of `view`'s mode in each of `variants` that it lacks.
-    pub(super) fn prepare_variants(&self, variants: &[Variant], view: &View) -> Result<()> {
-        let (context, layout) = (&self.context, &self.descriptors.layout);
-        let pipelines = &self.pipelines;
-        for (variant, (_, specialization)) in variants.iter().zip(&pipelines.specializations) {
+    /// Builds the pipelines of `view`'s mode (in multirate mode, of `config`) in each of
+    /// `variants` that it lacks; `one_sided` per mesh (the back faces' per-pixel choice).
+    pub(super) fn prepare(
+        &self,
+        context: &Arc<Context>,
+        layout: &PipelineLayout,
+        variants: &[Variant],
+        view: &View,
+        config: &MultirateConfig,
+        one_sided: impl Iterator<Item = bool> + Clone,
+    ) -> Result<()> {
+        for (variant, (_, specialization)) in variants.iter().zip(&self.specializations) {
             if let Some(mode) = SingleMode::of(view.mode) {
                 build_once(variant.single_cell(mode), || {
-                    pipelines.modules.single(context, layout, variant, specialization, mode)
+                    self.modules.single(context, layout, variant, specialization, mode)
                 })?;
             } else if view.mode == Mode::Multirate {
-                build_once(variant.multirate_cell(view), || {
-                    pipelines.modules.multirate(context, layout, variant, specialization, view)
+                build_once(variant.multirate_cell(config), || {
+                    self.modules.multirate(context, layout, variant, specialization, config)
                 })?;
-                // The cost model may draw a mesh whole as `pixel` mode does
-                // (`Renderer::meshes_drawn_per_pixel`), and the pre-pass's lists leave a
-                // two-sided mesh's back faces to `pixel` mode's pipeline.
-                let back_faces =
-                    view.placement == Placement::Compute && self.draws.iter().any(|d| !d.one_sided);
-                if view.cost_model || back_faces {
+                if may_draw_per_pixel(view, one_sided.clone()) {
                     build_once(variant.single_cell(SingleMode::Pixel), || {
-                        pipelines.modules.single(context, layout, variant, specialization, SingleMode::Pixel)
+                        self.modules.single(context, layout, variant, specialization, SingleMode::Pixel)
                     })?;
                 }
             }
@@ -147,15 +146,23 @@ impl Renderer {
         Ok(())
     }
 
+    /// The pipeline that draws the emissive geometry into `attachments` (None without
+    /// polygonal lights, or before `prepare_analysis_emitter` for the analysis frames).
+    pub(super) fn emitter_for(&self, attachments: Attachments) -> Option<&Pipeline> {
+        match attachments {
+            Attachments::Color => self.emitter.as_ref(),
+            Attachments::ColorAndIds => self.analysis_emitter.get(),
+        }
+    }
+
     /// The emissive-geometry pipeline of the analysis variants, built on first use.
-    pub(super) fn prepare_analysis_emitter(&self) -> Result<()> {
-        let pipelines = &self.pipelines;
-        build_once(&pipelines.analysis_emitter, || {
-            pipelines.modules.emitter(
-                &self.context,
-                &self.descriptors.layout,
-                Instrumentation::CountEvaluations,
-            )
+    pub(super) fn prepare_analysis_emitter(
+        &self,
+        context: &Arc<Context>,
+        layout: &PipelineLayout,
+    ) -> Result<()> {
+        build_once(&self.analysis_emitter, || {
+            self.modules.emitter(context, layout, Instrumentation::CountEvaluations)
         })
     }
 }
@@ -218,6 +225,18 @@ pub(super) enum Instrumentation {
 }
 
 impl Instrumentation {
+    /// How many instrumentations there are.
+    pub(super) const COUNT: usize = 3;
+
+    /// Its index among the [`Instrumentation::COUNT`].
+    pub(super) fn index(self) -> usize {
+        match self {
+            Instrumentation::None => 0,
+            Instrumentation::RecordLevels => 1,
+            Instrumentation::CountEvaluations => 2,
+        }
+    }
+
     /// The attachments the variant's forward passes draw into.
     pub(super) fn attachments(self) -> Attachments {
         match self {
@@ -259,9 +278,6 @@ pub(super) struct Multirate {
     /// the tessellated patches shaded on their sub-vertices, and its fragment shader holds no
     /// shading code (multirate_interpolated.frag).
     lists: Option<ListPipelines<Pipeline>>,
-    /// `Placement::Compute`: the pre-pass: culling, the levels of the visible triangles, then
-    /// the patch levels, lists and indirect draws.
-    pub pre_pass: Option<PrePassPipelines>,
 }
 
 /// `Placement::Compute`: the pipelines of the pre-pass's fallback and flat patch lists.
@@ -284,21 +300,6 @@ pub(super) struct ListPipelines<P> {
     pub flat_fallback_prime: P,
 }
 
-/// The steps of the triangle-level pre-pass (`Placement::Compute`).
-pub(super) struct PrePassPipelines {
-    pub cull: Pipeline,
-    /// range_levels.comp, the range class's step.
-    pub range: Pipeline,
-    pub levels: Pipeline,
-    /// triangle_levels.comp without specular code (`SPECULAR_ALL_CAPPED`), over the triangles
-    /// whose every light's specular part is capped: for a specular material without polygonal
-    /// lights (no other variant lists such triangles).
-    pub capped_levels: Option<Pipeline>,
-    /// refine_levels.comp, the refining step.
-    pub refine: Pipeline,
-    pub patches: Pipeline,
-}
-
 impl Variant {
     /// A variant of `features` (its `instrumentation` compiled in), no pipeline built yet.
     fn new(features: Features, instrumentation: Instrumentation, polygon_mode: vk::PolygonMode) -> Variant {
@@ -313,8 +314,8 @@ impl Variant {
         }
     }
 
-    /// The pipeline of `view` (None: not yet prepared).
-    pub(super) fn for_view(&self, view: &View) -> Option<MeshPipelines> {
+    /// The pipelines of `view` (in multirate mode, of `config`; None: not yet prepared).
+    pub(super) fn for_view(&self, view: &View, config: &MultirateConfig) -> Option<MeshPipelines> {
         let one = |pipeline: &Pipeline| MeshPipelines { first: pipeline.raw, lists: None, back_faces: None };
         match view.mode {
             Mode::Pixel | Mode::Vertex | Mode::Fixed(_) => {
@@ -322,7 +323,7 @@ impl Variant {
             }
             // Drawn by `record_deferred`, with its own pipelines.
             Mode::PixelDeferred => None,
-            Mode::Multirate => self.multirate_cell(view).get().map(|m| MeshPipelines {
+            Mode::Multirate => self.multirate_cell(config).get().map(|m| MeshPipelines {
                 first: m.draw.raw,
                 lists: m.lists.as_ref().map(|l| ListPipelines {
                     fallback: l.fallback.raw,
@@ -344,27 +345,21 @@ impl Variant {
         }
     }
 
-    pub(super) fn multirate_cell(&self, view: &View) -> &OnceCell<Multirate> {
-        let placement = usize::from(view.placement == Placement::Compute);
-        &self.multirate[placement][split_id(view.estimator.split) as usize]
-            [discontinuity_id(view.estimator.discontinuity) as usize]
+    /// The multirate pipelines of `config`'s placement, split and discontinuity handling.
+    pub(super) fn multirate_cell(&self, config: &MultirateConfig) -> &OnceCell<Multirate> {
+        let placement = usize::from(config.placement == Placement::Compute);
+        let (split, discontinuity) = config.estimator_ids();
+        &self.multirate[placement][split as usize][discontinuity as usize]
     }
 }
 
-/// The value of `spec::SPLIT` for `split`.
-fn split_id(split: Split) -> i32 {
-    match split {
-        Split::Uniform => 0,
-        Split::Heuristic => 1,
-    }
-}
-
-/// The value of `spec::DISCONTINUITY` for `discontinuity`.
-fn discontinuity_id(discontinuity: Discontinuity) -> i32 {
-    match discontinuity {
-        Discontinuity::Conservative => 0,
-        Discontinuity::Relaxed => 1,
-    }
+/// `specialization` with the estimator's `SPLIT` and `DISCONTINUITY` of `config`.
+pub(super) fn estimator_specialization(
+    specialization: &Specialization,
+    config: &MultirateConfig,
+) -> Specialization {
+    let (split, discontinuity) = config.estimator_ids();
+    specialization.clone().int(spec::SPLIT.id, split).int(spec::DISCONTINUITY.id, discontinuity)
 }
 
 /// The pipelines that draw one mesh.
@@ -559,22 +554,21 @@ impl Modules {
         Pipeline::graphics(context, &scene_pipeline("emissive geometry", stages, layout, instrumentation))
     }
 
-    /// The multirate pipelines of `variant` for `view`'s estimator placement, split and
-    /// discontinuity handling.
+    /// The multirate pipelines of `variant` for `config`'s estimator placement, split and
+    /// discontinuity handling (the pre-pass's own are `pre_pass::pipelines`).
     fn multirate(
         &self,
         context: &Arc<Context>,
         layout: &PipelineLayout,
         variant: &Variant,
         specialization: &Specialization,
-        view: &View,
+        config: &MultirateConfig,
     ) -> Result<Multirate> {
-        let split = split_id(view.estimator.split);
-        let discontinuity = discontinuity_id(view.estimator.discontinuity);
-        let specialization =
-            specialization.clone().int(spec::SPLIT.id, split).int(spec::DISCONTINUITY.id, discontinuity);
+        let (split, discontinuity) = config.estimator_ids();
+        let specialization = estimator_specialization(specialization, config);
         let features = variant.features;
-        let (multirate_tesc, control_points, pre_pass, specialization) = match view.placement {
+        let compute = config.placement == Placement::Compute;
+        let (multirate_tesc, control_points, specialization) = match config.placement {
             // The analysis pipelines share multirate.tesc's instrumented module (its
             // `count_evaluations` variant); what it records or counts is specialised.
             Placement::Tcs => {
@@ -590,28 +584,27 @@ impl Modules {
                         spec::COUNT_CULLED_PATCHES.id,
                         variant.instrumentation == Instrumentation::CountEvaluations,
                     );
-                (module, PATCH_SIZE as u32, None, specialization)
+                (module, PATCH_SIZE as u32, specialization)
             }
             Placement::Compute => {
-                let pre_pass = PrePassPipelines::new(context, layout, variant, &specialization)?;
                 let module = variant_module(context, "multirate_levels.tesc", features)?;
-                (module, 3, Some(pre_pass), specialization)
+                (module, 3, specialization)
             }
         };
         let multirate_tese = variant_module(context, "multirate.tese", features)?;
         let multirate_frag = variant_module(context, "multirate.frag", features)?;
         let name = format!(
             "multirate mode, estimator {}, material kind {}, split {split}, discontinuity {discontinuity}",
-            view.placement, features.material_kind
+            config.placement, features.material_kind
         );
         // The compute placement pulls the vertices of the pre-pass's patch lists.
-        let pull_vert = match pre_pass {
-            Some(_) => Some(ShaderModule::new(
+        let pull_vert = match compute {
+            true => Some(ShaderModule::new(
                 context,
                 "multirate_pull.vert",
                 shaders::single("multirate_pull.vert"),
             )?),
-            None => None,
+            false => None,
         };
         // `fragment` None: a depth prime (DepthUse::Prime).
         let graphics = |name: &str, fragment: Option<&ShaderModule>, depth_use| {
@@ -638,9 +631,9 @@ impl Modules {
                 },
             )
         };
-        if pre_pass.is_none() {
+        if !compute {
             let draw = graphics(&name, Some(&multirate_frag), DepthUse::Nearest)?;
-            return Ok(Multirate { draw, lists: None, pre_pass });
+            return Ok(Multirate { draw, lists: None });
         }
         let interpolated_frag = variant_module(context, "multirate_interpolated.frag", features)?;
         let draw =
@@ -671,42 +664,6 @@ impl Modules {
             flat(&format!("{name}, flat patches shaded per pixel, their depth"), None, DepthUse::Prime)?;
         let flat = flat(&format!("{name}, flat patches"), Some(&interpolated_frag), DepthUse::Nearest)?;
         let lists = ListPipelines { fallback, fallback_prime, flat, flat_fallback, flat_fallback_prime };
-        Ok(Multirate { draw, lists: Some(lists), pre_pass })
-    }
-}
-
-impl PrePassPipelines {
-    /// The pre-pass of `variant`, its estimator steps specialised with `specialization`.
-    fn new(
-        context: &Arc<Context>,
-        layout: &PipelineLayout,
-        variant: &Variant,
-        specialization: &Specialization,
-    ) -> Result<PrePassPipelines> {
-        let features = variant.features;
-        let module = variant_module(context, "triangle_levels.comp", features)?;
-        let name = format!("triangle levels, material kind {}", features.material_kind);
-        let optimization = variant.instrumentation.optimization();
-        let levels = Pipeline::compute(context, &name, layout, &module, Some(specialization), optimization)?;
-        let capped_levels = if features.material_kind != 0 && !features.polygon_lights {
-            let capped = specialization.clone().boolean(spec::SPECULAR_ALL_CAPPED.id, true);
-            let name =
-                format!("triangle levels, specular parts capped, material kind {}", features.material_kind);
-            Some(Pipeline::compute(context, &name, layout, &module, Some(&capped), optimization)?)
-        } else {
-            None
-        };
-        let module = variant_module(context, "range_levels.comp", features)?;
-        let name = format!("range class, material kind {}", features.material_kind);
-        let range = Pipeline::compute(context, &name, layout, &module, Some(specialization), optimization)?;
-        let module = variant_module(context, "refine_levels.comp", features)?;
-        let refining = specialization.clone().int(spec::REFINE_LANES.id, refine_lanes(&context.info) as i32);
-        let name = format!("triangle levels refined, material kind {}", features.material_kind);
-        let refine = Pipeline::compute(context, &name, layout, &module, Some(&refining), optimization)?;
-        let module = variant_module(context, "cull_triangles.comp", features)?;
-        let cull = Pipeline::compute(context, "triangle culling", layout, &module, None, optimization)?;
-        let module = variant_module(context, "patch_levels.comp", features)?;
-        let patches = Pipeline::compute(context, "patch levels", layout, &module, None, optimization)?;
-        Ok(PrePassPipelines { cull, range, levels, capped_levels, refine, patches })
+        Ok(Multirate { draw, lists: Some(lists) })
     }
 }

@@ -160,22 +160,28 @@ fn guards_are_kept_per_configuration_and_not_per_camera() {
     let path = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/bunny.toml"));
     let scene = crate::scene::Scene::load(path).expect("the bunny loads");
     let view = View { mode: Mode::Multirate, cost_model: true, ..View::of_scene(&scene) };
-    let extent = vk::Extent2D { width: 64, height: 48 };
-    let key = GuardKey::of(&view, extent).expect("a multirate view with the cost model is guarded");
+    let config = |view: &View, width| MultirateConfig {
+        placement: view.placement,
+        estimator: view.estimator,
+        extent: (width, 48),
+    };
+    let key = key_of(&view, &config(&view, 64)).expect("a multirate view with the cost model is guarded");
     let mut moved = view.clone();
     moved.camera.eye += glam::Vec3::X;
-    assert_eq!(GuardKey::of(&moved, extent), Some(key));
+    assert_eq!(key_of(&moved, &config(&moved, 64)), Some(key));
+    let nearer = view.with_eye_ball(0.5 * crate::render::EYE_BALL_SHARE);
+    assert_eq!(key_of(&nearer, &config(&nearer, 64)), Some(key), "the ball of eyes follows the camera");
     let mut finer = view.clone();
     finer.estimator.epsilon *= 0.5;
-    assert_ne!(GuardKey::of(&finer, extent), Some(key));
-    assert_ne!(GuardKey::of(&view, vk::Extent2D { width: 65, height: 48 }), Some(key));
+    assert_ne!(key_of(&finer, &config(&finer, 64)), Some(key));
+    assert_ne!(key_of(&view, &config(&view, 65)), Some(key));
     for unguarded in [
         View { cost_model: false, ..view.clone() },
         View { heat_map: true, ..view.clone() },
         View { wireframe: true, ..view.clone() },
         View { mode: Mode::Pixel, ..view.clone() },
     ] {
-        assert_eq!(GuardKey::of(&unguarded, extent), None, "{unguarded:?}");
+        assert_eq!(key_of(&unguarded, &config(&unguarded, 64)), None, "{unguarded:?}");
     }
     let mut guards = Guards::default();
     for _ in 0..PROBE_FRAMES {
@@ -183,7 +189,7 @@ fn guards_are_kept_per_configuration_and_not_per_camera() {
         guards.of(key).record(FramePath::Pixel, 10.0);
     }
     assert_eq!(guards.of(key).choice(), FramePath::Pixel);
-    let other = GuardKey::of(&finer, extent).expect("guarded");
+    let other = key_of(&finer, &config(&finer, 64)).expect("guarded");
     assert_eq!(guards.of(other).choice(), FramePath::Multirate, "a new configuration starts afresh");
     assert_eq!(guards.of(key).choice(), FramePath::Pixel, "the first keeps its choice");
 }

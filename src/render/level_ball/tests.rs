@@ -1,12 +1,14 @@
-use super::{next, BallKey, BallUse};
+use super::{next, BallUse};
+use crate::render::multirate_config::MultirateConfig;
+use crate::render::Placement;
 use crate::shading::estimator::EstimatorSettings;
 use glam::Vec3;
 
-fn key(eye_radius: f32) -> BallKey {
-    BallKey {
-        estimator: EstimatorSettings { eye_radius, ..EstimatorSettings::default() },
+fn key(eye_radius: f32) -> MultirateConfig {
+    MultirateConfig {
+        placement: Placement::Compute,
+        estimator: EstimatorSettings { eye_radius, min_estimated_area: 20.0, ..EstimatorSettings::default() },
         extent: (640, 480),
-        min_estimated_area: 20.0,
     }
 }
 
@@ -34,9 +36,13 @@ fn a_ball_lasts_while_the_eye_stays_in_it() {
 #[test]
 fn other_settings_begin_a_ball() {
     let (_, ball) = next(None, Vec3::ZERO, key(1.0));
-    let other = BallKey { min_estimated_area: 0.0, ..key(1.0) };
+    let other = MultirateConfig {
+        estimator: EstimatorSettings { min_estimated_area: 0.0, ..key(1.0).estimator },
+        ..key(1.0)
+    };
     assert_eq!(next(ball, Vec3::ZERO, other).0, BallUse::Begin { radius: 1.0 });
-    let finer = BallKey { estimator: EstimatorSettings { epsilon: 0.01, ..key(1.0).estimator }, ..key(1.0) };
+    let finer =
+        MultirateConfig { estimator: EstimatorSettings { epsilon: 0.01, ..key(1.0).estimator }, ..key(1.0) };
     assert_eq!(next(ball, Vec3::ZERO, finer).0, BallUse::Begin { radius: 1.0 });
     assert_eq!(next(ball, Vec3::ZERO, key(0.0)), (BallUse::Off, None));
 }

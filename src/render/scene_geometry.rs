@@ -1,0 +1,208 @@
+//! The scene gathered on the CPU for upload ([`SceneGeometry`]): its meshes' vertices, triangles
+//! and adjacency, its polygonal lights' emissive fans, lights and materials, and one
+//! [`DrawCall`] per mesh and [`EmitterDraw`] per polygonal light saying where each lies.
+
+use super::textures::gpu_material;
+use crate::gpu_interface::flags::{FLAG_ONE_SIDED, FLAG_SHARED_CORNERS};
+use crate::gpu_types::{DrawConstants, GpuLight, GpuMaterial, GpuPolygonLight, Vertex};
+use crate::scene::adjacency::{adjacency_patches, neighbours};
+use crate::scene::{Light, MaterialKind, Mesh, Scene};
+
+/// One mesh's draw: where its triangles lie in the scene's buffers and what it is drawn with.
+pub(super) struct DrawCall {
+    /// Index of the mesh's first triangle in the scene.
+    pub first_triangle: u32,
+    pub first_index: u32,
+    pub index_count: u32,
+    /// Where this mesh's 12-index adjacency patches start in the patch index buffer.
+    pub first_patch_index: u32,
+    /// Back faces are culled (`Mesh::two_sided` false).
+    pub one_sided: bool,
+    /// Its material has no parameter map, so a flat patch's corner shades the same in every
+    /// triangle that shares it: the compute placement draws those patches indexed, from
+    /// `PrePassBuffers::flat_indices`.
+    pub shared_corners: bool,
+    pub material_index: u32,
+    pub mesh_index: u32,
+    /// The variant of its material kind (index into the renderer's variants).
+    pub pipeline: usize,
+}
+
+impl DrawCall {
+    /// `constants` with this mesh's fields: its material, its index and its flags.
+    pub(super) fn set_constants(&self, constants: &mut DrawConstants) {
+        constants.material_index = self.material_index;
+        constants.mesh_index = self.mesh_index;
+        let mesh_flags = FLAG_ONE_SIDED | FLAG_SHARED_CORNERS;
+        constants.flags = (constants.flags & !mesh_flags)
+            | if self.one_sided { FLAG_ONE_SIDED } else { 0 }
+            | if self.shared_corners { FLAG_SHARED_CORNERS } else { 0 };
+    }
+}
+
+/// The emissive geometry of one polygonal light: a triangle fan in the scene's buffers.
+pub(super) struct EmitterDraw {
+    pub first_index: u32,
+    pub index_count: u32,
+    pub light_index: u32,
+}
+
+/// The values of the shaders' MATERIAL_KIND (`Features::material_kind`).
+fn material_kind_id(kind: &MaterialKind) -> u32 {
+    match kind {
+        MaterialKind::Lambert { .. } => 0,
+        MaterialKind::BlinnPhong { .. } => 1,
+        MaterialKind::Ggx { .. } => 2,
+    }
+}
+
+/// The scene's lights in the order the shaders expect: point lights, then directional ones.
+pub fn gpu_lights(lights: &[Light]) -> (Vec<GpuLight>, i32, i32) {
+    let mut points = Vec::new();
+    let mut directionals = Vec::new();
+    for light in lights {
+        match *light {
+            Light::Point { position, color, intensity } => points
+                .push(GpuLight { position: position.extend(1.0), radiance: (color * intensity).extend(0.0) }),
+            Light::Directional { direction, color, intensity } => directionals.push(GpuLight {
+                position: direction.extend(0.0),
+                radiance: (color * intensity).extend(0.0),
+            }),
+            Light::Polygon(_) => {}
+        }
+    }
+    let counts = (points.len() as i32, directionals.len() as i32);
+    points.extend(directionals);
+    (points, counts.0, counts.1)
+}
+
+/// The scene's polygonal lights, in scene order (the shaders' `polygon_lights`).
+pub fn gpu_polygon_lights(lights: &[Light]) -> Vec<GpuPolygonLight> {
+    lights
+        .iter()
+        .filter_map(|light| match light {
+            Light::Polygon(p) => {
+                let mut vertices = [glam::Vec4::ZERO; 8];
+                for (out, v) in vertices.iter_mut().zip(p.vertices()) {
+                    *out = v.extend(1.0);
+                }
+                Some(GpuPolygonLight {
+                    vertices,
+                    normal: p.normal.extend(p.area),
+                    radiance: p.radiance().extend(0.0),
+                    info: glam::IVec4::new(p.count as i32, 0, 0, 0),
+                })
+            }
+            _ => None,
+        })
+        .collect()
+}
+
+/// The scene as its buffers hold it, gathered on the CPU: every mesh's vertices and
+/// triangles, then every polygonal light's emissive fan, in one vertex and one index array.
+#[derive(Default)]
+pub(super) struct SceneGeometry {
+    pub vertices: Vec<Vertex>,
+    pub indices: Vec<u32>,
+    /// Per triangle of the meshes: its 12-index adjacency patch.
+    pub patch_indices: Vec<u32>,
+    /// Per triangle of the meshes: the triangles across its edges (scene indices), then 0.
+    pub triangle_neighbours: Vec<[u32; 4]>,
+    /// One per mesh, in scene order.
+    pub draws: Vec<DrawCall>,
+    /// The material kinds the meshes use, in order of first use (`DrawCall::pipeline`).
+    pub kinds: Vec<u32>,
+    /// One per polygonal light, in scene order.
+    pub emitters: Vec<EmitterDraw>,
+    /// Triangles of the meshes; the emitters' come after them (level records cover the meshes
+    /// only).
+    pub triangle_count: usize,
+    /// Point lights, then directional ones ([`gpu_lights`]).
+    pub lights: Vec<GpuLight>,
+    pub point_count: i32,
+    pub directional_count: i32,
+    pub materials: Vec<GpuMaterial>,
+    pub polygon_lights: Vec<GpuPolygonLight>,
+}
+
+impl SceneGeometry {
+    /// The geometry, lights and materials of `scene`.
+    pub(super) fn of(scene: &Scene) -> SceneGeometry {
+        let mut geometry = SceneGeometry::default();
+        for (mesh_index, mesh) in scene.meshes.iter().enumerate() {
+            geometry.add_mesh(scene, mesh_index, mesh);
+        }
+        let (lights, point_count, directional_count) = gpu_lights(&scene.lights);
+        let materials: Vec<GpuMaterial> = scene.materials.iter().map(gpu_material).collect();
+        let polygon_lights = gpu_polygon_lights(&scene.lights);
+        // The emitters' triangles go after the meshes' (level records cover the meshes only).
+        let triangle_count = geometry.indices.len() / 3;
+        for (light_index, light) in polygon_lights.iter().enumerate() {
+            geometry.add_emitter(light_index, light);
+        }
+        SceneGeometry {
+            triangle_count,
+            lights,
+            point_count,
+            directional_count,
+            materials,
+            polygon_lights,
+            ..geometry
+        }
+    }
+
+    /// Appends mesh `mesh_index` of `scene`: its vertices, triangles, adjacency patches,
+    /// neighbours and draw.
+    fn add_mesh(&mut self, scene: &Scene, mesh_index: usize, mesh: &Mesh) {
+        let base = self.vertices.len() as u32;
+        self.vertices.extend(mesh.positions.iter().zip(&mesh.normals).enumerate().map(|(i, (p, n))| {
+            Vertex {
+                position: p.to_array(),
+                normal: n.to_array(),
+                uv: mesh.uvs.get(i).map_or([0.0; 2], |uv| uv.to_array()),
+            }
+        }));
+        let first_index = self.indices.len() as u32;
+        self.indices.extend(mesh.indices.iter().map(|i| i + base));
+        let first_patch_index = self.patch_indices.len() as u32;
+        self.patch_indices.extend(adjacency_patches(mesh).iter().map(|i| i + base));
+        let first_triangle = first_index / 3;
+        self.triangle_neighbours
+            .extend(neighbours(mesh).iter().map(|n| [n[0], n[1], n[2], 0].map(|t| t + first_triangle)));
+        let kind = material_kind_id(&scene.materials[mesh.material].kind);
+        let kinds = &mut self.kinds;
+        let pipeline = kinds.iter().position(|&k| k == kind).unwrap_or_else(|| {
+            kinds.push(kind);
+            kinds.len() - 1
+        });
+        self.draws.push(DrawCall {
+            first_triangle: first_index / 3,
+            first_index,
+            index_count: mesh.indices.len() as u32,
+            first_patch_index,
+            one_sided: !mesh.two_sided,
+            shared_corners: scene.materials[mesh.material].maps.parameter.is_none(),
+            material_index: mesh.material as u32,
+            mesh_index: mesh_index as u32,
+            pipeline,
+        });
+    }
+
+    /// Appends the emissive fan of polygonal light `light_index`.
+    fn add_emitter(&mut self, light_index: usize, light: &GpuPolygonLight) {
+        let base = self.vertices.len() as u32;
+        let count = light.info.x as u32;
+        self.vertices.extend(light.vertices[..count as usize].iter().map(|v| Vertex {
+            position: v.truncate().to_array(),
+            normal: light.normal.truncate().to_array(),
+            uv: [0.0; 2],
+        }));
+        let first_index = self.indices.len() as u32;
+        self.indices.extend((1..count - 1).flat_map(|j| [base, base + j, base + j + 1]));
+        self.emitters.push(EmitterDraw {
+            first_index,
+            index_count: self.indices.len() as u32 - first_index,
+            light_index: light_index as u32,
+        });
+    }
+}
