@@ -13,7 +13,8 @@
 //! `vertex`'s over the same fragments, a tessellated patch `fixed:1`'s time above `vertex`'s over
 //! the triangles, and a sub-vertex `fixed:4`'s above `fixed:1`'s over the sub-vertices it adds.
 
-use super::{run, BenchConfig, BenchScene, Progress, Row};
+use super::measure::{run, BenchConfig, BenchScene, Progress};
+use super::row::Row;
 use crate::error::Result;
 use crate::geometry::camera::view_projection;
 use crate::geometry::cull::{back_face_per_pixel, culled, PerPixelRule};

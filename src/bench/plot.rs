@@ -2,7 +2,7 @@
 //! lines through each series, a logarithmic x axis, and the Pareto front (no other point is
 //! both faster and more accurate) marked across all series.
 
-use super::Row;
+use super::row::Row;
 use crate::error::{Error, Result};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;

@@ -3,7 +3,7 @@
 //! per measured frame's forward pass, placed at its GPU timestamps, and one per pre-pass
 //! (`--estimator compute`) nested in it.
 
-use super::Row;
+use super::row::Row;
 use crate::render::Measurement;
 use crate::vk::timing::GpuInterval;
 use serde_json::{json, Value};

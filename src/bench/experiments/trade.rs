@@ -4,10 +4,11 @@
 //! table's (1920×1080 and 3840×2160), each table naming the scenes where multirate was slower than
 //! `pixel`; and the light-count sweep, the bunny lit by 1, 4, 16 and 64 point lights.
 
-use super::{config, create_results, header, load_scene, percent, write, ExperimentOptions, Plan};
+use super::setup::{config, create_results, header, load_scene, percent, write, ExperimentOptions, Plan};
 use crate::bench::calibrate::lit_by;
+use crate::bench::measure::{run, BenchScene, Progress};
+use crate::bench::row::{to_csv, Row};
 use crate::bench::twin::twin_cost;
-use crate::bench::{run, to_csv, BenchScene, Progress, Row};
 use crate::error::Result;
 use crate::render::Mode;
 use crate::vk::Context;
