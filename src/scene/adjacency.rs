@@ -12,7 +12,7 @@
 //! neighbour, or shared by more than two triangles (non-manifold), gets the triangle itself as
 //! its "neighbour"; at a non-manifold edge levels can then disagree.
 
-use super::Mesh;
+use super::model::Mesh;
 use std::collections::HashMap;
 
 /// Control points per patch of the adaptive (multirate) pipeline with `--estimator tcs`.

@@ -140,7 +140,8 @@ impl ObjProblem {
 
 /// Reads, checks, triangulates and transforms the OBJ file at `path`.
 pub(crate) fn load_obj(path: &Path, transform: &Transform) -> Result<TransformedMesh, ObjProblem> {
-    let bytes = super::read_file(path).map_err(|e| ObjProblem::new(format!("cannot read file: {e}")))?;
+    let bytes =
+        super::file::read_file(path).map_err(|e| ObjProblem::new(format!("cannot read file: {e}")))?;
     load_obj_bytes(&bytes, transform)
 }
 
@@ -160,8 +161,9 @@ pub(crate) fn parse_obj(
     bytes: &[u8],
     material_loader: &dyn Fn(&Path) -> tobj::MTLLoadResult,
 ) -> Result<ParsedObj, ObjProblem> {
-    let text = std::str::from_utf8(bytes)
-        .map_err(|e| ObjProblem::at(super::first_non_utf8_line(bytes, &e), "is not valid UTF-8 text"))?;
+    let text = std::str::from_utf8(bytes).map_err(|e| {
+        ObjProblem::at(super::file::first_non_utf8_line(bytes, &e), "is not valid UTF-8 text")
+    })?;
     prescan(text)?;
 
     // `..Default::default()` covers the fields that `tobj` has only with some of its features.
@@ -558,9 +560,13 @@ fn fmt_vec(v: Vec3) -> String {
 /// its corners are farthest apart around the axis: the corners before the cut get their own
 /// vertices with `u + 1` (positions and normals are copied, so the adjacency, which welds by
 /// position, still sees one surface), so every triangle takes its shortest way around.
-pub(crate) fn project_uvs(mesh: &mut super::Mesh, projection: super::UvProjection, scale: Vec2) {
-    use super::UvProjection as P;
-    let (lo, hi) = super::bounds_of(mesh.positions.iter().copied());
+pub(crate) fn project_uvs(
+    mesh: &mut super::model::Mesh,
+    projection: super::schema::UvProjection,
+    scale: Vec2,
+) {
+    use super::schema::UvProjection as P;
+    let (lo, hi) = super::model::bounds_of(mesh.positions.iter().copied());
     let centre = (lo + hi) * 0.5;
     let extent = (hi - lo).max(Vec3::splat(f32::MIN_POSITIVE));
     let turn = |d: Vec3| (d.x.atan2(d.z) / std::f32::consts::TAU + 0.5).clamp(0.0, 1.0);

@@ -24,11 +24,11 @@
 //! materials are different meshes: their shared edges may be subdivided differently (a
 //! T-junction, which leaves at most single-pixel cracks along material seams).
 
+use super::adjacency;
+use super::error::SceneError;
 use super::mesh::{self, ObjProblem, Transform};
+use super::model::{Camera, Light, Material, MaterialKind, MaterialMaps, Mesh, RenderSettings, Scene};
 use super::texture::{Texture, TextureUsage};
-use super::{
-    adjacency, Camera, Light, Material, MaterialKind, MaterialMaps, Mesh, RenderSettings, Scene, SceneError,
-};
 
 use std::cell::RefCell;
 use std::collections::BTreeMap;
@@ -49,7 +49,8 @@ const FOV_Y_DEGREES: f32 = 40.0;
 
 /// Reads the OBJ file at `path` and what it refers to, and makes a scene of it.
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
-    let bytes = super::read_file(path).map_err(|error| SceneError::Io { path: path.to_path_buf(), error })?;
+    let bytes =
+        super::file::read_file(path).map_err(|error| SceneError::Io { path: path.to_path_buf(), error })?;
     let folder = path.parent().unwrap_or(Path::new(""));
     let warnings = RefCell::new(Vec::new());
     let libraries: RefCell<Vec<Library>> = RefCell::new(Vec::new());
@@ -217,13 +218,14 @@ fn model_error(path: &Path, problem: ObjProblem) -> SceneError {
 /// The MTL file at `path` parsed, `None` when it cannot be read, an error naming the line when
 /// a number in it is malformed or not finite.
 fn read_library(path: &Path) -> Result<Option<tobj::MTLLoadResult>, SceneError> {
-    let Ok(bytes) = super::read_file(path) else {
+    let Ok(bytes) = super::file::read_file(path) else {
         return Ok(None);
     };
     let error =
         |line: Option<usize>, problem: String| SceneError::Model { path: path.to_path_buf(), line, problem };
-    let text = std::str::from_utf8(&bytes)
-        .map_err(|e| error(Some(super::first_non_utf8_line(&bytes, &e)), "is not valid UTF-8 text".into()))?;
+    let text = std::str::from_utf8(&bytes).map_err(|e| {
+        error(Some(super::file::first_non_utf8_line(&bytes, &e)), "is not valid UTF-8 text".into())
+    })?;
     check_numbers(text).map_err(|p| error(p.line, p.message))?;
     let parsed = tobj::load_mtl_buf(&mut text.as_bytes())
         .map_err(|e| error(None, format!("cannot be parsed as a material library: {e}")))?;
@@ -423,7 +425,7 @@ fn viewing_side(meshes: &[Mesh]) -> Vec3 {
 /// A camera that frames `meshes` whole (the sphere about their bounds' centre that holds
 /// them), and the lights that follow it.
 fn frame(path: &Path, meshes: &[Mesh]) -> Result<(Camera, Vec<Light>), SceneError> {
-    let (lo, hi) = super::bounds_of(meshes.iter().flat_map(|m| m.positions.iter().copied()));
+    let (lo, hi) = super::model::bounds_of(meshes.iter().flat_map(|m| m.positions.iter().copied()));
     let centre = (lo + hi) * 0.5;
     let radius = meshes.iter().flat_map(|m| &m.positions).map(|p| p.distance(centre)).fold(0.0, f32::max);
     if radius <= 0.0 {

@@ -3,7 +3,8 @@
 //! [`SceneError`] naming the line. Unknown keys are errors; which keys a material or light type
 //! needs or allows, and every range, is checked in `validate.rs`.
 
-use super::{PolygonSampling, RenderSettings, SceneError};
+use super::error::SceneError;
+use super::model::{PolygonSampling, RenderSettings};
 
 use std::fmt;
 use std::path::{Path, PathBuf};

@@ -3,15 +3,17 @@
 //! the scene's floating origin. Each [`SceneError`] names the file, the item (`[[meshes]] #2
 //! ("bunny.obj")`, `[camera]`) and the problem.
 
+use super::error::SceneError;
+use super::model::{
+    bounds_of, Camera, Light, LightSampling, Material, MaterialKind, MaterialMaps, Mesh, ParameterMap,
+    ParameterMapping, PolygonLight, RenderSettings, Scene,
+};
 use super::schema::{
     CameraFile, LightFile, LightType, MaterialFile, MaterialType, MeshFile, RenderFile, Scale, SceneFile,
 };
 use super::settings::{check_n_max, range_text, IMAGE_SIZE_RANGE, N_MAX_RANGE};
 use super::texture::{MinMaxPyramid, Texture, TextureUsage};
-use super::{
-    adjacency, bounds_of, mesh, Camera, Light, LightSampling, Material, MaterialKind, MaterialMaps, Mesh,
-    ParameterMap, ParameterMapping, PolygonLight, RenderSettings, Scene, SceneError,
-};
+use super::{adjacency, mesh};
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;

@@ -9,7 +9,7 @@
 
 use glam::{IVec2, Vec2};
 
-use super::{MipLevel, Texture, TextureUsage};
+use super::image::{MipLevel, Texture, TextureUsage};
 
 /// One 8-bit UNORM step, 1/255 as an f32. [`MinMaxPyramid::query`] and its GPU twin multiply by
 /// it (a product is correctly rounded on the GPU, a quotient need not be); `c · step` may differ
