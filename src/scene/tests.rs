@@ -1,6 +1,8 @@
 //! Tests of scene loading: the schema, every kind of error, and the shipped scenes.
 
 use super::*;
+use glam::Vec2;
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// A fresh folder under the system temporary folder, removed when dropped (also used by the

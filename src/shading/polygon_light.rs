@@ -6,7 +6,7 @@
 //! - **diffuse** `kd · L · Ω⊥(x)`, with `Ω⊥` the closed-form projected solid angle of the polygon
 //!   clipped to the horizon: exact, no samples, no noise.
 //! - **specular** `∫ f(ω) dω` with `f = L · ρₛ(ω)` (Blinn-Phong `ks (n·h)^s`, GGX `D F V (n·l)/4`,
-//!   the integrands whose point-light versions are in [`super::reflect_split`]) estimated with
+//!   the integrands whose point-light versions are in [`super::reflect::reflect_split`]) estimated with
 //!   `N` light samples (projected solid angle, Algorithms 1–4, or solid angle, Algorithm 5) and
 //!   `N` BRDF samples, combined by clamped optimal MIS (B.3) with visibility estimate `v`:
 //!   `S = 1/N Σᵢ [w_l f/p_l (ωᵢ) + w_b f/p_b (ω'ᵢ)]`.
@@ -25,7 +25,7 @@ use super::polygon::{
     sample_projected_solid_angle, sample_solid_angle, solid_angle_density, Polygon,
     ProjectedSolidAngleSampler, SolidAngleSampler,
 };
-use super::reflect_split;
+use super::reflect::reflect_split;
 use crate::scene::{MaterialKind, PolygonLight, PolygonSampling};
 use glam::Vec3;
 use std::f32::consts::PI;

@@ -10,7 +10,6 @@
 use super::cone::unit;
 use super::constants::{Sign, CORNER_VALUE_MARGIN, REFINE_CHILDREN, REFINE_SHARE, SAFETY, TERMINATOR_KINK};
 use super::decide::level_for;
-use super::estimate::{Reason, TriangleInput, TERM_COUNT};
 use super::frame::Frame;
 use super::irradiance::light_jets;
 use super::jet::{Guard, Jet};
@@ -20,6 +19,7 @@ use super::patch_levels::pattern_level;
 use super::range::SpecularCaps;
 use super::settings::{Discontinuity, Split};
 use super::terminator::{lobe_band_share, view_band, TerminatorBand};
+use super::terms::{Reason, TriangleInput, TERM_COUNT};
 use crate::exact_math::est_pow;
 use crate::scene::{Light, MaterialKind, ParameterRange};
 use crate::shading::brdf::MIN_LIGHT_DISTANCE_SQUARED;

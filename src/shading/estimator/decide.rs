@@ -6,10 +6,10 @@
 //! on every triangle of the shipped scenes, bit for bit).
 
 use super::constants::UNIFORM_TINY;
-use super::estimate::{Estimate, Reason, Term, TERM_COUNT};
 use super::light_setup::{Sums, GRID_LEVELS};
 use super::patch_levels::{pattern_level, uniform_level, FALLBACK_LEVEL};
 use super::settings::Split;
+use super::terms::{Estimate, Reason, Term, TERM_COUNT};
 use glam::Vec3;
 
 /// Smallest real `n > 0` with `a/n² + b/n + c ≤ eps` (`∞` if none).

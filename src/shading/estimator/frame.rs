@@ -8,9 +8,9 @@
 
 use super::cone::{bilinear_range, cone_of, min_length, psi_range, unit, Cone, NO_CONE};
 use super::constants::{Sign, ANGLE_PAD, BALL_SLACK_PAD, MAX_HALF, RADIAL_PAD};
-use super::estimate::TriangleInput;
 use super::jet::max_sin;
 use super::pattern::{jung_scales, pattern_constants, Scale};
+use super::terms::TriangleInput;
 use crate::exact_math::{est_acos, est_asin};
 use glam::Vec3;
 use std::f32::consts::{FRAC_PI_2, PI};

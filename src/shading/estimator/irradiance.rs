@@ -7,12 +7,12 @@
 //! on every triangle of the shipped scenes, bit for bit).
 
 use super::constants::{Sign, K23, TILT_FLAT, TILT_PEAK};
-use super::estimate::Term;
 use super::frame::Frame;
 use super::jet::{cosine, cosine_at, curvature, jet_max, product, scaled, Angles, Field, Guard, Jet, NO_H};
 use super::light_setup::LightSetup;
 use super::lobe::{fresnel_jet, ggx_factor_jets, half_cosine_jet, power_jet};
 use super::pattern::Scale;
+use super::terms::Term;
 use crate::exact_math::est_sin;
 use crate::scene::{MaterialKind, ParameterRange};
 use crate::shading::brdf::ggx_alpha;

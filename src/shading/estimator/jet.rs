@@ -7,7 +7,7 @@
 //! on every triangle of the shipped scenes, bit for bit).
 
 use super::constants::{BIG, K23};
-use super::estimate::{Term, TERM_COUNT};
+use super::terms::{Term, TERM_COUNT};
 use crate::exact_math::{est_atan2, est_cos, est_pow, est_sin};
 use std::cell::Cell;
 use std::f32::consts::FRAC_PI_2;

@@ -12,9 +12,9 @@ use super::cone::{
     psi_range, unit, Cone, NO_CONE,
 };
 use super::constants::{Sign, ANGLE_PAD, K23, MAX_HALF, MIRROR_WORTH};
-use super::estimate::{Reason, TERM_COUNT};
 use super::frame::{cosine_range, cosine_range_of, plane_sin, Frame};
 use super::settings::Discontinuity;
+use super::terms::{Reason, TERM_COUNT};
 use crate::exact_math::{est_acos, est_asin, est_cos, est_sin};
 use crate::scene::{Light, MaterialKind, ParameterRange, PolygonLight};
 use crate::shading::brdf::MIN_LIGHT_DISTANCE_SQUARED;
@@ -113,7 +113,7 @@ pub(super) struct Sums {
     pub(super) jumps1: Vec3,
     /// ...and the light parts bounded by their range, reported as [`Term::Range`].
     ///
-    /// [`Term::Range`]: super::estimate::Term::Range
+    /// [`Term::Range`]: super::terms::Term::Range
     pub(super) range: Vec3,
     /// The level-1 bound, per light and part the smaller of its interpolation bound and its
     /// range.

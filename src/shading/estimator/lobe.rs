@@ -8,9 +8,9 @@
 //! on every triangle of the shipped scenes, bit for bit).
 
 use super::constants::{Sign, K23, SAFETY};
-use super::estimate::Term;
 use super::jet::{chain, cosine, curvature, max_cos_sin, scaled, Curvature, Field, Guard, Jet, NO_H};
 use super::light_setup::LightSetup;
+use super::terms::Term;
 use crate::exact_math::{est_cos, est_log2, est_pow, est_sin};
 use crate::scene::{MaterialKind, ParameterRange, PolygonLight, PolygonSampling};
 use crate::shading::brdf::{ggx_alpha, ggx_d};

@@ -5,6 +5,7 @@
 //! | `src/exact_math.rs` | `exact_math.glsl` | `control_stage_levels_equal_the_twin` |
 //! | `mod.rs` | `estimator.glsl` | `control_stage_levels_equal_the_twin` |
 //! | `constants.rs` | `estimator/constants.glsl` | `control_stage_levels_equal_the_twin` |
+//! | `terms.rs` | `estimator/estimate.glsl` (its declarations) | `control_stage_levels_equal_the_twin` |
 //! | `estimate.rs` | `estimator/estimate.glsl` | `control_stage_levels_equal_the_twin` |
 //! | `jet.rs` | `estimator/jet.glsl` | `control_stage_levels_equal_the_twin` |
 //! | `cone.rs` | `estimator/cone.glsl` | `control_stage_levels_equal_the_twin` |
@@ -60,6 +61,25 @@
 //! The per-triangle path does not allocate and has no data-dependent loops besides the
 //! one over lights; it is written in f32 with saturating guards so that no input produces
 //! NaN or an infinite level (an overflowing bound means fallback, never a smaller `n`).
+//!
+//! Files, bottom to top: each imports through `super::` only from those listed before it.
+//! 1. [`settings`]: the estimator's settings.
+//! 2. [`constants`]: the constants: geometric ones, paddings, thresholds.
+//! 3. [`terms`]: one triangle's input, the estimate, its terms and fallback reasons.
+//! 4. [`pattern_table`]: the effective level of every hardware pattern, generated.
+//! 5. [`patch_levels`]: shared edges and mixed patterns: a patch's crack-free levels.
+//! 6. [`pattern`]: the hardware pattern's sub-triangle shapes and their constants.
+//! 7. [`jet`]: jet arithmetic: a factor's value and derivative bounds.
+//! 8. [`cone`]: cones of directions and the angle ranges they give.
+//! 9. [`frame`]: the scale-free quantities of one triangle.
+//! 10. [`light_setup`]: what one light looks like from the triangle, and the sums of the bounds.
+//! 11. [`lobe`]: the BRDF factors' jets.
+//! 12. [`irradiance`]: one light's jets at one pattern scale.
+//! 13. [`terminator`]: relaxed discontinuity bounds across the terminator.
+//! 14. [`range`]: the range class: triangles whose shading provably varies by at most ε.
+//! 15. [`decide`]: from the summed bounds to the level, or per-pixel fallback.
+//! 16. [`add_light`]: one light's bounds added to the sums.
+//! 17. [`estimate`]: the entry points and the loop over the lights.
 
 // `!(x > y)` is used on purpose throughout: it is also true for NaN, which must mean "no bound".
 #![allow(clippy::neg_cmp_op_on_partial_ord, clippy::needless_range_loop)]
@@ -80,10 +100,9 @@ mod pattern_table;
 mod range;
 mod settings;
 mod terminator;
+mod terms;
 
-pub use estimate::{
-    estimate, estimate_textured, Estimate, Reason, Term, TriangleInput, TERM_COUNT, TERM_NAMES,
-};
+pub use estimate::{estimate, estimate_textured};
 pub use patch_levels::{
     patch_levels, pattern_level, pattern_level_entry, uniform_level, PatchLevels, FALLBACK_LEVEL,
 };
@@ -91,6 +110,7 @@ pub use pattern::{pattern_constants, PatternConstants, SHAPES};
 pub use pattern_table::PATTERN_LEVELS;
 pub use range::settled_by_range;
 pub use settings::{Discontinuity, EstimatorSettings, Split};
+pub use terms::{Estimate, Reason, Term, TriangleInput, TERM_COUNT, TERM_NAMES};
 
 #[cfg(test)]
 mod tests;

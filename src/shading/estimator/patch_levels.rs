@@ -14,7 +14,7 @@ use super::pattern_table::PATTERN_LEVELS;
 /// [`Estimate::level`] of a triangle that falls back to per-pixel shading: above every
 /// effective level, so it raises the shared edges to `n_max`.
 ///
-/// [`Estimate::level`]: super::estimate::Estimate::level
+/// [`Estimate::level`]: super::terms::Estimate::level
 pub const FALLBACK_LEVEL: f32 = 1.0e6;
 
 /// Levels of one patch as the control stage writes them (whole numbers; the driver rounds
@@ -71,7 +71,7 @@ pub fn uniform_level(level: f32, n_max: u32) -> u32 {
 /// triangle itself falls back, the patch is shaded per pixel (inner 1) and keeps its outer
 /// levels.
 ///
-/// [`Estimate::level`]: super::estimate::Estimate::level
+/// [`Estimate::level`]: super::terms::Estimate::level
 pub fn patch_levels(own: f32, neighbours: [f32; 3], n_max: u32) -> PatchLevels {
     let n_max = n_max.clamp(1, 64);
     let own_n = uniform_level(own, n_max);

@@ -341,7 +341,7 @@ pub(super) fn range_proves(bound: Option<Vec3>, eps: f32) -> bool {
 /// Whether the range class settles the triangle (level 1 without an estimate) for every eye
 /// within `eye_radius` of `tri.eye`, as [`estimate_textured`](super::estimate_textured) decides it.
 pub fn settled_by_range(
-    tri: &super::TriangleInput,
+    tri: &super::terms::TriangleInput,
     material: &MaterialKind,
     parameter: ParameterRange,
     lights: &[Light],

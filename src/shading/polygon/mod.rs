@@ -67,6 +67,16 @@
 //! swamps every sector area, sectors are selected by angle (see [`prepare_projected_solid_angle`]).
 //! A sweep over 10⁶ random polygons (the distribution of the test `random_polygons_sample_inside`,
 //! 2.6·10⁷ samples) found no sample farther outside than 2·10⁻⁶ + 4ε/z radians.
+//!
+//! Files, bottom to top: each imports through `super::` only from those listed before it.
+//! 1. [`arithmetic`]: cancellation-free arithmetic helpers.
+//! 2. [`types`]: the module's constants and plain data.
+//! 3. [`clip`]: clipping a polygon to the horizon.
+//! 4. [`closed_form`]: the closed-form projected solid angle.
+//! 5. [`ellipse`]: the ellipses the edges project to, and their sector areas.
+//! 6. [`mis`]: clamped optimal MIS weights and the fixed point set.
+//! 7. [`projected_sampling`]: projected-solid-angle sampling.
+//! 8. [`solid_angle_sampling`]: solid-angle sampling of the triangle fan.
 
 #![allow(clippy::needless_range_loop)] // index loops with fixed bounds mirror the GLSL twin
 

@@ -1,5 +1,7 @@
 use super::*;
+use crate::scene::texture::{MinMaxPyramid, PowerSat, PYRAMID_SLACK};
 use crate::shading::tonemap::srgb_encode;
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// A fresh folder under the system temporary folder, removed when dropped.

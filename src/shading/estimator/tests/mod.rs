@@ -15,6 +15,7 @@ use super::patch_levels::*;
 use super::pattern::*;
 use super::settings::*;
 use super::terminator::*;
+use super::terms::*;
 use crate::analysis::tessellator::{triangle_pattern, Pattern};
 use crate::exact_math::*;
 use crate::scene::{Light, MaterialKind, ParameterRange};
