@@ -39,11 +39,11 @@ void main() {
             atomicAdd(level_dispatches[level_dispatch(PATCH_DISPATCH)].x, 1u);
         }
     } else {
-        uint slot = atomicAdd(level_dispatches[level_dispatch(ESTIMATE_DISPATCH)].w, 1u);
+        uint slot = atomicAdd(level_dispatches[level_dispatch(RANGE_DISPATCH)].w, 1u);
         visible_triangles[draw.patch_base + slot] = triangle;
         // Each PRE_PASS_GROUP-th triangle to estimate opens one more workgroup of both steps.
         if (slot % PRE_PASS_GROUP == 0u) {
-            atomicAdd(level_dispatches[level_dispatch(ESTIMATE_DISPATCH)].x, 1u);
+            atomicAdd(level_dispatches[level_dispatch(RANGE_DISPATCH)].x, 1u);
             atomicAdd(level_dispatches[level_dispatch(PATCH_DISPATCH)].x, 1u);
         }
     }

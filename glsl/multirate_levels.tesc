@@ -1,8 +1,8 @@
 #version 460
 // variants: textured count_evaluations
 // `multirate` mode, `--estimator compute`: the compute pre-pass has written the patch levels of
-// every visible triangle (patch_levels.comp) and listed it for one of the mesh's two draws
-// (multirate_pull.vert); the control stage only reads its levels. The patch is the triangle's
+// every visible triangle (patch_levels.comp) and listed it in one of the mesh's patch lists,
+// whose tessellated ones are drawn through this stage (multirate_pull.vert); the control stage only reads its levels. The patch is the triangle's
 // three vertices.
 #include "multirate_patch.glsl"
 

@@ -1,6 +1,6 @@
 #version 460
 // variants: record_levels
-// `multirate` mode, `--estimator compute`, third step: one invocation per visible triangle of
+// `multirate` mode, `--estimator compute`, the patch step (the last): one invocation per visible triangle of
 // a mesh combines its level and its neighbours' (triangle_levels, written by
 // triangle_levels.comp) into the tessellation levels of its patch (estimator/patch_levels.glsl,
 // `patch_levels`), writes them to patch_tess_levels, and appends the triangle to one of the
@@ -18,17 +18,17 @@ layout(local_size_x = PRE_PASS_GROUP) in;
 // (cull_triangles.comp): the workgroups of the estimated triangles come first, then those of
 // the back faces, listed from the end.
 bool covers_back_faces() {
-    return gl_WorkGroupID.x >= level_dispatches[level_dispatch(ESTIMATE_DISPATCH)].x;
+    return gl_WorkGroupID.x >= level_dispatches[level_dispatch(RANGE_DISPATCH)].x;
 }
 
 // The listed triangle this invocation covers; ~0u past its list's count.
 uint listed_triangle(bool back_faces) {
     if (!back_faces) {
         uint local = gl_GlobalInvocationID.x;
-        uint estimated = level_dispatches[level_dispatch(ESTIMATE_DISPATCH)].w;
+        uint estimated = level_dispatches[level_dispatch(RANGE_DISPATCH)].w;
         return local < estimated ? visible_triangles[draw.patch_base + local] : ~0u;
     }
-    uint first = level_dispatches[level_dispatch(ESTIMATE_DISPATCH)].x;
+    uint first = level_dispatches[level_dispatch(RANGE_DISPATCH)].x;
     uint back = (gl_WorkGroupID.x - first) * PRE_PASS_GROUP + gl_LocalInvocationID.x;
     return back < level_dispatches[level_dispatch(PATCH_DISPATCH)].w
         ? visible_triangles[draw.patch_base + draw.triangle_count - 1u - back]

@@ -19,7 +19,7 @@ layout(local_size_x = PRE_PASS_GROUP) in;
 
 void main() {
     uint local = gl_GlobalInvocationID.x;
-    if (local >= level_dispatches[level_dispatch(ESTIMATE_DISPATCH)].w) {
+    if (local >= level_dispatches[level_dispatch(RANGE_DISPATCH)].w) {
         return;
     }
     uint triangle = visible_triangles[draw.patch_base + local];

@@ -1,6 +1,6 @@
 #version 460
 // variants: material_kind polygon_lights textured
-// `multirate` mode, `--estimator compute`, third step: one invocation per triangle to estimate of a
+// `multirate` mode, `--estimator compute`, the estimator step: one invocation per triangle to estimate of a
 // mesh that the range class does not settle (listed by range_levels.comp) writes its level
 // (triangle_level.glsl) to triangle_levels, once per frame, before the forward pass;
 // patch_levels.comp then combines each patch's levels and the control stage only reads them.

@@ -92,7 +92,7 @@ layout(set = 0, binding = 17, std430) buffer FlatPatches { uint flat_patches[]; 
 layout(set = 0, binding = 18, std430) buffer FlatDraws { uvec4 flat_draws[]; };
 // Per mesh, the pre-pass's five indirect dispatches and the lengths of their lists
 // (`VkDispatchIndirectCommand` in xyz, the length in w; the host resets each to (0, 1, 1, 0)):
-// level_dispatch(ESTIMATE_DISPATCH) of the range step, one workgroup per PRE_PASS_GROUP
+// level_dispatch(RANGE_DISPATCH) of the range step, one workgroup per PRE_PASS_GROUP
 // triangles to estimate, w their count; level_dispatch(PATCH_DISPATCH) of the patch step, those
 // workgroups first, then one per PRE_PASS_GROUP back faces, w their count; both counted by the
 // culling step. level_dispatch(REFINE_DISPATCH) of the refining step over the triangles the
@@ -144,7 +144,7 @@ void write_flat_corners(uint triangle, bool shaded) {
 
 // The per-mesh slots of the pre-pass's indirect buffers (`src/gpu_interface/slots.rs`).
 const uint LEVEL_DISPATCHES = 5u;
-const uint ESTIMATE_DISPATCH = 0u;
+const uint RANGE_DISPATCH = 0u;
 const uint PATCH_DISPATCH = 1u;
 const uint REFINE_DISPATCH = 2u;
 const uint FULL_ESTIMATE_DISPATCH = 3u;

@@ -134,7 +134,7 @@ fn sample(scene: &Scene, lights: usize, [rows, per_pixel, tessellated]: [&[Row];
         (find(tessellated, "vertex"), find(tessellated, "fixed:1"), find(tessellated, "fixed:4"));
     // The range class runs on every listed triangle before the area rule (`small_per_pixel`), so
     // what an image too small to pay would cost is the full estimate.
-    let estimate_ms = multirate.pre_pass_steps_ms.map_or(0.0, |steps| steps[PrePassStep::Levels as usize]);
+    let estimate_ms = multirate.pre_pass_steps_ms.map_or(0.0, |steps| steps[PrePassStep::Estimate as usize]);
     let estimated_triangles = estimated_triangles(scene).max(1);
     let fragments = pixel.evaluations.fragments.max(1);
     let patches = level_1.triangles.max(1);

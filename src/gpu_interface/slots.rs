@@ -13,7 +13,7 @@ named_constants! {
     LEVEL_DISPATCHES = 5;
     /// The range step's dispatch (`range_levels.comp`) over the triangles to estimate, counted
     /// by the culling step.
-    ESTIMATE_DISPATCH = 0;
+    RANGE_DISPATCH = 0;
     /// The patch step's dispatch (`patch_levels.comp`), counted by the culling step.
     PATCH_DISPATCH = 1;
     /// The refining step's dispatch (`refine_levels.comp`), counted by the estimator step.

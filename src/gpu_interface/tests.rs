@@ -43,7 +43,7 @@ fn flags_are_distinct_bits() {
 
 #[test]
 fn slots_lie_within_their_counts() {
-    for slot in [slots::ESTIMATE_DISPATCH, slots::PATCH_DISPATCH, slots::REFINE_DISPATCH] {
+    for slot in [slots::RANGE_DISPATCH, slots::PATCH_DISPATCH, slots::REFINE_DISPATCH] {
         assert!(slot < slots::LEVEL_DISPATCHES);
     }
     let in_range = |slots: &[u32], count: u32| {

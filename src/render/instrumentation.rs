@@ -20,8 +20,8 @@ use ash::vk;
 pub struct Measurement {
     /// When the forward pass ran in every measured frame, in submission order.
     pub frames: Vec<GpuInterval>,
-    /// `Placement::Compute`: when the triangle-level pre-pass (culling, triangle levels, patch
-    /// levels and lists; part of the frame) ran, in every measured frame that ran it (not those
+    /// `Placement::Compute`: when the triangle-level pre-pass (its steps: culling, range,
+    /// estimator, refining, patch; part of the frame) ran, in every measured frame that ran it (not those
     /// whose meshes were all drawn as `pixel` does); empty otherwise.
     pub pre_pass: Vec<GpuInterval>,
     /// `Placement::Compute`: when each of its steps ran (`PrePassStep::ALL`'s order), in every

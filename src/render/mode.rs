@@ -14,8 +14,9 @@ pub enum Mode {
     Vertex,
     /// Tessellate every triangle at inner = outer = N and shade the sub-vertices in the TES.
     Fixed(u32),
-    /// Per triangle, the smallest level whose error bound is under ε (the TCS estimator);
-    /// triangles that would need more than n_max are shaded per pixel.
+    /// Per triangle, the smallest level whose error bound is under ε (the estimator, in the
+    /// compute pre-pass or the control stage: [`Placement`]); triangles that would need more
+    /// than n_max are shaded per pixel.
     Multirate,
 }
 

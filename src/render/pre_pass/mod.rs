@@ -20,7 +20,7 @@ use super::pipelines::Instrumentation;
 use super::scene_geometry::DrawCall;
 use crate::error::Result;
 use crate::gpu_interface::slots::{
-    CAPPED_ESTIMATE_DISPATCH, ESTIMATE_DISPATCH, FULL_ESTIMATE_DISPATCH, LEVEL_DISPATCHES, PATCH_DISPATCH,
+    CAPPED_ESTIMATE_DISPATCH, FULL_ESTIMATE_DISPATCH, LEVEL_DISPATCHES, PATCH_DISPATCH, RANGE_DISPATCH,
     REFINE_DISPATCH,
 };
 use crate::gpu_types::DrawConstants;
@@ -184,10 +184,10 @@ impl PrePass {
         let dispatch = |pipeline, slot| self.dispatch(rec, pipeline, slot, draw, constants);
         match step {
             PrePassStep::Cull => dispatch(&pipelines.cull, None),
-            PrePassStep::Range => dispatch(&pipelines.range, Some(ESTIMATE_DISPATCH)),
-            PrePassStep::Levels => {
-                dispatch(&pipelines.levels, Some(FULL_ESTIMATE_DISPATCH));
-                if let Some(capped) = &pipelines.capped_levels {
+            PrePassStep::Range => dispatch(&pipelines.range, Some(RANGE_DISPATCH)),
+            PrePassStep::Estimate => {
+                dispatch(&pipelines.estimate, Some(FULL_ESTIMATE_DISPATCH));
+                if let Some(capped) = &pipelines.capped_estimate {
                     dispatch(capped, Some(CAPPED_ESTIMATE_DISPATCH));
                 }
             }

@@ -14,16 +14,19 @@ use std::sync::Arc;
 
 /// The steps of the triangle-level pre-pass (`Placement::Compute`).
 pub(crate) struct PrePassPipelines {
+    /// cull_triangles.comp, the culling step.
     pub cull: Pipeline,
     /// range_levels.comp, the range class's step.
     pub range: Pipeline,
-    pub levels: Pipeline,
+    /// triangle_levels.comp, the estimator step.
+    pub estimate: Pipeline,
     /// triangle_levels.comp without specular code (`SPECULAR_ALL_CAPPED`), over the triangles
     /// whose every light's specular part is capped: for a specular material without polygonal
     /// lights (no other variant lists such triangles).
-    pub capped_levels: Option<Pipeline>,
+    pub capped_estimate: Option<Pipeline>,
     /// refine_levels.comp, the refining step.
     pub refine: Pipeline,
+    /// patch_levels.comp, the patch step: patch levels, lists and indirect draws.
     pub patches: Pipeline,
 }
 
@@ -37,29 +40,30 @@ impl PrePassPipelines {
         specialization: &Specialization,
     ) -> Result<PrePassPipelines> {
         let module = variant_module(context, "triangle_levels.comp", features)?;
-        let name = format!("triangle levels, material kind {}", features.material_kind);
+        let name = format!("estimator step, material kind {}", features.material_kind);
         let optimization = instrumentation.optimization();
-        let levels = Pipeline::compute(context, &name, layout, &module, Some(specialization), optimization)?;
-        let capped_levels = if features.material_kind != 0 && !features.polygon_lights {
+        let estimate =
+            Pipeline::compute(context, &name, layout, &module, Some(specialization), optimization)?;
+        let capped_estimate = if features.material_kind != 0 && !features.polygon_lights {
             let capped = specialization.clone().boolean(spec::SPECULAR_ALL_CAPPED.id, true);
             let name =
-                format!("triangle levels, specular parts capped, material kind {}", features.material_kind);
+                format!("estimator step, specular parts capped, material kind {}", features.material_kind);
             Some(Pipeline::compute(context, &name, layout, &module, Some(&capped), optimization)?)
         } else {
             None
         };
         let module = variant_module(context, "range_levels.comp", features)?;
-        let name = format!("range class, material kind {}", features.material_kind);
+        let name = format!("range step, material kind {}", features.material_kind);
         let range = Pipeline::compute(context, &name, layout, &module, Some(specialization), optimization)?;
         let module = variant_module(context, "refine_levels.comp", features)?;
         let refining = specialization.clone().int(spec::REFINE_LANES.id, refine_lanes(&context.info) as i32);
-        let name = format!("triangle levels refined, material kind {}", features.material_kind);
+        let name = format!("refining step, material kind {}", features.material_kind);
         let refine = Pipeline::compute(context, &name, layout, &module, Some(&refining), optimization)?;
         let module = variant_module(context, "cull_triangles.comp", features)?;
-        let cull = Pipeline::compute(context, "triangle culling", layout, &module, None, optimization)?;
+        let cull = Pipeline::compute(context, "culling step", layout, &module, None, optimization)?;
         let module = variant_module(context, "patch_levels.comp", features)?;
-        let patches = Pipeline::compute(context, "patch levels", layout, &module, None, optimization)?;
-        Ok(PrePassPipelines { cull, range, levels, capped_levels, refine, patches })
+        let patches = Pipeline::compute(context, "patch step", layout, &module, None, optimization)?;
+        Ok(PrePassPipelines { cull, range, estimate, capped_estimate, refine, patches })
     }
 }
 

@@ -12,7 +12,7 @@ use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
 pub enum PrePassStep {
     Cull,
     Range,
-    Levels,
+    Estimate,
     Refine,
     Patches,
 }
@@ -22,7 +22,7 @@ impl PrePassStep {
     pub const ALL: [PrePassStep; PRE_PASS_STEPS] = [
         PrePassStep::Cull,
         PrePassStep::Range,
-        PrePassStep::Levels,
+        PrePassStep::Estimate,
         PrePassStep::Refine,
         PrePassStep::Patches,
     ];
@@ -32,7 +32,7 @@ impl PrePassStep {
         match self {
             PrePassStep::Cull => "cull",
             PrePassStep::Range => "range",
-            PrePassStep::Levels => "estimate",
+            PrePassStep::Estimate => "estimate",
             PrePassStep::Refine => "refine",
             PrePassStep::Patches => "patches",
         }
@@ -78,7 +78,7 @@ pub(crate) const LIST_READERS: S = S::from_raw(
 pub(crate) fn barrier_after(step: PrePassStep) -> (S, A, S, A) {
     let storage = A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE;
     match step {
-        PrePassStep::Cull | PrePassStep::Range | PrePassStep::Levels => (
+        PrePassStep::Cull | PrePassStep::Range | PrePassStep::Estimate => (
             S::COMPUTE_SHADER,
             A::SHADER_STORAGE_WRITE,
             S::COMPUTE_SHADER | S::DRAW_INDIRECT,
