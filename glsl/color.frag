@@ -2,7 +2,7 @@
 // variants: textured count_evaluations
 // Writes the colour interpolated from shaded vertices (alpha = coverage), the albedo map
 // applied per pixel to the diffuse part; vertex and fixed:N modes (whose level is
-// draw.level_or_light).
+// fixed_level()).
 #include "texturing.glsl"
 #include "heat.glsl"
 #include "triangle_id.glsl"
@@ -22,7 +22,7 @@ void main() {
     vec2 duv_dy = dFdy(in_uv);
     vec3 albedo = albedo_at_grad(materials[draw.material_index], in_uv, duv_dx, duv_dy);
     vec3 color = albedo * in_diffuse + in_specular;
-    out_color = vec4(heat_map_on() ? heat_color(float(draw.level_or_light)) : color, 1.0);
+    out_color = vec4(heat_map_on() ? heat_color(float(fixed_level())) : color, 1.0);
 #if TRIANGLE_IDS
     write_triangle_id(in_triangle);
 #endif

@@ -16,7 +16,7 @@ void main() {
     out_normal[gl_InvocationID] = in_normal[gl_InvocationID];
     out_uv[gl_InvocationID] = in_uv[gl_InvocationID];
     if (gl_InvocationID == 0) {
-        float level = float(max(draw.level_or_light, 1u));
+        float level = float(max(fixed_level(), 1u));
         gl_TessLevelInner[0] = level;
         gl_TessLevelOuter[0] = level;
         gl_TessLevelOuter[1] = level;

@@ -31,18 +31,17 @@ shared int turn_added[BLOCK_TURNS];
 shared bool turn_bad[BLOCK_TURNS];
 shared vec2 turn_diffuse[BLOCK_TURNS];
 shared vec3 turn_specular[BLOCK_TURNS];
-// The block's triangle this invocation estimates.
-uint given_slot;
-
 uint child_turn(uint slot, int light, int child) {
     return (slot * uint(GIVEN_LIGHTS) + uint(light)) * uint(REFINE_CHILDREN) + uint(child);
 }
 
+// The children's values of `light` for the block's triangle this invocation estimates (its slot
+// is its invocation's index, main).
 ChildValues given_child_values(int light, out bool bad) {
     ChildValues values = ChildValues(0.0, MAX_FINITE, vec3(0.0), true);
     bad = false;
     for (int r = 0; r < REFINE_CHILDREN; ++r) {
-        uint k = child_turn(given_slot, light, r);
+        uint k = child_turn(gl_LocalInvocationID.x, light, r);
         int added = turn_added[k];
         if (added == VALUES_ADDED) {
             values.diffuse_sup = rmax(values.diffuse_sup, turn_diffuse[k].x);
@@ -59,7 +58,7 @@ ChildValues given_child_values(int light, out bool bad) {
 }
 
 // The children's turns of the block of listed triangles from `block` on, spread over the
-// workgroup's invocations; as level_pass takes them (estimate_pass's frame, eps, n_max and top).
+// workgroup's invocations; as estimate_pass takes them (estimate_pass's frame, eps, n_max and top).
 void take_children_turns(uint block, uint count) {
     int given = min(POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT, GIVEN_LIGHTS);
     uint per_triangle = uint(given * REFINE_CHILDREN);
@@ -85,13 +84,14 @@ void take_children_turns(uint block, uint count) {
         Frame child = make_frame(q[0], q[1], q[2], m[0], m[1], m[2], estimator_eye());
         GpuLight light = lights[i];
         ChildValues values = ChildValues(0.0, MAX_FINITE, vec3(0.0), true);
-        est_bad = false;
+        Guard gd = FRESH_GUARD;
+        Sums unused;
         int added = add_light(child, material, draw_parameter_range(scene_uv(a), scene_uv(b), scene_uv(c)),
                               i < POINT_LIGHT_COUNT, light.position.xyz, light.radiance.rgb, -1, top, n_max, eps,
-                              ADD_VALUES, NO_SPECULAR_CAPS, values);
+                              ADD_VALUES, NO_SPECULAR_CAPS, values, unused, gd);
         uint at = child_turn(t, i, r);
         turn_added[at] = added;
-        turn_bad[at] = est_bad;
+        turn_bad[at] = gd.bad;
         turn_diffuse[at] = vec2(values.diffuse_sup, values.diffuse_inf);
         turn_specular[at] = values.specular_sup;
     }
@@ -107,7 +107,6 @@ void main() {
         memoryBarrierShared();
         barrier();
         if (slot < REFINE_BLOCK && block + slot < count) {
-            given_slot = slot;
             uint triangle = refine_triangles[draw.patch_base + block + slot];
             uint a = scene_indices[3u * triangle];
             uint b = scene_indices[3u * triangle + 1u];

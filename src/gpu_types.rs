@@ -64,9 +64,10 @@ pub struct DrawConstants {
     pub n_max: u32,
     pub material_index: u32,
     pub mesh_index: u32,
-    /// `fixed:N` draws: the tessellation level; emitter draws: the index of the polygonal light
-    /// drawn.
-    pub level_or_light: u32,
+    /// What the draw's kind takes (the 128 bytes of push constants every device offers leave no
+    /// room for a field each): a `fixed:N` draw's tessellation level, an emitter draw's polygonal
+    /// light. The shaders read it through `fixed_level()` and `emitter_light()` (bindings.glsl).
+    pub draw_argument: u32,
     /// Index of the draw's first triangle in the scene (level records).
     pub patch_base: u32,
     /// Bits of [`crate::gpu_interface::flags`].

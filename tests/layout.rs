@@ -179,7 +179,7 @@ fn draw_constants_match_glsl() {
             ("n_max", offset_of!(DrawConstants, n_max)),
             ("material_index", offset_of!(DrawConstants, material_index)),
             ("mesh_index", offset_of!(DrawConstants, mesh_index)),
-            ("level_or_light", offset_of!(DrawConstants, level_or_light)),
+            ("draw_argument", offset_of!(DrawConstants, draw_argument)),
             ("patch_base", offset_of!(DrawConstants, patch_base)),
             ("flags", offset_of!(DrawConstants, flags)),
             ("eye_radius", offset_of!(DrawConstants, eye_radius)),

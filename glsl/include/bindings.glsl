@@ -13,6 +13,16 @@
 
 layout(push_constant, std430) uniform Push { DrawConstants draw; };
 
+// DrawConstants.draw_argument by the draw's kind (the 128 bytes of push constants every device
+// offers leave no room for a field each): a fixed:N draw's tessellation level, and an emitter
+// draw's polygonal light.
+uint fixed_level() {
+    return draw.draw_argument;
+}
+uint emitter_light() {
+    return draw.draw_argument;
+}
+
 // The counting variant (COUNT_EVALUATIONS) adds one to EvaluationCounters for every run of the
 // full shading function, by where it ran. The timed variants contain no counting.
 const bool COUNT_EVALUATIONS = VARIANT_COUNT_EVALUATIONS != 0;

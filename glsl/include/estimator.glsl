@@ -23,18 +23,19 @@
 // |---------------------------------------|-----------------------------|-------------------------------------|
 // | src/exact_math.rs                     | exact_math.glsl             | control_stage_levels_equal_the_twin |
 // | src/shading/estimator/constants.rs    | estimator/constants.glsl    | control_stage_levels_equal_the_twin |
+// | src/shading/estimator/terms.rs        | estimator/terms.glsl        | control_stage_levels_equal_the_twin |
+// | src/shading/estimator/patch_levels.rs | estimator/patch_levels.glsl | control_stage_levels_equal_the_twin |
+// | src/shading/estimator/pattern.rs      | estimator/pattern.glsl      | control_stage_levels_equal_the_twin |
 // | src/shading/estimator/jet.rs          | estimator/jet.glsl          | control_stage_levels_equal_the_twin |
 // | src/shading/estimator/cone.rs         | estimator/cone.glsl         | control_stage_levels_equal_the_twin |
-// | src/shading/estimator/pattern.rs      | estimator/pattern.glsl      | control_stage_levels_equal_the_twin |
 // | src/shading/estimator/frame.rs        | estimator/frame.glsl        | control_stage_levels_equal_the_twin |
 // | src/shading/estimator/light_setup.rs  | estimator/light_setup.glsl  | control_stage_levels_equal_the_twin |
 // | src/shading/estimator/lobe.rs         | estimator/lobe.glsl         | control_stage_levels_equal_the_twin |
 // | src/shading/estimator/irradiance.rs   | estimator/irradiance.glsl   | control_stage_levels_equal_the_twin |
 // | src/shading/estimator/terminator.rs   | estimator/terminator.glsl   | control_stage_levels_equal_the_twin |
-// | src/shading/estimator/decide.rs       | estimator/decide.glsl       | control_stage_levels_equal_the_twin |
 // | src/shading/estimator/range.rs        | estimator/range.glsl        | control_stage_levels_equal_the_twin |
+// | src/shading/estimator/decide.rs       | estimator/decide.glsl       | control_stage_levels_equal_the_twin |
 // | src/shading/estimator/add_light.rs    | estimator/add_light.glsl    | control_stage_levels_equal_the_twin |
-// | src/shading/estimator/patch_levels.rs | estimator/patch_levels.glsl | control_stage_levels_equal_the_twin |
 // | src/shading/estimator/estimate.rs     | estimator/estimate.glsl     | control_stage_levels_equal_the_twin |
 // (`control_stage_levels_equal_the_twin` is in `tests/multirate.rs`.)
 #ifndef ESTIMATOR_GLSL
@@ -42,17 +43,18 @@
 #include "brdf.glsl"
 #include "exact_math.glsl"
 #include "estimator/constants.glsl"
+#include "estimator/terms.glsl"
+#include "estimator/patch_levels.glsl"
+#include "estimator/pattern.glsl"
 #include "estimator/jet.glsl"
 #include "estimator/cone.glsl"
-#include "estimator/pattern.glsl"
 #include "estimator/frame.glsl"
 #include "estimator/light_setup.glsl"
 #include "estimator/lobe.glsl"
 #include "estimator/irradiance.glsl"
 #include "estimator/terminator.glsl"
-#include "estimator/decide.glsl"
 #include "estimator/range.glsl"
+#include "estimator/decide.glsl"
 #include "estimator/add_light.glsl"
-#include "estimator/patch_levels.glsl"
 #include "estimator/estimate.glsl"
 #endif

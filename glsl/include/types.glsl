@@ -40,7 +40,7 @@ struct DrawConstants {
     uint n_max;          // multirate's highest level, in 1..=64 (clamped by the host)
     uint material_index; // index into the material buffer
     uint mesh_index;
-    uint level_or_light; // fixed:N draws: the tessellation level; emitter draws: the polygonal light
+    uint draw_argument;  // what the draw's kind takes: read through fixed_level() and emitter_light()
     uint patch_base;     // index of this draw's first triangle in the scene (level records)
     uint flags;          // FLAG_ bits, below
     float eye_radius;    // multirate: the levels hold for every eye this close to `eye`

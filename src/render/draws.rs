@@ -303,7 +303,7 @@ impl ForwardDraws {
             device.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
         }
         for draw in &self.emitters {
-            constants.level_or_light = draw.light_index;
+            constants.draw_argument = draw.light_index;
             rec.push(&constants);
             // SAFETY: as above; the fan lies in the bound index buffer.
             unsafe { device.cmd_draw_indexed(cmd, draw.index_count, 1, draw.first_index, 0, 0) };

@@ -216,7 +216,7 @@ impl FrameConfig {
             epsilon: estimator.epsilon,
             // The shaders' range (their estimator, patch levels and heat map read it in it).
             n_max: estimator.n_max.clamp(1, MAX_LEVEL),
-            level_or_light: match view.mode {
+            draw_argument: match view.mode {
                 Mode::Fixed(level) => level,
                 _ => 1,
             },

@@ -52,8 +52,8 @@ struct ChildValues {
 #ifdef CHILDREN_GIVEN
 // Where the including stage took the children's turns itself (refine_levels.comp, the refining
 // step, side by side in a workgroup): light `light`'s values over the patch's children, combined
-// in the children's order as level_pass combines them, and whether a child's bound went bad.
-// level_pass uses it for the first GIVEN_LIGHTS point and directional lights.
+// in the children's order as light_sums combines them, and whether a child's bound went bad.
+// light_sums uses it for the first GIVEN_LIGHTS point and directional lights.
 ChildValues given_child_values(int light, out bool bad);
 #endif
 
@@ -93,7 +93,7 @@ struct LightBounds {
 // in Rust). `mode` ADD_VALUES: the jets' values join `values` instead, and VALUES_ADDED is
 // returned; else REASON_NONE.
 int light_bounds(Frame frame, GpuMaterial material, vec2 param, LightSetup setup, vec3 diff_w, vec3 spec_w,
-                 int mode, inout ChildValues values, P out LightBounds bounds) {
+                 int mode, inout ChildValues values, P out LightBounds bounds, inout Guard gd) {
     if (SPLIT == 0) {
         for (int t = 0; t < TERM_COUNT; ++t) {
             bounds.h_d[0][t] = vec3(0.0);
@@ -122,16 +122,16 @@ int light_bounds(Frame frame, GpuMaterial material, vec2 param, LightSetup setup
     bounds.straddle = setup.straddle;
     bounds.specular_capped = false;
     if (setup.straddle) {
-        bounds.band1 = gc(band_at(terminator_band(frame, setup, frame.d1), 1.0));
-        bounds.bandn = gc(band_per_level(bounds.terminator, 0.0));
+        bounds.band1 = gc(band_at(terminator_band(frame, setup, frame.d1), 1.0), gd);
+        bounds.bandn = gc(band_per_level(bounds.terminator, 0.0), gd);
     }
     // Relaxed, GGX: the same for n.v where it may change sign (its kink in V).
     bool view_kink = MATERIAL_KIND == MATERIAL_GGX && !setup.area && setup.specular && setup.nv_sign == SIGN_BOTH;
     P float view1 = 0.0;
     P float viewn = 0.0;
     if (view_kink) {
-        view1 = view_band(frame, frame.d1);
-        viewn = view_band(frame, frame.dn);
+        view1 = view_band(frame, frame.d1, gd);
+        viewn = view_band(frame, frame.dn, gd);
     }
     // The jets at levels >= 2, and at level 1 those scaled by rho unless the Uniform split needs
     // each term or GGX's view kink takes another band (see Rust).
@@ -139,10 +139,10 @@ int light_bounds(Frame frame, GpuMaterial material, vec2 param, LightSetup setup
     Jet diff_n;
     Jet spec_n[3];
     P vec3 kink_n;
-    est_term = T_ALL;
+    gd.term = T_ALL;
     // (A child's values take GGX's V at the band 0, where its value is 1/k, its sup.)
     light_jets(frame, material, param, setup, frame.sn, mode == ADD_VALUES ? 0.0 : rmin(view1, viewn), diff_n,
-               spec_n, kink_n);
+               spec_n, kink_n, gd);
     if (mode == ADD_VALUES) {
         P vec2 diffuse = diffuse_values(setup, diff_n);
         values.diffuse_sup = rmax(values.diffuse_sup, diffuse.x);
@@ -158,14 +158,14 @@ int light_bounds(Frame frame, GpuMaterial material, vec2 param, LightSetup setup
         P vec3 kink;
         if (SPLIT == 0) {
             for (int pass = 0; pass < active_term_count(); ++pass) {
-                est_term = active_term(pass);
-                light_jets(frame, material, param, setup, s, view_at, diff, spec, kink);
+                gd.term = active_term(pass);
+                light_jets(frame, material, param, setup, s, view_at, diff, spec, kink, gd);
                 P vec3 spec_h = vec3(spec[0].h, spec[1].h, spec[2].h);
-                bounds.h_d[level][est_term] = diff_w * (diff.h * (0.5 * SAFETY));
-                bounds.h_s[level][est_term] = spec_w * spec_h * (0.5 * SAFETY);
+                bounds.h_d[level][gd.term] = diff_w * (diff.h * (0.5 * SAFETY));
+                bounds.h_s[level][gd.term] = spec_w * spec_h * (0.5 * SAFETY);
             }
         }
-        est_term = T_ALL;
+        gd.term = T_ALL;
         if (level == 1) {
             diff = diff_n;
             spec = spec_n;
@@ -177,7 +177,7 @@ int light_bounds(Frame frame, GpuMaterial material, vec2 param, LightSetup setup
             spec[2] = scaled_jet(spec_n[2], frame.rho);
             kink = kink_n;
         } else {
-            light_jets(frame, material, param, setup, s, view_at, diff, spec, kink);
+            light_jets(frame, material, param, setup, s, view_at, diff, spec, kink, gd);
         }
         P vec3 spec_t = vec3(spec[0].h, spec[1].h, spec[2].h);
         if (level == 0) {
@@ -198,8 +198,8 @@ int light_bounds(Frame frame, GpuMaterial material, vec2 param, LightSetup setup
         bounds.range_s = spec_w * spec_m * SAFETY;
         if (setup.straddle && level == 1) {
             // Relaxed: the diffuse kink adds 1/4 sup E' osc(n.l) (see Rust).
-            bounds.lin1 = diff_w * (TERMINATOR_KINK * SAFETY * gmul(bounds.att, bounds.band1));
-            bounds.linn = diff_w * (TERMINATOR_KINK * SAFETY * gmul(bounds.att, bounds.bandn));
+            bounds.lin1 = diff_w * (TERMINATOR_KINK * SAFETY * gmul(bounds.att, bounds.band1, gd));
+            bounds.linn = diff_w * (TERMINATOR_KINK * SAFETY * gmul(bounds.att, bounds.bandn, gd));
         }
         if (view_kink && level == 1) {
             // Relaxed: the view's kink adds 1/4 sup(specular without V) |V'(0)| osc(n.v).
@@ -214,12 +214,12 @@ int light_bounds(Frame frame, GpuMaterial material, vec2 param, LightSetup setup
 // grid, `LightBounds::add_grid` in Rust): per part and channel the smaller of its interpolation
 // bound there and its range. `low`: the light's lower bound on the level; `zeron`: the
 // n-independent specular parts from `low` on, `whole_lobe + other` below it.
-void add_grid(LightBounds bounds, uint n_max, float low, vec3 zeron, vec3 whole_lobe, vec3 other) {
+void add_grid(LightBounds bounds, inout Sums sums, uint n_max, float low, vec3 zeron, vec3 whole_lobe, vec3 other) {
     for (int k = 0; k < GRID_LEVEL_COUNT; ++k) {
         if (GRID_LEVELS[k] > n_max) {
             break;
         }
-        P float l = grid_level[k];
+        P float l = pattern_level(GRID_LEVELS[k], GRID_LEVELS[k]);
         // The jump at l: the one at `low` where l >= low, else the whole lobe (see Rust).
         P vec3 zero_l = l >= low ? zeron : whole_lobe + other;
         // The diffuse kink at l itself (valid below `low` too; at most att bandn, guarded).
@@ -230,7 +230,7 @@ void add_grid(LightBounds bounds, uint n_max, float low, vec3 zeron, vec3 whole_
         P vec3 part_s = bounds.specular_capped
             ? bounds.range_s
             : rmin3(bounds.tot_sn / (l * l) + bounds.linn_s / l + zero_l, bounds.range_s);
-        sum_grid[k] = sum_grid[k] + (part_d + part_s);
+        sums.grid[k] = sums.grid[k] + (part_d + part_s);
     }
 }
 
@@ -238,29 +238,29 @@ void add_grid(LightBounds bounds, uint n_max, float low, vec3 zeron, vec3 whole_
 // (`LightBounds::add_to_sums` in Rust): per part and channel its interpolation bound where
 // `interp_d`/`interp_s` (per term for the Uniform split; `zero1`, `zeron`: the specular
 // n-independent parts at level 1 and from the light's lower bound on), else its range.
-void add_to_sums(LightBounds bounds, bvec3 interp_d, bvec3 interp_s, vec3 zero1, vec3 zeron) {
+void add_to_sums(LightBounds bounds, inout Sums sums, bvec3 interp_d, bvec3 interp_s, vec3 zero1, vec3 zeron) {
     const vec3 none = vec3(0.0);
     P vec3 one_s =
         bounds.specular_capped ? bounds.range_s : rmin3(bounds.tot_s1 + bounds.lin1_s + zero1, bounds.range_s);
-    sum_one = sum_one + (rmin3(bounds.tot_d1 + bounds.lin1, bounds.range_d) + one_s);
+    sums.one = sums.one + (rmin3(bounds.tot_d1 + bounds.lin1, bounds.range_d) + one_s);
     // Each part adds its interpolation bound or its range (diffuse first, as in Rust).
-    sum_range = sum_range + mix(bounds.range_d, none, interp_d);
-    sum_range = sum_range + mix(bounds.range_s, none, interp_s);
-    sum_tn = sum_tn + mix(none, bounds.tot_dn, interp_d);
-    sum_tn = sum_tn + mix(none, bounds.tot_sn, interp_s);
-    sum_lin1 = sum_lin1 + mix(none, bounds.lin1, interp_d);
-    sum_lin1 = sum_lin1 + mix(none, bounds.lin1_s, interp_s);
-    sum_linn = sum_linn + mix(none, bounds.linn, interp_d);
-    sum_linn = sum_linn + mix(none, bounds.linn_s, interp_s);
-    sum_jumps1 = sum_jumps1 + mix(none, zero1, interp_s);
-    sum_jumps = sum_jumps + mix(none, zeron, interp_s);
+    sums.range = sums.range + mix(bounds.range_d, none, interp_d);
+    sums.range = sums.range + mix(bounds.range_s, none, interp_s);
+    sums.tn = sums.tn + mix(none, bounds.tot_dn, interp_d);
+    sums.tn = sums.tn + mix(none, bounds.tot_sn, interp_s);
+    sums.lin1 = sums.lin1 + mix(none, bounds.lin1, interp_d);
+    sums.lin1 = sums.lin1 + mix(none, bounds.lin1_s, interp_s);
+    sums.linn = sums.linn + mix(none, bounds.linn, interp_d);
+    sums.linn = sums.linn + mix(none, bounds.linn_s, interp_s);
+    sums.jumps1 = sums.jumps1 + mix(none, zero1, interp_s);
+    sums.jumps = sums.jumps + mix(none, zeron, interp_s);
     if (SPLIT == 0) {
         for (int pass = 0; pass < active_term_count(); ++pass) {
             int t = active_term(pass);
-            sum_h1[t] = sum_h1[t] + mix(none, bounds.h_d[0][t], interp_d);
-            sum_h1[t] = sum_h1[t] + mix(none, bounds.h_s[0][t], interp_s);
-            sum_hn[t] = sum_hn[t] + mix(none, bounds.h_d[1][t], interp_d);
-            sum_hn[t] = sum_hn[t] + mix(none, bounds.h_s[1][t], interp_s);
+            sums.h1[t] = sums.h1[t] + mix(none, bounds.h_d[0][t], interp_d);
+            sums.h1[t] = sums.h1[t] + mix(none, bounds.h_s[0][t], interp_s);
+            sums.hn[t] = sums.hn[t] + mix(none, bounds.h_d[1][t], interp_d);
+            sums.hn[t] = sums.hn[t] + mix(none, bounds.h_s[1][t], interp_s);
         }
     }
 }
@@ -336,7 +336,7 @@ P vec3 light_floor(Frame frame, vec2 param, bool point, vec3 position, LightSetu
 // parts at the grid levels (add_grid) and at the solver's (add_to_sums). `other`: the specular
 // part's n-independent term.
 void add_bounds_or_ranges(P inout LightBounds bounds, LightSetup setup, vec2 param, vec3 diff_w, vec3 spec_w,
-                          vec3 other, float top, uint n_max, float eps) {
+                          vec3 other, float top, uint n_max, float eps, inout Sums sums, inout Guard gd) {
     P vec3 spec_sup = bounds.spec_sup;
     P vec3 zero1 = terminator_jump(spec_w, spec_sup, param, setup, bounds.band1) + other;
     P vec3 zero_top = terminator_jump(spec_w, spec_sup, param, setup, bounds.bandn / top) + other;
@@ -356,7 +356,7 @@ void add_bounds_or_ranges(P inout LightBounds bounds, LightSetup setup, vec2 par
     // Relaxed: the same with the diffuse kink at its floor; the band's fixed point holds from
     // `low` on (see Rust).
     P vec3 floor_kink = setup.straddle
-        ? diff_w * (TERMINATOR_KINK * SAFETY * gmul(bounds.att, band_floor(bounds.terminator)))
+        ? diff_w * (TERMINATOR_KINK * SAFETY * gmul(bounds.att, band_floor(bounds.terminator, gd), gd))
         : vec3(0.0);
     P vec3 b = mix(none, floor_kink, interp_d) + mix(none, bounds.linn_s, interp_s);
     P float low = 1.0;
@@ -366,15 +366,15 @@ void add_bounds_or_ranges(P inout LightBounds bounds, LightSetup setup, vec2 par
         }
     }
     if (setup.straddle) {
-        bounds.bandn = rmin(bounds.bandn, gc(band_per_level(bounds.terminator, low)));
-        bounds.linn = diff_w * (TERMINATOR_KINK * SAFETY * gmul(bounds.att, bounds.bandn));
+        bounds.bandn = rmin(bounds.bandn, gc(band_per_level(bounds.terminator, low), gd));
+        bounds.linn = diff_w * (TERMINATOR_KINK * SAFETY * gmul(bounds.att, bounds.bandn, gd));
     }
     P vec3 zeron = terminator_jump(spec_w, spec_sup, param, setup, bounds.bandn / low) + other;
     if (SPLIT == 1) {
         P vec3 whole_lobe = setup.straddle && !setup.area && setup.specular ? spec_w * spec_sup * SAFETY : vec3(0.0);
-        add_grid(bounds, n_max, low, zeron, whole_lobe, other);
+        add_grid(bounds, sums, n_max, low, zeron, whole_lobe, other);
     }
-    add_to_sums(bounds, interp_d, interp_s, zero1, zeron);
+    add_to_sums(bounds, sums, interp_d, interp_s, zero1, zeron);
 }
 
 // Adds one light's bounds to the sums; returns a fallback reason (REASON_NONE if none), as
@@ -395,7 +395,7 @@ void add_bounds_or_ranges(P inout LightBounds bounds, LightSetup setup, vec2 par
 // leave its outputs undefined on that path, and the optimiser would no longer fold them.
 int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 position,
               vec3 radiance, int polygon, float top, uint n_max, float eps, int mode, SpecularCaps caps,
-              inout ChildValues values) {
+              inout ChildValues values, inout Sums sums, inout Guard gd) {
     bool area = polygon >= 0;
     AreaGeometry geometry;
     GpuPolygonLight light;
@@ -498,7 +498,7 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
         }
     }
     P LightBounds bounds;
-    if (light_bounds(frame, material, param, setup, diff_w, spec_w, mode, values, bounds) == VALUES_ADDED) {
+    if (light_bounds(frame, material, param, setup, diff_w, spec_w, mode, values, bounds, gd) == VALUES_ADDED) {
         return VALUES_ADDED;
     }
     if (capped) {
@@ -520,7 +520,7 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
     P vec3 other;
     if (area) {
         // The sampled specular part: no interpolation bound, its range.
-        other = polygon_specular_bound(material, param, setup, light) * SAFETY;
+        other = polygon_specular_bound(material, param, setup, light, gd) * SAFETY;
         bounds.range_s = bounds.range_s + other;
     } else if (capped) {
         // The cap bounds the part for every parameter.
@@ -530,9 +530,9 @@ int add_light(Frame frame, GpuMaterial material, vec2 param, bool point, vec3 po
         other = spec_w * parameter_variation(param, setup, bounds.spec_sup);
     }
     if (mode == ADD_BOUNDS) {
-        sum_floor = sum_floor
+        sums.floor = sums.floor
             + light_floor(frame, param, point, position, setup, bounds, spec_w, other, top, !area && significant);
     }
-    add_bounds_or_ranges(bounds, setup, param, diff_w, spec_w, other, top, n_max, eps);
+    add_bounds_or_ranges(bounds, setup, param, diff_w, spec_w, other, top, n_max, eps, sums, gd);
     return REASON_NONE;
 }

@@ -1,5 +1,5 @@
-// The estimator's constants: the f32 values of the Rust constants, the term ids, signs, reasons and
-// add_light's modes, and the specialization constants SPLIT and DISCONTINUITY.
+// The estimator's constants: the f32 values of the Rust constants, signs and add_light's modes,
+// and the specialization constants SPLIT and DISCONTINUITY.
 // Twin: `src/shading/estimator/constants.rs`; proven equal with the rest of the estimator by
 // `tests/multirate.rs` (`control_stage_levels_equal_the_twin`).
 // A part of estimator.glsl, which includes the parts in dependency order: include that
@@ -13,23 +13,6 @@ layout(constant_id = 4) const int DISCONTINUITY = 0;
 // (range_levels.comp lists them apart, estimator/range.glsl every_specular_capped): no specular
 // setup or jets are compiled in.
 layout(constant_id = 16) const bool SPECULAR_ALL_CAPPED = false;
-
-const int TERM_COUNT = 13;
-const int T_NORMAL = 0;
-const int T_LIGHT = 1;
-const int T_VIEW = 2;
-const int T_HALF = 3;
-const int T_DOT = 4;
-const int T_ATTENUATION = 5;
-const int T_POWER = 6;
-const int T_D = 7;
-const int T_F = 8;
-const int T_V = 9;
-const int T_CROSS = 10;
-const int T_TERMINATOR = 11;
-const int T_RANGE = 12;
-// Not a term: the jets carry the sum of all terms (`Jet::t` in Rust).
-const int T_ALL = 13;
 
 // The f32 values of the Rust constants (shortest decimals that round to them).
 const float K23 = 1.1547005;
@@ -66,10 +49,6 @@ const int SIGN_POSITIVE = 0;
 const int SIGN_NON_POSITIVE = 1;
 const int SIGN_BOTH = 2;
 
-const int REASON_NONE = 0;
-const int REASON_LEVEL = 1;
-const int REASON_DISCONTINUITY = 2;
-const int REASON_SINGULAR = 3;
 // add_light on a child (ADD_VALUES): its values were taken.
 const int VALUES_ADDED = -1;
 const float MAX_FINITE = 3.4028235e38;

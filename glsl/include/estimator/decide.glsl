@@ -20,46 +20,46 @@ P float level_for(float a, float b, float c, float eps) {
 // The level the sums ask for (`decide` in Rust, the fallback reasons already taken): one_ok (the
 // level-1 bound holds) and need (the smallest effective level), and with the Heuristic split the
 // lowest grid level whose bound holds.
-float decide(float eps, uint n_max) {
-    P vec3 an = sum_tn;
-    P vec3 zero = sum_jumps + sum_range;
-    bool relaxed_on = max_el(sum_linn) > 0.0 || max_el(sum_jumps) > 0.0;
+float decide(Sums sums, float eps, uint n_max) {
+    P vec3 an = sums.tn;
+    P vec3 zero = sums.jumps + sums.range;
+    bool relaxed_on = max_el(sums.linn) > 0.0 || max_el(sums.jumps) > 0.0;
     bool one_ok;
     P float need = 0.0;
     if (SPLIT == 1) {
         for (int c = 0; c < 3; ++c) {
-            need = rmax(need, level_for(an[c], sum_linn[c], zero[c], eps));
+            need = rmax(need, level_for(an[c], sums.linn[c], zero[c], eps));
         }
-        one_ok = max_el(sum_one) <= eps;
+        one_ok = max_el(sums.one) <= eps;
     } else {
         // M counts the terms above eps * UNIFORM_TINY; the others share a reserve.
         P float tiny = eps * UNIFORM_TINY;
         uint count = 0u;
         for (int t = 0; t < TERM_COUNT; ++t) {
-            if (max_el(sum_hn[t]) > tiny || max_el(sum_h1[t]) > tiny) {
+            if (max_el(sums.hn[t]) > tiny || max_el(sums.h1[t]) > tiny) {
                 count += 1u;
             }
         }
-        if (max_el(sum_linn) > tiny || max_el(sum_jumps) > tiny || max_el(sum_jumps1) > tiny) {
+        if (max_el(sums.linn) > tiny || max_el(sums.jumps) > tiny || max_el(sums.jumps1) > tiny) {
             count += 1u;
         }
-        if (max_el(sum_range) > tiny) {
+        if (max_el(sums.range) > tiny) {
             count += 1u;
         }
         P float share = eps * (1.0 - 16.0 * UNIFORM_TINY) / float(max(count, 1u));
-        one_ok = max_el(sum_lin1 + sum_jumps1) <= share && max_el(sum_range) <= share;
+        one_ok = max_el(sums.lin1 + sums.jumps1) <= share && max_el(sums.range) <= share;
         for (int t = 0; t < TERM_COUNT; ++t) {
-            one_ok = one_ok && max_el(sum_h1[t]) <= share;
+            one_ok = one_ok && max_el(sums.h1[t]) <= share;
             for (int c = 0; c < 3; ++c) {
-                need = rmax(need, level_for(sum_hn[t][c], 0.0, 0.0, share));
+                need = rmax(need, level_for(sums.hn[t][c], 0.0, 0.0, share));
             }
         }
         if (relaxed_on) {
             for (int c = 0; c < 3; ++c) {
-                need = rmax(need, level_for(0.0, sum_linn[c], sum_jumps[c], share));
+                need = rmax(need, level_for(0.0, sums.linn[c], sums.jumps[c], share));
             }
         }
-        if (max_el(sum_range) > share) {
+        if (max_el(sums.range) > share) {
             need = infinity();
         }
     }
@@ -71,8 +71,8 @@ float decide(float eps, uint n_max) {
             if (n > n_max) {
                 break;
             }
-            if (max_el(sum_grid[k]) <= eps) {
-                level = rmin(level, grid_level[k]);
+            if (max_el(sums.grid[k]) <= eps) {
+                level = rmin(level, pattern_level(n, n));
                 break;
             }
         }

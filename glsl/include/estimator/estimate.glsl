@@ -1,5 +1,6 @@
-// The estimate of one triangle: every light's bounds summed (light_sums) and the level decided
-// (level_pass), the entry points estimate_pass and required_level.
+// The estimate of one triangle: every light's bounds summed (light_sums), the level decided
+// (estimate_pass, as `estimate_textured` in Rust) and again over the children where it asks for
+// it (required_level).
 // Twin: `src/shading/estimator/estimate.rs`; proven equal with the rest of the estimator by
 // `tests/multirate.rs` (`control_stage_levels_equal_the_twin`).
 // A part of estimator.glsl, which includes the parts in dependency order: include that
@@ -9,31 +10,30 @@ int worse(int a, int b) {
     return b > a ? b : a;
 }
 
-// Every light's bounds summed over the triangle in `frame` (`light_sums` in Rust): the reason to
-// fall back (REASON_NONE if none); with `every_capped` (the range class's), each light's specular
-// part bounded by its cap; with `refine`, each point or directional light's ranges over the patch's
-// REFINE_CHILDREN children.
+// Every light's bounds summed over the triangle in `frame` into `sums` (`light_sums` in Rust): the
+// reason to fall back (REASON_NONE if none); with `every_capped` (the range class's), each light's
+// specular part bounded by its cap; with `refine`, each point or directional light's ranges over
+// the patch's REFINE_CHILDREN children.
 int light_sums(Frame frame, GpuMaterial material, vec2 param, float eps, uint n_max, float top, bool every_capped,
-               bool refine) {
-    est_bad = false;
+               bool refine, out Sums sums) {
+    Guard gd = FRESH_GUARD;
     if (SPLIT == 0) {
         for (int t = 0; t < TERM_COUNT; ++t) {
-            sum_h1[t] = vec3(0.0);
-            sum_hn[t] = vec3(0.0);
+            sums.h1[t] = vec3(0.0);
+            sums.hn[t] = vec3(0.0);
         }
     }
-    sum_tn = vec3(0.0);
-    sum_lin1 = vec3(0.0);
-    sum_linn = vec3(0.0);
-    sum_jumps = vec3(0.0);
-    sum_jumps1 = vec3(0.0);
-    sum_range = vec3(0.0);
-    sum_one = vec3(0.0);
-    sum_floor = vec3(0.0);
+    sums.tn = vec3(0.0);
+    sums.lin1 = vec3(0.0);
+    sums.linn = vec3(0.0);
+    sums.jumps = vec3(0.0);
+    sums.jumps1 = vec3(0.0);
+    sums.range = vec3(0.0);
+    sums.one = vec3(0.0);
+    sums.floor = vec3(0.0);
     if (SPLIT == 1) {
         for (int k = 0; k < GRID_LEVEL_COUNT; ++k) {
-            sum_grid[k] = vec3(0.0);
-            grid_level[k] = GRID_LEVELS[k] <= n_max ? pattern_level(GRID_LEVELS[k], GRID_LEVELS[k]) : 0.0;
+            sums.grid[k] = vec3(0.0);
         }
     }
     int reason = REASON_NONE;
@@ -54,7 +54,7 @@ int light_sums(Frame frame, GpuMaterial material, vec2 param, float eps, uint n_
     if (every_capped || SPECULAR_ALL_CAPPED) {
         caps = specular_caps(frame);
     }
-    bool saved_bad = est_bad;
+    bool saved_bad = gd.bad;
     for (int turn = 0; turn < light_turns + POLYGON_LIGHT_COUNT; ++turn) {
         int polygon = POLYGON_LIGHT_COUNT > 0 && turn >= light_turns ? turn - light_turns : -1;
         int i = refine ? turn / (REFINE_CHILDREN + 1) : turn;
@@ -75,8 +75,8 @@ int light_sums(Frame frame, GpuMaterial material, vec2 param, float eps, uint n_
 #endif
             if (r == 0) {
                 values = ChildValues(0.0, MAX_FINITE, vec3(0.0), true);
-                saved_bad = est_bad;
-                est_bad = false;
+                saved_bad = gd.bad;
+                gd.bad = false;
             }
             vec3 q[3] = frame.vertices;
             midpoint_child(q, r);
@@ -87,16 +87,16 @@ int light_sums(Frame frame, GpuMaterial material, vec2 param, float eps, uint n_
         } else if (refine) {
 #ifdef CHILDREN_GIVEN
             if (i < GIVEN_LIGHTS) {
-                saved_bad = est_bad;
-                values = given_child_values(i, est_bad);
+                saved_bad = gd.bad;
+                values = given_child_values(i, gd.bad);
             }
 #endif
-            values.ok = values.ok && !est_bad;
-            est_bad = saved_bad;
+            values.ok = values.ok && !gd.bad;
+            gd.bad = saved_bad;
             mode = ADD_REFINED;
         }
         int added = add_light(at, material, param, polygon < 0 && i < POINT_LIGHT_COUNT, light.position.xyz,
-                              light.radiance.rgb, polygon, top, n_max, eps, mode, caps, values);
+                              light.radiance.rgb, polygon, top, n_max, eps, mode, caps, values, sums, gd);
         if (mode != ADD_VALUES) {
             reason = worse(reason, added);
         } else if (added == REASON_NONE) {
@@ -105,23 +105,17 @@ int light_sums(Frame frame, GpuMaterial material, vec2 param, float eps, uint n_
             values.ok = false;
         }
     }
-    if (est_bad) {
+    if (gd.bad) {
         reason = worse(reason, REASON_SINGULAR);
     }
     return reason;
 }
 
-// One estimate of the triangle in `frame` (`light_sums` and `decide` in Rust): the level before
-// the n_max test, and the reason to fall back (REASON_NONE if none); with `refine`, each point
-// or directional light's ranges over the patch's REFINE_CHILDREN children.
-float level_pass(Frame frame, GpuMaterial material, vec2 param, float eps, uint n_max, float top, bool every_capped,
-                 bool refine, out int reason_out) {
-    int reason = light_sums(frame, material, param, eps, n_max, top, every_capped, refine);
-    reason_out = reason;
-    if (reason != REASON_NONE) {
-        return FALLBACK_LEVEL;
-    }
-    return decide(eps, n_max);
+// Whether the estimate refined over the children must fall back, as its refining floor
+// (sums.floor) exceeds eps at every level up to the top (`refining_futile` in Rust). The
+// Heuristic split only.
+bool refining_futile(Sums sums, float eps) {
+    return SPLIT == 1 && max_el(sums.floor) > eps * REFINE_FLOOR_MARGIN;
 }
 
 // One estimate of the triangle (p0, p1, p2) with vertex normals n0, n1, n2 seen from `eye`:
@@ -139,10 +133,11 @@ float estimate_pass(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec4 e
     P float top = pattern_level(n_max, n_max);
     GpuMaterial material = materials[material_index];
     Frame frame = make_frame(p0, p1, p2, n0, n1, n2, eye_ball);
-    int reason = REASON_NONE;
-    P float level = level_pass(frame, material, param, eps, n_max, top, every_capped, refine, reason);
-    // Not where refining cannot keep the triangle from falling back (`refining_futile` in Rust).
-    bool futile = SPLIT == 1 && max_el(sum_floor) > eps * REFINE_FLOOR_MARGIN;
+    Sums sums;
+    int reason = light_sums(frame, material, param, eps, n_max, top, every_capped, refine, sums);
+    P float level = reason == REASON_NONE ? decide(sums, eps, n_max) : FALLBACK_LEVEL;
+    // Not where refining cannot keep the triangle from falling back.
+    bool futile = refining_futile(sums, eps);
     refine_next = !refine && reason == REASON_NONE && (!(level <= REFINE_ABOVE) || !(level <= top)) && !futile;
     // false for NaN and infinity
     if (reason != REASON_NONE || !(level <= top)) {

@@ -1,6 +1,6 @@
 // One light as seen from the triangle (LightSetup, LightSource, AreaGeometry,
 // light_weights, and the steps of `plan_light` in Rust: diffuse_setup, specular_setup; the steps
-// that may fall back are add_light's), and the sums the lights' bounds accumulate in (the Sums,
+// that may fall back are add_light's), and the sums the lights' bounds accumulate in (Sums,
 // GRID_LEVELS).
 // Twin: `src/shading/estimator/light_setup.rs`; proven equal with the rest of the estimator by
 // `tests/multirate.rs` (`control_stage_levels_equal_the_twin`).
@@ -35,26 +35,29 @@ struct LightSetup {
     bool specular;
 };
 
-// Accumulated bounds (see `Sums`): per term and channel, levels 1 and >= 2 (Uniform split
-// only), and all terms at levels >= 2.
-vec3 sum_h1[TERM_COUNT];
-vec3 sum_hn[TERM_COUNT];
-vec3 sum_tn;
-vec3 sum_lin1;
-vec3 sum_linn;
-vec3 sum_jumps;
-vec3 sum_jumps1;
-vec3 sum_range;
-vec3 sum_one;
-// The refining floor (`Sums::floor` in Rust).
-vec3 sum_floor;
-// Heuristic split: the bound at the uniform levels of GRID_LEVELS, each light's parts at the
-// smaller of their interpolation bound and their range there (see `GRID_LEVELS` in Rust).
+// Heuristic split: the uniform levels at which each light's parts are also bounded by the smaller
+// of their interpolation bound and their range there (see `GRID_LEVELS` in Rust).
 const int GRID_LEVEL_COUNT = 8;
 const uint GRID_LEVELS[GRID_LEVEL_COUNT] = uint[](2u, 3u, 4u, 6u, 8u, 12u, 16u, 32u);
-vec3 sum_grid[GRID_LEVEL_COUNT];
-// The effective levels of the GRID_LEVELS uniform patterns (up to n_max), read once per triangle.
-float grid_level[GRID_LEVEL_COUNT];
+
+// Accumulated bounds (`Sums` in Rust, without `low`): per term and channel, levels 1 and >= 2
+// (Uniform split only); all terms at levels >= 2 (tn); the Relaxed first-order terms (lin1, linn);
+// the n-independent parts at levels >= 2 and at level 1 (jumps, jumps1); the parts bounded by
+// their range (range); the level-1 bound (one); the Heuristic split's bound at the uniform levels
+// of GRID_LEVELS (grid); and the refining floor (floor).
+struct Sums {
+    vec3 h1[TERM_COUNT];
+    vec3 hn[TERM_COUNT];
+    vec3 tn;
+    vec3 lin1;
+    vec3 linn;
+    vec3 jumps;
+    vec3 jumps1;
+    vec3 range;
+    vec3 one;
+    vec3 grid[GRID_LEVEL_COUNT];
+    vec3 floor;
+};
 
 // Where a polygonal light is as seen from the triangle (see `AreaGeometry` in Rust).
 struct AreaGeometry {

@@ -16,39 +16,39 @@ P float power_net_coefficient(float s0, float s1, float c0, float c1) {
 
 // Blinn-Phong's lobe t^s, t = n.h over the angle range [h0, h1] moving at most w_nh, for a
 // shininess anywhere in param = [s0, s1] (see `power_jet` in Rust).
-Jet power_jet(Field n, Field h, vec2 param, float h0, float h1, float w_nh) {
+Jet power_jet(Field n, Field h, vec2 param, float h0, float h1, float w_nh, inout Guard gd) {
     P float s0 = param.x;
     P float s1 = param.y;
-    Jet c_nh = cosine(n, h, vec2(h0, h1));
+    Jet c_nh = cosine(n, h, vec2(h0, h1), gd);
     P float chi = est_cos(h0);
     Jet t = jet_constant(est_pow(chi, s0));
-    t.g = gc(s1 * max_cos_sin(s0 - 1.0, 1.0, h0, h1) * w_nh);
+    t.g = gc(s1 * max_cos_sin(s0 - 1.0, 1.0, h0, h1) * w_nh, gd);
     P float slope = s1 * est_pow(chi, s0 - 1.0);
-    t.h = gmul(c_nh.h, slope);
+    t.h = gmul(c_nh.h, slope, gd);
     P float hp = 0.0;
     P float k = 0.0;
-    P float w2 = gmul(w_nh, w_nh);
+    P float w2 = gmul(w_nh, w_nh, gd);
     if (s1 > 1.0) {
         k = s1 * (s1 - 1.0) * max_cos_sin(s0 - 2.0, 2.0, h0, h1);
-        hp = gmul(k, w2);
-        if (booked(T_POWER)) {
-            t.h = gc(t.h + hp);
+        hp = gmul(k, w2, gd);
+        if (booked(T_POWER, gd)) {
+            t.h = gc(t.h + hp, gd);
         }
     }
-    if (est_term == T_ALL) {
+    if (gd.term == T_ALL) {
         // The power's part >= 0, the cosine's turning part <= 0: the larger, plus the rest.
-        Curvature curv = curvature(n, h, vec2(h0, h1));
-        P float turning = gmul(gmul(s1, est_pow(chi, s0)), curv.turn);
+        Curvature curv = curvature(n, h, vec2(h0, h1), gd);
+        P float turning = gmul(gmul(s1, est_pow(chi, s0), gd), curv.turn, gd);
         // The profile's part less the turning part, on the turn's share of w^2 (see Rust).
         P float net = hp;
         if (s1 > 1.0 && s0 > 2.0) {
             P float c1 = power_net_coefficient(s0, s1, chi, rmax(est_cos(h1), 0.0));
-            net = gc(gmul(c1, curv.turn) + gmul(k, rmax(w2 - curv.turn, 0.0)));
+            net = gc(gmul(c1, curv.turn, gd) + gmul(k, rmax(w2 - curv.turn, 0.0), gd), gd);
         }
-        P float joint = gc(gmul(slope, curv.rest) + rmax(rmin(net, hp), turning));
+        P float joint = gc(gmul(slope, curv.rest, gd) + rmax(rmin(net, hp), turning), gd);
         t.h = rmin(t.h, joint);
     }
-    return guard_jet(t);
+    return guard_jet(t, gd);
 }
 
 // The distribution's profile coefficient less the turning part at s2 = sin^2 psi (see
@@ -72,7 +72,7 @@ P float ggx_net_coefficient(float a2, float s0, float s1) {
 }
 
 // GGX D(n.h) jet (see `ggx_d_jet`).
-Jet ggx_d_jet(Jet c, Curvature curv, float p0, float p1, float w, float alpha) {
+Jet ggx_d_jet(Jet c, Curvature curv, float p0, float p1, float w, float alpha, inout Guard gd) {
     P float a2 = alpha * alpha;
     P float beta = 1.0 - a2;
     P float coef = 4.0 * a2 * beta / PI;
@@ -94,71 +94,71 @@ Jet ggx_d_jet(Jet c, Curvature curv, float p0, float p1, float w, float alpha) {
     P float d2 = x2 * (big_a - 5.0 * beta * x2) / (u2 * u2 * u2 * u2);
     P float u0 = a2 + beta * s0;
     Jet o = jet_constant(a2 / (PI * u0 * u0));
-    o.g = gmul(gc(coef * d1), w);
-    P float slope = gc(coef * est_cos(p0) / (u0 * u0 * u0));
-    o.h = gmul(c.h, slope);
-    P float w2 = gmul(w, w);
-    P float dd = gc(coef * d2);
-    P float dh = gmul(dd, w2);
-    if (booked(T_D)) {
-        o.h = gc(o.h + dh);
+    o.g = gmul(gc(coef * d1, gd), w, gd);
+    P float slope = gc(coef * est_cos(p0) / (u0 * u0 * u0), gd);
+    o.h = gmul(c.h, slope, gd);
+    P float w2 = gmul(w, w, gd);
+    P float dd = gc(coef * d2, gd);
+    P float dh = gmul(dd, w2, gd);
+    if (booked(T_D, gd)) {
+        o.h = gc(o.h + dh, gd);
     }
-    if (est_term == T_ALL) {
+    if (gd.term == T_ALL) {
         // D''(Dt)^2 >= 0 and D'(-t(|u|^2 + |v|^2)) <= 0: the larger, plus the rest; the first
         // less the second on the turn's share of w^2 (see `ggx_net_coefficient`).
         P float c0 = est_cos(p0);
-        P float turning = gmul(gc(coef * c0 * c0 / (u0 * u0 * u0)), curv.turn);
-        P float net = gc(gmul(ggx_net_coefficient(a2, s0, s1), curv.turn)
-            + gmul(dd, rmax(w2 - curv.turn, 0.0)));
-        P float joint = gc(gmul(slope, curv.rest) + rmax(rmin(net, dh), turning));
+        P float turning = gmul(gc(coef * c0 * c0 / (u0 * u0 * u0), gd), curv.turn, gd);
+        P float net = gc(gmul(ggx_net_coefficient(a2, s0, s1), curv.turn, gd)
+            + gmul(dd, rmax(w2 - curv.turn, 0.0), gd), gd);
+        P float joint = gc(gmul(slope, curv.rest, gd) + rmax(rmin(net, dh), turning), gd);
         o.h = rmin(o.h, joint);
     }
-    return guard_jet(o);
+    return guard_jet(o, gd);
 }
 
 // The roughness-dependent GGX factors G, V and D at one alpha (see `ggx_factor_jets`).
 void ggx_factor_jets(Field n, Field l, Field v, Field h, LightSetup st, vec2 nh, float w_nh,
-                     float alpha, float view_band, out Jet gjet, out Jet vjet, out Jet djet) {
+                     float alpha, float view_band, out Jet gjet, out Jet vjet, out Jet djet, inout Guard gd) {
     P float h0 = nh.x;
     P float h1 = nh.y;
     P float k = 0.5 * alpha;
 
     // G = c/(c(1-k)+k) with c = n.l >= 0.
     P vec2 nl = vec2(st.psi_nl.x, rmin(st.psi_nl.y, HALF_PI));
-    Jet c_g = cosine(n, l, nl);
+    Jet c_g = cosine(n, l, nl, gd);
     P float c0 = rmax(est_cos(nl.y), 0.0);
     P float c1 = est_cos(nl.x);
     P float q0 = c0 * (1.0 - k) + k;
     P float q1 = c1 * (1.0 - k) + k;
     P float g1 = k / (q0 * q0);
     P float g2 = 2.0 * k * (1.0 - k) / (q0 * q0 * q0);
-    gjet = chain(c_g, c1 / q1, g1, g2, T_V);
+    gjet = chain(c_g, c1 / q1, g1, g2, T_V, gd);
 
     // V_v = 1/(max(n.v, 0)(1-k)+k): constant 1/k where n.v <= 0 throughout.
     if (st.nv_sign == SIGN_NON_POSITIVE) {
         vjet = jet_constant(1.0 / k);
     } else if (st.nv_sign == SIGN_BOTH) {
         // Relaxed, the view's kink inside: the smooth parts (see `smith_v_kink_jet`).
-        Jet c_v = cosine(n, v, st.psi_nv);
+        Jet c_v = cosine(n, v, st.psi_nv, gd);
         P float slope = (1.0 - k) / (k * k);
         P float v2 = 2.0 * (1.0 - k) * (1.0 - k) / (k * k * k);
-        vjet = chain(c_v, gc(1.0 / k + gmul(slope, rmin(c_v.m, view_band))), slope, v2, T_V);
+        vjet = chain(c_v, gc(1.0 / k + gmul(slope, rmin(c_v.m, view_band), gd), gd), slope, v2, T_V, gd);
     } else {
         P vec2 nv = vec2(st.psi_nv.x, rmin(st.psi_nv.y, HALF_PI));
-        Jet c_v = cosine(n, v, nv);
+        Jet c_v = cosine(n, v, nv, gd);
         P float q = rmax(est_cos(nv.y), 0.0) * (1.0 - k) + k;
         P float v1 = (1.0 - k) / (q * q);
         P float v2 = 2.0 * (1.0 - k) * (1.0 - k) / (q * q * q);
-        vjet = chain(c_v, 1.0 / q, v1, v2, T_V);
+        vjet = chain(c_v, 1.0 / q, v1, v2, T_V, gd);
     }
 
     // D(t), t = n.h.
     if (st.psi_nh.x >= HALF_PI) {
         djet = jet_constant(alpha * alpha / PI);
     } else {
-        Jet c_nh = cosine(n, h, vec2(h0, h1));
-        Curvature curv = curvature(n, h, vec2(h0, h1));
-        djet = ggx_d_jet(c_nh, curv, h0, h1, w_nh, alpha);
+        Jet c_nh = cosine(n, h, vec2(h0, h1), gd);
+        Curvature curv = curvature(n, h, vec2(h0, h1), gd);
+        djet = ggx_d_jet(c_nh, curv, h0, h1, w_nh, alpha, gd);
     }
 }
 
@@ -199,13 +199,13 @@ P float ggx_d_value(float c, float alpha) {
 }
 
 // (2 - v) sup f/p_light + v sup f/p_brdf (see `mis_bound` in Rust).
-P float mis_bound(float light_part, float brdf_part) {
-    return gc(gmul(2.0 - MIS_VISIBILITY, light_part) + gmul(MIS_VISIBILITY, brdf_part));
+P float mis_bound(float light_part, float brdf_part, inout Guard gd) {
+    return gc(gmul(2.0 - MIS_VISIBILITY, light_part, gd) + gmul(MIS_VISIBILITY, brdf_part, gd), gd);
 }
 
 // An upper bound of a polygonal light's sampled specular part on the triangle, per channel
 // (see `polygon_specular_bound` in Rust for the derivation).
-P vec3 polygon_specular_bound(GpuMaterial material, vec2 param, LightSetup st, GpuPolygonLight light) {
+P vec3 polygon_specular_bound(GpuMaterial material, vec2 param, LightSetup st, GpuPolygonLight light, inout Guard gd) {
     if (MATERIAL_KIND == MATERIAL_LAMBERT || !st.area) {
         return vec3(0.0);
     }
@@ -213,19 +213,19 @@ P vec3 polygon_specular_bound(GpuMaterial material, vec2 param, LightSetup st, G
     P float cos_l_min = rmax(st.nl_cos.y, 0.0);
     P float cos_l_max = rmin(st.nl_cos.x, 1.0);
     P float cos_y_max = rmin(est_cos(st.emitter.x), 1.0);
-    P float omega = gc(rmin(gmul(light.normal.w * cos_y_max, gmul(st.inv_d, st.inv_d)), 2.0 * PI));
+    P float omega = gc(rmin(gmul(light.normal.w * cos_y_max, gmul(st.inv_d, st.inv_d, gd), gd), 2.0 * PI), gd);
     P float h0 = st.psi_nh.x;
     P float h1 = st.psi_nh.y;
     bool projected = POLYGON_TECHNIQUE == 0;
     if (MATERIAL_KIND == MATERIAL_BLINN_PHONG) {
         P float s0 = param.x;
         P float peak = h0 < HALF_PI ? est_pow(est_cos(h0), s0) : 0.0;
-        P float light_part = gmul(peak, omega);
+        P float light_part = gmul(peak, omega, gd);
         if (projected && light_part > 0.0) {
-            light_part = gc(light_part * cos_l_max / cos_l_min);
+            light_part = gc(light_part * cos_l_max / cos_l_min, gd);
         }
         P float brdf_part = 8.0 * PI / (s0 + 1.0);
-        P vec3 b = radiance * material.specular.rgb * mis_bound(light_part, brdf_part);
+        P vec3 b = radiance * material.specular.rgb * mis_bound(light_part, brdf_part, gd);
         return b;
     }
     P float alpha_lo = max(param.x * param.x, GGX_MIN_ALPHA);
@@ -241,7 +241,7 @@ P vec3 polygon_specular_bound(GpuMaterial material, vec2 param, LightSetup st, G
     P float cos_v_min = rmax(est_cos(st.psi_nv.y), 0.0);
     P float v_side = cos_v_min * (1.0 - k) + k;
     P float v_max = 1.0 / ((cos_l_min * (1.0 - k) + k) * v_side);
-    P float light_part = h0 < HALF_PI ? gmul(gmul(0.25 * d_max, v_max), omega * cos_l_max) : 0.0;
+    P float light_part = h0 < HALF_PI ? gmul(gmul(0.25 * d_max, v_max, gd), omega * cos_l_max, gd) : 0.0;
     P float cos_h_min = rmax(est_cos(rmin(h1, HALF_PI)), 0.0);
     P float brdf_part = v_side * cos_h_min > 0.5 / v_max ? 1.0 / (v_side * cos_h_min) : 2.0 * v_max;
     P float om = 1.0 - clamp(est_cos(0.5 * st.psi_lv.y), 0.0, 1.0);
@@ -249,6 +249,6 @@ P vec3 polygon_specular_bound(GpuMaterial material, vec2 param, LightSetup st, G
     P float om4 = om2 * om2;
     P float om5 = om * om4;
     P vec3 f_max = material.specular.rgb + (vec3(1.0) - material.specular.rgb) * om5;
-    P vec3 b = radiance * f_max * mis_bound(light_part, brdf_part);
+    P vec3 b = radiance * f_max * mis_bound(light_part, brdf_part, gd);
     return b;
 }

@@ -47,14 +47,14 @@ P float band_at(TerminatorBand t, float l) {
 }
 
 // The band's floor as the level grows (`TerminatorBand::floor`).
-P float band_floor(TerminatorBand t) {
+P float band_floor(TerminatorBand t, inout Guard gd) {
     P float band = t.normal + t.light * rmin(t.nu, 1.0);
-    return gc(band);
+    return gc(band, gd);
 }
 
 // Relaxed, GGX: |n.v| on a sub-triangle of diameters d that n.v = 0 crosses (`view_band`).
-P float view_band(Frame frame, Scale d) {
-    return gc(d.b / frame.r_n + d.a / frame.e_min);
+P float view_band(Frame frame, Scale d, inout Guard gd) {
+    return gc(d.b / frame.r_n + d.a / frame.e_min, gd);
 }
 
 // Relaxed: the factor <= 1 by which the specular lobe's sup over the band 0 < n.l <= beta is

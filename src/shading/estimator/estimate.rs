@@ -3,8 +3,9 @@
 //!
 //! GLSL twin: `glsl/include/estimator/estimate.glsl`. Proof that the twins are equal:
 //! `tests/multirate.rs` `control_stage_levels_equal_the_twin` (the GPU's levels equal this twin's
-//! on every triangle of the shipped scenes, bit for bit). There the entry functions (`level_pass`
-//! and the others) close the file.
+//! on every triangle of the shipped scenes, bit for bit). There `estimate_pass` is
+//! [`estimate_textured`] after the range class, `required_level` runs it again over the children
+//! where it asks for it, and `light_sums` and `refining_futile` are as here.
 
 use super::add_light::add_light;
 use super::constants::{REFINE_ABOVE, REFINE_FLOOR_MARGIN};

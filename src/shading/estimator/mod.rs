@@ -5,7 +5,7 @@
 //! | `src/exact_math.rs` | `exact_math.glsl` | `control_stage_levels_equal_the_twin` |
 //! | `mod.rs` | `estimator.glsl` | `control_stage_levels_equal_the_twin` |
 //! | `constants.rs` | `estimator/constants.glsl` | `control_stage_levels_equal_the_twin` |
-//! | `terms.rs` | `estimator/estimate.glsl` (its declarations) | `control_stage_levels_equal_the_twin` |
+//! | `terms.rs` | `estimator/terms.glsl` | `control_stage_levels_equal_the_twin` |
 //! | `estimate.rs` | `estimator/estimate.glsl` | `control_stage_levels_equal_the_twin` |
 //! | `jet.rs` | `estimator/jet.glsl` | `control_stage_levels_equal_the_twin` |
 //! | `cone.rs` | `estimator/cone.glsl` | `control_stage_levels_equal_the_twin` |

@@ -2,9 +2,9 @@
 //! the bound's terms ([`Term`], [`TERM_COUNT`], [`TERM_NAMES`]) and why an estimate asks for
 //! per-pixel fallback ([`Reason`]).
 //!
-//! GLSL twin: the declarations at the top of `glsl/include/estimator/estimate.glsl` (and the term
-//! indices in `estimator/constants.glsl`). Proof that the twins are equal: `tests/multirate.rs`
-//! `control_stage_levels_equal_the_twin`.
+//! GLSL twin: `glsl/include/estimator/terms.glsl` (the term ids and the reasons; the input and
+//! the result are `estimate_pass`'s arguments and level). Proof that the twins are equal:
+//! `tests/multirate.rs` `control_stage_levels_equal_the_twin`.
 
 use crate::scene::Mesh;
 use glam::Vec3;
