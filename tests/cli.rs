@@ -19,7 +19,6 @@ use multirate::vk::memory::{Buffer, Image};
 use multirate::vk::Context;
 use multirate::Error;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 fn scratch(name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli").join(name);
@@ -28,11 +27,8 @@ fn scratch(name: &str) -> PathBuf {
 }
 
 fn multirate(args: &[&str]) -> (bool, String, String) {
-    let output = Command::new(env!("CARGO_BIN_EXE_multirate"))
-        .args(args)
-        .env_remove("DISPLAY")
-        .output()
-        .expect("run multirate");
+    let output =
+        common::multirate_command().args(args).env_remove("DISPLAY").output().expect("run multirate");
     (
         output.status.success(),
         String::from_utf8_lossy(&output.stdout).into_owned(),
@@ -47,7 +43,7 @@ fn multirate(args: &[&str]) -> (bool, String, String) {
 fn default_scenes_exist_from_any_working_directory() {
     let elsewhere = scratch("elsewhere");
     for subcommand in ["view", "calibrate"] {
-        let output = Command::new(env!("CARGO_BIN_EXE_multirate"))
+        let output = common::multirate_command()
             .args([subcommand, "--help"])
             .current_dir(&elsewhere)
             .output()
@@ -244,7 +240,7 @@ fn analyze_writes_one_row_per_visible_triangle() {
 #[test]
 fn first_run_shows_multirate_and_the_trade() {
     let dir = scratch("first_run");
-    let output = Command::new(env!("CARGO_BIN_EXE_multirate"))
+    let output = common::multirate_command()
         .arg("--validate")
         .current_dir(&dir)
         .env_remove("DISPLAY")
@@ -253,7 +249,8 @@ fn first_run_shows_multirate_and_the_trade() {
     let (stdout, stderr) = (String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
     assert!(output.status.success(), "first run failed:\n{stderr}");
     assert!(!stderr.contains("vulkan:"), "validation messages:\n{stderr}");
-    for needle in ["multirate ε = 0.075", "GPU time", "ms, pixel", "shading evaluations", "level map"] {
+    let needles = ["multirate ε = 0.075", "GPU time", "camera still", "turning 1° a frame", "ms, pixel"];
+    for needle in needles.into_iter().chain(["shading evaluations", "level map"]) {
         assert!(stdout.contains(needle), "{needle:?} missing from:\n{stdout}");
     }
     // "shading evaluations: multirate A, pixel B (…)": multirate shades a fraction of pixel's.
@@ -278,6 +275,17 @@ fn first_run_shows_multirate_and_the_trade() {
         let bytes = std::fs::metadata(dir.join(image)).map(|m| m.len()).unwrap_or(0);
         assert!(bytes > 1000, "{image}: {bytes} bytes");
     }
+}
+
+/// The tests set lavapipe up themselves (`common::lavapipe_as_tests_need`), so that the README's
+/// `cargo test --release`, run as written, compiles the pipelines as CI does: once a test has a
+/// device, `GALLIVM_PERF` is set in its process (the `multirate` processes it starts inherit it).
+#[test]
+fn the_tests_choose_lavapipe_s_setting_themselves() {
+    let context = validated_context();
+    let setting = std::env::var("GALLIVM_PERF").expect("GALLIVM_PERF set once a test has a device");
+    assert!(!setting.is_empty(), "GALLIVM_PERF is empty");
+    assert_validation_clean(&context);
 }
 
 /// Every device limit `render::limits` checks, lowered below what a shipped scene needs: the

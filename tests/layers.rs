@@ -94,7 +94,9 @@ fn declarations(lib: &str) -> Vec<(String, bool)> {
             continue;
         }
         let declared = line.strip_prefix("mod ").or_else(|| {
-            line.split_once(" mod ").filter(|(visibility, _)| visibility.starts_with("pub")).map(|(_, rest)| rest)
+            line.split_once(" mod ")
+                .filter(|(visibility, _)| visibility.starts_with("pub"))
+                .map(|(_, rest)| rest)
         });
         if let Some(name) = declared.and_then(|rest| rest.strip_suffix(';')) {
             modules.push((name.to_string(), test_only));
@@ -250,7 +252,9 @@ impl Folder {
     }
 
     fn root_name(&self) -> String {
-        self.root.as_ref().map_or_else(|| format!("src/{}/", self.dir.display()), |r| format!("src/{}", r.display()))
+        self.root
+            .as_ref()
+            .map_or_else(|| format!("src/{}/", self.dir.display()), |r| format!("src/{}", r.display()))
     }
 }
 
@@ -280,7 +284,8 @@ fn folders(files: &[SourceFile]) -> Vec<Folder> {
         .collect();
     dirs.into_iter()
         .map(|dir| {
-            let root = [dir.join("mod.rs"), dir.with_extension("rs")].into_iter().find(|p| text_of(p).is_some());
+            let root =
+                [dir.join("mod.rs"), dir.with_extension("rs")].into_iter().find(|p| text_of(p).is_some());
             let text = root.as_deref().and_then(text_of).unwrap_or("");
             Folder {
                 module: module_of(&dir.join("mod.rs")),
@@ -307,7 +312,8 @@ fn list_problems(folder: &Folder) -> Vec<String> {
             problems.push(format!("{at}:{line}: `{name}` is numbered {}, not {}", entry.number, index + 1));
         }
         if !entry.described {
-            problems.push(format!("{at}:{line}: `{name}`: not in the form `//! N. [`child`]: what it holds`"));
+            problems
+                .push(format!("{at}:{line}: `{name}`: not in the form `//! N. [`child`]: what it holds`"));
         }
         if folder.rank(name) != Some(index) {
             problems.push(format!("{at}:{line}: `{name}` is listed twice"));
@@ -505,7 +511,9 @@ fn folder_problem(folder: &Folder, own: &[String], target: &[String]) -> Option<
     };
     match (folder.rank(child), folder.rank(named)) {
         (Some(mine), Some(theirs)) if theirs < mine => None,
-        (Some(_), Some(_)) => Some(format!("`{child}` imports `{named}`, listed after it in {root}: a cycle")),
+        (Some(_), Some(_)) => {
+            Some(format!("`{child}` imports `{named}`, listed after it in {root}: a cycle"))
+        }
         _ => Some(format!("`{child}` imports `{named}`, and {root} does not list both")),
     }
 }
@@ -518,7 +526,9 @@ fn import_problems(relative: &Path, text: &str, folders: &[Folder]) -> Vec<Strin
     let mut problems = Vec::new();
     for (line, written) in written_paths(&code) {
         let mut own = file_module.clone();
-        own.extend(inline.iter().filter(|(start, end, _)| (*start..=*end).contains(&line)).map(|m| m.2.clone()));
+        own.extend(
+            inline.iter().filter(|(start, end, _)| (*start..=*end).contains(&line)).map(|m| m.2.clone()),
+        );
         let Some(target) = resolve(&own, &written) else {
             continue;
         };
@@ -559,10 +569,15 @@ fn planted_room(a: &str, b: &str) -> Vec<SourceFile> {
     let root = "//! A room.\n//!\n//! Files, bottom to top: each imports through `super::` only from those listed before it.\n\
                 //! 1. [`a`]: the first.\n//! 2. [`b`]: the second.\n\n\
                 mod a;\npub(crate) mod b;\n\npub use b::Thing;\npub struct Root;\n\n#[cfg(test)]\nmod tests;\n";
-    [("room/mod.rs", root), ("room/a.rs", a), ("room/b.rs", b), ("room/tests.rs", "use super::*;\nuse super::b::Thing;\n")]
-        .into_iter()
-        .map(|(path, text)| (PathBuf::from(path), text.to_string()))
-        .collect()
+    [
+        ("room/mod.rs", root),
+        ("room/a.rs", a),
+        ("room/b.rs", b),
+        ("room/tests.rs", "use super::*;\nuse super::b::Thing;\n"),
+    ]
+    .into_iter()
+    .map(|(path, text)| (PathBuf::from(path), text.to_string()))
+    .collect()
 }
 
 #[test]
@@ -603,8 +618,10 @@ fn the_folder_check_sees_a_planted_cycle() {
 
 #[test]
 fn the_folder_check_reads_lists_and_paths() {
-    let root = "//! 1. [`a`]: fine.\n//! 3. [`b`]\n//! 3. [`a`]: twice.\nmod a;\npub(crate) mod b;\npub mod c;\n";
-    let files = [(PathBuf::from("room/mod.rs"), root.to_string()), (PathBuf::from("room/a.rs"), String::new())];
+    let root =
+        "//! 1. [`a`]: fine.\n//! 3. [`b`]\n//! 3. [`a`]: twice.\nmod a;\npub(crate) mod b;\npub mod c;\n";
+    let files =
+        [(PathBuf::from("room/mod.rs"), root.to_string()), (PathBuf::from("room/a.rs"), String::new())];
     assert_eq!(
         list_problems(&folders(&files)[0]),
         [
@@ -615,7 +632,8 @@ fn the_folder_check_reads_lists_and_paths() {
         ]
     );
     let code = code_only("use super::{a::{self, B as C}, d::*}; // super::x\nlet s = r#\"crate::y\"#;");
-    let paths: Vec<_> = written_paths(&code).into_iter().map(|(line, path)| (line, path.join("::"))).collect();
+    let paths: Vec<_> =
+        written_paths(&code).into_iter().map(|(line, path)| (line, path.join("::"))).collect();
     assert_eq!(paths, [(1, "super::a::self".into()), (1, "super::a::B".into()), (1, "super::d::*".into())]);
     let module = ["room".to_string(), "b".to_string()];
     let words = |path: &str| path.split("::").map(str::to_string).collect::<Vec<_>>();

@@ -18,7 +18,7 @@ use multirate::vk::ContextOptions;
 use multirate::window::{view, ScriptEvent, ViewScript};
 use std::ffi::OsString;
 use std::io::{BufRead, BufReader};
-use std::process::{Command, Stdio};
+use std::process::Stdio;
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
@@ -97,7 +97,7 @@ fn a_soak_of_ten_thousand_frames_visits_every_mode_and_keeps_memory_flat() {
         }
     };
     let json = std::env::temp_dir().join(format!("multirate-window-soak-{}.json", std::process::id()));
-    let mut child = Command::new(env!("CARGO_BIN_EXE_multirate"))
+    let mut child = common::multirate_command()
         .args(["soak", "--frames", &SOAK_FRAMES.to_string(), "--size", "64x48", "--json"])
         .arg(&json)
         .arg("--scene")

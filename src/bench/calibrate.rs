@@ -76,6 +76,7 @@ pub fn calibrate(
         min_estimated_areas: vec![Some(0.0)],
         // What every frame costs: the camera still, each frame estimating for its own eye.
         orbit_degrees: 0.0,
+        draw_parts: false,
         eye_ball_share: 0.0,
     };
     // Every triangle per pixel: ε 0, which the range class never settles, and an area floor

@@ -6,7 +6,8 @@ use super::row::{Row, Timing, Trade};
 use crate::analysis::metrics::{self, fallback_mask, fallback_pixels, scaled_difference, ImageError};
 use crate::error::Result;
 use crate::render::{
-    output, Analysis, CameraTurn, EvaluationCounts, Measurement, Mode, Placement, PrePassStep, Renderer, View,
+    output, Analysis, CameraTurn, DrawPart, EvaluationCounts, MeasureOptions, Measurement, Mode, Placement,
+    PrePassStep, Renderer, View,
 };
 use crate::scene::Scene;
 use crate::shading::estimator::{Discontinuity, EstimatorSettings, Split};
@@ -55,12 +56,27 @@ pub struct BenchConfig {
     /// Empty: the cost model.
     pub min_estimated_areas: Vec<Option<f32>>,
     /// Degrees per frame by which the camera turns about its target while frames are timed (0:
-    /// it stays still; `CameraTurn`), each configuration along its own path.
+    /// it stays still; `CameraTurn`), every configuration's measured frames at the same cameras.
     pub orbit_degrees: f32,
+    /// Whether each part of the draws is timed apart (`MeasureOptions::draw_parts`): the frames
+    /// are then slower by the split renderings.
+    pub draw_parts: bool,
     /// multirate: the radius of the ball of eyes its levels hold for and are kept in, as a share
     /// of the camera's distance to its target (`View`'s `EYE_BALL_SHARE`; 0: every frame
     /// estimates for its own eye).
     pub eye_ball_share: f32,
+}
+
+impl BenchConfig {
+    /// How its configurations are timed.
+    pub fn schedule(&self) -> Schedule {
+        Schedule {
+            warmup: self.warmup,
+            frames: self.frames,
+            orbit_degrees: self.orbit_degrees,
+            draw_parts: self.draw_parts,
+        }
+    }
 }
 
 /// Everything a run produced: rows and, per row, the measured frames.
@@ -263,7 +279,7 @@ pub fn run(
         // The empty frame takes its turns with the others.
         let mut timed = views.clone();
         timed.push(empty_view(&views[0], scene));
-        let mut measurements = measure_in_turns(renderer, target, &timed, config, &mut |turn| {
+        let mut measurements = measure_in_turns(renderer, target, &timed, config.schedule(), &mut |turn| {
             progress(Progress { done: done + turn, total, label: &label, turns_done: turn })
         })?;
         done += turns;
@@ -343,36 +359,50 @@ fn analyze_with_heat(
     Ok((analysis, heat_and_mask))
 }
 
+/// How configurations are timed in turns ([`measure_in_turns`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Schedule {
+    /// Warm-up frames of the first turn.
+    pub warmup: u32,
+    /// Measured frames of each configuration.
+    pub frames: u32,
+    /// Degrees per frame by which the camera turns about its target (0: still; `CameraTurn`).
+    pub orbit_degrees: f32,
+    /// Whether each part of the draws is timed apart (`MeasureOptions::draw_parts`).
+    pub draw_parts: bool,
+}
+
 /// Times `views` (one scene at one resolution) in turns: each configuration in order renders
 /// its warm-up frames and [`FRAMES_PER_TURN`] measured frames, then the next; turns repeat
-/// until each has `config.frames` measured frames. A slow spell of the machine (lavapipe
+/// until each has `schedule.frames` measured frames. A slow spell of the machine (lavapipe
 /// shares the CPU with everything else on it) then slows every configuration alike instead
 /// of one whole row, so ratios within a run hold up. The first turn warms up for
-/// `config.warmup` frames, later turns for one (at most `config.warmup`): the pipelines and
+/// `schedule.warmup` frames, later turns for one (at most `schedule.warmup`): the pipelines and
 /// buffers stay ready between turns, only caches have cooled. `turn_done(k)` is called after
 /// turn `k + 1`.
-fn measure_in_turns(
+pub fn measure_in_turns(
     renderer: &Renderer,
     target: &RenderTarget,
     views: &[View],
-    config: &BenchConfig,
+    schedule: Schedule,
     turn_done: &mut dyn FnMut(usize),
 ) -> Result<Vec<Measurement>> {
     let mut measurements: Vec<Measurement> = views.iter().map(|_| Measurement::default()).collect();
-    // Each configuration's camera goes on turning from where its last turn left it.
-    let mut drawn = vec![0u32; views.len()];
+    // Each configuration's camera goes on turning from where its last turn left it, its measured
+    // frames at the same cameras as every other's (`CameraTurn`).
     let mut measured = 0;
     let mut turn = 0;
-    while measured < config.frames {
-        let frames = FRAMES_PER_TURN.min(config.frames - measured);
-        let warmup = if turn == 0 { config.warmup } else { config.warmup.min(1) };
-        for ((view, measurement), drawn) in views.iter().zip(&mut measurements).zip(&mut drawn) {
-            let turn = CameraTurn { degrees_per_frame: config.orbit_degrees, first_frame: *drawn };
-            let part = renderer.measure_turning(target, view, warmup, frames, turn)?;
-            *drawn += part.frames_drawn;
+    while measured < schedule.frames {
+        let frames = FRAMES_PER_TURN.min(schedule.frames - measured);
+        let warmup = if turn == 0 { schedule.warmup } else { schedule.warmup.min(1) };
+        for (view, measurement) in views.iter().zip(&mut measurements) {
+            let turn = CameraTurn { degrees_per_frame: schedule.orbit_degrees, first_measured: measured };
+            let options = MeasureOptions { turn, draw_parts: schedule.draw_parts };
+            let part = renderer.measure_with(target, view, warmup, frames, options)?;
             measurement.frames.extend(part.frames);
             measurement.pre_pass.extend(part.pre_pass);
             measurement.pre_pass_steps.extend(part.pre_pass_steps);
+            measurement.draw_parts_ms.extend(part.draw_parts_ms);
             measurement.statistics = part.statistics.or(measurement.statistics);
             measurement.drawn_as_pixel = match (measurement.drawn_as_pixel, part.drawn_as_pixel) {
                 (Some(sum), Some(part)) => Some(sum + part),
@@ -414,6 +444,13 @@ fn row(
         pre_pass_ms: (!measurement.pre_pass.is_empty()).then(|| Timing::of(&measurement.pre_pass_ms())),
         pre_pass_steps_ms: (!measurement.pre_pass_steps.is_empty())
             .then(|| PrePassStep::ALL.map(|step| Timing::of(&measurement.pre_pass_step_ms(step)).median)),
+        draw_parts_ms: (!measurement.draw_parts_ms.is_empty()).then(|| {
+            DrawPart::ALL.map(|part| {
+                let ms: Vec<f64> =
+                    measurement.draw_parts_ms.iter().map(|parts| parts[part as usize]).collect();
+                Timing::of(&ms).median
+            })
+        }),
         min_estimated_area,
         frames_drawn_as_pixel: measurement.drawn_as_pixel,
         speedup: reference.gpu_ms / gpu_ms.median,

@@ -27,5 +27,7 @@ mod row;
 pub mod trace;
 pub mod twin;
 
-pub use measure::{run, BenchConfig, BenchResult, BenchScene, Progress, FRAMES_PER_TURN};
+pub use measure::{
+    measure_in_turns, run, BenchConfig, BenchResult, BenchScene, Progress, Schedule, FRAMES_PER_TURN,
+};
 pub use row::{csv_line, percentile, to_csv, to_json, Row, Timing, Trade, CSV_HEADER};

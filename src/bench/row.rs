@@ -1,7 +1,7 @@
 //! A benchmark's rows: one measured configuration ([`Row`]), its GPU time's median and spread
 //! ([`Timing`]), the trade's bounds it took ([`Trade`]), and the CSV and JSON files of rows.
 
-use crate::render::{EvaluationCounts, PrePassStep, PRE_PASS_STEPS};
+use crate::render::{DrawPart, EvaluationCounts, PrePassStep, DRAW_PARTS, PRE_PASS_STEPS};
 use crate::vk::timing::PipelineStatistics;
 
 /// Median and spread of per-frame GPU milliseconds.
@@ -59,6 +59,9 @@ pub struct Row {
     /// `--estimator compute`: the median milliseconds of each pre-pass step
     /// (`PrePassStep::ALL`'s order: cull, range, estimate, refine, patches).
     pub pre_pass_steps_ms: Option<[f64; PRE_PASS_STEPS]>,
+    /// `bench --draw-parts`: the median milliseconds of each part of the draws (`DrawPart::ALL`'s
+    /// order, summed over the meshes); the frame's own time is then that of a split rendering.
+    pub draw_parts_ms: Option<[f64; DRAW_PARTS]>,
     /// multirate only: images below this many pixels were shaded per pixel unestimated.
     pub min_estimated_area: Option<f32>,
     /// multirate with the cost model: how many of the measured frames the frame guard drew as
@@ -122,7 +125,8 @@ impl Trade {
 /// The CSV header; `csv_line` writes the fields in this order.
 pub const CSV_HEADER: &str = "scene,triangles,mode,epsilon,n_max,estimator,width,height,frames,\
 gpu_ms_median,gpu_ms_p10,gpu_ms_p90,pre_pass_ms_median,cull_ms_median,range_ms_median,estimate_ms_median,refine_ms_median,\
-patches_ms_median,min_estimated_area,frames_drawn_as_pixel,speedup,floor_ms,ceiling,saving_share,empty_ms,evaluations,vertex_evaluations,subvertex_evaluations,\
+patches_ms_median,draw_whole_ms_median,draw_flat_ms_median,draw_tessellated_ms_median,draw_fallback_depth_ms_median,\
+draw_fallback_shading_ms_median,draw_back_faces_ms_median,draw_emitters_ms_median,min_estimated_area,frames_drawn_as_pixel,speedup,floor_ms,ceiling,saving_share,empty_ms,evaluations,vertex_evaluations,subvertex_evaluations,\
 fragment_evaluations,culled_patches,evaluation_ratio,l_inf,l_inf_same_triangle,other_triangle_pixels,pixels_over_epsilon,mean_l2,psnr_db,flip,fallback_fraction,\
 vs_invocations,tcs_patches,tes_invocations,clipping_primitives,fs_invocations,device,driver";
 
@@ -161,6 +165,9 @@ pub fn csv_line(row: &Row) -> String {
         optional(row.pre_pass_ms.map(|t| format!("{:.4}", t.median))),
         PrePassStep::ALL
             .map(|step| optional(row.pre_pass_steps_ms.map(|ms| format!("{:.4}", ms[step as usize]))))
+            .join(","),
+        DrawPart::ALL
+            .map(|part| optional(row.draw_parts_ms.map(|ms| format!("{:.4}", ms[part as usize]))))
             .join(","),
         optional(row.min_estimated_area.map(|a| format!("{a:.2}"))),
         optional(row.frames_drawn_as_pixel),

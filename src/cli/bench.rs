@@ -7,7 +7,7 @@ use super::shading::{check_eye_ball, parse_discontinuity, parse_split, Estimated
 use anyhow::{Context as _, Result};
 use clap::Args;
 use multirate::bench::{self, BenchConfig, BenchScene};
-use multirate::render::{Mode, Placement, EYE_BALL_SHARE};
+use multirate::render::{DrawPart, Mode, Placement, EYE_BALL_SHARE};
 use multirate::scene::settings::{check_epsilon, check_n_max};
 use multirate::shading::estimator::{Discontinuity, Split};
 use multirate::vk::Context;
@@ -68,6 +68,12 @@ pub struct BenchArgs {
     /// (0: still, where multirate reuses its levels from frame to frame).
     #[arg(long, value_name = "DEGREES", default_value_t = 0.0)]
     pub orbit: f32,
+    /// Time each part of the draws apart (the whole meshes, the flat and tessellated lists, the
+    /// fallback's depth and shading, the back faces, the emitters: the `draw_*_ms_median`
+    /// columns). The frame's rendering is split at every part, which slows the frame itself:
+    /// compare its time with a run without.
+    #[arg(long)]
+    pub draw_parts: bool,
     /// multirate: the radius of the ball of eyes its levels hold for and are reused in while
     /// the eye stays in it, as a share of the camera's distance to its target (0: every frame
     /// estimates for its own eye).
@@ -101,6 +107,7 @@ pub fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
         images: args.images.then(|| args.out.join("images")),
         min_estimated_areas: args.min_estimated_area.iter().map(|a| a.pixels()).collect(),
         orbit_degrees: args.orbit,
+        draw_parts: args.draw_parts,
         eye_ball_share: args.eye_ball,
     };
     std::fs::create_dir_all(&args.out).with_context(|| format!("{}: cannot create", args.out.display()))?;
@@ -165,6 +172,7 @@ pub fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
             row.flip
         );
     }
+    print_draw_parts(&result.rows);
     for row in result.rows.iter().filter(|row| row.frames_drawn_as_pixel.is_some_and(|n| n > 0)) {
         println!(
             "frame guard: {} {}x{} {} drew {} of {} measured frames as pixel does (its probes, or all where multirate was slower)",
@@ -206,4 +214,27 @@ pub fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
     let messages = context.validation().count();
     anyhow::ensure!(messages == 0, "the validation layer reported {messages} message(s)");
     Ok(())
+}
+
+/// `--draw-parts`: per row, the median milliseconds of each part of the draws and of the
+/// pre-pass, against the frame's (whose rendering the parts split).
+fn print_draw_parts(rows: &[bench::Row]) {
+    let timed: Vec<&bench::Row> = rows.iter().filter(|row| row.draw_parts_ms.is_some()).collect();
+    if timed.is_empty() {
+        return;
+    }
+    println!("the frame's parts (median GPU ms; the rendering split at every part):");
+    let names: Vec<&str> = DrawPart::ALL.iter().map(|part| part.name()).collect();
+    println!("{:<44} {:>9} {:>9} {}", "configuration", "frame", "pre-pass", names.join(" "));
+    for row in timed {
+        let name = format!("{} {}x{} {}", row.scene, row.width, row.height, bench::plot::row_label(row));
+        let pre_pass = row.pre_pass_ms.map_or_else(|| "-".to_string(), |t| format!("{:.3}", t.median));
+        let parts = row.draw_parts_ms.unwrap_or_default();
+        let parts: Vec<String> = DrawPart::ALL
+            .iter()
+            .zip(&names)
+            .map(|(part, name)| format!("{:>w$.3}", parts[*part as usize], w = name.len()))
+            .collect();
+        println!("{name:<44} {:>9.3} {pre_pass:>9} {}", row.gpu_ms.median, parts.join(" "));
+    }
 }

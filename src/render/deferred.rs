@@ -11,6 +11,7 @@ use super::frame_config::FrameConfig;
 use super::pipelines::{
     scene_pipeline, variant_module, Instrumentation, MeshPipelines, VERTEX_ATTRIBUTES, VERTEX_BINDINGS,
 };
+use super::pre_pass::steps::FrameStamps;
 use crate::error::{Error, Result};
 use crate::gpu_interface::bindings::forward;
 use crate::shaders::{self, Features};
@@ -18,7 +19,7 @@ use crate::vk::pipeline::{
     bind_sampled_images, DescriptorPool, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderModule,
     Specialization, Stage,
 };
-use crate::vk::target::{AfterPass, Attachments, RenderTarget};
+use crate::vk::target::{AfterPass, Attachments, DepthAfter, RenderTarget};
 use crate::vk::texture::Sampler;
 use crate::vk::Context;
 use ash::vk;
@@ -179,8 +180,9 @@ impl Deferred {
             |_: &_, _: &_| Some(MeshPipelines { first: self.visibility.raw, lists: None, back_faces: None });
         // The id pass draws no patch lists.
         let counts = IndirectCounts { supported: false, max_count: 0 };
-        ids.begin(rec.device, rec.cmd, [0.0; 4], Attachments::Color);
-        let _ = draws.record_meshes(rec, frame, &pick, None, counts, Attachments::Color);
+        ids.begin(rec.device, rec.cmd, [0.0; 4], Attachments::Color, DepthAfter::Discarded);
+        let _ =
+            draws.record_meshes(rec, frame, &pick, None, counts, Attachments::Color, FrameStamps::NONE.stamp);
         ids.end(rec.device, rec.cmd, after, Attachments::Color);
     }
 
@@ -205,7 +207,7 @@ impl Deferred {
         self.record_ids(rec, draws, frame, ids, AfterPass::Sampled);
         let device = rec.device;
         let attachments = instrumentation.attachments();
-        target.begin(device, rec.cmd, clear, attachments);
+        target.begin(device, rec.cmd, clear, attachments, DepthAfter::Discarded);
         let mut constants = frame.draw_constants();
         // Its shaders read no estimator.
         constants.min_estimated_area = 0.0;

@@ -4,10 +4,12 @@
 //! workarounds at the end of this file).
 
 use super::descriptors::Recorder;
+use super::draw_part::DrawPart;
 use super::frame_config::{back_faces_per_pixel, FrameConfig};
 use super::mode::Mode;
 use super::pipelines::{ListPipelines, MeshPipelines};
 use super::pre_pass::buffers::PatchLists;
+use super::pre_pass::steps::Timed;
 use super::scene_geometry::{DrawCall, EmitterDraw};
 use super::view::View;
 use crate::analysis::tessellator::uniform_vertex_count;
@@ -54,7 +56,9 @@ impl ForwardDraws {
     /// The draws of every mesh of `frame` into the rendering begun on `rec`, each with the
     /// pipelines `pick` gives for the view it is drawn with (the frame's, or `pixel` mode's for a
     /// mesh drawn whole per pixel), into `attachments`; the multirate draws of the compute
-    /// placement from `lists`. Returns the push constants as the last draw left them.
+    /// placement from `lists`, each part stamped (`Timed::Draw`). Returns the push constants
+    /// as the last draw left them.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn record_meshes(
         &self,
         rec: &Recorder<'_>,
@@ -63,6 +67,7 @@ impl ForwardDraws {
         lists: Option<PatchLists<'_>>,
         counts: IndirectCounts,
         attachments: Attachments,
+        stamp: &dyn Fn(Timed, bool),
     ) -> DrawConstants {
         let mut constants = frame.draw_constants();
         // SAFETY: `cmd` is recording inside a rendering; the buffers are owned by the renderer and
@@ -81,7 +86,7 @@ impl ForwardDraws {
                 debug_assert!(false, "render, measure and the viewer prepare the view first");
                 continue;
             };
-            let mesh = MeshDraw { draw, view: mesh_view, frame, attachments };
+            let mesh = MeshDraw { draw, view: mesh_view, frame, attachments, stamp };
             self.record_mesh(rec, &mesh, pipelines, lists, counts, &mut constants);
         }
         constants
@@ -107,9 +112,11 @@ impl ForwardDraws {
         rec.bind_set(1, rec.descriptors.textures.sets[draw.material_index as usize]);
         if let (Some(list_pipelines), Some(lists)) = (pipelines.lists, lists) {
             let patch_draws = PatchDraws { lists, counts, per_draw: mesh.frame.patches_per_draw };
-            self.record_patch_lists(rec, &patch_draws, constants, draw, pipelines.first, list_pipelines);
+            self.record_patch_lists(rec, mesh, &patch_draws, constants, pipelines.first, list_pipelines);
             if back_faces_per_pixel(view.placement, draw.one_sided) {
-                self.record_back_faces(rec, constants, draw, pipelines.back_faces);
+                mesh.part(DrawPart::BackFaces, || {
+                    self.record_back_faces(rec, constants, draw, pipelines.back_faces);
+                });
             }
             return;
         }
@@ -130,6 +137,7 @@ impl ForwardDraws {
             ),
         };
         let chunk = patches.saturating_mul(indices_per_primitive);
+        mesh.stamp_part(DrawPart::Whole, false);
         // SAFETY: as above; the index buffers have INDEX_BUFFER usage and the pipeline was
         // built with the renderer's layout.
         unsafe {
@@ -149,6 +157,7 @@ impl ForwardDraws {
                 device.cmd_bind_index_buffer(cmd, rec.buffers.indices.raw, 0, vk::IndexType::UINT32);
             }
         }
+        mesh.stamp_part(DrawPart::Whole, true);
     }
 
     /// `Placement::Compute`: draws the mesh's three patch lists of this frame's pre-pass, the
@@ -157,13 +166,13 @@ impl ForwardDraws {
     fn record_patch_lists(
         &self,
         rec: &Recorder<'_>,
+        mesh: &MeshDraw<'_>,
         patch_draws: &PatchDraws<'_>,
         constants: &mut DrawConstants,
-        draw: &DrawCall,
         interpolated: vk::Pipeline,
         lists: ListPipelines<vk::Pipeline>,
     ) {
-        let (device, cmd) = (rec.device, rec.cmd);
+        let (device, cmd, draw) = (rec.device, rec.cmd, mesh.draw);
         let buffers = &patch_draws.lists;
         let per_draw = patch_draws.per_draw;
         let commands = (draw.index_count / 3).div_ceil(per_draw);
@@ -232,6 +241,7 @@ impl ForwardDraws {
         // The flat patches first and the per-pixel ones last, so that the early depth test
         // spares the per-pixel shading wherever the other lists cover it. Where their corners
         // are shared, the flat patches shaded on them are one indexed draw of the mesh.
+        mesh.stamp_part(DrawPart::Flat, false);
         if draw.shared_corners {
             bind(constants, lists.flat, 0);
             // SAFETY: as above; the pre-pass wrote every word of the mesh's range of
@@ -245,13 +255,18 @@ impl ForwardDraws {
         } else {
             flat_draw(constants, lists.flat, INTERPOLATED_LIST, 0);
         }
-        tessellated_draw(constants, interpolated, INTERPOLATED_LIST, 0);
+        mesh.stamp_part(DrawPart::Flat, true);
+        mesh.part(DrawPart::Tessellated, || tessellated_draw(constants, interpolated, INTERPOLATED_LIST, 0));
         // The per-pixel patches' depth first, then their shading where they are the nearest
         // surface: each covered pixel is shaded once, whatever the lists' order.
-        tessellated_draw(constants, lists.fallback_prime, FALLBACK_LIST, FLAG_FALLBACK_PATCHES);
-        flat_draw(constants, lists.flat_fallback_prime, FALLBACK_LIST, FLAG_FALLBACK_PATCHES);
-        tessellated_draw(constants, lists.fallback, FALLBACK_LIST, FLAG_FALLBACK_PATCHES);
-        flat_draw(constants, lists.flat_fallback, FALLBACK_LIST, FLAG_FALLBACK_PATCHES);
+        mesh.part(DrawPart::FallbackDepth, || {
+            tessellated_draw(constants, lists.fallback_prime, FALLBACK_LIST, FLAG_FALLBACK_PATCHES);
+            flat_draw(constants, lists.flat_fallback_prime, FALLBACK_LIST, FLAG_FALLBACK_PATCHES);
+        });
+        mesh.part(DrawPart::FallbackShading, || {
+            tessellated_draw(constants, lists.fallback, FALLBACK_LIST, FLAG_FALLBACK_PATCHES);
+            flat_draw(constants, lists.flat_fallback, FALLBACK_LIST, FLAG_FALLBACK_PATCHES);
+        });
         constants.flags &= !FLAG_FALLBACK_PATCHES;
     }
 
@@ -287,14 +302,18 @@ impl ForwardDraws {
     }
 
     /// The polygonal lights' emissive geometry with `emitter` (nothing where the scene has
-    /// none), after the meshes' draws (`constants` as they left them).
+    /// none), after the meshes' draws (`constants` as they left them), stamped as the first
+    /// mesh's `DrawPart::Emitters`.
     pub(super) fn record_emitters(
         &self,
         rec: &Recorder<'_>,
         mut constants: DrawConstants,
         emitter: Option<&Pipeline>,
+        stamp: &dyn Fn(Timed, bool),
     ) {
         let Some(emitter) = emitter else { return };
+        let timed = Timed::Draw { mesh: 0, part: DrawPart::Emitters };
+        stamp(timed, false);
         let (device, cmd) = (rec.device, rec.cmd);
         // SAFETY: `cmd` is recording inside the rendering the meshes were drawn into; the pipeline
         // and the buffers it reads are owned by the renderer.
@@ -308,6 +327,7 @@ impl ForwardDraws {
             // SAFETY: as above; the fan lies in the bound index buffer.
             unsafe { device.cmd_draw_indexed(cmd, draw.index_count, 1, draw.first_index, 0, 0) };
         }
+        stamp(timed, true);
     }
 
     /// How many patches one draw may hold when every patch is tessellated at `level`.
@@ -378,6 +398,21 @@ struct MeshDraw<'a> {
     view: &'a View,
     frame: &'a FrameConfig,
     attachments: Attachments,
+    stamp: &'a dyn Fn(Timed, bool),
+}
+
+impl MeshDraw<'_> {
+    /// Stamps the start (`end == false`) or end of `part` of this mesh's draws.
+    fn stamp_part(&self, part: DrawPart, end: bool) {
+        (self.stamp)(Timed::Draw { mesh: self.draw.mesh_index, part }, end);
+    }
+
+    /// Records `part` of this mesh's draws with `record`, stamped before and after.
+    fn part(&self, part: DrawPart, record: impl FnOnce()) {
+        self.stamp_part(part, false);
+        record();
+        self.stamp_part(part, true);
+    }
 }
 
 /// What the draws of a mesh's patch lists read: the pre-pass's lists, whether their draws are

@@ -3,15 +3,16 @@
 //! ([`EvaluationCounts`], counted by the analysis frames, [`Analysis`]), and the barriers and
 //! copies that hand counters, level records and dispatches to the host.
 
+use super::draw_part::DRAW_PARTS;
 use super::frame_config::RecordedFrame;
 use super::guard;
 use super::mode::{Mode, Placement};
-use super::pre_pass::steps::{PrePassStep, Timed, PRE_PASS_STEPS};
+use super::pre_pass::steps::{FrameStamps, PrePassStep, Timed, FIRST_DRAW_PASS, PRE_PASS_STEPS};
 use super::view::View;
 use crate::error::Result;
 use crate::vk::frames::FrameRing;
 use crate::vk::memory::Buffer;
-use crate::vk::target::{FloatImage, RenderTarget};
+use crate::vk::target::{Attachments, FloatImage, RenderTarget};
 use crate::vk::timing::{GpuInterval, GpuTimer, PipelineStatistics};
 use ash::vk;
 
@@ -27,33 +28,51 @@ pub struct Measurement {
     /// `Placement::Compute`: when each of its steps ran (`PrePassStep::ALL`'s order), in every
     /// measured frame; empty otherwise.
     pub pre_pass_steps: Vec<[GpuInterval; PRE_PASS_STEPS]>,
+    /// Where the draws' parts were timed ([`MeasureOptions::draw_parts`]): per measured frame, the
+    /// milliseconds of each part (`DrawPart::ALL`'s order), summed over the meshes; empty
+    /// otherwise.
+    pub draw_parts_ms: Vec<[f64; DRAW_PARTS]>,
     /// Pipeline statistics of the last frame, where the device has them.
     pub statistics: Option<PipelineStatistics>,
     /// Where the frame guard applies (`guard::key_of`): how many measured frames it drew
     /// as `pixel` does (`View::drawn_as_pixel`). None where it does not apply.
     pub drawn_as_pixel: Option<u32>,
-    /// Frames drawn, warm-up included: where a [`CameraTurn`] goes on from.
-    pub frames_drawn: u32,
+}
+
+/// How frames are measured besides their number: the camera's turn, and whether each part of
+/// the draws is timed apart.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MeasureOptions {
+    pub turn: CameraTurn,
+    /// Time each part of every mesh's draws (`DrawPart`) apart. The frame's rendering is then
+    /// split at every part's start and end (lavapipe takes no timestamp inside a rendering),
+    /// which makes the frame itself slower: compare its time with a run without.
+    pub draw_parts: bool,
 }
 
 /// The camera turning about its target while frames are measured: `degrees_per_frame` about its
-/// up direction, the first frame at `first_frame` turns. A camera that stays still measures the
-/// frames a still view gives, where the pre-pass reuses its levels (`render::level_ball`); a
-/// turning one, what a moving view costs.
+/// up direction, frame after frame. Measured frame `k` of a measurement shows the camera turned
+/// by `first_measured + k` frames' worth, whatever warm-up came before it, so that every
+/// configuration measured along the same turn sees the same cameras (a guarded view warms up
+/// longer, `GUARD_START_FRAMES`); the warm-up frames lead up to the first measured one. A camera
+/// that stays still measures the frames a still view gives, where the pre-pass reuses its levels
+/// (`render::level_ball`); a turning one, what a moving view costs.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct CameraTurn {
     pub degrees_per_frame: f32,
-    pub first_frame: u32,
+    /// Frames measured before along this turn (by earlier measurements).
+    pub first_measured: u32,
 }
 
 impl CameraTurn {
-    /// `view` with its camera turned as in frame `frame` (counted from `first_frame`).
-    fn view_at(self, view: &View, frame: u32) -> View {
+    /// `view` with its camera turned by `frames` frames' worth from where the turn starts
+    /// (negative: before it).
+    fn view_at(self, view: &View, frames: i64) -> View {
         if self.degrees_per_frame == 0.0 {
             return view.clone();
         }
         let camera = view.camera;
-        let angle = (self.degrees_per_frame * (self.first_frame + frame) as f32).to_radians();
+        let angle = (self.degrees_per_frame * (i64::from(self.first_measured) + frames) as f32).to_radians();
         let turn = glam::Quat::from_axis_angle(camera.up.normalize(), angle);
         let eye = camera.target + turn * (camera.eye - camera.target);
         view.seen_from(crate::scene::Camera { eye, ..camera })
@@ -138,26 +157,35 @@ pub(super) trait TimedFrames {
         cmd: vk::CommandBuffer,
         target: &RenderTarget,
         view: &View,
-        stamp: &dyn Fn(Timed, bool),
+        stamps: &FrameStamps<'_>,
     ) -> RecordedFrame;
+    /// How many meshes a frame draws.
+    fn mesh_count(&self) -> usize;
     /// A recorded frame was submitted.
     fn submitted(&self, frame: RecordedFrame);
 }
 
-/// `Renderer::measure_turning`: renders `warmup` frames (more for a guarded view whose guard has
+/// `Renderer::measure_with`: renders `warmup` frames (more for a guarded view whose guard has
 /// not decided yet: at most [`GUARD_START_FRAMES`] more), then `frames` measured ones of `view`
-/// with the camera turning as `turn` says, with up to two frames in flight, through `renderer`.
+/// as `options` say, with up to two frames in flight, through `renderer`.
 pub(super) fn measure(
     renderer: &impl TimedFrames,
     target: &RenderTarget,
     view: &View,
     (warmup, frames): (u32, u32),
-    turn: CameraTurn,
+    options: MeasureOptions,
 ) -> Result<Measurement> {
+    let turn = options.turn;
     // Pass 0: the whole frame; pass 1: the pre-pass, within it; then its steps, where it
-    // has them (every query read must have been written).
+    // has them, and the draws' parts, where they are timed (every query read must have been
+    // written).
     let pre_pass = view.mode == Mode::Multirate && view.placement == Placement::Compute;
-    let passes = if pre_pass { 2 + PRE_PASS_STEPS as u32 } else { 2 };
+    let draw_passes = (renderer.mesh_count() * DRAW_PARTS) as u32;
+    let passes = match (options.draw_parts, pre_pass) {
+        (true, _) => FIRST_DRAW_PASS + draw_passes,
+        (false, true) => 2 + PRE_PASS_STEPS as u32,
+        (false, false) => 2,
+    };
     let timer = GpuTimer::new(renderer.context(), passes, FRAMES_IN_FLIGHT as u32)?;
     let mut ring = FrameRing::new(renderer.context(), FRAMES_IN_FLIGHT)?;
     let mut measurement = Measurement::default();
@@ -186,6 +214,13 @@ pub(super) fn measure(
                 let steps = PrePassStep::ALL.map(|step| intervals[Timed::Step(step).pass() as usize]);
                 measurement.pre_pass_steps.push(steps);
             }
+            if options.draw_parts {
+                let mut parts = [0.0; DRAW_PARTS];
+                for (k, interval) in intervals[FIRST_DRAW_PASS as usize..].iter().enumerate() {
+                    parts[k % DRAW_PARTS] += interval.milliseconds();
+                }
+                measurement.draw_parts_ms.push(parts);
+            }
             if let Some(count) = &mut measurement.drawn_as_pixel {
                 *count += u32::from(frame_view.drawn_as_pixel);
             }
@@ -196,12 +231,17 @@ pub(super) fn measure(
     // A guarded configuration warms up until its guard has first decided (its first probe's
     // times are in): what a user sees after the first frames, not the guard's start-up.
     let longest_warmup = warmup + GUARD_START_FRAMES;
+    // The warm-up's turn leads up to the first measured frame as if the warm-up took as long as
+    // it may; where the guard decides sooner, the camera skips ahead to it.
+    let planned_warmup = if renderer.guard_decided(view, extent) { warmup } else { longest_warmup };
     let (mut frame, mut measured_frames) = (0u32, 0u32);
     while measured_frames < frames {
         let slot = frame as usize % FRAMES_IN_FLIGHT;
         collect(&mut ring, slot, in_slot[slot].take(), &mut measurement)?;
         let measured = frame >= warmup && (frame >= longest_warmup || renderer.guard_decided(view, extent));
-        let frame_view = renderer.guarded(&turn.view_at(view, frame), extent);
+        let turned =
+            if measured { i64::from(measured_frames) } else { i64::from(frame) - i64::from(planned_warmup) };
+        let frame_view = renderer.guarded(&turn.view_at(view, turned), extent);
         let mut recorded = None;
         ring.submit(slot, |cmd| {
             let slot = slot as u32;
@@ -211,12 +251,33 @@ pub(super) fn measure(
             // A step starts once the one before it has finished (the barrier between them
             // holds the next dispatch, not a top-of-pipe timestamp): its timestamps are
             // written after every earlier command, each before a barrier that settles it.
-            let stamp = |timed: Timed, end: bool| match timed {
-                Timed::PrePass => timer.timestamp(cmd, slot, timed.pass(), end),
-                Timed::SkippedStep(_) => timer.top_of_pipe_timestamp(cmd, slot, timed.pass(), end),
-                Timed::Step(_) => timer.settled_timestamp(cmd, slot, timed.pass(), end),
+            // The draws' parts are timed outside the rendering, which each of their stamps
+            // pauses. What a frame does not stamp (the steps of a mode without a pre-pass, the
+            // parts it does not draw) is written empty after it.
+            let stamped = std::cell::RefCell::new(vec![false; passes as usize]);
+            let stamp = |timed: Timed, end: bool| {
+                let pass = timed.pass();
+                match timed {
+                    Timed::PrePass => timer.timestamp(cmd, slot, pass, end),
+                    Timed::SkippedStep(_) => timer.top_of_pipe_timestamp(cmd, slot, pass, end),
+                    Timed::Step(_) => timer.settled_timestamp(cmd, slot, pass, end),
+                    Timed::Draw { .. } if options.draw_parts => {
+                        let device = &renderer.context().device;
+                        target.pause(device, cmd);
+                        timer.settled_timestamp(cmd, slot, pass, end);
+                        target.resume(device, cmd, Attachments::Color);
+                    }
+                    Timed::Draw { .. } => return,
+                }
+                stamped.borrow_mut()[pass as usize] = true;
             };
-            recorded = Some(renderer.record_timed(cmd, target, &frame_view, &stamp));
+            let stamps = FrameStamps { stamp: &stamp, draw_parts: options.draw_parts };
+            recorded = Some(renderer.record_timed(cmd, target, &frame_view, &stamps));
+            for (pass, _) in stamped.borrow().iter().enumerate().skip(1).filter(|(_, stamped)| !**stamped) {
+                for end in [false, true] {
+                    timer.top_of_pipe_timestamp(cmd, slot, pass as u32, end);
+                }
+            }
             timer.statistics(cmd, slot, false);
             timer.timestamp(cmd, slot, 0, true);
         })?;
@@ -230,7 +291,6 @@ pub(super) fn measure(
     for (slot, drawn) in in_slot.iter_mut().enumerate() {
         collect(&mut ring, slot, drawn.take(), &mut measurement)?;
     }
-    measurement.frames_drawn = frame;
     Ok(measurement)
 }
 

@@ -7,30 +7,32 @@
 //!
 //! Files, bottom to top: each imports through `super::` only from those listed before it.
 //! 1. [`mode`]: what a frame samples shading with ([`Mode`], [`Placement`]).
-//! 2. [`view`]: what one frame is rendered with ([`View`]).
-//! 3. [`textures`]: the scene's textures and the materials' sets.
-//! 4. [`capture`]: the tessellation pattern check.
-//! 5. [`output`]: image files.
-//! 6. [`present`]: presentation to a swapchain image.
-//! 7. [`cost_model`]: where estimating a triangle's level pays, per device.
-//! 8. [`multirate_config`]: the multirate configuration, resolved once per frame.
-//! 9. [`guard`]: whether a frame is drawn the multirate way or as `pixel` draws it.
-//! 10. [`level_ball`]: the ball of eyes the kept levels hold for.
-//! 11. [`frame_config`]: everything a frame is drawn with, and the per-pixel choice.
-//! 12. [`scene_geometry`]: the scene gathered for upload, one draw per mesh and emitter.
-//! 13. [`scene_buffers`]: the scene uploaded.
-//! 14. [`descriptors`]: the forward layout, its sets, and the recorder that binds them.
-//! 15. [`pipelines`]: the pipeline variants of the draws, built on first use.
-//! 16. [`pre_pass`]: the triangle-level pre-pass of the compute placement.
-//! 17. [`limits`]: the scene's limits against the device's.
-//! 18. [`draws`]: the forward draws (and lavapipe's limits on them).
-//! 19. [`deferred`]: the `pixel-deferred` passes.
-//! 20. [`instrumentation`]: timings, evaluation counts and what is read back.
+//! 2. [`draw_part`]: the parts of the forward draws a measured frame may time apart.
+//! 3. [`view`]: what one frame is rendered with ([`View`]).
+//! 4. [`textures`]: the scene's textures and the materials' sets.
+//! 5. [`capture`]: the tessellation pattern check.
+//! 6. [`output`]: image files.
+//! 7. [`present`]: presentation to a swapchain image.
+//! 8. [`cost_model`]: where estimating a triangle's level pays, per device.
+//! 9. [`multirate_config`]: the multirate configuration, resolved once per frame.
+//! 10. [`guard`]: whether a frame is drawn the multirate way or as `pixel` draws it.
+//! 11. [`level_ball`]: the ball of eyes the kept levels hold for.
+//! 12. [`frame_config`]: everything a frame is drawn with, and the per-pixel choice.
+//! 13. [`scene_geometry`]: the scene gathered for upload, one draw per mesh and emitter.
+//! 14. [`scene_buffers`]: the scene uploaded.
+//! 15. [`descriptors`]: the forward layout, its sets, and the recorder that binds them.
+//! 16. [`pipelines`]: the pipeline variants of the draws, built on first use.
+//! 17. [`pre_pass`]: the triangle-level pre-pass of the compute placement.
+//! 18. [`limits`]: the scene's limits against the device's.
+//! 19. [`draws`]: the forward draws (and lavapipe's limits on them).
+//! 20. [`deferred`]: the `pixel-deferred` passes.
+//! 21. [`instrumentation`]: timings, evaluation counts and what is read back.
 
 pub mod capture;
 pub mod cost_model;
 pub mod deferred;
 mod descriptors;
+mod draw_part;
 mod draws;
 mod frame_config;
 pub mod guard;
@@ -48,9 +50,12 @@ mod scene_geometry;
 pub mod textures;
 mod view;
 
+pub use draw_part::{DrawPart, DRAW_PARTS};
 pub use draws::draw_splitting_note;
 pub use frame_config::RecordedFrame;
-pub use instrumentation::{Analysis, CameraTurn, EvaluationCounts, Measurement, GUARD_START_FRAMES};
+pub use instrumentation::{
+    Analysis, CameraTurn, EvaluationCounts, MeasureOptions, Measurement, GUARD_START_FRAMES,
+};
 pub use mode::{Mode, Placement, MAX_LEVEL};
 pub use pre_pass::steps::{PrePassStep, PRE_PASS_GROUP, PRE_PASS_STEPS, REFINE_BLOCK};
 pub use scene_geometry::{gpu_lights, gpu_polygon_lights};
@@ -61,7 +66,7 @@ use crate::gpu_interface::bindings::in_binding_order;
 use crate::gpu_interface::slots::{FALLBACK_LIST, INTERPOLATED_LIST};
 use crate::scene::Scene;
 use crate::vk::context::DeviceLimits;
-use crate::vk::target::{AfterPass, Attachments, FloatImage, RenderTarget};
+use crate::vk::target::{AfterPass, Attachments, DepthAfter, FloatImage, RenderTarget};
 use crate::vk::Context;
 use ash::vk;
 use cost_model::CostModel;
@@ -74,7 +79,7 @@ use instrumentation::TimedFrames;
 use limits::SceneSizes;
 use pipelines::{Instrumentation, Pipelines, Variant};
 use pre_pass::buffers::PrePassBuffers;
-use pre_pass::steps::Timed;
+use pre_pass::steps::{FrameStamps, Timed};
 use pre_pass::PrePass;
 use scene_buffers::SceneBuffers;
 use scene_geometry::SceneGeometry;
@@ -225,7 +230,7 @@ impl Renderer {
             _ => &self.pipelines.variants,
         };
         let frame = self.frame_config(view, target.extent(), Commit::OnSubmit);
-        self.record_frame(variants, Instrumentation::None, cmd, target, &frame, after, &|_, _| {})
+        self.record_frame(variants, Instrumentation::None, cmd, target, &frame, after, &FrameStamps::NONE)
     }
 
     /// A frame [`Renderer::record`] recorded was submitted: what it learnt holds from now on
@@ -251,9 +256,10 @@ impl Renderer {
 
     /// One frame, top to bottom: the pre-pass of `frame`, then its draws with `variants` (of
     /// `instrumentation`), then the polygonal lights' emissive geometry, into `target`, leaving
-    /// it ready for `after`. Calls `stamp(Timed::PrePass, false)` before and `(.., true)` after
-    /// the pre-pass (back to back where there is none), and the same around each of its steps
-    /// (`Timed::SkippedStep` where it does not run).
+    /// it ready for `after`. Stamps (`stamps.stamp`) `Timed::PrePass` before and after the
+    /// pre-pass (back to back where there is none), the same around each of its steps
+    /// (`Timed::SkippedStep` where it does not run), and, where `stamps.draw_parts`, each part
+    /// of each mesh's draws.
     #[allow(clippy::too_many_arguments)]
     fn record_frame(
         &self,
@@ -263,7 +269,7 @@ impl Renderer {
         target: &RenderTarget,
         frame: &FrameConfig,
         after: AfterPass,
-        stamp: &dyn Fn(Timed, bool),
+        stamps: &FrameStamps<'_>,
     ) -> RecordedFrame {
         let rec = Recorder {
             device: &self.context.device,
@@ -271,6 +277,7 @@ impl Renderer {
             buffers: &self.buffers,
             descriptors: &self.descriptors,
         };
+        let stamp = stamps.stamp;
         // The pre-pass.
         stamp(Timed::PrePass, false);
         if frame.runs_pre_pass {
@@ -293,7 +300,8 @@ impl Renderer {
             return frame.recorded();
         }
         let attachments = instrumentation.attachments();
-        target.begin(rec.device, cmd, self.clear_color, attachments);
+        let depth = if stamps.draw_parts { DepthAfter::Kept } else { DepthAfter::Discarded };
+        target.begin(rec.device, cmd, self.clear_color, attachments, depth);
         let pick = |draw: &scene_geometry::DrawCall, mesh_view: &View| {
             variants[draw.pipeline].for_view(mesh_view, &frame.multirate)
         };
@@ -302,9 +310,10 @@ impl Renderer {
             supported: self.context.features.draw_indirect_count,
             max_count: self.context.limits.max_draw_indirect_count,
         };
-        let constants = self.draws.record_meshes(&rec, frame, &pick, lists, counts, attachments);
+        let constants = self.draws.record_meshes(&rec, frame, &pick, lists, counts, attachments, stamp);
         // The emitters.
-        self.draws.record_emitters(&rec, constants, self.pipelines.emitter_for(attachments));
+        let emitter = self.pipelines.emitter_for(attachments);
+        self.draws.record_emitters(&rec, constants, emitter, stamp);
         target.end(rec.device, cmd, after, attachments);
         frame.recorded()
     }
@@ -412,7 +421,7 @@ impl Renderer {
                 target,
                 &frame,
                 AfterPass::Readback,
-                &|_, _| {},
+                &FrameStamps::NONE,
             );
             let writers = vk::PipelineStageFlags2::COMPUTE_SHADER
                 | vk::PipelineStageFlags2::TESSELLATION_CONTROL_SHADER;
@@ -462,20 +471,21 @@ impl Renderer {
         warmup: u32,
         frames: u32,
     ) -> Result<Measurement> {
-        self.measure_turning(target, view, warmup, frames, CameraTurn::default())
+        self.measure_with(target, view, warmup, frames, MeasureOptions::default())
     }
 
-    /// [`Renderer::measure`] with the camera turning as `turn` says, frame after frame.
-    pub fn measure_turning(
+    /// [`Renderer::measure`] as `options` say: the camera turning frame after frame, the draws'
+    /// parts timed apart.
+    pub fn measure_with(
         &self,
         target: &RenderTarget,
         view: &View,
         warmup: u32,
         frames: u32,
-        turn: CameraTurn,
+        options: MeasureOptions,
     ) -> Result<Measurement> {
         self.prepare(view, target)?;
-        instrumentation::measure(self, target, view, (warmup, frames), turn)
+        instrumentation::measure(self, target, view, (warmup, frames), options)
     }
 
     /// Renders one frame of `view` with the counting variant (never the timed one) and
@@ -535,7 +545,7 @@ impl Renderer {
         instrumentation::zero_counters(device, cmd, &self.buffers.counters);
         let frame = self.frame_config(view, target.extent(), Commit::Never);
         let counting = Instrumentation::CountEvaluations;
-        let _ = self.record_frame(analysis, counting, cmd, target, &frame, after, &|_, _| {});
+        let _ = self.record_frame(analysis, counting, cmd, target, &frame, after, &FrameStamps::NONE);
         instrumentation::storage_to_host(device, cmd, vk::PipelineStageFlags2::ALL_GRAPHICS);
     }
 
@@ -595,15 +605,19 @@ impl TimedFrames for Renderer {
         cmd: vk::CommandBuffer,
         target: &RenderTarget,
         view: &View,
-        stamp: &dyn Fn(Timed, bool),
+        stamps: &FrameStamps<'_>,
     ) -> RecordedFrame {
         let frame = self.frame_config(view, target.extent(), Commit::OnSubmit);
         let variants = &self.pipelines.variants;
-        self.record_frame(variants, Instrumentation::None, cmd, target, &frame, AfterPass::Sampled, stamp)
+        self.record_frame(variants, Instrumentation::None, cmd, target, &frame, AfterPass::Sampled, stamps)
     }
 
     fn submitted(&self, frame: RecordedFrame) {
         Renderer::submitted(self, frame)
+    }
+
+    fn mesh_count(&self) -> usize {
+        self.draws.meshes.len()
     }
 }
 

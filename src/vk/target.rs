@@ -70,6 +70,15 @@ pub enum AfterPass {
     Sampled,
 }
 
+/// What becomes of the depth attachment when a rendering ends.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DepthAfter {
+    /// Discarded: nothing reads it after the pass.
+    Discarded,
+    /// Stored: the rendering is paused and resumed ([`RenderTarget::pause`]).
+    Kept,
+}
+
 /// Which attachments a pass draws into.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Attachments {
@@ -141,13 +150,15 @@ impl RenderTarget {
     }
 
     /// Transitions the attachments (contents discarded) and begins dynamic rendering with a
-    /// clear to `clear` (alpha 0 = no coverage), ids 0 and depth 1.
+    /// clear to `clear` (alpha 0 = no coverage), ids 0 and depth 1; the depth is stored where
+    /// `depth` says so (a rendering [`RenderTarget::pause`]d and resumed needs it).
     pub fn begin(
         &self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
         clear: [f32; 4],
         attachments: Attachments,
+        depth: DepthAfter,
     ) {
         let (images, count) = self.color_images(attachments);
         let images = &images[..count];
@@ -196,10 +207,64 @@ impl RenderTarget {
             .image_view(self.depth.view)
             .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .store_op(match depth {
+                DepthAfter::Discarded => vk::AttachmentStoreOp::DONT_CARE,
+                DepthAfter::Kept => vk::AttachmentStoreOp::STORE,
+            })
             .clear_value(vk::ClearValue {
                 depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 },
             });
+        let rendering = vk::RenderingInfo::default()
+            .color_attachments(&color_attachments[..count])
+            .depth_attachment(&depth_attachment);
+        begin_rendering(device, cmd, self.extent(), rendering);
+    }
+
+    /// Ends the rendering `begin` began with [`DepthAfter::Kept`], keeping what it drew, so that
+    /// commands outside a rendering may follow (a timestamp, which lavapipe takes only there);
+    /// [`RenderTarget::resume`] goes on with it.
+    pub fn pause(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
+        // SAFETY: rendering was begun by `begin` or `resume` on this command buffer.
+        unsafe { device.cmd_end_rendering(cmd) };
+    }
+
+    /// Begins rendering again into what [`RenderTarget::pause`] left, every attachment loaded
+    /// and stored, once the earlier rendering's attachment writes are done.
+    pub fn resume(&self, device: &ash::Device, cmd: vk::CommandBuffer, attachments: Attachments) {
+        let (images, count) = self.color_images(attachments);
+        let color = vk::AccessFlags2::COLOR_ATTACHMENT_WRITE | vk::AccessFlags2::COLOR_ATTACHMENT_READ;
+        let depth = vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE
+            | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ;
+        let tests =
+            vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS;
+        let barriers = [
+            vk::MemoryBarrier2::default()
+                .src_stage_mask(vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT)
+                .src_access_mask(vk::AccessFlags2::COLOR_ATTACHMENT_WRITE)
+                .dst_stage_mask(vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT)
+                .dst_access_mask(color),
+            vk::MemoryBarrier2::default()
+                .src_stage_mask(tests)
+                .src_access_mask(vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE)
+                .dst_stage_mask(tests)
+                .dst_access_mask(depth),
+        ];
+        // SAFETY: `cmd` is recording outside a rendering (`pause` ended it).
+        unsafe {
+            device.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&barriers))
+        };
+        let color_attachments = [0, 1].map(|k| {
+            vk::RenderingAttachmentInfo::default()
+                .image_view(images[..count].get(k).map_or(vk::ImageView::null(), |image| image.view))
+                .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::LOAD)
+                .store_op(vk::AttachmentStoreOp::STORE)
+        });
+        let depth_attachment = vk::RenderingAttachmentInfo::default()
+            .image_view(self.depth.view)
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::LOAD)
+            .store_op(vk::AttachmentStoreOp::STORE);
         let rendering = vk::RenderingInfo::default()
             .color_attachments(&color_attachments[..count])
             .depth_attachment(&depth_attachment);

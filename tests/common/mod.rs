@@ -1,6 +1,7 @@
-//! Helpers shared by the GPU tests: a validated headless context, CPU ray casting of scenes
-//! a check that the validation layer stayed silent, and a virtual display for the window tests
-//! (one per test binary: winit allows one event loop per process).
+//! Helpers shared by the GPU tests: lavapipe set up as the tests need it, a validated headless
+//! context, the `multirate` binary to run, CPU ray casting of scenes, a check that the
+//! validation layer stayed silent, and a virtual display for the window tests (one per test
+//! binary: winit allows one event loop per process).
 #![allow(dead_code)]
 
 use glam::{DVec3, Vec3};
@@ -10,10 +11,35 @@ use multirate::vk::{Context, ContextOptions};
 use std::io::{BufRead, BufReader};
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
-use std::sync::Arc;
+use std::sync::{Arc, Once};
+
+/// What the tests ask of lavapipe: its shaders compiled without LLVM's optimisation passes
+/// (`GALLIVM_PERF=nopt`), which builds the estimator's pipelines about a quarter sooner and
+/// renders the same images (docs/notebook/speedups.md, "Build and test time"); nothing in a test
+/// is timed. A `GALLIVM_PERF` the caller set is kept. llvmpipe reads the setting once, when the
+/// process makes its first device, so every helper that leads to a device or a `multirate`
+/// process sets it first; the processes a test starts inherit it.
+pub const TESTS_GALLIVM_PERF: &str = "nopt";
+
+/// Sets [`TESTS_GALLIVM_PERF`] in this test process unless `GALLIVM_PERF` is set (once).
+pub fn lavapipe_as_tests_need() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        if std::env::var_os("GALLIVM_PERF").is_none() {
+            std::env::set_var("GALLIVM_PERF", TESTS_GALLIVM_PERF);
+        }
+    });
+}
+
+/// The `multirate` binary of this build, to run with lavapipe as the tests need it.
+pub fn multirate_command() -> Command {
+    lavapipe_as_tests_need();
+    Command::new(env!("CARGO_BIN_EXE_multirate"))
+}
 
 /// A headless context with the Khronos validation layer on.
 pub fn validated_context() -> Arc<Context> {
+    lavapipe_as_tests_need();
     Context::headless(&ContextOptions { validate: true, device_name: None })
         .expect("a Vulkan device with tessellation (lavapipe in CI) and the validation layer")
 }
@@ -179,6 +205,7 @@ pub struct VirtualDisplay(Option<Child>);
 
 impl VirtualDisplay {
     pub fn ensure() -> VirtualDisplay {
+        lavapipe_as_tests_need();
         if std::env::var_os("DISPLAY").is_some_and(|d| !d.is_empty()) {
             return VirtualDisplay(None);
         }
@@ -190,6 +217,7 @@ impl VirtualDisplay {
     /// Starts an Xvfb of its own on a free display, whatever `DISPLAY` says; returns it and the
     /// display's name (`:N`).
     pub fn start() -> (VirtualDisplay, String) {
+        lavapipe_as_tests_need();
         let mut child = Command::new("Xvfb")
             .args(["-displayfd", "1", "-screen", "0", "1024x768x24", "-nolisten", "tcp"])
             .stdout(Stdio::piped())

@@ -78,6 +78,7 @@ pub(super) fn config(
         images: None,
         min_estimated_areas: Vec::new(),
         orbit_degrees: 0.0,
+        draw_parts: false,
         eye_ball_share: EYE_BALL_SHARE,
     }
 }

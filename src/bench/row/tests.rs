@@ -24,6 +24,10 @@ fn csv_quotes_fields_with_commas() {
         let column = format!("{}_ms_median", step.name());
         assert!(CSV_HEADER.split(',').any(|c| c == column), "{column}");
     }
+    let draw_columns: Vec<String> =
+        DrawPart::ALL.iter().map(|part| format!("draw_{}_ms_median", part.name())).collect();
+    let header_draw_columns: Vec<&str> = columns.iter().copied().filter(|c| c.starts_with("draw_")).collect();
+    assert_eq!(header_draw_columns, draw_columns, "the draws' parts in `DrawPart::ALL`'s order");
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! The steps of the triangle-level pre-pass ([`PrePassStep`]), their workgroup sizes, the
 //! barrier after each, and what a timestamp pair of a measured frame times ([`Timed`]).
 
+use crate::render::draw_part::{DrawPart, DRAW_PARTS};
 use ash::vk;
 use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
 
@@ -94,7 +95,8 @@ pub(crate) fn barrier_after(step: PrePassStep) -> (S, A, S, A) {
     }
 }
 
-/// What a timestamp pair of `measure` times: the whole frame, the pre-pass, or one of its steps.
+/// What a timestamp pair of `measure` times: the whole frame, the pre-pass, one of its steps, or
+/// one part of one mesh's draws.
 #[derive(Clone, Copy)]
 pub(crate) enum Timed {
     PrePass,
@@ -104,14 +106,42 @@ pub(crate) enum Timed {
     /// step's timestamps. On lavapipe those barriers made such frames 7–15 % slower than
     /// `pixel` mode's, and each later-stage timestamp flushes its queued work.
     SkippedStep(PrePassStep),
+    /// A part of mesh `mesh`'s draws, timed only where the frame's draws are timed apart
+    /// ([`FrameStamps::draw_parts`]).
+    Draw {
+        mesh: u32,
+        part: DrawPart,
+    },
 }
 
 impl Timed {
-    /// Its pass in `measure`'s `GpuTimer` (pass 0 is the whole frame).
+    /// Its pass in `measure`'s `GpuTimer` (pass 0 is the whole frame; the draws' parts follow the
+    /// steps, mesh by mesh).
     pub(crate) fn pass(self) -> u32 {
         match self {
             Timed::PrePass => 1,
             Timed::Step(step) | Timed::SkippedStep(step) => 2 + step as u32,
+            Timed::Draw { mesh, part } => FIRST_DRAW_PASS + mesh * DRAW_PARTS as u32 + part as u32,
         }
     }
+}
+
+/// The first pass of the draws' parts in `measure`'s `GpuTimer`.
+pub(crate) const FIRST_DRAW_PASS: u32 = 2 + PRE_PASS_STEPS as u32;
+
+/// What a frame stamps as it is recorded: `stamp(timed, false)` before and `(.., true)` after
+/// what `timed` names, and whether the draws' parts are stamped too. Timing them apart splits
+/// the frame's rendering at each part's boundaries (lavapipe takes no timestamp inside a
+/// rendering), which keeps its depth between renderings and costs the frame some time of its
+/// own.
+pub(crate) struct FrameStamps<'a> {
+    pub stamp: &'a dyn Fn(Timed, bool),
+    pub draw_parts: bool,
+}
+
+fn no_stamp(_: Timed, _: bool) {}
+
+impl FrameStamps<'static> {
+    /// A frame that is not timed.
+    pub(crate) const NONE: FrameStamps<'static> = FrameStamps { stamp: &no_stamp, draw_parts: false };
 }
