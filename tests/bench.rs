@@ -24,13 +24,14 @@ fn bench_writes_complete_rows_plots_images_and_a_capture() {
         .args(["--modes", "pixel,vertex,fixed:2,multirate", "--epsilon", "0.05,0.2", "--nmax", "8"])
         .args(["--min-estimated-area", "0,auto"])
         .args(["--resolution", "256x192", "--frames", &frames, "--warmup", "1", "--images"])
-        .args(["--out", out.to_str().unwrap(), "--capture", capture.to_str().unwrap()])
+        .args(["--out", out.to_str().unwrap(), "--capture", capture.to_str().unwrap(), "--draw-parts"])
         .env_remove("DISPLAY")
         .output()
         .expect("run multirate bench");
-    let stderr = String::from_utf8_lossy(&output.stderr);
+    let (stdout, stderr) = (String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
     assert!(output.status.success(), "bench failed:\n{stderr}");
     assert!(!stderr.contains("vulkan:"), "validation messages:\n{stderr}");
+    assert!(stdout.contains("the frame's parts"), "{stdout}");
 
     // CSV: pixel, vertex, fixed:2 and multirate at two ε: five rows, every field filled.
     let csv = std::fs::read_to_string(out.join("bench.csv")).expect("bench.csv");
@@ -71,6 +72,22 @@ fn bench_writes_complete_rows_plots_images_and_a_capture() {
         let sum: f64 = parts.iter().map(|k| number(row, k)).sum();
         assert_eq!(sum, number(row, "evaluations"), "{row:?}");
         assert!(number(row, "fs_invocations") > 0.0, "{row:?}");
+    }
+    // `--draw-parts`: every part timed where a frame draws it, within the frame. The modes
+    // without a pre-pass draw their mesh whole; multirate estimating every triangle draws the
+    // pre-pass's lists and nothing whole.
+    let parts = multirate::render::DrawPart::ALL.map(|part| format!("draw_{}_ms_median", part.name()));
+    let lists = ["draw_flat_ms_median", "draw_tessellated_ms_median"];
+    for row in &rows {
+        let sum: f64 = parts.iter().map(|part| number(row, part)).sum();
+        assert!(parts.iter().all(|part| number(row, part) >= 0.0), "{row:?}");
+        assert!(sum <= number(row, "gpu_ms_p90"), "the parts lie within the frame: {row:?}");
+        let listed: f64 = lists.iter().map(|list| number(row, list)).sum();
+        if row["mode"] != "multirate" {
+            assert!(number(row, "draw_whole_ms_median") > 0.0 && listed == 0.0, "{row:?}");
+        } else if number(row, "min_estimated_area") == 0.0 {
+            assert!(number(row, "draw_whole_ms_median") == 0.0 && listed > 0.0, "{row:?}");
+        }
     }
     assert!(number(&rows[1], "vertex_evaluations") > 0.0);
     assert!(number(&rows[2], "subvertex_evaluations") > 0.0);
@@ -135,59 +152,6 @@ fn bench_writes_complete_rows_plots_images_and_a_capture() {
     }
 
     assert_capture(&capture, rows.len(), pre_passes_expected);
-}
-
-/// `bench --draw-parts`: every part of the draws timed, where a frame draws it: `pixel` draws
-/// its mesh whole, multirate (estimating every triangle) draws the pre-pass's lists and nothing
-/// whole, and the parts lie within the frame.
-#[test]
-fn bench_times_the_parts_of_the_draws_apart() {
-    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("bench_draw_parts");
-    let _ = std::fs::remove_dir_all(&out);
-    let scene = repo_path("scenes/test/lambert_directional.toml");
-    let output = common::multirate_command()
-        .args(["--validate", "bench", "--scene", scene.to_str().unwrap(), "--modes", "pixel,multirate"])
-        .args(["--min-estimated-area", "0", "--resolution", "256x192", "--frames", "2", "--warmup", "1"])
-        .args(["--draw-parts", "--out", out.to_str().unwrap()])
-        .env_remove("DISPLAY")
-        .output()
-        .expect("run multirate bench");
-    let (stdout, stderr) = (String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
-    assert!(output.status.success(), "bench failed:\n{stderr}");
-    assert!(!stderr.contains("vulkan:"), "validation messages:\n{stderr}");
-    assert!(stdout.contains("the frame's parts"), "{stdout}");
-    let csv = std::fs::read_to_string(out.join("bench.csv")).expect("bench.csv");
-    let mut lines = csv.lines();
-    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
-    let rows: Vec<HashMap<&str, f64>> = lines
-        .map(|line| {
-            let fields = line.split(',');
-            header
-                .iter()
-                .copied()
-                .zip(fields)
-                .filter_map(|(key, value)| Some((key, value.parse().ok()?)))
-                .collect()
-        })
-        .collect();
-    assert_eq!(rows.len(), 2, "{csv}");
-    let part = |row: &HashMap<&str, f64>, name: &str| -> f64 {
-        let key = format!("draw_{name}_ms_median");
-        *row.get(key.as_str()).unwrap_or_else(|| panic!("{key} is not a number in\n{csv}"))
-    };
-    let (pixel, multirate) = (&rows[0], &rows[1]);
-    assert!(part(pixel, "whole") > 0.0, "{csv}");
-    for name in ["flat", "tessellated", "fallback_depth", "fallback_shading"] {
-        assert_eq!(part(pixel, name), 0.0, "pixel draws no {name} list:\n{csv}");
-    }
-    assert_eq!(part(multirate, "whole"), 0.0, "multirate drew a mesh whole:\n{csv}");
-    assert!(part(multirate, "flat") + part(multirate, "tessellated") > 0.0, "{csv}");
-    for row in &rows {
-        let names = multirate::render::DrawPart::ALL.map(|p| p.name());
-        let sum: f64 = names.iter().map(|name| part(row, name)).sum();
-        assert!(names.iter().all(|name| part(row, name) >= 0.0), "{csv}");
-        assert!(sum <= row["gpu_ms_p90"], "the parts lie within the frame:\n{csv}");
-    }
 }
 
 #[test]
