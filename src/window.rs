@@ -433,7 +433,7 @@ impl App {
         unsafe { device.wait_for_fences(&[frame.in_flight], true, u64::MAX) }
             .while_("waiting for the last frame")?;
         if let Some((drawn, extent)) = state.timed.take() {
-            let ms = state.timer.pass_intervals(0)?[0].milliseconds();
+            let ms = state.timer.pass_intervals(0, 1)?[0].milliseconds();
             state.renderer.report_frame_time(&drawn, extent, ms);
             self.gpu_ms = Some(self.gpu_ms.map_or(ms, |smoothed| 0.9 * smoothed + 0.1 * ms));
         }

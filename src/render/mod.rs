@@ -257,9 +257,8 @@ impl Renderer {
     /// One frame, top to bottom: the pre-pass of `frame`, then its draws with `variants` (of
     /// `instrumentation`), then the polygonal lights' emissive geometry, into `target`, leaving
     /// it ready for `after`. Stamps (`stamps.stamp`) `Timed::PrePass` before and after the
-    /// pre-pass (back to back where there is none), the same around each of its steps
-    /// (`Timed::SkippedStep` where it does not run), and, where `stamps.draw_parts`, each part
-    /// of each mesh's draws.
+    /// pre-pass (back to back where there is none), the same around each of its steps where it
+    /// runs, and, where `stamps.draw_parts`, each part of each mesh's draws.
     #[allow(clippy::too_many_arguments)]
     fn record_frame(
         &self,
@@ -282,12 +281,6 @@ impl Renderer {
         stamp(Timed::PrePass, false);
         if frame.runs_pre_pass {
             self.pre_pass.record(&rec, frame, &self.draws.meshes, instrumentation, stamp);
-        } else if frame.has_pre_pass() {
-            // Every step's interval is still written (empty), as the timing reads them.
-            for step in PrePassStep::ALL {
-                stamp(Timed::SkippedStep(step), false);
-                stamp(Timed::SkippedStep(step), true);
-            }
         }
         stamp(Timed::PrePass, true);
         // The draws.

@@ -151,9 +151,11 @@ impl GpuTimer {
         }
     }
 
-    /// When every pass of frame `slot` ran, waiting for the results.
-    pub fn pass_intervals(&self, slot: u32) -> Result<Vec<GpuInterval>> {
-        let mut ticks = vec![0u64; 2 * self.passes as usize];
+    /// When the first `passes` passes of frame `slot` ran, waiting for the results (each must
+    /// have been written).
+    pub fn pass_intervals(&self, slot: u32, passes: u32) -> Result<Vec<GpuInterval>> {
+        debug_assert!(passes <= self.passes);
+        let mut ticks = vec![0u64; 2 * passes as usize];
         // SAFETY: the range lies in the pool; WAIT blocks until the frame's queries finished.
         unsafe {
             self.context.device.get_query_pool_results(

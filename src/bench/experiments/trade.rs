@@ -2,11 +2,12 @@
 //! (`vertex`), its ceiling (`pixel` / `vertex`), the empty frame, and multirate with the cost
 //! model against multirate estimating every triangle, at the sweep's resolution and at the
 //! table's (1920×1080 and 3840×2160), each table naming the scenes where multirate was slower than
-//! `pixel`; and the light-count sweep, the bunny lit by 1, 4, 16 and 64 point lights.
+//! `pixel`; the same with the camera turning a degree a frame, beside the still camera's; and the
+//! light-count sweep, the bunny lit by 1, 4, 16 and 64 point lights.
 
 use super::setup::{config, create_results, header, load_scene, percent, write, ExperimentOptions, Plan};
 use crate::bench::calibrate::lit_by;
-use crate::bench::measure::{run, BenchScene, Progress};
+use crate::bench::measure::{run, BenchConfig, BenchScene, Progress};
 use crate::bench::row::{to_csv, Row};
 use crate::bench::twin::twin_cost;
 use crate::error::Result;
@@ -14,6 +15,9 @@ use crate::render::Mode;
 use crate::vk::Context;
 use std::fmt::Write as _;
 use std::sync::Arc;
+
+/// Degrees per frame by which the camera turns about its target in the turning tables.
+pub const TURN_DEGREES: f32 = 1.0;
 
 /// The light counts of the sweep.
 pub const SWEEP_LIGHTS: [usize; 4] = [1, 4, 16, 64];
@@ -64,6 +68,12 @@ fn trade(
     write(&options.out.join("trade.csv"), &to_csv(&rows))?;
     bounds_table(md, &rows, plan.sweep, true);
     bounds_table(md, &rows, plan.table, false);
+    let turning = BenchConfig { orbit_degrees: TURN_DEGREES, ..both.clone() };
+    let turning_rows =
+        run(context, scenes, &turning, &mut |p| progress("the trade's bounds, turning", p))?.rows;
+    write(&options.out.join("trade_turning.csv"), &to_csv(&turning_rows))?;
+    turning_table(md, &rows, &turning_rows, plan.sweep, true);
+    turning_table(md, &rows, &turning_rows, plan.table, false);
     pre_pass_table(md, &rows, plan.sweep, scenes);
 
     both.resolutions = vec![plan.sweep];
@@ -166,6 +176,65 @@ fn bounds_table(md: &mut String, rows: &[Row], (w, h): (u32, u32), explain: bool
         md,
         "\nScenes where multirate (with the cost model) took longer than `pixel` at {w}×{h}: {verdict}.\n"
     );
+}
+
+/// The camera still and turning [`TURN_DEGREES`] a frame side by side at one resolution, multirate
+/// with the cost model; `explain`: the columns' explanation before it.
+fn turning_table(md: &mut String, still: &[Row], turning: &[Row], (w, h): (u32, u32), explain: bool) {
+    let _ = writeln!(md, "## The camera still and turning {TURN_DEGREES}° a frame ({w}×{h})\n");
+    if explain {
+        let _ = writeln!(
+            md,
+            "The camera turns about its target by {TURN_DEGREES}° a frame while the frames are timed (`bench --orbit {TURN_DEGREES}`), every configuration's measured frames at the same cameras: the eye leaves the ball of eyes every frame, so the pre-pass estimates every visible triangle each frame, as it does for a user who moves the camera. multirate with the cost model; times in ms (pre-pass in brackets); \"as pixel\" counts the turning frames the frame guard drew as `pixel` does.\n"
+        );
+    } else {
+        let _ = writeln!(md, "The columns are those of the table above.\n");
+    }
+    let _ = writeln!(
+        md,
+        "| scene | pixel, still | multirate, still | share, still | pixel, turning | vertex, turning | multirate, turning | speedup, turning | share, turning | as pixel |"
+    );
+    let _ = writeln!(md, "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
+    let mut slower = Vec::new();
+    for pixel in turning.iter().filter(|r| r.mode == "pixel" && (r.width, r.height) == (w, h)) {
+        let (Some((vertex, model, _)), Some(still_pixel)) =
+            (measured(turning, pixel), still.iter().find(|r| r.mode == "pixel" && same_frame(r, pixel)))
+        else {
+            continue;
+        };
+        let still_model = measured(still, still_pixel).map(|(_, model, _)| model);
+        if model.gpu_ms.median > pixel.gpu_ms.median {
+            slower.push(format!(
+                "{} ({:.1} against {:.1} ms)",
+                pixel.scene, model.gpu_ms.median, pixel.gpu_ms.median
+            ));
+        }
+        let _ = writeln!(
+            md,
+            "| {} | {:.1} | {} | {} | {:.1} | {:.1} | {} | {} | {} | {} of {} |",
+            pixel.scene,
+            still_pixel.gpu_ms.median,
+            still_model.map_or_else(|| "–".to_string(), ms),
+            still_model.map_or_else(|| "–".to_string(), share),
+            pixel.gpu_ms.median,
+            vertex.gpu_ms.median,
+            ms(model),
+            percent(model.speedup),
+            share(model),
+            model.frames_drawn_as_pixel.unwrap_or_default(),
+            model.frames,
+        );
+    }
+    let verdict = if slower.is_empty() { "none".to_string() } else { slower.join(", ") };
+    let _ = writeln!(
+        md,
+        "\nScenes where multirate (with the cost model) took longer than `pixel` at {w}×{h} with the camera turning: {verdict}.\n"
+    );
+}
+
+/// Whether two rows are of the same scene and resolution.
+fn same_frame(a: &Row, b: &Row) -> bool {
+    a.scene == b.scene && (a.width, a.height) == (b.width, b.height)
 }
 
 /// Passes over a scene's triangles of which the Rust twin's time is the median.

@@ -101,11 +101,6 @@ pub(crate) fn barrier_after(step: PrePassStep) -> (S, A, S, A) {
 pub(crate) enum Timed {
     PrePass,
     Step(PrePassStep),
-    /// A step of a frame without a pre-pass (every mesh drawn as `pixel` does): its interval
-    /// is written back to back at the top of the pipe, without the barrier that settles a
-    /// step's timestamps. On lavapipe those barriers made such frames 7–15 % slower than
-    /// `pixel` mode's, and each later-stage timestamp flushes its queued work.
-    SkippedStep(PrePassStep),
     /// A part of mesh `mesh`'s draws, timed only where the frame's draws are timed apart
     /// ([`FrameStamps::draw_parts`]).
     Draw {
@@ -120,7 +115,7 @@ impl Timed {
     pub(crate) fn pass(self) -> u32 {
         match self {
             Timed::PrePass => 1,
-            Timed::Step(step) | Timed::SkippedStep(step) => 2 + step as u32,
+            Timed::Step(step) => 2 + step as u32,
             Timed::Draw { mesh, part } => FIRST_DRAW_PASS + mesh * DRAW_PARTS as u32 + part as u32,
         }
     }
