@@ -1,4 +1,4 @@
-//! Tests of `bench::experiments`: the tessellated plane grid.
+//! Tests of `bench::experiments`: the tessellated plane grid, the trade page's table heads.
 
 use super::*;
 
@@ -24,4 +24,15 @@ fn plane_grid_has_2n2_upward_triangles() {
         })
         .sum();
     assert!((area - 4.0).abs() < 1e-4, "the grid tiles the 2×2 square: {area}");
+}
+
+#[test]
+fn a_table_head_has_its_title_its_explanation_and_aligned_columns() {
+    let mut md = String::new();
+    trade::table_head(&mut md, "Title", None, &["scene", "pixel"]);
+    trade::table_head(&mut md, "Next", Some("Why."), &["scene", "a", "b"]);
+    let expected =
+        "## Title\n\nThe columns are those of the table above.\n\n| scene | pixel |\n| --- | ---: |\n\
+                    ## Next\n\nWhy.\n\n| scene | a | b |\n| --- | ---: | ---: |\n";
+    assert_eq!(md, expected);
 }

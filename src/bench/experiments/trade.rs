@@ -123,24 +123,26 @@ fn share(row: &Row) -> String {
 
 /// The bounds table at one resolution; `explain`: the columns' explanation before it.
 fn bounds_table(md: &mut String, rows: &[Row], (w, h): (u32, u32), explain: bool) {
-    let _ =
-        writeln!(md, "## The trade's bounds: floor, ceiling and the share of the saving taken ({w}×{h})\n");
-    if explain {
-        let _ = writeln!(
-            md,
-            "`vertex` shades once per vertex: its time is the floor any shading-rate method can approach, and `pixel` over it the ceiling of the speedup. The share of the possible saving a mode takes is (t_pixel − t) / (t_pixel − t_vertex): 100 % at the floor, 0 at `pixel`'s time, below 0 where it is slower. The empty frame draws nothing visible (every triangle behind the eye). multirate runs with the device's cost model (images below the break-even area, \"estimated above\", are shaded per pixel without an estimate; the frame guard draws a frame as `pixel` does where that measured faster, \"as pixel\" counting such frames among those measured: its probes, or all) and, for comparison, estimating every visible triangle. Times in ms (pre-pass in brackets, over the frames that ran it).\n"
-        );
-    } else {
-        let _ = writeln!(md, "The columns are those of the table above.\n");
-    }
-    let _ = writeln!(
-        md,
-        "| scene | triangles | pixel | vertex (floor) | ceiling | empty | multirate | speedup | share | estimated above | as pixel | every triangle estimated | share |"
+    let title = format!("The trade's bounds: floor, ceiling and the share of the saving taken ({w}×{h})");
+    let explanation = explain.then_some(
+            "`vertex` shades once per vertex: its time is the floor any shading-rate method can approach, and `pixel` over it the ceiling of the speedup. The share of the possible saving a mode takes is (t_pixel − t) / (t_pixel − t_vertex): 100 % at the floor, 0 at `pixel`'s time, below 0 where it is slower. The empty frame draws nothing visible (every triangle behind the eye). multirate runs with the device's cost model (images below the break-even area, \"estimated above\", are shaded per pixel without an estimate; the frame guard draws a frame as `pixel` does where that measured faster, \"as pixel\" counting such frames among those measured: its probes, or all) and, for comparison, estimating every visible triangle. Times in ms (pre-pass in brackets, over the frames that ran it).",
     );
-    let _ = writeln!(
-        md,
-        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
-    );
+    let columns = [
+        "scene",
+        "triangles",
+        "pixel",
+        "vertex (floor)",
+        "ceiling",
+        "empty",
+        "multirate",
+        "speedup",
+        "share",
+        "estimated above",
+        "as pixel",
+        "every triangle estimated",
+        "share",
+    ];
+    table_head(md, &title, explanation, &columns);
     let mut slower = Vec::new();
     for pixel in rows.iter().filter(|r| r.mode == "pixel" && (r.width, r.height) == (w, h)) {
         let Some((vertex, model, every)) = measured(rows, pixel) else {
@@ -171,30 +173,48 @@ fn bounds_table(md: &mut String, rows: &[Row], (w, h): (u32, u32), explain: bool
             share(every),
         );
     }
+    slower_verdict(md, &slower, &format!("at {w}×{h}"));
+}
+
+/// A table's heading, its explanation (or a pointer to the table above) and its header rows: the
+/// first column left-aligned, the others right-aligned.
+pub(super) fn table_head(md: &mut String, title: &str, explanation: Option<&str>, columns: &[&str]) {
+    let _ = writeln!(md, "## {title}\n");
+    let _ = writeln!(md, "{}\n", explanation.unwrap_or("The columns are those of the table above."));
+    let _ = writeln!(md, "| {} |", columns.join(" | "));
+    let alignment: Vec<&str> = (0..columns.len()).map(|k| if k == 0 { "---" } else { "---:" }).collect();
+    let _ = writeln!(md, "| {} |", alignment.join(" | "));
+}
+
+/// The line naming the scenes where multirate with the cost model was slower than `pixel`, `when`.
+fn slower_verdict(md: &mut String, slower: &[String], when: &str) {
     let verdict = if slower.is_empty() { "none".to_string() } else { slower.join(", ") };
     let _ = writeln!(
         md,
-        "\nScenes where multirate (with the cost model) took longer than `pixel` at {w}×{h}: {verdict}.\n"
+        "\nScenes where multirate (with the cost model) took longer than `pixel` {when}: {verdict}.\n"
     );
 }
 
 /// The camera still and turning [`TURN_DEGREES`] a frame side by side at one resolution, multirate
 /// with the cost model; `explain`: the columns' explanation before it.
 fn turning_table(md: &mut String, still: &[Row], turning: &[Row], (w, h): (u32, u32), explain: bool) {
-    let _ = writeln!(md, "## The camera still and turning {TURN_DEGREES}° a frame ({w}×{h})\n");
-    if explain {
-        let _ = writeln!(
-            md,
-            "The camera turns about its target by {TURN_DEGREES}° a frame while the frames are timed (`bench --orbit {TURN_DEGREES}`), every configuration's measured frames at the same cameras: the eye leaves the ball of eyes every frame, so the pre-pass estimates every visible triangle each frame, as it does for a user who moves the camera. multirate with the cost model; times in ms (pre-pass in brackets); \"as pixel\" counts the turning frames the frame guard drew as `pixel` does.\n"
-        );
-    } else {
-        let _ = writeln!(md, "The columns are those of the table above.\n");
-    }
-    let _ = writeln!(
-        md,
-        "| scene | pixel, still | multirate, still | share, still | pixel, turning | vertex, turning | multirate, turning | speedup, turning | share, turning | as pixel |"
+    let title = format!("The camera still and turning {TURN_DEGREES}° a frame ({w}×{h})");
+    let explanation = format!(
+            "The camera turns about its target by {TURN_DEGREES}° a frame while the frames are timed (`bench --orbit {TURN_DEGREES}`), every configuration's measured frames at the same cameras: the eye leaves the ball of eyes every frame, so the pre-pass estimates every visible triangle each frame, as it does for a user who moves the camera. multirate with the cost model; times in ms (pre-pass in brackets); \"as pixel\" counts the turning frames the frame guard drew as `pixel` does."
     );
-    let _ = writeln!(md, "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
+    let columns = [
+        "scene",
+        "pixel, still",
+        "multirate, still",
+        "share, still",
+        "pixel, turning",
+        "vertex, turning",
+        "multirate, turning",
+        "speedup, turning",
+        "share, turning",
+        "as pixel",
+    ];
+    table_head(md, &title, explain.then_some(explanation.as_str()), &columns);
     let mut slower = Vec::new();
     for pixel in turning.iter().filter(|r| r.mode == "pixel" && (r.width, r.height) == (w, h)) {
         let (Some((vertex, model, _)), Some(still_pixel)) =
@@ -225,11 +245,7 @@ fn turning_table(md: &mut String, still: &[Row], turning: &[Row], (w, h): (u32, 
             model.frames,
         );
     }
-    let verdict = if slower.is_empty() { "none".to_string() } else { slower.join(", ") };
-    let _ = writeln!(
-        md,
-        "\nScenes where multirate (with the cost model) took longer than `pixel` at {w}×{h} with the camera turning: {verdict}.\n"
-    );
+    slower_verdict(md, &slower, &format!("at {w}×{h} with the camera turning"));
 }
 
 /// Whether two rows are of the same scene and resolution.
