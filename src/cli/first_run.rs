@@ -8,8 +8,9 @@ use super::view::view;
 use anyhow::{Context as _, Result};
 use multirate::analysis::metrics;
 use multirate::bench;
-use multirate::render::cost_model::{calibration_key, LavapipeCompiler};
+use multirate::render::cost_model::LavapipeCompiler;
 use multirate::render::{output, Mode, Renderer, View};
+use multirate::vk::context::DeviceInfo;
 use multirate::vk::target::RenderTarget;
 use multirate::vk::Context;
 use std::path::PathBuf;
@@ -73,10 +74,7 @@ fn first_run(gpu: &GpuArgs) -> Result<()> {
         multirate.estimator.n_max,
         context.info.name
     );
-    println!(
-        "  GPU time (median of {FRAMES} frames, the modes in turns){}:",
-        compiler_note(&context.info.name)
-    );
+    println!("  GPU time (median of {FRAMES} frames, the modes in turns){}:", compiler_note(&context.info));
     for (orbit_degrees, multirate_ms, pixel_ms) in medians {
         let camera = if orbit_degrees == 0.0 {
             "camera still".to_string()
@@ -105,9 +103,8 @@ fn first_run(gpu: &GpuArgs) -> Result<()> {
 }
 
 /// Where the device is lavapipe run with CI's setting rather than a user's, the timing says so.
-fn compiler_note(device: &str) -> &'static str {
-    let unoptimised = calibration_key(device, LavapipeCompiler::Unoptimised);
-    if LavapipeCompiler::current() == LavapipeCompiler::Unoptimised && unoptimised != device {
+fn compiler_note(info: &DeviceInfo) -> &'static str {
+    if info.is_lavapipe() && LavapipeCompiler::current() == LavapipeCompiler::Unoptimised {
         " on lavapipe with GALLIVM_PERF=nopt (CI's setting: a pixel about four times as dear as for a user)"
     } else {
         ""

@@ -194,30 +194,7 @@ impl RenderTarget {
                     | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ,
             ),
         );
-        let clears = [vk::ClearColorValue { float32: clear }, vk::ClearColorValue { uint32: [0; 4] }];
-        let color_attachments = [0, 1].map(|k| {
-            vk::RenderingAttachmentInfo::default()
-                .image_view(images.get(k).map_or(vk::ImageView::null(), |image| image.view))
-                .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-                .load_op(vk::AttachmentLoadOp::CLEAR)
-                .store_op(vk::AttachmentStoreOp::STORE)
-                .clear_value(vk::ClearValue { color: clears[k] })
-        });
-        let depth_attachment = vk::RenderingAttachmentInfo::default()
-            .image_view(self.depth.view)
-            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(match depth {
-                DepthAfter::Discarded => vk::AttachmentStoreOp::DONT_CARE,
-                DepthAfter::Kept => vk::AttachmentStoreOp::STORE,
-            })
-            .clear_value(vk::ClearValue {
-                depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 },
-            });
-        let rendering = vk::RenderingInfo::default()
-            .color_attachments(&color_attachments[..count])
-            .depth_attachment(&depth_attachment);
-        begin_rendering(device, cmd, self.extent(), rendering);
+        self.begin_rendering_into(device, cmd, attachments, Some((clear, depth)));
     }
 
     /// Ends the rendering `begin` began with [`DepthAfter::Kept`], keeping what it drew, so that
@@ -231,7 +208,6 @@ impl RenderTarget {
     /// Begins rendering again into what [`RenderTarget::pause`] left, every attachment loaded
     /// and stored, once the earlier rendering's attachment writes are done.
     pub fn resume(&self, device: &ash::Device, cmd: vk::CommandBuffer, attachments: Attachments) {
-        let (images, count) = self.color_images(attachments);
         let color = vk::AccessFlags2::COLOR_ATTACHMENT_WRITE | vk::AccessFlags2::COLOR_ATTACHMENT_READ;
         let depth = vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE
             | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ;
@@ -253,18 +229,43 @@ impl RenderTarget {
         unsafe {
             device.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&barriers))
         };
+        self.begin_rendering_into(device, cmd, attachments, None);
+    }
+
+    /// Begins dynamic rendering into `attachments`: cleared (to `clear`'s colour, ids 0 and depth
+    /// 1, the depth stored where its `DepthAfter` says so), or with `None` loaded as an earlier
+    /// rendering left them and stored.
+    fn begin_rendering_into(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        attachments: Attachments,
+        clear: Option<([f32; 4], DepthAfter)>,
+    ) {
+        let (images, count) = self.color_images(attachments);
+        let load = if clear.is_some() { vk::AttachmentLoadOp::CLEAR } else { vk::AttachmentLoadOp::LOAD };
+        let colour = clear.map_or([0.0; 4], |(colour, _)| colour);
+        let clears = [vk::ClearColorValue { float32: colour }, vk::ClearColorValue { uint32: [0; 4] }];
         let color_attachments = [0, 1].map(|k| {
             vk::RenderingAttachmentInfo::default()
                 .image_view(images[..count].get(k).map_or(vk::ImageView::null(), |image| image.view))
                 .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-                .load_op(vk::AttachmentLoadOp::LOAD)
+                .load_op(load)
                 .store_op(vk::AttachmentStoreOp::STORE)
+                .clear_value(vk::ClearValue { color: clears[k] })
         });
+        let depth_store = match clear {
+            Some((_, DepthAfter::Discarded)) => vk::AttachmentStoreOp::DONT_CARE,
+            _ => vk::AttachmentStoreOp::STORE,
+        };
         let depth_attachment = vk::RenderingAttachmentInfo::default()
             .image_view(self.depth.view)
             .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::LOAD)
-            .store_op(vk::AttachmentStoreOp::STORE);
+            .load_op(load)
+            .store_op(depth_store)
+            .clear_value(vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 },
+            });
         let rendering = vk::RenderingInfo::default()
             .color_attachments(&color_attachments[..count])
             .depth_attachment(&depth_attachment);

@@ -93,8 +93,7 @@ fn trade(
 
 fn find<'a>(rows: &'a [Row], of: &Row, mode: &str, cost_model: Option<bool>) -> Option<&'a Row> {
     rows.iter().find(|r| {
-        r.scene == of.scene
-            && (r.width, r.height) == (of.width, of.height)
+        same_frame(r, of)
             && r.mode == mode
             && cost_model.is_none_or(|on| r.min_estimated_area.is_some_and(|a| (a > 0.0) == on))
     })
@@ -148,12 +147,7 @@ fn bounds_table(md: &mut String, rows: &[Row], (w, h): (u32, u32), explain: bool
         let Some((vertex, model, every)) = measured(rows, pixel) else {
             continue;
         };
-        if model.gpu_ms.median > pixel.gpu_ms.median {
-            slower.push(format!(
-                "{} ({:.1} against {:.1} ms)",
-                pixel.scene, model.gpu_ms.median, pixel.gpu_ms.median
-            ));
-        }
+        slower.extend(slower_than_pixel(model, pixel));
         let _ = writeln!(
             md,
             "| {} | {} | {:.1} | {:.1} | {:.2}× | {:.1} | {} | {} | {} | {:.1} px | {} of {} | {} | {} |",
@@ -184,6 +178,12 @@ pub(super) fn table_head(md: &mut String, title: &str, explanation: Option<&str>
     let _ = writeln!(md, "| {} |", columns.join(" | "));
     let alignment: Vec<&str> = (0..columns.len()).map(|k| if k == 0 { "---" } else { "---:" }).collect();
     let _ = writeln!(md, "| {} |", alignment.join(" | "));
+}
+
+/// `model`'s scene, with both times, where it took longer than `pixel`.
+fn slower_than_pixel(model: &Row, pixel: &Row) -> Option<String> {
+    let (model_ms, pixel_ms) = (model.gpu_ms.median, pixel.gpu_ms.median);
+    (model_ms > pixel_ms).then(|| format!("{} ({model_ms:.1} against {pixel_ms:.1} ms)", pixel.scene))
 }
 
 /// The line naming the scenes where multirate with the cost model was slower than `pixel`, `when`.
@@ -218,17 +218,12 @@ fn turning_table(md: &mut String, still: &[Row], turning: &[Row], (w, h): (u32, 
     let mut slower = Vec::new();
     for pixel in turning.iter().filter(|r| r.mode == "pixel" && (r.width, r.height) == (w, h)) {
         let (Some((vertex, model, _)), Some(still_pixel)) =
-            (measured(turning, pixel), still.iter().find(|r| r.mode == "pixel" && same_frame(r, pixel)))
+            (measured(turning, pixel), find(still, pixel, "pixel", None))
         else {
             continue;
         };
         let still_model = measured(still, still_pixel).map(|(_, model, _)| model);
-        if model.gpu_ms.median > pixel.gpu_ms.median {
-            slower.push(format!(
-                "{} ({:.1} against {:.1} ms)",
-                pixel.scene, model.gpu_ms.median, pixel.gpu_ms.median
-            ));
-        }
+        slower.extend(slower_than_pixel(model, pixel));
         let _ = writeln!(
             md,
             "| {} | {:.1} | {} | {} | {:.1} | {:.1} | {} | {} | {} | {} of {} |",
