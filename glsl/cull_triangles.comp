@@ -7,7 +7,7 @@
 // (triangle_level.glsl, back_face_per_pixel), shaded per pixel without an estimate, which take
 // FALLBACK_LEVEL, from its last triangle down. It counts both lists and the workgroups of the
 // later steps that cover them in level_dispatches, which the host resets first. A culled
-// triangle's words of flat_indices (where its mesh is drawn from them) skip it.
+// triangle's words of the flat patches' index buffers skip it.
 #include "triangle_level.glsl"
 
 layout(local_size_x = PRE_PASS_GROUP) in;
@@ -23,7 +23,7 @@ void main() {
     vec3 p2 = scene_vec3(scene_indices[3u * triangle + 2u], 0u);
     if (patch_culled(p0, p1, p2)) {
         triangle_levels[triangle] = CULLED_LEVEL;
-        write_flat_corners(triangle, false);
+        write_flat_corners(triangle, false, false);
         if (COUNT_EVALUATIONS) {
             atomicAdd(counters.culled_patches, 1u);
         }

@@ -2,8 +2,8 @@
 // variants: material_kind polygon_lights textured count_evaluations
 // `multirate` mode, `--estimator compute`: the flat patches (bindings.glsl), whose inner and
 // outer levels are all 1, drawn without the tessellation stages. Drawn indexed from
-// flat_indices, vertex v is the scene's; drawn from the flat list, vertex 3k + c is corner c of
-// the list's k-th triangle. A corner is shaded as multirate.tese shades it at level 1 (same
+// flat_indices or fallback_indices, vertex v is the scene's; drawn from the flat list, vertex
+// 3k + c is corner c of the list's k-th triangle. A corner is shaded as multirate.tese shades it at level 1 (same
 // position, normal, parameter level of detail and precise clip position), so the image, the
 // evaluation count and the edges shared with tessellated neighbours are those of the
 // tessellated draw. In the draw of the flat triangles shaded per pixel (FLAG_FALLBACK_PATCHES)
@@ -27,14 +27,14 @@ precise gl_Position;
 void main() {
     bool per_pixel = (draw.flags & FLAG_FALLBACK_PATCHES) != 0u;
     GpuMaterial m = materials[draw.material_index];
-    // Drawn from the flat list (per pixel, or with a parameter map), or indexed from
-    // flat_indices, where a vertex is the scene's and the triangle the draw's primitive.
-    bool listed = per_pixel || (draw.flags & FLAG_SHARED_CORNERS) == 0u;
+    // Drawn from the flat list (shaded on the corners of a mesh with a parameter map), or
+    // indexed from flat_indices or fallback_indices, where a vertex is the scene's and the
+    // triangle the draw's primitive.
+    bool listed = !per_pixel && (draw.flags & FLAG_SHARED_CORNERS) == 0u;
     uint triangle = ID_FROM_PRIMITIVE;
     uint vertex = uint(gl_VertexIndex);
     if (listed) {
-        uint entry = uint(gl_VertexIndex) / 3u;
-        triangle = flat_patches[draw.patch_base + (per_pixel ? draw.triangle_count - 1u - entry : entry)];
+        triangle = flat_patches[draw.patch_base + uint(gl_VertexIndex) / 3u];
         vertex = scene_indices[3u * triangle + uint(gl_VertexIndex) % 3u];
     } else if (vertex == SKIPPED_VERTEX) {
         // A triangle that is not such a patch: a point, dropped before rasterisation.

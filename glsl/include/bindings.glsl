@@ -93,11 +93,11 @@ layout(set = 0, binding = 16, std430) buffer FallbackDraws { uvec4 fallback_draw
 // Per mesh, a third list: the visible triangles whose patch is the triangle itself (inner and
 // outer levels all 1), drawn without tessellation. Those shaded on their corners, where the
 // mesh's material has a parameter map (otherwise flat_indices, below), are listed from the
-// mesh's first triangle on and drawn by flat_draws[patch_list(false)]; those shaded per
-// pixel from its last triangle down, by flat_draws[patch_list(true)] (vertexCount = 3 per
-// triangle, counted as they are listed; the host zeroes them, and the first entry sets
-// instanceCount to 1). multirate_flat.vert shades the corners as the evaluation stage would, or,
-// in the per-pixel draw (FLAG_FALLBACK_PATCHES), passes them on for multirate.frag to shade.
+// mesh's first triangle on and drawn by flat_draws[draw.mesh_index] (vertexCount = 3 per
+// triangle, counted as they are listed; the host zeroes it, and the first entry sets
+// instanceCount to 1). Those shaded per pixel are drawn from fallback_indices (below).
+// multirate_flat.vert shades the corners as the evaluation stage would, or, in the per-pixel
+// draw (FLAG_FALLBACK_PATCHES), passes them on for multirate.frag to shade.
 layout(set = 0, binding = 17, std430) buffer FlatPatches { uint flat_patches[]; };
 layout(set = 0, binding = 18, std430) buffer FlatDraws { uvec4 flat_draws[]; };
 // Per mesh, the pre-pass's five indirect dispatches and the lengths of their lists
@@ -135,20 +135,30 @@ layout(set = 0, binding = 22, std430) writeonly buffer FlatIndices { uint flat_i
 // current ball (the patch step keeps each estimated triangle's), 0 where none yet: the range step
 // reuses it where draw.flags has FLAG_REUSE_LEVELS. The host zeroes it when a ball begins.
 layout(set = 0, binding = 23, std430) buffer EstimatedLevels { float estimated_levels[]; };
+// Every mesh's flat patches shaded per pixel, as flat_indices holds those shaded on their
+// corners (three words per scene triangle, SKIPPED_VERTEX where the triangle is not one): both
+// passes of the per-pixel path draw them indexed, each vertex transformed once as far as the
+// device reuses vertices, where pulling them from a list would transform it once per triangle.
+// Whatever the material: nothing is shaded on their corners. The culling step writes the culled
+// triangles' words, the patch step the others'.
+layout(set = 0, binding = 24, std430) writeonly buffer FallbackIndices { uint fallback_indices[]; };
 // The index of no vertex, 2^24 - 1 (`SKIPPED_VERTEX` in Rust, Vulkan's least
 // maxDrawIndexedIndexValue; render::limits refuses scenes with more vertices):
 // multirate_flat.vert shades nothing for it.
 const uint SKIPPED_VERTEX = 16777215u;
 
-// Scene triangle `triangle`'s three words of flat_indices, where the draw's mesh is drawn from
-// them (FLAG_SHARED_CORNERS): its vertices where `shaded` (a flat patch shaded on its corners),
-// else SKIPPED_VERTEX.
-void write_flat_corners(uint triangle, bool shaded) {
-    if ((draw.flags & FLAG_SHARED_CORNERS) == 0u) {
-        return;
-    }
+// Scene triangle `triangle`'s words of the flat patches' index buffers: of flat_indices, where
+// the draw's mesh is drawn from them (FLAG_SHARED_CORNERS), its vertices where `on_corners` (a
+// flat patch shaded on its corners); of fallback_indices, its vertices where `per_pixel` (a flat
+// patch shaded per pixel); SKIPPED_VERTEX elsewhere.
+void write_flat_corners(uint triangle, bool on_corners, bool per_pixel) {
+    bool shared_corners = (draw.flags & FLAG_SHARED_CORNERS) != 0u;
     for (uint corner = 0u; corner < 3u; corner++) {
-        flat_indices[3u * triangle + corner] = shaded ? scene_indices[3u * triangle + corner] : SKIPPED_VERTEX;
+        uint vertex = scene_indices[3u * triangle + corner];
+        if (shared_corners) {
+            flat_indices[3u * triangle + corner] = on_corners ? vertex : SKIPPED_VERTEX;
+        }
+        fallback_indices[3u * triangle + corner] = per_pixel ? vertex : SKIPPED_VERTEX;
     }
 }
 
@@ -170,7 +180,7 @@ uint level_dispatch(uint which) {
     return LEVEL_DISPATCHES * draw.mesh_index + which;
 }
 
-// The draw's slot in patch_counts and flat_draws: of its fallback list, or its interpolated one.
+// The draw's slot in patch_counts: of its fallback list, or its interpolated one.
 uint patch_list(bool fallback) {
     return PATCH_LISTS * draw.mesh_index + (fallback ? FALLBACK_LIST : INTERPOLATED_LIST);
 }

@@ -91,6 +91,8 @@ pub mod forward {
     /// Per triangle, the level the pre-pass found for it in the current ball of eyes (0 where it
     /// has found none yet): what later frames reuse.
     pub const ESTIMATED_LEVELS: Binding = storage(0, 23, "EstimatedLevels");
+    /// The flat patches shaded per pixel, as an index buffer over the scene's vertices.
+    pub const FALLBACK_INDICES: Binding = storage(0, 24, "FallbackIndices");
 
     pub const ALBEDO_MAP: Binding = sampler(1, 0, "albedo_map");
     pub const PARAMETER_MAP: Binding = sampler(1, 1, "parameter_map");
@@ -101,7 +103,7 @@ pub mod forward {
     pub const VISIBILITY: Binding = sampler(2, 0, "visibility");
 
     /// Set 0: the scene's storage buffers, bound once.
-    pub const SCENE_BUFFERS: [Binding; 24] = [
+    pub const SCENE_BUFFERS: [Binding; 25] = [
         LIGHTS,
         MATERIALS,
         LEVEL_RECORDS,
@@ -126,6 +128,7 @@ pub mod forward {
         ESTIMATE_TRIANGLES,
         FLAT_INDICES,
         ESTIMATED_LEVELS,
+        FALLBACK_INDICES,
     ];
     /// Set 1: the draw's material textures, bound per draw.
     pub const MATERIAL_TEXTURES: [Binding; 3] = [ALBEDO_MAP, PARAMETER_MAP, PARAMETER_PYRAMID];

@@ -19,6 +19,7 @@ use crate::gpu_interface::slots::{
 };
 use crate::gpu_types::DrawConstants;
 use crate::scene::adjacency::PATCH_SIZE;
+use crate::vk::memory::Buffer;
 use crate::vk::pipeline::Pipeline;
 use crate::vk::target::Attachments;
 use ash::vk;
@@ -221,13 +222,26 @@ impl ForwardDraws {
             rec.bind_pipeline(vk::PipelineBindPoint::GRAPHICS, pipeline);
             rec.push(constants);
         };
-        // A flat list is one draw over the mesh (no tessellated-vertex limit applies), counted
+        // The flat list is one draw over the mesh (no tessellated-vertex limit applies), counted
         // by its own instance count (1 once the list has a triangle).
-        let flat_draw = |constants: &mut DrawConstants, pipeline, list: u32, flag| {
-            bind(constants, pipeline, flag);
-            let offset = vk::DeviceSize::from((PATCH_LISTS * draw.mesh_index + list) * stride);
+        let flat_list_draw = |constants: &mut DrawConstants, pipeline| {
+            bind(constants, pipeline, 0);
+            let offset = vk::DeviceSize::from(draw.mesh_index * stride);
             let flat_draws = buffers.flat_draws.raw;
             indirect((flat_draws, offset), (flat_draws, offset + u32_size), 1);
+        };
+        // The flat patches of an index buffer the pre-pass wrote (`flat_indices` or
+        // `fallback_indices`): one indexed draw of the mesh in its own order, which skips the
+        // other triangles' words. The scene's index buffer is bound back for the draws that follow.
+        let indexed_flat_draw = |constants: &mut DrawConstants, pipeline, indices: &Buffer, flag| {
+            bind(constants, pipeline, flag);
+            // SAFETY: as above; the pre-pass wrote every word of the mesh's range of `indices`
+            // (INDEX_BUFFER usage) before its last barrier.
+            unsafe {
+                device.cmd_bind_index_buffer(cmd, indices.raw, 0, vk::IndexType::UINT32);
+                device.cmd_draw_indexed(cmd, draw.index_count, 1, draw.first_index, 0, 0);
+                device.cmd_bind_index_buffer(cmd, rec.buffers.indices.raw, 0, vk::IndexType::UINT32);
+            }
         };
         // A tessellated list: the draws its patches opened, the first of its `commands` (all of
         // them, mostly empty, where they are not counted).
@@ -243,17 +257,9 @@ impl ForwardDraws {
         // are shared, the flat patches shaded on them are one indexed draw of the mesh.
         mesh.stamp_part(DrawPart::Flat, false);
         if draw.shared_corners {
-            bind(constants, lists.flat, 0);
-            // SAFETY: as above; the pre-pass wrote every word of the mesh's range of
-            // `flat_indices` (INDEX_BUFFER usage) before its last barrier; the scene's index
-            // buffer is bound back for the draws that follow.
-            unsafe {
-                device.cmd_bind_index_buffer(cmd, buffers.flat_indices.raw, 0, vk::IndexType::UINT32);
-                device.cmd_draw_indexed(cmd, draw.index_count, 1, draw.first_index, 0, 0);
-                device.cmd_bind_index_buffer(cmd, rec.buffers.indices.raw, 0, vk::IndexType::UINT32);
-            }
+            indexed_flat_draw(constants, lists.flat, buffers.flat_indices, 0);
         } else {
-            flat_draw(constants, lists.flat, INTERPOLATED_LIST, 0);
+            flat_list_draw(constants, lists.flat);
         }
         mesh.stamp_part(DrawPart::Flat, true);
         mesh.part(DrawPart::Tessellated, || tessellated_draw(constants, interpolated, INTERPOLATED_LIST, 0));
@@ -261,11 +267,11 @@ impl ForwardDraws {
         // surface: each covered pixel is shaded once, whatever the lists' order.
         mesh.part(DrawPart::FallbackDepth, || {
             tessellated_draw(constants, lists.fallback_prime, FALLBACK_LIST, FLAG_FALLBACK_PATCHES);
-            flat_draw(constants, lists.flat_fallback_prime, FALLBACK_LIST, FLAG_FALLBACK_PATCHES);
+            indexed_flat_draw(constants, lists.flat_fallback_prime, buffers.fallback_indices, FLAG_FALLBACK_PATCHES);
         });
         mesh.part(DrawPart::FallbackShading, || {
             tessellated_draw(constants, lists.fallback, FALLBACK_LIST, FLAG_FALLBACK_PATCHES);
-            flat_draw(constants, lists.flat_fallback, FALLBACK_LIST, FLAG_FALLBACK_PATCHES);
+            indexed_flat_draw(constants, lists.flat_fallback, buffers.fallback_indices, FLAG_FALLBACK_PATCHES);
         });
         constants.flags &= !FLAG_FALLBACK_PATCHES;
     }

@@ -45,13 +45,15 @@ pub(crate) struct PrePassBuffers {
     /// The indirect draws of the first two lists (`VkDrawIndirectCommand`, one per triangle),
     /// indexed by `INTERPOLATED_LIST` and `FALLBACK_LIST`.
     pub patch_draws: [Buffer; 2],
-    /// The indirect draws of each mesh's flat list (`VkDrawIndirectCommand`, `PATCH_LISTS` per
-    /// mesh: the triangles shaded on their corners, then those shaded per pixel).
+    /// The indirect draw of each mesh's flat list (`VkDrawIndirectCommand`, one per mesh: its
+    /// flat patches shaded on their corners where its draws lack `DrawCall::shared_corners`).
     pub flat_draws: Buffer,
     /// The flat patches shaded on their corners as an index buffer over the scene's vertices
     /// (`flat_indices` in glsl/include/bindings.glsl), for meshes whose draws have
     /// `DrawCall::shared_corners`.
     pub flat_indices: Buffer,
+    /// Every mesh's flat patches shaded per pixel, likewise (`fallback_indices`).
+    pub fallback_indices: Buffer,
     /// Per triangle: its patch's tessellation levels, written by the last step.
     pub patch_levels: Buffer,
 }
@@ -114,14 +116,10 @@ impl PrePassBuffers {
             device_words(context, "interpolated patch draws", 4 * triangle_count, indirect)?,
             device_words(context, "fallback patch draws", 4 * triangle_count, indirect)?,
         ];
-        let flat_draws =
-            device_words(context, "flat patch draws", PATCH_LISTS as usize * 4 * meshes, indirect)?;
-        let flat_indices = device_words(
-            context,
-            "flat patch indices",
-            3 * triangle_count,
-            vk::BufferUsageFlags::INDEX_BUFFER,
-        )?;
+        let flat_draws = device_words(context, "flat patch draws", 4 * meshes, indirect)?;
+        let index_buffer = |name| device_words(context, name, 3 * triangle_count, vk::BufferUsageFlags::INDEX_BUFFER);
+        let flat_indices = index_buffer("flat patch indices")?;
+        let fallback_indices = index_buffer("per-pixel flat patch indices")?;
         let patch_levels = device_words(
             context,
             "patch tessellation levels",
@@ -142,6 +140,7 @@ impl PrePassBuffers {
             patch_draws,
             flat_draws,
             flat_indices,
+            fallback_indices,
             patch_levels,
         })
     }
@@ -164,14 +163,15 @@ fn device_words(
 /// their counts, and the flat patches' indices.
 #[derive(Clone, Copy)]
 pub(crate) struct PatchLists<'a> {
-    /// Per mesh, `PATCH_LISTS` indirect draws of its flat lists.
+    /// Per mesh, the indirect draw of its flat list.
     pub flat_draws: &'a Buffer,
     /// Per mesh and list, `PATCH_COUNT_WORDS` words: the list's length and the draws it opened.
     pub patch_counts: &'a Buffer,
     /// The interpolated and the fallback lists' indirect draws, one per triangle.
     pub patch_draws: &'a [Buffer; 2],
-    /// The flat patches shaded on their corners, as an index buffer.
+    /// The flat patches shaded on their corners, and those shaded per pixel, as index buffers.
     pub flat_indices: &'a Buffer,
+    pub fallback_indices: &'a Buffer,
 }
 
 impl PatchLists<'_> {
@@ -182,6 +182,7 @@ impl PatchLists<'_> {
             patch_counts: &buffers.patch_counts,
             patch_draws: &buffers.patch_draws,
             flat_indices: &buffers.flat_indices,
+            fallback_indices: &buffers.fallback_indices,
         }
     }
 }

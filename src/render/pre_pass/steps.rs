@@ -68,10 +68,13 @@ pub(crate) fn refine_lanes(info: &crate::vk::context::DeviceInfo) -> u32 {
 /// Bytes per dispatch in `PrePassBuffers::level_dispatches` (`uvec4 level_dispatches[]`).
 pub(crate) const LEVEL_DISPATCH_STRIDE: vk::DeviceSize = 16;
 
-/// The stages that read what the pre-pass writes: the indirect draws, vertex pulling and
-/// control stages of the multirate draws.
+/// The stages that read what the pre-pass writes: the indirect draws, the index fetch of the
+/// flat patches' draws, and the vertex pulling and control stages of the multirate draws.
 pub(crate) const LIST_READERS: S = S::from_raw(
-    S::DRAW_INDIRECT.as_raw() | S::VERTEX_SHADER.as_raw() | S::TESSELLATION_CONTROL_SHADER.as_raw(),
+    S::DRAW_INDIRECT.as_raw()
+        | S::VERTEX_INPUT.as_raw()
+        | S::VERTEX_SHADER.as_raw()
+        | S::TESSELLATION_CONTROL_SHADER.as_raw(),
 );
 
 /// The barrier after `step`: its writes before the reads of the next step, or after the
@@ -90,7 +93,7 @@ pub(crate) fn barrier_after(step: PrePassStep) -> (S, A, S, A) {
             S::COMPUTE_SHADER,
             A::SHADER_STORAGE_WRITE,
             LIST_READERS,
-            A::INDIRECT_COMMAND_READ | A::SHADER_STORAGE_READ,
+            A::INDIRECT_COMMAND_READ | A::INDEX_READ | A::SHADER_STORAGE_READ,
         ),
     }
 }
