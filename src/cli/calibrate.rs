@@ -42,13 +42,17 @@ pub fn calibrate(args: &CalibrateArgs, gpu: &GpuArgs) -> Result<()> {
     println!("{} ({}), {}:", context.info.name, context.info.driver, args.scene.display());
     for s in &samples {
         println!(
-            "  {:>2} lights: estimate {:.0} ns per triangle ({} estimated); per fragment ({} shaded) pixel {:.1} ns, multirate's per-pixel path {:.1} ns; a patch at level 1 {:.0} ns ({}), a sub-vertex {:.0} ns ({} added at level 4)",
+            "  {:>2} lights: estimate {:.0} ns per triangle ({} estimated); pixel {:.1} ns per fragment ({} shaded); multirate's per-pixel path {:.1} ns per fragment ({} and {} shaded) and {:.0} ns per visible triangle ({}); a patch at level 1 {:.0} ns ({}), a sub-vertex {:.0} ns ({} added at level 4)",
             s.lights,
             s.estimate_ns,
             s.estimated_triangles,
-            s.fragments,
             s.pixel_ns,
+            s.fragments,
             s.fallback_ns,
+            s.fallback_fragments[0],
+            s.fallback_fragments[1],
+            s.fallback_triangle_ns,
+            s.visible_triangles,
             s.patch_ns,
             s.patches,
             s.sub_vertex_ns,
@@ -57,9 +61,12 @@ pub fn calibrate(args: &CalibrateArgs, gpu: &GpuArgs) -> Result<()> {
     }
     let (e, p, f) = (&calibration.estimate, &calibration.pixel, &calibration.fallback);
     println!(
-        "  estimate {:.0} + {:.0}·L ns, pixel {:.1} + {:.1}·L ns, per-pixel path {:.1} + {:.1}·L ns",
+        "  estimate {:.0} + {:.0}·L ns, pixel {:.1} + {:.1}·L ns, per-pixel path {:.1} + {:.1}·L ns per fragment",
         e.fixed_ns, e.per_light_ns, p.fixed_ns, p.per_light_ns, f.fixed_ns, f.per_light_ns
     );
+    if let Some(t) = &calibration.fallback_triangle {
+        println!("  per-pixel path {:.0} + {:.0}·L ns per visible triangle", t.fixed_ns, t.per_light_ns);
+    }
     if let (Some(t), Some(v)) = (&calibration.tessellated_patch, &calibration.sub_vertex) {
         println!(
             "  a patch at level 1 {:.0} + {:.0}·L ns, a sub-vertex {:.0} + {:.0}·L ns",

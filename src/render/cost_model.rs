@@ -1,12 +1,13 @@
 //! The cost model of `multirate` mode: where estimating a triangle's level can pay.
 //!
 //! Estimating costs about the same whatever the triangle's size, shading per pixel costs its
-//! pixels: a triangle whose image covers `A` pixels costs `A · fallback(L)` shaded per pixel by
-//! multirate's per-pixel path (a depth prime, then the shading where it is nearest), and at
-//! least `estimate(L) + 3 · pixel(L)` estimated (the estimate, then at best level 1: its three
-//! corners shaded, each about as dear as a pixel of `pixel` mode), `L` being the scene's light
-//! count. Below the break-even area `A* = (estimate(L) + 3 · pixel(L)) / fallback(L)` the
-//! pre-pass shades a triangle
+//! pixels: a triangle whose image covers `A` pixels costs `triangle(L) + A · fallback(L)` shaded
+//! per pixel by multirate's per-pixel path (a depth prime, then the shading where it is nearest:
+//! two passes over the triangle, then each pixel shaded once), and at least
+//! `estimate(L) + 3 · pixel(L)` estimated (the estimate, then at best level 1: its three corners
+//! shaded, each about as dear as a pixel of `pixel` mode), `L` being the scene's light count.
+//! Below the break-even area `A* = max(0, estimate(L) + 3 · pixel(L) − triangle(L)) / fallback(L)`
+//! the pre-pass shades a triangle
 //! per pixel without estimating it (`geometry::cull::small_per_pixel`, `draw.min_estimated_area`),
 //! unless the range class (`shading::estimator::range`), which costs a fraction of an estimate
 //! and runs first, settles it at level 1; `estimate(L)` is the full estimator's cost.
@@ -64,9 +65,15 @@ pub struct Calibration {
     /// Per-pixel shading per fragment shaded (`pixel` mode's time above `vertex` mode's, over
     /// its shaded fragments).
     pub pixel: LinearCost,
-    /// The same through multirate's per-pixel path (every triangle shaded per pixel without an
-    /// estimate, above `vertex`'s time, over `pixel`'s fragments).
+    /// The same through multirate's per-pixel path, per fragment it shades (every triangle
+    /// shaded per pixel without an estimate, above `vertex`'s time: the part that grows with the
+    /// fragments, from two resolutions).
     pub fallback: LinearCost,
+    /// The per-pixel path's cost per visible triangle it draws, whatever its size (the same
+    /// measurement's part that the resolution does not change). `None` in a calibration stored
+    /// before it was measured, whose `fallback` then holds both parts.
+    #[serde(default)]
+    pub fallback_triangle: Option<LinearCost>,
     /// A triangle drawn through the tessellation stages at level 1 (`fixed:1`), above `vertex`
     /// mode's draw of it, per triangle: the fixed part of a tessellated patch. `None` in a
     /// calibration stored before it was measured.
@@ -142,7 +149,7 @@ pub fn calibration_key(device: &str, compiler: LavapipeCompiler) -> String {
 }
 
 impl CostModel {
-    /// The figures measured on lavapipe (llvmpipe, Mesa 22.3.6, LLVM 15, 2 cores, x86_64) with
+    /// The figures measured on lavapipe (llvmpipe, Mesa 22.3.6, LLVM 15, 2 cores of an AMD EPYC) with
     /// `GALLIVM_PERF=nopt`: `multirate calibrate` (docs/cost_model.md).
     pub fn lavapipe() -> CostModel {
         CostModel::lavapipe_with(LavapipeCompiler::Unoptimised)
@@ -159,21 +166,23 @@ impl CostModel {
     /// against the per-pixel path").
     fn lavapipe_with(compiler: LavapipeCompiler) -> CostModel {
         let line = |fixed_ns, per_light_ns| LinearCost { fixed_ns, per_light_ns };
-        let (estimate, pixel, fallback, patch, sub_vertex, setting) = match compiler {
+        let (estimate, pixel, fallback, fallback_triangle, patch, sub_vertex, setting) = match compiler {
             LavapipeCompiler::Unoptimised => (
-                line(1239.0, 576.0),
-                line(36.5, 27.3),
-                line(70.7, 28.3),
-                line(827.0, 12.4),
-                line(242.0, 11.7),
+                line(1404.0, 699.0),
+                line(92.3, 61.4),
+                line(90.7, 59.0),
+                line(2576.0, 380.0),
+                line(845.0, 115.0),
+                line(249.0, 22.3),
                 "GALLIVM_PERF=nopt",
             ),
             LavapipeCompiler::Optimising => (
-                line(1028.0, 345.0),
-                line(6.9, 9.4),
-                line(33.3, 7.8),
-                line(785.0, 5.0),
-                line(254.0, 3.4),
+                line(1139.0, 317.0),
+                line(45.2, 28.7),
+                line(48.6, 28.2),
+                line(1575.0, 69.9),
+                line(668.0, 61.7),
+                line(198.0, 26.0),
                 "GALLIVM_PERF unset",
             ),
         };
@@ -182,11 +191,13 @@ impl CostModel {
                 estimate,
                 pixel,
                 fallback,
+                fallback_triangle: Some(fallback_triangle),
                 tessellated_patch: Some(patch),
                 sub_vertex: Some(sub_vertex),
                 measured_with: format!(
                     "built in: per figure the median of three runs of multirate calibrate --scene \
-                     scenes/bunny.toml on llvmpipe (LLVM 15.0.6, 256 bits), Mesa 22.3.6, {setting}, 2 cores"
+                     scenes/bunny.toml on llvmpipe (LLVM 15.0.6, 256 bits), Mesa 22.3.6, {setting}, 2 cores \
+                     of an AMD EPYC"
                 ),
             },
             source: format!("built-in (lavapipe, {setting})"),
@@ -247,10 +258,13 @@ impl CostModel {
     }
 
     /// The break-even image area `A*` (pixels) with `lights` lights: images smaller than this
-    /// are shaded per pixel without an estimate.
+    /// are shaded per pixel without an estimate; 0 where the per-pixel path's cost per triangle
+    /// alone exceeds an estimate's.
     pub fn min_estimated_area(&self, lights: usize) -> f32 {
         let c = &self.calibration;
-        ((c.estimate.at(lights) + 3.0 * c.pixel.at(lights)) / c.fallback.at(lights)) as f32
+        let per_triangle = c.fallback_triangle.map_or(0.0, |t| t.at(lights));
+        let saved = c.estimate.at(lights) + 3.0 * c.pixel.at(lights) - per_triangle;
+        (saved.max(0.0) / c.fallback.at(lights)) as f32
     }
 
     /// [`CostModel::min_estimated_area`] with `scene`'s lights.
@@ -260,7 +274,8 @@ impl CostModel {
 
     /// The image area (pixels) above which a patch tessellated at `level` (uniformly, with
     /// `(level + 1)·(level + 2)/2` sub-vertices) costs less than shading it through the per-pixel
-    /// path, with `lights` lights; `None` without the tessellation costs. The renderer does not
+    /// path (its cost per triangle, then per pixel), with `lights` lights; `None` without the
+    /// tessellation costs. The renderer does not
     /// weigh it: on lavapipe the patches the estimator sends to such levels are mostly larger
     /// (docs/cost_model.md, "Tessellating against the per-pixel path").
     pub fn tessellation_break_even(&self, level: u32, lights: usize) -> Option<f32> {
@@ -268,7 +283,9 @@ impl CostModel {
         let (patch, sub_vertex) = (c.tessellated_patch?, c.sub_vertex?);
         let n = f64::from(level);
         let added = ((n + 1.0) * (n + 2.0) / 2.0).max(3.0) - 3.0;
-        Some(((patch.at(lights) + sub_vertex.at(lights) * added) / c.fallback.at(lights)) as f32)
+        let per_triangle = c.fallback_triangle.map_or(0.0, |t| t.at(lights));
+        let tessellated = patch.at(lights) + sub_vertex.at(lights) * added;
+        Some(((tessellated - per_triangle).max(0.0) / c.fallback.at(lights)) as f32)
     }
 }
 

@@ -267,11 +267,21 @@ impl ForwardDraws {
         // surface: each covered pixel is shaded once, whatever the lists' order.
         mesh.part(DrawPart::FallbackDepth, || {
             tessellated_draw(constants, lists.fallback_prime, FALLBACK_LIST, FLAG_FALLBACK_PATCHES);
-            indexed_flat_draw(constants, lists.flat_fallback_prime, buffers.fallback_indices, FLAG_FALLBACK_PATCHES);
+            indexed_flat_draw(
+                constants,
+                lists.flat_fallback_prime,
+                buffers.fallback_indices,
+                FLAG_FALLBACK_PATCHES,
+            );
         });
         mesh.part(DrawPart::FallbackShading, || {
             tessellated_draw(constants, lists.fallback, FALLBACK_LIST, FLAG_FALLBACK_PATCHES);
-            indexed_flat_draw(constants, lists.flat_fallback, buffers.fallback_indices, FLAG_FALLBACK_PATCHES);
+            indexed_flat_draw(
+                constants,
+                lists.flat_fallback,
+                buffers.fallback_indices,
+                FLAG_FALLBACK_PATCHES,
+            );
         });
         constants.flags &= !FLAG_FALLBACK_PATCHES;
     }

@@ -192,8 +192,9 @@ impl SceneSizes {
             per_triangle("flat patches", 1),
             per_triangle("interpolated patch draws", 4),
             per_triangle("fallback patch draws", 4),
-            per_mesh("flat patch draws", 2 * 4 * 4, true),
+            per_mesh("flat patch draws", 4 * 4, true),
             per_triangle("flat patch indices", 3),
+            per_triangle("per-pixel flat patch indices", 3),
             SceneBuffer {
                 heap: Heap::HostVisible,
                 ..buffer("level records", (16 * triangles).max(4), true, triangles, "triangles")

@@ -10,6 +10,7 @@ fn the_break_even_area_weighs_an_estimate_against_its_pixels() {
             estimate: LinearCost { fixed_ns: 1000.0, per_light_ns: 500.0 },
             pixel: LinearCost { fixed_ns: 50.0, per_light_ns: 25.0 },
             fallback: LinearCost { fixed_ns: 100.0, per_light_ns: 50.0 },
+            fallback_triangle: None,
             tessellated_patch: Some(LinearCost { fixed_ns: 400.0, per_light_ns: 0.0 }),
             sub_vertex: Some(LinearCost { fixed_ns: 200.0, per_light_ns: 50.0 }),
             measured_with: String::new(),
@@ -25,6 +26,17 @@ fn the_break_even_area_weighs_an_estimate_against_its_pixels() {
     let mut unmeasured = model.clone();
     unmeasured.calibration.sub_vertex = None;
     assert_eq!(unmeasured.tessellation_break_even(4, 1), None);
+    // The per-pixel path's cost per triangle, 600 + 100 · L ns, is spent either way on what an
+    // estimate would save: (1500 + 225 − 700) / 150 pixels with one light.
+    let mut per_triangle = model.clone();
+    per_triangle.calibration.fallback_triangle = Some(LinearCost { fixed_ns: 600.0, per_light_ns: 100.0 });
+    assert_eq!(per_triangle.min_estimated_area(1), (1725.0 - 700.0) / 150.0);
+    assert_eq!(per_triangle.tessellation_break_even(4, 1), Some((3400.0 - 700.0) / 150.0));
+    // Where it alone exceeds an estimate, every image is estimated.
+    per_triangle.calibration.fallback_triangle = Some(LinearCost { fixed_ns: 3000.0, per_light_ns: 0.0 });
+    assert_eq!(per_triangle.min_estimated_area(1), 0.0);
+    assert_eq!(per_triangle.tessellation_break_even(4, 1), Some((3400.0 - 3000.0) / 150.0));
+    assert_eq!(per_triangle.tessellation_break_even(1, 1), Some(0.0));
     let line = LinearCost::through((1, 1500.0), (8, 5000.0));
     assert_eq!((line.fixed_ns, line.per_light_ns), (1000.0, 500.0));
     let free = LinearCost { fixed_ns: -5.0, per_light_ns: 0.0 };
@@ -40,18 +52,22 @@ fn calibrations_are_stored_per_device_and_read_back() {
     calibration.estimate.fixed_ns = 42.0;
     calibration.tessellated_patch = Some(LinearCost { fixed_ns: 300.0, per_light_ns: 20.0 });
     calibration.sub_vertex = Some(LinearCost { fixed_ns: 500.0, per_light_ns: 40.0 });
+    calibration.fallback_triangle = Some(LinearCost { fixed_ns: 900.0, per_light_ns: 60.0 });
     CostModel::store(&path, "device B", &calibration).unwrap();
     let store = load_store(&path).unwrap();
     assert_eq!(store.devices.len(), 2);
     assert_eq!(store.devices["device B"], calibration);
     assert_eq!(store.devices["device A"], CostModel::lavapipe().calibration);
-    // A store written before the tessellation costs were measured still reads, without them.
+    // A store written before the tessellation costs and the per-pixel path's cost per triangle
+    // were measured still reads, without them.
     let mut text = std::fs::read_to_string(&path).unwrap();
-    let measured = text.find("[devices.\"device B\".tessellated_patch]").expect("stored");
+    let measured = text.find("[devices.\"device B\".fallback_triangle]").expect("stored");
+    assert!(text[measured..].find("[devices.\"device B\".tessellated_patch]").is_some(), "{text}");
     text.truncate(measured);
     std::fs::write(&path, text).unwrap();
     let older = load_store(&path).unwrap();
     assert_eq!(older.devices["device B"].tessellated_patch, None);
+    assert_eq!(older.devices["device B"].fallback_triangle, None);
     assert_eq!(older.devices["device B"].estimate.fixed_ns, 42.0);
     std::fs::write(&path, "devices = 3").unwrap();
     let error = CostModel::store(&path, "device C", &calibration).unwrap_err().to_string();

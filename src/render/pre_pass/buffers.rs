@@ -117,7 +117,8 @@ impl PrePassBuffers {
             device_words(context, "fallback patch draws", 4 * triangle_count, indirect)?,
         ];
         let flat_draws = device_words(context, "flat patch draws", 4 * meshes, indirect)?;
-        let index_buffer = |name| device_words(context, name, 3 * triangle_count, vk::BufferUsageFlags::INDEX_BUFFER);
+        let index_buffer =
+            |name| device_words(context, name, 3 * triangle_count, vk::BufferUsageFlags::INDEX_BUFFER);
         let flat_indices = index_buffer("flat patch indices")?;
         let fallback_indices = index_buffer("per-pixel flat patch indices")?;
         let patch_levels = device_words(
