@@ -6,18 +6,40 @@
 //! still in the ball reuse them, and estimate only the triangles that come into view, for a
 //! ball around their own eye wide enough to hold the first. A frame whose eye has left the ball,
 //! or whose settings differ, begins a new one.
+//!
+//! The configured radius is the least: a ball that begins while the eye moves is wide enough to
+//! hold the eye's next [`FRAMES_AHEAD`] steps of the size of its latest one (at most
+//! [`MOST_WIDENED`] times the configured radius), so that a moving camera estimates once every
+//! few frames rather than every frame. An eye that stays still for [`STILL_FRAMES`] frames in a
+//! widened ball begins a ball of the configured radius, whose levels are lower.
 
 use super::multirate_config::MultirateConfig;
 use glam::Vec3;
 
-/// The ball the kept levels hold for: every eye within `key.estimator.eye_radius` of `centre`,
-/// in the multirate configuration `key` (the estimator's settings, the radius among them, the
-/// target's size and the resolved area below which triangles are shaded per pixel).
+/// The ball the kept levels hold for: every eye within `radius` of `centre`, in the multirate
+/// configuration `key` (the estimator's settings, the target's size and the resolved area below
+/// which triangles are shaded per pixel).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct LevelBall {
     centre: Vec3,
+    radius: f32,
+    /// The eye of the latest frame in the ball, and how many frames before it had the same eye.
+    latest_eye: Vec3,
+    still_frames: u32,
     key: MultirateConfig,
 }
+
+/// How many steps of the eye, each as long as its latest, a ball that begins holds.
+pub const FRAMES_AHEAD: f32 = 3.0;
+
+/// How many frames in a row at the eye of the one before a widened ball lets pass before it
+/// narrows to the configured radius: one such frame may be a repeat (a redraw, a frame measured
+/// again), a second is a camera that stopped.
+pub const STILL_FRAMES: u32 = 2;
+
+/// The widest ball, as a multiple of the configured radius (`EstimatorSettings::eye_radius`):
+/// the levels of a wider ball are higher (docs/estimator.md §16).
+pub const MOST_WIDENED: f32 = 6.0;
 
 /// How one frame's pre-pass uses the ball.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -65,19 +87,33 @@ const RADIUS_PAD: f32 = 1.0e-5;
 /// How a frame with `eye` and `key` uses `ball` (the one the kept levels hold for, if any), and
 /// the ball that holds after it.
 pub(super) fn next(ball: Option<LevelBall>, eye: Vec3, key: MultirateConfig) -> (BallUse, Option<LevelBall>) {
-    let radius = key.estimator.eye_radius;
+    let least = key.estimator.eye_radius;
     // Also no ball for NaN.
-    if radius.is_nan() || radius <= 0.0 {
+    if least.is_nan() || least <= 0.0 {
         return (BallUse::Off, None);
     }
+    // The configured radius is left out of the comparison: the camera's distance to its target,
+    // which it is a share of, moves by a rounding error as the camera turns about the target. A
+    // ball narrower than it, though, does not serve.
+    let ball = ball.filter(|ball| ball.key.without_eye() == key.without_eye() && ball.radius >= least);
+    // The eye's latest step (0 where it begins the configuration's first ball).
+    let step = ball.map_or(0.0, |ball| ball.latest_eye.distance(eye));
     if let Some(ball) = ball {
         let off = ball.centre.distance(eye);
-        if ball.key == key && off <= radius {
-            // Every eye within `radius` of the centre is within `radius + off` of this one.
-            return (BallUse::Continue { radius: (radius + off) * (1.0 + RADIUS_PAD) }, Some(ball));
+        let still_frames = if step == 0.0 { ball.still_frames + 1 } else { 0 };
+        let stopped_in_widened = still_frames >= STILL_FRAMES && ball.radius > least;
+        if off <= ball.radius && !stopped_in_widened {
+            // Every eye within `ball.radius` of the centre is within `ball.radius + off` of this one.
+            let radius = (ball.radius + off) * (1.0 + RADIUS_PAD);
+            return (BallUse::Continue { radius }, Some(LevelBall { latest_eye: eye, still_frames, ..ball }));
         }
     }
-    (BallUse::Begin { radius }, Some(LevelBall { centre: eye, key }))
+    let ahead = FRAMES_AHEAD * step;
+    let radius = if ahead.is_finite() { ahead.clamp(least, MOST_WIDENED * least) } else { least };
+    (
+        BallUse::Begin { radius },
+        Some(LevelBall { centre: eye, radius, latest_eye: eye, still_frames: 0, key }),
+    )
 }
 
 #[cfg(test)]

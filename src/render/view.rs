@@ -33,10 +33,10 @@ pub struct View {
     pub derivative_check: bool,
 }
 
-/// The radius of the ball of eyes that multirate's levels are estimated for, as a share of the
-/// camera's distance to its target: the pre-pass reuses them while the eye stays in the ball
-/// (`render::level_ball`). 1 % raises the estimator's evaluations by 0.4–2.7 % on the shipped
-/// scenes (`docs/estimator.md` §16).
+/// The least radius of the ball of eyes that multirate's levels are estimated for, as a share of
+/// the camera's distance to its target: the pre-pass reuses them while the eye stays in the ball
+/// (`render::level_ball`, which widens the ball where the eye moves). 1 % raises the estimator's
+/// evaluations by 0.4–2.7 % on the shipped scenes (`docs/estimator.md` §16).
 pub const EYE_BALL_SHARE: f32 = 0.01;
 
 impl View {

@@ -25,12 +25,53 @@ fn a_ball_lasts_while_the_eye_stays_in_it() {
     let (first, ball) = next(None, Vec3::ZERO, key(1.0));
     assert_eq!(first, BallUse::Begin { radius: 1.0 });
     let (second, same) = next(ball, Vec3::new(0.6, 0.0, 0.0), key(1.0));
-    assert_eq!(same, ball);
+    assert_eq!(same.map(|b| b.centre()), ball.map(|b| b.centre()));
     let BallUse::Continue { radius } = second else { panic!("{second:?}: the eye is in the ball") };
     assert!(radius >= 1.6, "{radius}: the frame's ball must hold the first");
+    // From the first eye, a step of 1.2 leaves the ball: the new one is wide enough for three
+    // more such steps.
     let (third, moved) = next(ball, Vec3::new(0.0, 1.2, 0.0), key(1.0));
-    assert_eq!(third, BallUse::Begin { radius: 1.0 }, "the eye left the ball");
+    assert_eq!(third, BallUse::Begin { radius: 3.0 * 1.2 }, "the eye left the ball");
     assert_ne!(moved, ball);
+}
+
+#[test]
+fn a_moving_eye_begins_a_wider_ball_and_a_still_one_the_configured_one() {
+    let step = Vec3::new(0.0, 0.0, 1.5);
+    let (first, mut ball) = next(None, Vec3::ZERO, key(1.0));
+    assert_eq!(first, BallUse::Begin { radius: 1.0 }, "no step seen yet");
+    // Steps of 1.5 each frame: each ball that begins holds three of them, so the eye moves on
+    // within it for three frames and begins the next one at the fourth.
+    let mut uses = Vec::new();
+    for k in 1..=7 {
+        let (using, after) = next(ball, step * k as f32, key(1.0));
+        uses.push(using);
+        ball = after;
+    }
+    let begins: Vec<usize> = uses
+        .iter()
+        .enumerate()
+        .filter(|(_, u)| matches!(u, BallUse::Begin { .. }))
+        .map(|(k, _)| k + 1)
+        .collect();
+    assert_eq!(begins, [1, 5], "{uses:?}");
+    assert!(uses.iter().all(|u| u.radius() <= 2.0 * 3.0 * 1.5 * 1.001), "{uses:?}");
+    assert_eq!(uses[4], BallUse::Begin { radius: 4.5 });
+    // One frame again at the same eye keeps the widened ball; a second begins one of the
+    // configured radius, which then lasts.
+    let stopped = step * 7.0;
+    let (repeat, ball) = next(ball, stopped, key(1.0));
+    assert!(matches!(repeat, BallUse::Continue { .. }), "{repeat:?}");
+    let (halt, after) = next(ball, stopped, key(1.0));
+    assert_eq!(halt, BallUse::Begin { radius: 1.0 });
+    for _ in 0..3 {
+        assert!(matches!(next(after, stopped, key(1.0)).0, BallUse::Continue { .. }));
+    }
+    // A jump widens it at most MOST_WIDENED times; a NaN eye gives the configured radius.
+    let (jump, _) = next(after, stopped + Vec3::splat(1.0e6), key(1.0));
+    assert_eq!(jump, BallUse::Begin { radius: super::MOST_WIDENED });
+    let (nan, _) = next(after, Vec3::NAN, key(1.0));
+    assert_eq!(nan, BallUse::Begin { radius: 1.0 });
 }
 
 #[test]
@@ -62,4 +103,15 @@ fn a_continuing_frame_holds_the_whole_first_ball() {
         let farthest = centre - (eye - centre).normalize_or(Vec3::X) * radius;
         assert!(farthest.distance(eye) <= around, "{eye}: {} > {around}", farthest.distance(eye));
     }
+}
+
+#[test]
+fn the_configured_radius_may_round_but_not_outgrow_the_ball() {
+    let (_, ball) = next(None, Vec3::ZERO, key(1.0));
+    // A camera turning about its target sees its distance, and the radius that is a share of
+    // it, move by a rounding error: the ball lasts.
+    let rounded = key(f32::from_bits(1.0f32.to_bits() - 1));
+    assert!(matches!(next(ball, Vec3::new(0.5, 0.0, 0.0), rounded).0, BallUse::Continue { .. }));
+    // A configured radius wider than the ball's begins a ball of its own.
+    assert_eq!(next(ball, Vec3::new(0.5, 0.0, 0.0), key(2.0)).0, BallUse::Begin { radius: 2.0 });
 }
