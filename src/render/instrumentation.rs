@@ -193,42 +193,44 @@ pub(super) fn measure(
     if renderer.guard_applies(view, extent) {
         measurement.drawn_as_pixel = Some(0);
     }
-    // Per slot, the frame it last drew: whether it is measured, how it was drawn (the frame
-    // guard's choice or probe) and whether it ran the pre-pass.
-    let mut in_slot: [Option<(bool, View, bool)>; FRAMES_IN_FLIGHT] = Default::default();
-    let collect = |ring: &mut FrameRing,
-                   slot: usize,
-                   drawn: Option<(bool, View, bool)>,
-                   measurement: &mut Measurement| {
-        let Some((measured, frame_view, ran_pre_pass)) = drawn else { return Ok(()) };
-        if !ring.wait(slot)? {
-            return Ok(());
-        }
-        let read = if ran_pre_pass || options.draw_parts { passes } else { 2 };
-        let intervals = timer.pass_intervals(slot as u32, read)?;
-        renderer.report_frame_time(&frame_view, extent, intervals[0].milliseconds());
-        if measured {
-            measurement.frames.push(intervals[0]);
-            // The pre-pass's times are those of the frames that ran it.
-            if ran_pre_pass {
-                measurement.pre_pass.push(intervals[1]);
-                let steps = PrePassStep::ALL.map(|step| intervals[Timed::Step(step).pass() as usize]);
-                measurement.pre_pass_steps.push(steps);
+    // Per slot, the frame it last drew.
+    let mut in_slot: [Option<SlotFrame>; FRAMES_IN_FLIGHT] = Default::default();
+    let collect =
+        |ring: &mut FrameRing, slot: usize, drawn: Option<SlotFrame>, measurement: &mut Measurement| {
+            let Some(SlotFrame { measured, view: frame_view, ran_pre_pass, stamped }) = drawn else {
+                return Ok(());
+            };
+            if !ring.wait(slot)? {
+                return Ok(());
             }
-            if options.draw_parts {
-                let mut parts = [0.0; DRAW_PARTS];
-                for (k, interval) in intervals[FIRST_DRAW_PASS as usize..].iter().enumerate() {
-                    parts[k % DRAW_PARTS] += interval.milliseconds();
+            let read = if ran_pre_pass || options.draw_parts { passes } else { 2 };
+            let intervals = timer.pass_intervals(slot as u32, read)?;
+            renderer.report_frame_time(&frame_view, extent, intervals[0].milliseconds());
+            if measured {
+                measurement.frames.push(intervals[0]);
+                // The pre-pass's times are those of the frames that ran it.
+                if ran_pre_pass {
+                    measurement.pre_pass.push(intervals[1]);
+                    let steps = PrePassStep::ALL.map(|step| intervals[Timed::Step(step).pass() as usize]);
+                    measurement.pre_pass_steps.push(steps);
                 }
-                measurement.draw_parts_ms.push(parts);
+                if options.draw_parts {
+                    let mut parts = [0.0; DRAW_PARTS];
+                    // A part the frame did not draw took no time: its empty interval is left out
+                    // (two timestamps back to back may read a tenth of a microsecond apart).
+                    let drawn_parts = intervals.iter().zip(&stamped).skip(FIRST_DRAW_PASS as usize);
+                    for (k, (interval, _)) in drawn_parts.enumerate().filter(|(_, (_, stamped))| **stamped) {
+                        parts[k % DRAW_PARTS] += interval.milliseconds();
+                    }
+                    measurement.draw_parts_ms.push(parts);
+                }
+                if let Some(count) = &mut measurement.drawn_as_pixel {
+                    *count += u32::from(frame_view.drawn_as_pixel);
+                }
+                measurement.statistics = timer.read_statistics(slot as u32)?;
             }
-            if let Some(count) = &mut measurement.drawn_as_pixel {
-                *count += u32::from(frame_view.drawn_as_pixel);
-            }
-            measurement.statistics = timer.read_statistics(slot as u32)?;
-        }
-        Ok::<_, crate::Error>(())
-    };
+            Ok::<_, crate::Error>(())
+        };
     // A guarded configuration warms up until its guard has first decided (its first probe's
     // times are in): what a user sees after the first frames, not the guard's start-up.
     let longest_warmup = warmup + GUARD_START_FRAMES;
@@ -244,6 +246,7 @@ pub(super) fn measure(
             if measured { i64::from(measured_frames) } else { i64::from(frame) - i64::from(planned_warmup) };
         let frame_view = renderer.guarded(&turn.view_at(view, turned), extent);
         let mut recorded = None;
+        let mut stamped_passes = Vec::new();
         ring.submit(slot, |cmd| {
             let slot = slot as u32;
             timer.reset(cmd, slot);
@@ -279,19 +282,19 @@ pub(super) fn measure(
             };
             let stamps = FrameStamps { stamp: &stamp, draw_parts: options.draw_parts };
             recorded = Some(renderer.record_timed(cmd, target, &frame_view, &stamps));
-            let stamped = stamped.borrow();
-            for (pass, _) in stamped.iter().enumerate().skip(1).filter(|(_, stamped)| !**stamped) {
+            for (pass, _) in stamped.borrow().iter().enumerate().skip(1).filter(|(_, stamped)| !**stamped) {
                 for end in [false, true] {
                     timer.top_of_pipe_timestamp(cmd, slot, pass as u32, end);
                 }
             }
+            stamped_passes = stamped.into_inner();
             timer.statistics(cmd, slot, false);
             timer.timestamp(cmd, slot, 0, true);
         })?;
         let recorded = recorded.expect("the frame was recorded");
         let ran_pre_pass = recorded.ran_pre_pass;
         renderer.submitted(recorded);
-        in_slot[slot] = Some((measured, frame_view, ran_pre_pass));
+        in_slot[slot] = Some(SlotFrame { measured, view: frame_view, ran_pre_pass, stamped: stamped_passes });
         measured_frames += u32::from(measured);
         frame += 1;
     }
@@ -299,6 +302,18 @@ pub(super) fn measure(
         collect(&mut ring, slot, drawn.take(), &mut measurement)?;
     }
     Ok(measurement)
+}
+
+/// A frame submitted in a slot of `measure`'s ring, until its times are read.
+struct SlotFrame {
+    /// Whether its times count.
+    measured: bool,
+    /// How it was drawn (the frame guard's choice or probe).
+    view: View,
+    /// Whether it ran the pre-pass.
+    ran_pre_pass: bool,
+    /// Per timed pass, where the draws' parts are timed, whether the frame stamped it.
+    stamped: Vec<bool>,
 }
 
 /// A barrier that makes the writes of `stages` to storage buffers visible to the host.
