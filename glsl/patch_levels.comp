@@ -15,16 +15,17 @@
 
 layout(local_size_x = PRE_PASS_GROUP) in;
 
-// Whether this invocation's workgroup covers the back faces of a two-sided mesh
-// (cull_triangles.comp): the workgroups of the estimated triangles come first, then those of
-// the back faces, listed from the end.
-bool covers_back_faces() {
+// Whether this invocation's workgroup covers the triangles whose level the culling step knew
+// (cull_triangles.comp): the workgroups of the classified triangles come first, then those of
+// the kept levels and the back faces, listed from the end.
+bool covers_known_levels() {
     return gl_WorkGroupID.x >= level_dispatches[level_dispatch(RANGE_DISPATCH)].x;
 }
 
-// The listed triangle this invocation covers; ~0u past its list's count.
-uint listed_triangle(bool back_faces) {
-    if (!back_faces) {
+// The list entry this invocation covers (a triangle, with BACK_FACE_ENTRY for a back face); ~0u
+// past its list's count.
+uint listed_entry(bool known_levels) {
+    if (!known_levels) {
         uint local = gl_GlobalInvocationID.x;
         uint estimated = level_dispatches[level_dispatch(RANGE_DISPATCH)].w;
         return local < estimated ? visible_triangles[draw.patch_base + local] : ~0u;
@@ -37,14 +38,16 @@ uint listed_triangle(bool back_faces) {
 }
 
 void main() {
-    bool back_face = covers_back_faces();
-    uint triangle = listed_triangle(back_face);
-    if (triangle == ~0u) {
+    bool known_level = covers_known_levels();
+    uint entry = listed_entry(known_level);
+    if (entry == ~0u) {
         return;
     }
-    // The level of a triangle this frame estimated (or reused) holds for the whole ball of eyes:
-    // kept for the frames that follow in it.
-    if (!back_face && (draw.flags & FLAG_REUSE_LEVELS) != 0u) {
+    bool back_face = (entry & BACK_FACE_ENTRY) != 0u;
+    uint triangle = entry & ~BACK_FACE_ENTRY;
+    // The level of a triangle this frame classified or estimated holds for the whole ball of
+    // eyes: kept for the frames that follow in it.
+    if (!known_level && (draw.flags & FLAG_REUSE_LEVELS) != 0u) {
         estimated_levels[triangle] = triangle_levels[triangle];
     }
     uvec4 across = triangle_neighbours[triangle];

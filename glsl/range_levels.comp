@@ -11,8 +11,8 @@
 // (estimator/range.glsl, range_bound's every_capped) are listed apart, from the end of the mesh's range
 // of estimate_triangles down, for the estimator step's variant without specular setup or jets: a
 // CPU rasteriser runs both sides of every branch, so only a list of their own spares them that code.
-// Where the host reuses levels (FLAG_REUSE_LEVELS), a triangle that has one from earlier frames of
-// the current ball of eyes (estimated_levels) takes it and is neither classed nor listed.
+// A triangle whose level the current ball of eyes kept is not listed here: the culling step gave
+// it that level.
 #include "triangle_level.glsl"
 
 layout(local_size_x = PRE_PASS_GROUP) in;
@@ -23,14 +23,6 @@ void main() {
         return;
     }
     uint triangle = visible_triangles[draw.patch_base + local];
-    // A level found earlier in the current ball of eyes holds for this frame's eye.
-    if ((draw.flags & FLAG_REUSE_LEVELS) != 0u) {
-        float known = estimated_levels[triangle];
-        if (known > 0.0) {
-            triangle_levels[triangle] = known;
-            return;
-        }
-    }
     uint a = scene_indices[3u * triangle];
     uint b = scene_indices[3u * triangle + 1u];
     uint c = scene_indices[3u * triangle + 2u];

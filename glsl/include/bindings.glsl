@@ -63,9 +63,10 @@ layout(set = 0, binding = 6, std430) readonly buffer TriangleNeighbours { uvec4 
 layout(set = 0, binding = 7, std430) readonly buffer SceneVertices { float scene_vertices[]; };
 layout(set = 0, binding = 8, std430) readonly buffer SceneIndices { uint scene_indices[]; };
 // The pre-pass's culling step (cull_triangles.comp) lists each mesh's triangles that are not
-// culled (mesh: draw.mesh_index): those to estimate from the mesh's first triangle on, the back
-// faces of a two-sided mesh from its last triangle down, so that the estimator's invocations run
-// side by side on the triangles they estimate only.
+// culled (mesh: draw.mesh_index): those to estimate from the mesh's first triangle on; from its
+// last triangle down, those whose level is known without an estimate, the levels a ball of eyes
+// kept and the back faces of a two-sided mesh (BACK_FACE_ENTRY set), so that the later steps'
+// invocations run side by side on the triangles they classify or estimate only.
 layout(set = 0, binding = 9, std430) buffer VisibleTriangles { uint visible_triangles[]; };
 // Per mesh, the patch step's counts of its interpolated and fallback lists (below):
 // PATCH_COUNT_WORDS words from patch_counts[PATCH_COUNT_WORDS * patch_list(false)] and
@@ -132,8 +133,8 @@ layout(set = 0, binding = 21, std430) buffer EstimateTriangles { uint estimate_t
 // such a mesh keeps the flat list.)
 layout(set = 0, binding = 22, std430) writeonly buffer FlatIndices { uint flat_indices[]; };
 // Per triangle of the scene, the level the pre-pass found for it while the eye stays in the
-// current ball (the patch step keeps each estimated triangle's), 0 where none yet: the range step
-// reuses it where draw.flags has FLAG_REUSE_LEVELS. The host zeroes it when a ball begins.
+// current ball (the patch step keeps each estimated triangle's), 0 where none yet: the culling
+// step reuses it where draw.flags has FLAG_REUSE_LEVELS. The host zeroes it when a ball begins.
 layout(set = 0, binding = 23, std430) buffer EstimatedLevels { float estimated_levels[]; };
 // Every mesh's flat patches shaded per pixel, as flat_indices holds those shaded on their
 // corners (three words per scene triangle, SKIPPED_VERTEX where the triangle is not one): both
@@ -146,6 +147,9 @@ layout(set = 0, binding = 24, std430) writeonly buffer FallbackIndices { uint fa
 // maxDrawIndexedIndexValue; render::limits refuses scenes with more vertices):
 // multirate_flat.vert shades nothing for it.
 const uint SKIPPED_VERTEX = 16777215u;
+// Marks a back face among the visible triangles listed from the end of a mesh's range
+// (`BACK_FACE_ENTRY` in Rust): the triangle's index with bit 31 set.
+const uint BACK_FACE_ENTRY = 2147483648u;
 
 // Scene triangle `triangle`'s words of the flat patches' index buffers: of flat_indices, where
 // the draw's mesh is drawn from them (FLAG_SHARED_CORNERS), its vertices where `on_corners` (a

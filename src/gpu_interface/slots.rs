@@ -25,6 +25,10 @@ named_constants! {
     /// triangles whose every light's specular part is capped, listed by the range step from the
     /// end of the mesh's range down.
     CAPPED_ESTIMATE_DISPATCH = 4;
+    /// Marks a back face of a two-sided mesh in `VisibleTriangles`' part listed from the end
+    /// (the culling step's), beside the triangles whose level a ball of eyes kept: the
+    /// triangle's index with bit 31 set. `render::limits` refuses scenes with more triangles.
+    BACK_FACE_ENTRY = 0x8000_0000;
     /// Patch lists per mesh.
     PATCH_LISTS = 2;
     /// The list of patches shaded on their sub-vertices (flat triangles: on their corners).

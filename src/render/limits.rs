@@ -7,7 +7,7 @@
 use super::pre_pass::steps::PRE_PASS_GROUP;
 use super::textures;
 use crate::error::{mib, Error, Result};
-use crate::gpu_interface::slots::{LEVEL_DISPATCHES, SKIPPED_VERTEX};
+use crate::gpu_interface::slots::{BACK_FACE_ENTRY, LEVEL_DISPATCHES, SKIPPED_VERTEX};
 use crate::gpu_types::{GpuLight, GpuMaterial, GpuPolygonLight, Vertex};
 use crate::scene::adjacency::PATCH_SIZE;
 use crate::scene::{Light, Scene};
@@ -19,8 +19,10 @@ use std::path::Path;
 
 /// Most triangles a scene may have: the analysis variant writes a triangle's scene index + 1
 /// as its id, and ids with [`EMITTER_ID_BIT`] set are the polygonal lights' emitters
-/// (glsl/include/triangle_id.glsl).
+/// (glsl/include/triangle_id.glsl); the pre-pass's list of visible triangles marks back faces
+/// with [`BACK_FACE_ENTRY`], bit 31 of a triangle's index, likewise.
 pub const MAX_TRIANGLES: u64 = EMITTER_ID_BIT as u64 - 1;
+const _: () = assert!(MAX_TRIANGLES < BACK_FACE_ENTRY as u64);
 
 /// Turns of the estimator's light loop per point or directional light: its
 /// `REFINE_CHILDREN` children and the patch (`turns` in `light_sums`,

@@ -18,8 +18,10 @@ pub(crate) struct PrePassBuffers {
     pub estimated_levels: Buffer,
     /// Per triangle: the triangles across its edges (`uvec4`, scene indices).
     pub triangle_neighbours: Buffer,
-    /// Per mesh: its triangles the pre-pass did not cull, those to estimate from its first
-    /// triangle on, the back faces of a two-sided mesh from its last triangle down.
+    /// Per mesh: its triangles the pre-pass did not cull, those to classify and estimate from
+    /// its first triangle on; from its last triangle down, those whose level the culling step
+    /// knew (kept by the ball of eyes, or a back face of a two-sided mesh, marked with
+    /// `BACK_FACE_ENTRY`).
     pub visible_triangles: Buffer,
     /// Per mesh: the triangles whose estimate the refining step refines, listed by the
     /// estimator step.
