@@ -32,9 +32,9 @@ void main() {
         return;
     }
     uint triangle = draw.patch_base + local;
-    vec3 p0 = scene_vec3(scene_indices[3u * triangle], 0u);
-    vec3 p1 = scene_vec3(scene_indices[3u * triangle + 1u], 0u);
-    vec3 p2 = scene_vec3(scene_indices[3u * triangle + 2u], 0u);
+    vec3 p0 = triangle_corner(triangle, 0u);
+    vec3 p1 = triangle_corner(triangle, 1u);
+    vec3 p2 = triangle_corner(triangle, 2u);
     if (patch_culled(p0, p1, p2)) {
         triangle_levels[triangle] = CULLED_LEVEL;
         write_flat_corners(triangle, false, false);

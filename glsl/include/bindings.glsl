@@ -143,6 +143,10 @@ layout(set = 0, binding = 23, std430) buffer EstimatedLevels { float estimated_l
 // Whatever the material: nothing is shaded on their corners. The culling step writes the culled
 // triangles' words, the patch step the others'.
 layout(set = 0, binding = 24, std430) writeonly buffer FallbackIndices { uint fallback_indices[]; };
+// Per triangle of the meshes, its corners' positions, 9 floats (triangle_corner): the culling
+// step reads them in 9 loads where the indices and the vertices take 12. On a CPU rasteriser each
+// load of a lane's own address costs about the same, and they are most of that step's time.
+layout(set = 0, binding = 25, std430) readonly buffer TriangleCorners { float triangle_corners[]; };
 // The index of no vertex, 2^24 - 1 (`SKIPPED_VERTEX` in Rust, Vulkan's least
 // maxDrawIndexedIndexValue; render::limits refuses scenes with more vertices):
 // multirate_flat.vert shades nothing for it.
@@ -195,6 +199,12 @@ const uint VERTEX_FLOATS = 8u;
 vec3 scene_vec3(uint vertex, uint offset) {
     uint base = vertex * VERTEX_FLOATS + offset;
     return vec3(scene_vertices[base], scene_vertices[base + 1u], scene_vertices[base + 2u]);
+}
+
+// Corner `corner` (0, 1, 2) of scene triangle `triangle`'s position, from triangle_corners.
+vec3 triangle_corner(uint triangle, uint corner) {
+    uint base = 9u * triangle + 3u * corner;
+    return vec3(triangle_corners[base], triangle_corners[base + 1u], triangle_corners[base + 2u]);
 }
 
 vec2 scene_uv(uint vertex) {

@@ -93,6 +93,9 @@ pub mod forward {
     pub const ESTIMATED_LEVELS: Binding = storage(0, 23, "EstimatedLevels");
     /// The flat patches shaded per pixel, as an index buffer over the scene's vertices.
     pub const FALLBACK_INDICES: Binding = storage(0, 24, "FallbackIndices");
+    /// Per triangle of the meshes, its corners' positions (9 floats): what the culling step
+    /// reads without the indices.
+    pub const TRIANGLE_CORNERS: Binding = storage(0, 25, "TriangleCorners");
 
     pub const ALBEDO_MAP: Binding = sampler(1, 0, "albedo_map");
     pub const PARAMETER_MAP: Binding = sampler(1, 1, "parameter_map");
@@ -103,7 +106,7 @@ pub mod forward {
     pub const VISIBILITY: Binding = sampler(2, 0, "visibility");
 
     /// Set 0: the scene's storage buffers, bound once.
-    pub const SCENE_BUFFERS: [Binding; 25] = [
+    pub const SCENE_BUFFERS: [Binding; 26] = [
         LIGHTS,
         MATERIALS,
         LEVEL_RECORDS,
@@ -129,6 +132,7 @@ pub mod forward {
         FLAT_INDICES,
         ESTIMATED_LEVELS,
         FALLBACK_INDICES,
+        TRIANGLE_CORNERS,
     ];
     /// Set 1: the draw's material textures, bound per draw.
     pub const MATERIAL_TEXTURES: [Binding; 3] = [ALBEDO_MAP, PARAMETER_MAP, PARAMETER_PYRAMID];

@@ -183,6 +183,13 @@ impl SceneSizes {
                 triangles,
                 "triangles",
             ),
+            buffer(
+                "triangle corners",
+                data(triangles, size_of::<[[f32; 3]; 3]>()),
+                true,
+                triangles,
+                "triangles",
+            ),
             per_triangle("visible triangles", 1),
             per_triangle("triangles to refine", 1),
             per_triangle("triangles to estimate in full", 1),

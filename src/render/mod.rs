@@ -647,6 +647,7 @@ fn binding_table(scene: &SceneBuffers, pre_pass: &PrePassBuffers) -> [vk::Buffer
             (set_0::FLAT_INDICES, pre_pass.flat_indices.raw),
             (set_0::ESTIMATED_LEVELS, pre_pass.estimated_levels.raw),
             (set_0::FALLBACK_INDICES, pre_pass.fallback_indices.raw),
+            (set_0::TRIANGLE_CORNERS, pre_pass.triangle_corners.raw),
         ],
     )
 }

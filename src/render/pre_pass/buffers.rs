@@ -18,6 +18,8 @@ pub(crate) struct PrePassBuffers {
     pub estimated_levels: Buffer,
     /// Per triangle: the triangles across its edges (`uvec4`, scene indices).
     pub triangle_neighbours: Buffer,
+    /// Per triangle: its corners' positions (9 floats).
+    pub triangle_corners: Buffer,
     /// Per mesh: its triangles the pre-pass did not cull, those to classify and estimate from
     /// its first triangle on; from its last triangle down, those whose level the culling step
     /// knew (kept by the ball of eyes, or a back face of a two-sided mesh, marked with
@@ -84,6 +86,12 @@ impl PrePassBuffers {
             vk::BufferUsageFlags::STORAGE_BUFFER,
             neighbours,
         )?;
+        let triangle_corners = Buffer::with_data(
+            context,
+            "triangle corners",
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            &geometry.triangle_corners,
+        )?;
         let visible_triangles = per_triangle("visible triangles")?;
         let refine_triangles = per_triangle("triangles to refine")?;
         let estimate_triangles = per_triangle("triangles to estimate in full")?;
@@ -133,6 +141,7 @@ impl PrePassBuffers {
             triangle_levels,
             estimated_levels,
             triangle_neighbours,
+            triangle_corners,
             visible_triangles,
             refine_triangles,
             estimate_triangles,
