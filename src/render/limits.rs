@@ -39,8 +39,6 @@ pub const MAX_LIGHT_TURNS: u64 = i32::MAX as u64;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MeshSize {
     pub triangles: u64,
-    /// Two-sided meshes' back faces open one more workgroup of the patch step.
-    pub two_sided: bool,
 }
 
 /// One image of the scene's textures.
@@ -98,9 +96,7 @@ impl SceneSizes {
         for mesh in &scene.meshes {
             sizes.vertices += mesh.positions.len() as u64;
             sizes.indices += mesh.indices.len() as u64;
-            sizes
-                .meshes
-                .push(MeshSize { triangles: mesh.indices.len() as u64 / 3, two_sided: mesh.two_sided });
+            sizes.meshes.push(MeshSize { triangles: mesh.indices.len() as u64 / 3 });
         }
         for light in &scene.lights {
             match light {
@@ -289,7 +285,9 @@ pub fn check(scene: &Path, sizes: &SceneSizes, limits: &DeviceLimits) -> Result<
         );
     }
     for (index, mesh) in sizes.meshes.iter().enumerate() {
-        let groups = mesh.triangles.div_ceil(u64::from(PRE_PASS_GROUP)) + u64::from(mesh.two_sided);
+        // The patch step covers the triangles to classify and, in workgroups of their own, those
+        // whose level the culling step knew (kept levels, back faces): one more at most.
+        let groups = mesh.triangles.div_ceil(u64::from(PRE_PASS_GROUP)) + 1;
         if groups > limits.max_compute_work_group_count_x {
             return fail(
                 format!(
