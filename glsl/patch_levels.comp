@@ -50,7 +50,7 @@ void main() {
     if (!known_level && (draw.flags & FLAG_REUSE_LEVELS) != 0u) {
         estimated_levels[triangle] = triangle_levels[triangle];
     }
-    uvec4 across = triangle_neighbours[triangle];
+    uvec4 across = texelFetch(triangle_neighbours, int(triangle));
     vec3 neighbours = vec3(triangle_levels[across.x], triangle_levels[across.y], triangle_levels[across.z]);
     PatchLevels levels = patch_levels(triangle_levels[triangle], neighbours, float(draw.n_max));
     patch_tess_levels[triangle] = vec4(levels.fallback ? 0.0 : levels.inner, levels.outer);

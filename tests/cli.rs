@@ -305,11 +305,19 @@ fn scenes_over_a_device_limit_are_refused_before_the_gpu_sees_them() {
     let bunny = Scene::load(&repo_path("scenes/bunny.toml")).expect("load the bunny");
     let spots = Scene::load(&repo_path("scenes/bunny_spots.toml")).expect("load the spotted bunny");
     let needed = SceneSizes::of(&bunny).device_local_bytes();
-    let cases: [(&Scene, DeviceLimits, &[&str]); 5] = [
+    // As many texels as the bunny has triangles: its neighbours fit, its corners (three texels
+    // a triangle) do not.
+    let triangles = SceneSizes::of(&bunny).triangles();
+    let cases: [(&Scene, DeviceLimits, &[&str]); 6] = [
         (
             &bunny,
             DeviceLimits { max_storage_buffer_range: 1024, ..real },
             &["the buffer \"scene vertices\"", "maxStorageBufferRange (1024 bytes)"],
+        ),
+        (
+            &bunny,
+            DeviceLimits { max_texel_buffer_elements: triangles, ..real },
+            &["the buffer \"triangle corners\"", "maxTexelBufferElements ("],
         ),
         (
             &bunny,

@@ -8,7 +8,7 @@
 //! - each shading variant contains only the code of its features: no polygonal-light, texture
 //!   or other material code where the scene has none.
 
-use multirate::gpu_interface::bindings::{self, Binding, DescriptorKind};
+use multirate::gpu_interface::bindings::{self, Binding, DescriptorKind, TexelFormat};
 use multirate::gpu_interface::specialization::{self, SpecId};
 use multirate::gpu_interface::{flags, slots};
 use multirate::gpu_types::{DrawConstants, GpuLight, GpuMaterial, GpuPolygonLight};
@@ -383,7 +383,11 @@ fn only_the_instrumented_control_stage_is_specialised_to_record_or_count() {
     assert_eq!((timed, instrumented), (12, 12), "a timed and an instrumented module per feature set");
 }
 
+const OP_TYPE_INT: u32 = 21;
+const OP_TYPE_FLOAT: u32 = 22;
+const OP_TYPE_IMAGE: u32 = 25;
 const OP_TYPE_SAMPLED_IMAGE: u32 = 27;
+const DIM_BUFFER: u32 = 5;
 const OP_TYPE_POINTER: u32 = 32;
 const OP_VARIABLE: u32 = 59;
 const DECORATION_BINDING: u32 = 33;
@@ -399,7 +403,7 @@ struct Descriptor {
     name: String,
     set: u32,
     binding: u32,
-    /// None: neither a storage buffer nor a combined image sampler.
+    /// None: neither a storage buffer, a combined image sampler nor a texel buffer.
     kind: Option<DescriptorKind>,
 }
 
@@ -437,7 +441,9 @@ fn local_size_x_ids(words: &[u32]) -> Vec<u32> {
 fn declared_interface(words: &[u32]) -> Declared {
     let mut names = HashMap::new();
     let (mut sets, mut bindings, mut spec_ids) = (HashMap::new(), HashMap::new(), Vec::new());
-    let (mut pointers, mut sampled_images, mut variables) = (HashMap::new(), Vec::new(), Vec::new());
+    let (mut pointers, mut sampled_images, mut variables) = (HashMap::new(), HashMap::new(), Vec::new());
+    // Per image type: whether it is a buffer's texels, and its texels' format where it is.
+    let (mut images, mut scalar_kinds) = (HashMap::new(), HashMap::new());
     for (opcode, operands) in instructions(words) {
         match opcode {
             OP_NAME => {
@@ -453,7 +459,18 @@ fn declared_interface(words: &[u32]) -> Declared {
             OP_TYPE_POINTER => {
                 pointers.insert(operands[0], operands[2]);
             }
-            OP_TYPE_SAMPLED_IMAGE => sampled_images.push(operands[0]),
+            OP_TYPE_INT => {
+                scalar_kinds.insert(operands[0], TexelFormat::Uint4);
+            }
+            OP_TYPE_FLOAT => {
+                scalar_kinds.insert(operands[0], TexelFormat::Float4);
+            }
+            OP_TYPE_IMAGE => {
+                images.insert(operands[0], (operands[2] == DIM_BUFFER, operands[1]));
+            }
+            OP_TYPE_SAMPLED_IMAGE => {
+                sampled_images.insert(operands[0], operands[1]);
+            }
             OP_VARIABLE => variables.push((operands[1], operands[0], operands[2])),
             _ => {}
         }
@@ -465,8 +482,16 @@ fn declared_interface(words: &[u32]) -> Declared {
         let pointee = pointers.get(&pointer).copied().unwrap_or_default();
         let (kind, name) = match storage_class {
             STORAGE_CLASS_STORAGE_BUFFER => (Some(DescriptorKind::StorageBuffer), name_of(&pointee)),
-            STORAGE_CLASS_UNIFORM_CONSTANT if sampled_images.contains(&pointee) => {
-                (Some(DescriptorKind::CombinedImageSampler), name_of(&variable))
+            // A texel buffer's variable is of its image type, a sampler's of a sampled image.
+            STORAGE_CLASS_UNIFORM_CONSTANT => {
+                let kind = match (sampled_images.get(&pointee), images.get(&pointee)) {
+                    (Some(_), _) => Some(DescriptorKind::CombinedImageSampler),
+                    (None, Some(&(true, sampled_type))) => scalar_kinds
+                        .get(&sampled_type)
+                        .map(|&format| DescriptorKind::UniformTexelBuffer(format)),
+                    _ => None,
+                };
+                (kind, name_of(&variable))
             }
             _ => (None, name_of(&variable)),
         };

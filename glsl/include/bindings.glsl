@@ -56,10 +56,11 @@ layout(set = 0, binding = 3, std430) buffer EvaluationCounters {
 layout(set = 0, binding = 4, std430) readonly buffer PolygonLights { GpuPolygonLight polygon_lights[]; };
 // The multirate pass with the estimator in a compute pre-pass (triangle_levels.comp): per
 // triangle of the scene its level (triangle_level.glsl) and the triangles across its edges 0,
-// 1, 2 (itself where it has none); the pre-pass reads the scene's vertices (8 floats each:
+// 1, 2 (itself where it has none), a texel (w 0) fetched at the cost of two loads where a
+// storage buffer's uvec4 takes four; the pre-pass reads the scene's vertices (8 floats each:
 // position, normal, uv) and indices.
 layout(set = 0, binding = 5, std430) buffer TriangleLevels { float triangle_levels[]; };
-layout(set = 0, binding = 6, std430) readonly buffer TriangleNeighbours { uvec4 triangle_neighbours[]; };
+layout(set = 0, binding = 6) uniform usamplerBuffer triangle_neighbours;
 layout(set = 0, binding = 7, std430) readonly buffer SceneVertices { float scene_vertices[]; };
 layout(set = 0, binding = 8, std430) readonly buffer SceneIndices { uint scene_indices[]; };
 // The pre-pass's culling step (cull_triangles.comp) lists each mesh's triangles that are not
@@ -143,10 +144,12 @@ layout(set = 0, binding = 23, std430) buffer EstimatedLevels { float estimated_l
 // Whatever the material: nothing is shaded on their corners. The culling step writes the culled
 // triangles' words, the patch step the others'.
 layout(set = 0, binding = 24, std430) writeonly buffer FallbackIndices { uint fallback_indices[]; };
-// Per triangle of the meshes, its corners' positions, 9 floats (triangle_corner): the culling
-// step reads them in 9 loads where the indices and the vertices take 12. On a CPU rasteriser each
-// load of a lane's own address costs about the same, and they are most of that step's time.
-layout(set = 0, binding = 25, std430) readonly buffer TriangleCorners { float triangle_corners[]; };
+// Per triangle of the meshes, its corners' positions, a texel each (xyz, w 1; triangle_corner):
+// the culling step reads them in 3 fetches where the indices and the vertices take 12 loads. On
+// a CPU rasteriser a load of a lane's own address from a storage buffer is a loop over the
+// lanes for each 32-bit word, and a texel fetch gathers four words at about the cost of two
+// such loads (docs/notebook/pre_pass_loads.md): most of that step's time was its loads.
+layout(set = 0, binding = 25) uniform samplerBuffer triangle_corners;
 // The index of no vertex, 2^24 - 1 (`SKIPPED_VERTEX` in Rust, Vulkan's least
 // maxDrawIndexedIndexValue; render::limits refuses scenes with more vertices):
 // multirate_flat.vert shades nothing for it.
@@ -203,8 +206,7 @@ vec3 scene_vec3(uint vertex, uint offset) {
 
 // Corner `corner` (0, 1, 2) of scene triangle `triangle`'s position, from triangle_corners.
 vec3 triangle_corner(uint triangle, uint corner) {
-    uint base = 9u * triangle + 3u * corner;
-    return vec3(triangle_corners[base], triangle_corners[base + 1u], triangle_corners[base + 2u]);
+    return texelFetch(triangle_corners, int(3u * triangle + corner)).xyz;
 }
 
 vec2 scene_uv(uint vertex) {

@@ -2,9 +2,10 @@
 //! type (twins: `glsl/include/bindings.glsl` for the forward layout, declared in binding order;
 //! the stages of the other layouts).
 //!
-//! A descriptor's name is its block's for a buffer (`Lights` of `buffer Lights { ... }`) and
-//! its variable's for a sampler (`albedo_map`): the names SPIR-V keeps, which the layout test
-//! reads back. Each layout's sets list their bindings in order, from 0 without gaps.
+//! A descriptor's name is its block's for a storage buffer (`Lights` of `buffer Lights { ... }`)
+//! and its variable's for a sampler or a texel buffer (`albedo_map`, `triangle_corners`): the
+//! names SPIR-V keeps, which the layout test reads back. Each layout's sets list their bindings
+//! in order, from 0 without gaps.
 
 use ash::vk;
 
@@ -15,6 +16,8 @@ pub enum DescriptorKind {
     StorageBuffer,
     /// A `sampler2D`.
     CombinedImageSampler,
+    /// A `samplerBuffer` or `usamplerBuffer` read with `texelFetch`, four 32-bit words a texel.
+    UniformTexelBuffer(TexelFormat),
 }
 
 impl DescriptorKind {
@@ -22,6 +25,30 @@ impl DescriptorKind {
         match self {
             DescriptorKind::StorageBuffer => vk::DescriptorType::STORAGE_BUFFER,
             DescriptorKind::CombinedImageSampler => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+            DescriptorKind::UniformTexelBuffer(_) => vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
+        }
+    }
+}
+
+/// The texels of a uniform texel buffer: four 32-bit components, whose formats every Vulkan
+/// device must support for uniform texel buffers (the specification's mandatory format
+/// support for 32-bit four-component formats).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TexelFormat {
+    /// `vec4` texels of a `samplerBuffer`.
+    Float4,
+    /// `uvec4` texels of a `usamplerBuffer`.
+    Uint4,
+}
+
+impl TexelFormat {
+    /// Bytes of one texel.
+    pub const BYTES: u64 = 16;
+
+    pub const fn format(self) -> vk::Format {
+        match self {
+            TexelFormat::Float4 => vk::Format::R32G32B32A32_SFLOAT,
+            TexelFormat::Uint4 => vk::Format::R32G32B32A32_UINT,
         }
     }
 }
@@ -44,6 +71,10 @@ const fn sampler(set: u32, binding: u32, name: &'static str) -> Binding {
     Binding { name, set, binding, kind: DescriptorKind::CombinedImageSampler }
 }
 
+const fn texels(set: u32, binding: u32, name: &'static str, format: TexelFormat) -> Binding {
+    Binding { name, set, binding, kind: DescriptorKind::UniformTexelBuffer(format) }
+}
+
 /// A pipeline layout: its descriptor sets, each its bindings in order.
 #[derive(Clone, Copy, Debug)]
 pub struct Layout {
@@ -61,7 +92,7 @@ impl Layout {
 /// The forward passes, the deferred pass and the multirate pre-pass: every stage not listed
 /// under another layout.
 pub mod forward {
-    use super::{sampler, storage, Binding, Layout};
+    use super::{sampler, storage, texels, Binding, Layout, TexelFormat};
 
     pub const LIGHTS: Binding = storage(0, 0, "Lights");
     pub const MATERIALS: Binding = storage(0, 1, "Materials");
@@ -71,7 +102,8 @@ pub mod forward {
     pub const EVALUATION_COUNTERS: Binding = storage(0, 3, "EvaluationCounters");
     pub const POLYGON_LIGHTS: Binding = storage(0, 4, "PolygonLights");
     pub const TRIANGLE_LEVELS: Binding = storage(0, 5, "TriangleLevels");
-    pub const TRIANGLE_NEIGHBOURS: Binding = storage(0, 6, "TriangleNeighbours");
+    /// Per triangle of the meshes, the triangles across its three edges (and 0).
+    pub const TRIANGLE_NEIGHBOURS: Binding = texels(0, 6, "triangle_neighbours", TexelFormat::Uint4);
     pub const SCENE_VERTICES: Binding = storage(0, 7, "SceneVertices");
     pub const SCENE_INDICES: Binding = storage(0, 8, "SceneIndices");
     pub const VISIBLE_TRIANGLES: Binding = storage(0, 9, "VisibleTriangles");
@@ -93,9 +125,9 @@ pub mod forward {
     pub const ESTIMATED_LEVELS: Binding = storage(0, 23, "EstimatedLevels");
     /// The flat patches shaded per pixel, as an index buffer over the scene's vertices.
     pub const FALLBACK_INDICES: Binding = storage(0, 24, "FallbackIndices");
-    /// Per triangle of the meshes, its corners' positions (9 floats): what the culling step
+    /// Per triangle of the meshes, its corners' positions (a texel each): what the culling step
     /// reads without the indices.
-    pub const TRIANGLE_CORNERS: Binding = storage(0, 25, "TriangleCorners");
+    pub const TRIANGLE_CORNERS: Binding = texels(0, 25, "triangle_corners", TexelFormat::Float4);
 
     pub const ALBEDO_MAP: Binding = sampler(1, 0, "albedo_map");
     pub const PARAMETER_MAP: Binding = sampler(1, 1, "parameter_map");
@@ -105,7 +137,7 @@ pub mod forward {
     /// The deferred pass's visibility buffer.
     pub const VISIBILITY: Binding = sampler(2, 0, "visibility");
 
-    /// Set 0: the scene's storage buffers, bound once.
+    /// Set 0: the scene's storage and texel buffers, bound once.
     pub const SCENE_BUFFERS: [Binding; 26] = [
         LIGHTS,
         MATERIALS,

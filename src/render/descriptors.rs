@@ -1,15 +1,18 @@
-//! The forward layout every pass of the renderer shares: set 0 (the scene's storage buffers,
-//! bound once), set 1 (a material's textures, bound per draw), set 2 (the deferred pass's id
+//! The forward layout every pass of the renderer shares: set 0 (the scene's storage and texel
+//! buffers, bound once), set 1 (a material's textures, bound per draw), set 2 (the deferred pass's id
 //! image) and the push constants (`DrawConstants`); and the [`Recorder`] the passes record
 //! with, which binds them.
 
 use super::scene_buffers::SceneBuffers;
 use super::textures::{material_set_bindings, SceneTextures};
 use crate::error::Result;
-use crate::gpu_interface::bindings::forward;
+use crate::gpu_interface::bindings::{forward, DescriptorKind};
 use crate::gpu_types::DrawConstants;
 use crate::scene::Scene;
-use crate::vk::pipeline::{bind_storage_buffers, shader_binding, DescriptorPool, PipelineLayout};
+use crate::vk::memory::{Buffer, BufferView};
+use crate::vk::pipeline::{
+    bind_storage_buffers, bind_texel_buffers, shader_binding, DescriptorPool, PipelineLayout,
+};
 use crate::vk::Context;
 use ash::vk;
 use std::sync::Arc;
@@ -20,7 +23,7 @@ pub(crate) const PUSH_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_
     vk::ShaderStageFlags::ALL_GRAPHICS.as_raw() | vk::ShaderStageFlags::COMPUTE.as_raw(),
 );
 
-/// Storage buffers in set 0 of the forward layout (`Renderer`'s `binding_table`).
+/// Storage and texel buffers in set 0 of the forward layout (`Renderer`'s `binding_table`).
 pub(super) const SCENE_BINDINGS: usize = forward::SCENE_BUFFERS.len();
 
 /// Set 2 of the forward layout: the id image of `pixel-deferred` mode (the vertices and
@@ -33,8 +36,10 @@ fn deferred_set_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; 1] {
 pub(super) struct ForwardDescriptors {
     pub layout: PipelineLayout,
     _pool: DescriptorPool,
-    /// Set 0: the scene's and the pre-pass's storage buffers.
+    /// Set 0: the scene's and the pre-pass's storage and texel buffers.
     pub set: vk::DescriptorSet,
+    /// The views set 0's texel buffers are read through.
+    _texel_views: Vec<BufferView>,
     /// The scene's textures and, per material, its set 1.
     pub textures: SceneTextures,
 }
@@ -45,7 +50,7 @@ impl ForwardDescriptors {
     pub(super) fn new(
         context: &Arc<Context>,
         scene: &Scene,
-        binding_table: &[vk::Buffer; SCENE_BINDINGS],
+        binding_table: &[&Buffer; SCENE_BINDINGS],
     ) -> Result<ForwardDescriptors> {
         let bindings = forward::SCENE_BUFFERS.map(|b| shader_binding(b.binding, b.kind.descriptor_type()));
         let push = [vk::PushConstantRange::default()
@@ -60,19 +65,30 @@ impl ForwardDescriptors {
             &push,
         )?;
         let textures = SceneTextures::upload(context, scene, layout.set_layouts[1])?;
-        let pool = DescriptorPool::new(
-            context,
-            "forward descriptors",
-            1,
-            &[vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::STORAGE_BUFFER,
-                descriptor_count: SCENE_BINDINGS as u32,
-            }],
-        )?;
+        let count = |wanted: fn(DescriptorKind) -> bool| {
+            forward::SCENE_BUFFERS.iter().filter(|b| wanted(b.kind)).count() as u32
+        };
+        let texel_count = count(|kind| matches!(kind, DescriptorKind::UniformTexelBuffer(_)));
+        let sizes = [
+            (vk::DescriptorType::STORAGE_BUFFER, count(|kind| kind == DescriptorKind::StorageBuffer)),
+            (vk::DescriptorType::UNIFORM_TEXEL_BUFFER, texel_count),
+        ]
+        .map(|(ty, descriptor_count)| vk::DescriptorPoolSize { ty, descriptor_count });
+        let pool = DescriptorPool::new(context, "forward descriptors", 1, &sizes)?;
         let set = pool.allocate(layout.set_layouts[0])?;
-        bind_storage_buffers(context, set, forward::SCENE_BUFFERS[0].binding, binding_table);
+        let mut texel_views = Vec::with_capacity(texel_count as usize);
+        for (binding, buffer) in forward::SCENE_BUFFERS.iter().zip(binding_table) {
+            match binding.kind {
+                DescriptorKind::UniformTexelBuffer(format) => {
+                    let view = BufferView::new(context, binding.name, buffer, format.format())?;
+                    bind_texel_buffers(context, set, binding.binding, &[view.raw]);
+                    texel_views.push(view);
+                }
+                _ => bind_storage_buffers(context, set, binding.binding, &[buffer.raw]),
+            }
+        }
         context.name(set, "forward descriptor set");
-        Ok(ForwardDescriptors { layout, _pool: pool, set, textures })
+        Ok(ForwardDescriptors { layout, _pool: pool, set, _texel_views: texel_views, textures })
     }
 }
 

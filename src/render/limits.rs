@@ -7,6 +7,7 @@
 use super::pre_pass::steps::PRE_PASS_GROUP;
 use super::textures;
 use crate::error::{mib, Error, Result};
+use crate::gpu_interface::bindings::TexelFormat;
 use crate::gpu_interface::slots::{BACK_FACE_ENTRY, LEVEL_DISPATCHES, SKIPPED_VERTEX};
 use crate::gpu_types::{GpuLight, GpuMaterial, GpuPolygonLight, Vertex};
 use crate::scene::adjacency::PATCH_SIZE;
@@ -75,14 +76,25 @@ pub enum Heap {
     HostVisible,
 }
 
+/// How the shaders read a buffer, which decides the device limit its size must fit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BoundAs {
+    /// A storage buffer: at most maxStorageBufferRange bytes.
+    StorageBuffer,
+    /// A uniform texel buffer of 16-byte texels: at most maxTexelBufferElements texels.
+    TexelBuffer,
+    /// Not through a descriptor (an index or indirect buffer, a copy's source).
+    Nothing,
+}
+
 /// One per-scene buffer of [`super::Renderer`], as its constructor creates it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SceneBuffer {
     /// The buffer's name (the renderer's, shown in captures).
     pub name: &'static str,
     pub bytes: u64,
-    /// Bound as a storage buffer (its whole size in one binding).
-    pub storage: bool,
+    /// How the shaders read it (its whole size in one binding).
+    pub bound_as: BoundAs,
     pub heap: Heap,
     /// What its size grows with: a count and its unit ("triangles").
     pub count: u64,
@@ -133,40 +145,48 @@ impl SceneSizes {
     /// Every per-scene buffer `Renderer::new` creates, with its size. A buffer added there
     /// belongs here too: tests/cli.rs checks a renderer's allocations against this list.
     pub fn buffers(&self) -> Vec<SceneBuffer> {
+        use BoundAs::{Nothing, StorageBuffer, TexelBuffer};
         let triangles = self.triangles();
         let meshes = self.meshes.len() as u64;
         let lights = self.point_and_directional_lights;
         // `device_words`: at least one word; `Buffer::with_data`: at least 4 bytes.
         let words = |count: u64| 4 * count.max(1);
         let data = |count: u64, size: usize| (count * size as u64).max(4);
-        let buffer = |name, bytes, storage, count, unit| SceneBuffer {
+        let buffer = |name, bytes, bound_as, count, unit| SceneBuffer {
             name,
             bytes,
-            storage,
+            bound_as,
             heap: Heap::DeviceLocal,
             count,
             unit,
         };
-        let per_triangle =
-            |name, words_each: u64| buffer(name, words(words_each * triangles), true, triangles, "triangles");
+        let per_triangle = |name, words_each: u64| {
+            buffer(name, words(words_each * triangles), StorageBuffer, triangles, "triangles")
+        };
         let dispatches = u64::from(LEVEL_DISPATCHES);
-        let per_mesh = |name, bytes_each: u64, storage| {
-            buffer(name, (bytes_each * meshes).max(4), storage, meshes, "meshes")
+        let per_mesh = |name, bytes_each: u64, bound_as| {
+            buffer(name, (bytes_each * meshes).max(4), bound_as, meshes, "meshes")
         };
         let pattern_levels = std::mem::size_of_val(&PATTERN_LEVELS) as u64;
         vec![
             buffer(
                 "scene vertices",
                 data(self.vertices, size_of::<Vertex>()),
-                true,
+                StorageBuffer,
                 self.vertices,
                 "vertices",
             ),
-            buffer("scene indices", data(self.indices, size_of::<u32>()), true, self.indices, "indices"),
+            buffer(
+                "scene indices",
+                data(self.indices, size_of::<u32>()),
+                StorageBuffer,
+                self.indices,
+                "indices",
+            ),
             buffer(
                 "scene adjacency patches",
                 data(PATCH_SIZE as u64 * triangles, size_of::<u32>()),
-                false,
+                Nothing,
                 triangles,
                 "triangles",
             ),
@@ -175,58 +195,58 @@ impl SceneSizes {
             buffer(
                 "triangle neighbours",
                 data(triangles.max(1), size_of::<[u32; 4]>()),
-                true,
+                TexelBuffer,
                 triangles,
                 "triangles",
             ),
             buffer(
                 "triangle corners",
-                data(triangles, size_of::<[[f32; 3]; 3]>()),
-                true,
+                data(triangles, size_of::<[[f32; 4]; 3]>()),
+                TexelBuffer,
                 triangles,
                 "triangles",
             ),
             per_triangle("visible triangles", 1),
             per_triangle("triangles to refine", 1),
             per_triangle("triangles to estimate in full", 1),
-            per_mesh("interpolated and fallback patch counts", 2 * 4, true),
-            per_mesh("pre-pass dispatches", 16 * dispatches, true),
-            buffer("pre-pass dispatch reset", 16 * dispatches * meshes.max(1), false, meshes, "meshes"),
+            per_mesh("interpolated and fallback patch counts", 2 * 4, StorageBuffer),
+            per_mesh("pre-pass dispatches", 16 * dispatches, StorageBuffer),
+            buffer("pre-pass dispatch reset", 16 * dispatches * meshes.max(1), Nothing, meshes, "meshes"),
             per_triangle("interpolated patches", 1),
             per_triangle("fallback patches", 1),
             per_triangle("flat patches", 1),
             per_triangle("interpolated patch draws", 4),
             per_triangle("fallback patch draws", 4),
-            per_mesh("flat patch draws", 4 * 4, true),
+            per_mesh("flat patch draws", 4 * 4, StorageBuffer),
             per_triangle("flat patch indices", 3),
             per_triangle("per-pixel flat patch indices", 3),
             SceneBuffer {
                 heap: Heap::HostVisible,
-                ..buffer("level records", (16 * triangles).max(4), true, triangles, "triangles")
+                ..buffer("level records", (16 * triangles).max(4), StorageBuffer, triangles, "triangles")
             },
             buffer(
                 "scene lights",
                 data(lights, size_of::<GpuLight>()),
-                true,
+                StorageBuffer,
                 lights,
                 "point and directional lights",
             ),
             buffer(
                 "scene materials",
                 data(self.materials, size_of::<GpuMaterial>()),
-                true,
+                StorageBuffer,
                 self.materials,
                 "materials",
             ),
             buffer(
                 "scene polygonal lights",
                 data(self.polygon_lights.max(1), size_of::<GpuPolygonLight>()),
-                true,
+                StorageBuffer,
                 self.polygon_lights,
                 "polygonal lights",
             ),
             per_triangle("patch tessellation levels", 4),
-            buffer("pattern levels", pattern_levels, true, PATTERN_LEVELS.len() as u64, "words"),
+            buffer("pattern levels", pattern_levels, StorageBuffer, PATTERN_LEVELS.len() as u64, "words"),
         ]
     }
 
@@ -328,8 +348,22 @@ pub fn check(scene: &Path, sizes: &SceneSizes, limits: &DeviceLimits) -> Result<
             Heap::DeviceLocal => ("device-local heap", limits.device_local_heap),
             Heap::HostVisible => ("host-visible heap", limits.host_visible_heap),
         };
+        let texels = buffer.bytes / TexelFormat::BYTES;
+        if buffer.bound_as == BoundAs::TexelBuffer && texels > limits.max_texel_buffer_elements {
+            return fail(
+                format!(
+                    "the buffer \"{}\" of its {} {} ({texels} texels)",
+                    buffer.name, buffer.count, buffer.unit
+                ),
+                format!("the device's maxTexelBufferElements ({})", limits.max_texel_buffer_elements),
+            );
+        }
         let exceeded = [
-            (buffer.storage, "maxStorageBufferRange", limits.max_storage_buffer_range),
+            (
+                buffer.bound_as == BoundAs::StorageBuffer,
+                "maxStorageBufferRange",
+                limits.max_storage_buffer_range,
+            ),
             (true, "maxBufferSize", limits.max_buffer_size),
             (true, "maxMemoryAllocationSize", limits.max_memory_allocation_size),
             (true, heap.0, heap.1),

@@ -66,6 +66,7 @@ use crate::gpu_interface::bindings::in_binding_order;
 use crate::gpu_interface::slots::{FALLBACK_LIST, INTERPOLATED_LIST};
 use crate::scene::Scene;
 use crate::vk::context::DeviceLimits;
+use crate::vk::memory::Buffer;
 use crate::vk::target::{AfterPass, Attachments, DepthAfter, FloatImage, RenderTarget};
 use crate::vk::Context;
 use ash::vk;
@@ -617,37 +618,37 @@ impl TimedFrames for Renderer {
 /// Set 0 of the forward layout: the buffer each binding holds, in binding order
 /// (`gpu_interface::bindings::forward`, twin of `glsl/include/bindings.glsl`); the one place that
 /// says so.
-fn binding_table(scene: &SceneBuffers, pre_pass: &PrePassBuffers) -> [vk::Buffer; SCENE_BINDINGS] {
+fn binding_table<'a>(scene: &'a SceneBuffers, pre_pass: &'a PrePassBuffers) -> [&'a Buffer; SCENE_BINDINGS] {
     use crate::gpu_interface::bindings::forward as set_0;
     in_binding_order(
         &set_0::SCENE_BUFFERS,
         [
-            (set_0::LIGHTS, scene.lights.raw),
-            (set_0::MATERIALS, scene.materials.raw),
-            (set_0::LEVEL_RECORDS, scene.level_records.raw),
-            (set_0::EVALUATION_COUNTERS, scene.counters.raw),
-            (set_0::POLYGON_LIGHTS, scene.polygon_lights.raw),
-            (set_0::TRIANGLE_LEVELS, pre_pass.triangle_levels.raw),
-            (set_0::TRIANGLE_NEIGHBOURS, pre_pass.triangle_neighbours.raw),
-            (set_0::SCENE_VERTICES, scene.vertices.raw),
-            (set_0::SCENE_INDICES, scene.indices.raw),
-            (set_0::VISIBLE_TRIANGLES, pre_pass.visible_triangles.raw),
-            (set_0::PATCH_COUNTS, pre_pass.patch_counts.raw),
-            (set_0::PATTERN_LEVELS, scene.pattern_levels.raw),
-            (set_0::PATCH_TESS_LEVELS, pre_pass.patch_levels.raw),
-            (set_0::INTERPOLATED_PATCHES, pre_pass.patch_lists[0].raw),
-            (set_0::FALLBACK_PATCHES, pre_pass.patch_lists[1].raw),
-            (set_0::INTERPOLATED_DRAWS, pre_pass.patch_draws[INTERPOLATED_LIST as usize].raw),
-            (set_0::FALLBACK_DRAWS, pre_pass.patch_draws[FALLBACK_LIST as usize].raw),
-            (set_0::FLAT_PATCHES, pre_pass.patch_lists[2].raw),
-            (set_0::FLAT_DRAWS, pre_pass.flat_draws.raw),
-            (set_0::LEVEL_DISPATCHES, pre_pass.level_dispatches.raw),
-            (set_0::REFINE_TRIANGLES, pre_pass.refine_triangles.raw),
-            (set_0::ESTIMATE_TRIANGLES, pre_pass.estimate_triangles.raw),
-            (set_0::FLAT_INDICES, pre_pass.flat_indices.raw),
-            (set_0::ESTIMATED_LEVELS, pre_pass.estimated_levels.raw),
-            (set_0::FALLBACK_INDICES, pre_pass.fallback_indices.raw),
-            (set_0::TRIANGLE_CORNERS, pre_pass.triangle_corners.raw),
+            (set_0::LIGHTS, &scene.lights),
+            (set_0::MATERIALS, &scene.materials),
+            (set_0::LEVEL_RECORDS, &scene.level_records),
+            (set_0::EVALUATION_COUNTERS, &scene.counters),
+            (set_0::POLYGON_LIGHTS, &scene.polygon_lights),
+            (set_0::TRIANGLE_LEVELS, &pre_pass.triangle_levels),
+            (set_0::TRIANGLE_NEIGHBOURS, &pre_pass.triangle_neighbours),
+            (set_0::SCENE_VERTICES, &scene.vertices),
+            (set_0::SCENE_INDICES, &scene.indices),
+            (set_0::VISIBLE_TRIANGLES, &pre_pass.visible_triangles),
+            (set_0::PATCH_COUNTS, &pre_pass.patch_counts),
+            (set_0::PATTERN_LEVELS, &scene.pattern_levels),
+            (set_0::PATCH_TESS_LEVELS, &pre_pass.patch_levels),
+            (set_0::INTERPOLATED_PATCHES, &pre_pass.patch_lists[0]),
+            (set_0::FALLBACK_PATCHES, &pre_pass.patch_lists[1]),
+            (set_0::INTERPOLATED_DRAWS, &pre_pass.patch_draws[INTERPOLATED_LIST as usize]),
+            (set_0::FALLBACK_DRAWS, &pre_pass.patch_draws[FALLBACK_LIST as usize]),
+            (set_0::FLAT_PATCHES, &pre_pass.patch_lists[2]),
+            (set_0::FLAT_DRAWS, &pre_pass.flat_draws),
+            (set_0::LEVEL_DISPATCHES, &pre_pass.level_dispatches),
+            (set_0::REFINE_TRIANGLES, &pre_pass.refine_triangles),
+            (set_0::ESTIMATE_TRIANGLES, &pre_pass.estimate_triangles),
+            (set_0::FLAT_INDICES, &pre_pass.flat_indices),
+            (set_0::ESTIMATED_LEVELS, &pre_pass.estimated_levels),
+            (set_0::FALLBACK_INDICES, &pre_pass.fallback_indices),
+            (set_0::TRIANGLE_CORNERS, &pre_pass.triangle_corners),
         ],
     )
 }

@@ -108,8 +108,8 @@ pub(super) struct SceneGeometry {
     pub patch_indices: Vec<u32>,
     /// Per triangle of the meshes: the triangles across its edges (scene indices), then 0.
     pub triangle_neighbours: Vec<[u32; 4]>,
-    /// Per triangle of the meshes: its corners' positions.
-    pub triangle_corners: Vec<[[f32; 3]; 3]>,
+    /// Per triangle of the meshes: its corners' positions, each a texel (w 1).
+    pub triangle_corners: Vec<[[f32; 4]; 3]>,
     /// One per mesh, in scene order.
     pub draws: Vec<DrawCall>,
     /// The material kinds the meshes use, in order of first use (`DrawCall::pipeline`).
@@ -167,7 +167,9 @@ impl SceneGeometry {
         let first_index = self.indices.len() as u32;
         self.indices.extend(mesh.indices.iter().map(|i| i + base));
         self.triangle_corners.extend(
-            mesh.indices.chunks_exact(3).map(|t| [0, 1, 2].map(|k| mesh.positions[t[k] as usize].to_array())),
+            mesh.indices
+                .chunks_exact(3)
+                .map(|t| [0, 1, 2].map(|k| mesh.positions[t[k] as usize].extend(1.0).to_array())),
         );
         let first_patch_index = self.patch_indices.len() as u32;
         self.patch_indices.extend(adjacency_patches(mesh).iter().map(|i| i + base));

@@ -74,6 +74,8 @@ pub fn names_lavapipe(device: &str) -> bool {
 pub struct DeviceLimits {
     /// `maxStorageBufferRange`: the most bytes one storage-buffer binding covers.
     pub max_storage_buffer_range: u64,
+    /// `maxTexelBufferElements`: the most texels one texel buffer view covers.
+    pub max_texel_buffer_elements: u64,
     /// `maxBufferSize` (Vulkan 1.3): the most bytes one buffer may hold.
     pub max_buffer_size: u64,
     /// `maxMemoryAllocationSize` (Vulkan 1.1): the most bytes one memory allocation may hold.
@@ -118,6 +120,7 @@ impl DeviceLimits {
         };
         DeviceLimits {
             max_storage_buffer_range: u64::from(limits.max_storage_buffer_range),
+            max_texel_buffer_elements: u64::from(limits.max_texel_buffer_elements),
             max_buffer_size: vulkan13.max_buffer_size,
             max_memory_allocation_size: vulkan11.max_memory_allocation_size,
             max_draw_indexed_index_value: u64::from(limits.max_draw_indexed_index_value),
@@ -133,6 +136,7 @@ impl DeviceLimits {
     pub fn min(&self, other: &DeviceLimits) -> DeviceLimits {
         DeviceLimits {
             max_storage_buffer_range: self.max_storage_buffer_range.min(other.max_storage_buffer_range),
+            max_texel_buffer_elements: self.max_texel_buffer_elements.min(other.max_texel_buffer_elements),
             max_buffer_size: self.max_buffer_size.min(other.max_buffer_size),
             max_memory_allocation_size: self.max_memory_allocation_size.min(other.max_memory_allocation_size),
             max_draw_indexed_index_value: self

@@ -125,6 +125,40 @@ impl Drop for Buffer {
     }
 }
 
+/// A view of a whole buffer as texels of one format, what a uniform texel buffer descriptor
+/// points at. It does not keep the buffer alive: its owner drops it first.
+pub struct BufferView {
+    context: Arc<Context>,
+    pub raw: vk::BufferView,
+}
+
+impl BufferView {
+    /// A view of all of `buffer` as `format` texels, named `name` for captures. The buffer has
+    /// the UNIFORM_TEXEL_BUFFER usage, a whole number of texels and at most the device's
+    /// maxTexelBufferElements of them (`render::limits` checks each scene's).
+    pub fn new(
+        context: &Arc<Context>,
+        name: &str,
+        buffer: &Buffer,
+        format: vk::Format,
+    ) -> Result<BufferView> {
+        let info =
+            vk::BufferViewCreateInfo::default().buffer(buffer.raw).format(format).range(vk::WHOLE_SIZE);
+        // SAFETY: valid create info on a live buffer; the view is destroyed in `Drop`.
+        let raw =
+            unsafe { context.device.create_buffer_view(&info, None) }.while_("creating a buffer view")?;
+        context.name(raw, name);
+        Ok(BufferView { context: context.clone(), raw })
+    }
+}
+
+impl Drop for BufferView {
+    fn drop(&mut self) {
+        // SAFETY: the owner guarantees no pending work uses the view.
+        unsafe { self.context.device.destroy_buffer_view(self.raw, None) };
+    }
+}
+
 /// A 2D image, its memory and one view of all of it.
 pub struct Image {
     context: Arc<Context>,

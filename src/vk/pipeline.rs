@@ -378,6 +378,15 @@ pub fn bind_storage_buffers(context: &Context, set: vk::DescriptorSet, first: u3
     });
 }
 
+/// Points bindings `first`, `first + 1`, … of `set` at uniform texel buffers, in order. The
+/// set must not be in use by pending work.
+pub fn bind_texel_buffers(context: &Context, set: vk::DescriptorSet, first: u32, views: &[vk::BufferView]) {
+    let infos: Vec<[vk::BufferView; 1]> = views.iter().map(|&view| [view]).collect();
+    write_each(context, set, first, vk::DescriptorType::UNIFORM_TEXEL_BUFFER, &infos, |w, info| {
+        w.texel_buffer_view(info)
+    });
+}
+
 /// Points bindings `first`, `first + 1`, … of `set` at combined image samplers (views in
 /// `SHADER_READ_ONLY_OPTIMAL`), in order. The set must not be in use by pending work.
 pub fn bind_sampled_images(

@@ -12,6 +12,7 @@ fn scene() -> &'static Path {
 fn limits() -> DeviceLimits {
     DeviceLimits {
         max_storage_buffer_range: 1 << 30,
+        max_texel_buffer_elements: 1 << 27,
         max_buffer_size: 1 << 32,
         max_memory_allocation_size: 1 << 32,
         max_draw_indexed_index_value: u64::from(u32::MAX),
@@ -121,11 +122,21 @@ fn textures_with_more_mip_levels_than_their_size_allows_are_refused() {
 
 #[test]
 fn buffers_beyond_the_storage_range_are_refused_naming_the_buffer() {
-    // 1 MiB holds 65536 neighbour entries of 16 bytes; the vertices (32 bytes) overflow first.
+    // 1 MiB holds 32768 vertices of 32 bytes, which overflow first (the neighbours and the
+    // corners, 16 and 48 bytes a triangle, are texel buffers).
     let limits = DeviceLimits { max_storage_buffer_range: MIB, ..limits() };
     check(scene(), &sizes(16384), &limits).expect("32768 vertices: exactly 1 MiB");
     let message = refused(&sizes(16385), &limits, "maxStorageBufferRange (1.0 MiB)");
     assert!(message.contains("\"scene vertices\" of its 32770 vertices (1.0 MiB)"), "{message}");
+}
+
+#[test]
+fn texel_buffers_beyond_the_texel_count_are_refused_naming_the_buffer() {
+    // The corners take three texels a triangle, the neighbours one.
+    let limits = DeviceLimits { max_texel_buffer_elements: 3000, ..limits() };
+    check(scene(), &sizes(1000), &limits).expect("3000 corner texels: exactly the limit");
+    let message = refused(&sizes(1001), &limits, "maxTexelBufferElements (3000)");
+    assert!(message.contains("\"triangle corners\" of its 1001 triangles (3003 texels)"), "{message}");
 }
 
 #[test]

@@ -83,13 +83,13 @@ impl PrePassBuffers {
         let triangle_neighbours = Buffer::with_data(
             context,
             "triangle neighbours",
-            vk::BufferUsageFlags::STORAGE_BUFFER,
+            vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
             neighbours,
         )?;
         let triangle_corners = Buffer::with_data(
             context,
             "triangle corners",
-            vk::BufferUsageFlags::STORAGE_BUFFER,
+            vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
             &geometry.triangle_corners,
         )?;
         let visible_triangles = per_triangle("visible triangles")?;
