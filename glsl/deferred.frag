@@ -25,8 +25,8 @@ void main() {
     vec4 clip[3];
     for (int k = 0; k < 3; ++k) {
         uint vertex = scene_indices[3u * triangle + uint(k)];
-        p[k] = scene_vec3(vertex, 0u);
-        n[k] = scene_vec3(vertex, 3u);
+        p[k] = scene_position(vertex);
+        n[k] = scene_normal(vertex);
         t[k] = scene_uv(vertex);
         clip[k] = draw.view_proj * vec4(p[k], 1.0);
     }

@@ -50,8 +50,8 @@ void main() {
 #endif
         return;
     }
-    vec3 position = scene_vec3(vertex, 0u);
-    vec3 normal = scene_vec3(vertex, 3u);
+    vec3 position = scene_position(vertex);
+    vec3 normal = scene_normal(vertex);
     vec2 uv = scene_uv(vertex);
     out_position = position;
     out_normal = normal;
@@ -70,7 +70,7 @@ void main() {
     if (has_parameter_map(m)) {
         uvec3 corners = uvec3(scene_indices[3u * triangle], scene_indices[3u * triangle + 1u],
                               scene_indices[3u * triangle + 2u]);
-        vec3 p[3] = vec3[3](scene_vec3(corners.x, 0u), scene_vec3(corners.y, 0u), scene_vec3(corners.z, 0u));
+        vec3 p[3] = vec3[3](scene_position(corners.x), scene_position(corners.y), scene_position(corners.z));
         vec2 t[3] = vec2[3](scene_uv(corners.x), scene_uv(corners.y), scene_uv(corners.z));
         // multirate_patch.glsl's `parameter_lod_bound` of the patch.
         float lod_bound = material_lod_bound(t[0], t[1], t[2]) - 0.02;

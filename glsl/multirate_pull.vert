@@ -15,8 +15,8 @@ void main() {
     bool fallback = (draw.flags & FLAG_FALLBACK_PATCHES) != 0u;
     uint triangle = fallback ? fallback_patches[entry] : interpolated_patches[entry];
     uint vertex = scene_indices[3u * triangle + uint(gl_VertexIndex) % 3u];
-    out_position = scene_vec3(vertex, 0u);
-    out_normal = scene_vec3(vertex, 3u);
+    out_position = scene_position(vertex);
+    out_normal = scene_normal(vertex);
     out_uv = scene_uv(vertex);
     out_triangle = triangle;
 }

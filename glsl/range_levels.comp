@@ -26,11 +26,11 @@ void main() {
     uint a = scene_indices[3u * triangle];
     uint b = scene_indices[3u * triangle + 1u];
     uint c = scene_indices[3u * triangle + 2u];
-    vec3 p0 = scene_vec3(a, 0u);
-    vec3 p1 = scene_vec3(b, 0u);
-    vec3 p2 = scene_vec3(c, 0u);
+    vec3 p0 = scene_position(a);
+    vec3 p1 = scene_position(b);
+    vec3 p2 = scene_position(c);
     bool capped;
-    if (settled_triangle(p0, p1, p2, scene_vec3(a, 3u), scene_vec3(b, 3u), scene_vec3(c, 3u), scene_uv(a),
+    if (settled_triangle(p0, p1, p2, scene_normal(a), scene_normal(b), scene_normal(c), scene_uv(a),
                          scene_uv(b), scene_uv(c), capped)) {
         triangle_levels[triangle] = 1.0;
         return;

@@ -77,8 +77,8 @@ void take_children_turns(uint block, uint count) {
         uint a = scene_indices[3u * triangle];
         uint b = scene_indices[3u * triangle + 1u];
         uint c = scene_indices[3u * triangle + 2u];
-        vec3 q[3] = vec3[3](scene_vec3(a, 0u), scene_vec3(b, 0u), scene_vec3(c, 0u));
-        vec3 m[3] = vec3[3](scene_vec3(a, 3u), scene_vec3(b, 3u), scene_vec3(c, 3u));
+        vec3 q[3] = vec3[3](scene_position(a), scene_position(b), scene_position(c));
+        vec3 m[3] = vec3[3](scene_normal(a), scene_normal(b), scene_normal(c));
         midpoint_child(q, r);
         midpoint_child(m, r);
         Frame child = make_frame(q[0], q[1], q[2], m[0], m[1], m[2], estimator_eye());
@@ -111,12 +111,12 @@ void main() {
             uint a = scene_indices[3u * triangle];
             uint b = scene_indices[3u * triangle + 1u];
             uint c = scene_indices[3u * triangle + 2u];
-            vec3 p0 = scene_vec3(a, 0u);
-            vec3 p1 = scene_vec3(b, 0u);
-            vec3 p2 = scene_vec3(c, 0u);
-            vec3 n0 = scene_vec3(a, 3u);
-            vec3 n1 = scene_vec3(b, 3u);
-            vec3 n2 = scene_vec3(c, 3u);
+            vec3 p0 = scene_position(a);
+            vec3 p1 = scene_position(b);
+            vec3 p2 = scene_position(c);
+            vec3 n0 = scene_normal(a);
+            vec3 n1 = scene_normal(b);
+            vec3 n2 = scene_normal(c);
             // The range class again, for whether every light's specular part is capped (it did not
             // settle the triangle, which the estimator step listed here).
             bool capped;

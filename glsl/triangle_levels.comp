@@ -37,8 +37,8 @@ void main() {
     // The culling step gave back faces shaded per pixel their level, and the range step the
     // triangles it settles; neither is listed here.
     bool again;
-    triangle_levels[triangle] = estimated_level_pass(scene_vec3(a, 0u), scene_vec3(b, 0u), scene_vec3(c, 0u),
-                                                     scene_vec3(a, 3u), scene_vec3(b, 3u), scene_vec3(c, 3u),
+    triangle_levels[triangle] = estimated_level_pass(scene_position(a), scene_position(b), scene_position(c),
+                                                     scene_normal(a), scene_normal(b), scene_normal(c),
                                                      scene_uv(a), scene_uv(b), scene_uv(c), SPECULAR_ALL_CAPPED,
                                                      false, again);
     if (again) {

@@ -83,7 +83,10 @@ pub struct DrawConstants {
     pub patches_per_draw: u32,
 }
 
-/// Vertex buffer layout: world-space position, normal and texture coordinates.
+/// Vertex buffer layout: world-space position, normal and texture coordinates. The shaders
+/// also read it as two 16-byte texels, (position, normal.x) and (normal.yz, uv)
+/// (`scene_position`, `scene_normal`, `scene_uv` in glsl/include/bindings.glsl;
+/// `gpu_interface::bindings::forward::SCENE_VERTICES` asserts the layout).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Vertex {

@@ -305,18 +305,20 @@ fn scenes_over_a_device_limit_are_refused_before_the_gpu_sees_them() {
     let bunny = Scene::load(&repo_path("scenes/bunny.toml")).expect("load the bunny");
     let spots = Scene::load(&repo_path("scenes/bunny_spots.toml")).expect("load the spotted bunny");
     let needed = SceneSizes::of(&bunny).device_local_bytes();
-    // As many texels as the bunny has triangles: its neighbours fit, its corners (three texels
-    // a triangle) do not.
-    let triangles = SceneSizes::of(&bunny).triangles();
+    // Texels enough for the bunny's vertices (two each) and neighbours (one a triangle), not
+    // for its corners (three a triangle).
+    let bunny_sizes = SceneSizes::of(&bunny);
+    let texels = (2 * bunny_sizes.vertices).max(bunny_sizes.triangles());
+    assert!(texels < 3 * bunny_sizes.triangles());
     let cases: [(&Scene, DeviceLimits, &[&str]); 6] = [
         (
             &bunny,
             DeviceLimits { max_storage_buffer_range: 1024, ..real },
-            &["the buffer \"scene vertices\"", "maxStorageBufferRange (1024 bytes)"],
+            &["the buffer \"scene indices\"", "maxStorageBufferRange (1024 bytes)"],
         ),
         (
             &bunny,
-            DeviceLimits { max_texel_buffer_elements: triangles, ..real },
+            DeviceLimits { max_texel_buffer_elements: texels, ..real },
             &["the buffer \"triangle corners\"", "maxTexelBufferElements ("],
         ),
         (

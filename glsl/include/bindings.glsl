@@ -61,7 +61,9 @@ layout(set = 0, binding = 4, std430) readonly buffer PolygonLights { GpuPolygonL
 // position, normal, uv) and indices.
 layout(set = 0, binding = 5, std430) buffer TriangleLevels { float triangle_levels[]; };
 layout(set = 0, binding = 6) uniform usamplerBuffer triangle_neighbours;
-layout(set = 0, binding = 7, std430) readonly buffer SceneVertices { float scene_vertices[]; };
+// The scene's vertices (src/gpu_types.rs `Vertex`: position, normal, uv; 8 floats) as two texels
+// each: (position, normal.x), (normal.yz, uv) (scene_position, scene_normal, scene_uv).
+layout(set = 0, binding = 7) uniform samplerBuffer scene_vertices;
 layout(set = 0, binding = 8, std430) readonly buffer SceneIndices { uint scene_indices[]; };
 // The pre-pass's culling step (cull_triangles.comp) lists each mesh's triangles that are not
 // culled (mesh: draw.mesh_index): those to estimate from the mesh's first triangle on; from its
@@ -196,12 +198,14 @@ uint patch_list(bool fallback) {
     return PATCH_LISTS * draw.mesh_index + (fallback ? FALLBACK_LIST : INTERPOLATED_LIST);
 }
 
-// One Vertex of scene_vertices (src/gpu_types.rs): position, normal, uv.
-const uint VERTEX_FLOATS = 8u;
+// Vertex `vertex`'s position, normal and uv, from its two texels of scene_vertices (a lane
+// fetches each once: the compiler merges equal fetches).
+vec3 scene_position(uint vertex) {
+    return texelFetch(scene_vertices, int(2u * vertex)).xyz;
+}
 
-vec3 scene_vec3(uint vertex, uint offset) {
-    uint base = vertex * VERTEX_FLOATS + offset;
-    return vec3(scene_vertices[base], scene_vertices[base + 1u], scene_vertices[base + 2u]);
+vec3 scene_normal(uint vertex) {
+    return vec3(texelFetch(scene_vertices, int(2u * vertex)).w, texelFetch(scene_vertices, int(2u * vertex + 1u)).xy);
 }
 
 // Corner `corner` (0, 1, 2) of scene triangle `triangle`'s position, from triangle_corners.
@@ -210,8 +214,7 @@ vec3 triangle_corner(uint triangle, uint corner) {
 }
 
 vec2 scene_uv(uint vertex) {
-    uint base = vertex * VERTEX_FLOATS + 6u;
-    return vec2(scene_vertices[base], scene_vertices[base + 1u]);
+    return texelFetch(scene_vertices, int(2u * vertex + 1u)).zw;
 }
 
 // Set 1: the textures of the draw's material (bound per draw); a white 1x1 texture where the

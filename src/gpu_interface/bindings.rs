@@ -104,7 +104,16 @@ pub mod forward {
     pub const TRIANGLE_LEVELS: Binding = storage(0, 5, "TriangleLevels");
     /// Per triangle of the meshes, the triangles across its three edges (and 0).
     pub const TRIANGLE_NEIGHBOURS: Binding = texels(0, 6, "triangle_neighbours", TexelFormat::Uint4);
-    pub const SCENE_VERTICES: Binding = storage(0, 7, "SceneVertices");
+    /// The scene's vertices, two texels each: (position, normal.x), (normal.yz, uv).
+    pub const SCENE_VERTICES: Binding = texels(0, 7, "scene_vertices", TexelFormat::Float4);
+    const _: () = {
+        use crate::gpu_types::Vertex;
+        assert!(
+            std::mem::offset_of!(Vertex, normal) == 12
+                && std::mem::offset_of!(Vertex, uv) == 24
+                && std::mem::size_of::<Vertex>() == 2 * TexelFormat::BYTES as usize
+        );
+    };
     pub const SCENE_INDICES: Binding = storage(0, 8, "SceneIndices");
     pub const VISIBLE_TRIANGLES: Binding = storage(0, 9, "VisibleTriangles");
     pub const PATCH_COUNTS: Binding = storage(0, 10, "PatchCounts");

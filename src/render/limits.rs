@@ -172,7 +172,7 @@ impl SceneSizes {
             buffer(
                 "scene vertices",
                 data(self.vertices, size_of::<Vertex>()),
-                StorageBuffer,
+                TexelBuffer,
                 self.vertices,
                 "vertices",
             ),

@@ -12,8 +12,9 @@ use std::sync::Arc;
 /// The per-scene buffers. Every one is in `SceneSizes::buffers` (limits.rs), which
 /// `limits::check` checks before they are created.
 pub(super) struct SceneBuffers {
-    /// The meshes' and the emitters' vertices; storage too: the deferred pass fetches
-    /// triangles by id, and the compute placement pulls its patches' vertices.
+    /// The meshes' and the emitters' vertices; a texel buffer too (two texels a vertex): the
+    /// deferred pass fetches triangles by id, the compute placement pulls its patches'
+    /// vertices and its pre-pass estimates from them.
     pub vertices: Buffer,
     pub indices: Buffer,
     /// Per triangle of the meshes: its 12-index adjacency patch (`Placement::Tcs` draws).
@@ -37,7 +38,7 @@ impl SceneBuffers {
         let vertices = Buffer::with_data(
             context,
             "scene vertices",
-            vk::BufferUsageFlags::VERTEX_BUFFER | vk::BufferUsageFlags::STORAGE_BUFFER,
+            vk::BufferUsageFlags::VERTEX_BUFFER | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
             &geometry.vertices,
         )?;
         let indices = Buffer::with_data(

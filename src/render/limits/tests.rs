@@ -122,21 +122,24 @@ fn textures_with_more_mip_levels_than_their_size_allows_are_refused() {
 
 #[test]
 fn buffers_beyond_the_storage_range_are_refused_naming_the_buffer() {
-    // 1 MiB holds 32768 vertices of 32 bytes, which overflow first (the neighbours and the
-    // corners, 16 and 48 bytes a triangle, are texel buffers).
+    // 1 MiB holds 65536 entries of 16 bytes a triangle, which overflow first (the vertices,
+    // the neighbours and the corners are texel buffers).
     let limits = DeviceLimits { max_storage_buffer_range: MIB, ..limits() };
-    check(scene(), &sizes(16384), &limits).expect("32768 vertices: exactly 1 MiB");
-    let message = refused(&sizes(16385), &limits, "maxStorageBufferRange (1.0 MiB)");
-    assert!(message.contains("\"scene vertices\" of its 32770 vertices (1.0 MiB)"), "{message}");
+    check(scene(), &sizes(65536), &limits).expect("65536 triangles: exactly 1 MiB");
+    let message = refused(&sizes(65537), &limits, "maxStorageBufferRange (1.0 MiB)");
+    assert!(message.contains("\"interpolated patch draws\" of its 65537 triangles"), "{message}");
 }
 
 #[test]
 fn texel_buffers_beyond_the_texel_count_are_refused_naming_the_buffer() {
-    // The corners take three texels a triangle, the neighbours one.
+    // The corners take three texels a triangle, the neighbours one, a vertex two.
     let limits = DeviceLimits { max_texel_buffer_elements: 3000, ..limits() };
-    check(scene(), &sizes(1000), &limits).expect("3000 corner texels: exactly the limit");
-    let message = refused(&sizes(1001), &limits, "maxTexelBufferElements (3000)");
+    let few_vertices = |triangles| SceneSizes { vertices: 100, ..sizes(triangles) };
+    check(scene(), &few_vertices(1000), &limits).expect("3000 corner texels: exactly the limit");
+    let message = refused(&few_vertices(1001), &limits, "maxTexelBufferElements (3000)");
     assert!(message.contains("\"triangle corners\" of its 1001 triangles (3003 texels)"), "{message}");
+    let message = refused(&SceneSizes { vertices: 1501, ..sizes(10) }, &limits, "maxTexelBufferElements");
+    assert!(message.contains("\"scene vertices\" of its 1501 vertices (3002 texels)"), "{message}");
 }
 
 #[test]
