@@ -441,7 +441,7 @@ fn local_size_x_ids(words: &[u32]) -> Vec<u32> {
 fn declared_interface(words: &[u32]) -> Declared {
     let mut names = HashMap::new();
     let (mut sets, mut bindings, mut spec_ids) = (HashMap::new(), HashMap::new(), Vec::new());
-    let (mut pointers, mut sampled_images, mut variables) = (HashMap::new(), HashMap::new(), Vec::new());
+    let (mut pointers, mut sampled_images, mut variables) = (HashMap::new(), HashSet::new(), Vec::new());
     // Per image type: whether it is a buffer's texels, and its texels' format where it is.
     let (mut images, mut scalar_kinds) = (HashMap::new(), HashMap::new());
     for (opcode, operands) in instructions(words) {
@@ -469,7 +469,7 @@ fn declared_interface(words: &[u32]) -> Declared {
                 images.insert(operands[0], (operands[2] == DIM_BUFFER, operands[1]));
             }
             OP_TYPE_SAMPLED_IMAGE => {
-                sampled_images.insert(operands[0], operands[1]);
+                sampled_images.insert(operands[0]);
             }
             OP_VARIABLE => variables.push((operands[1], operands[0], operands[2])),
             _ => {}
@@ -484,9 +484,9 @@ fn declared_interface(words: &[u32]) -> Declared {
             STORAGE_CLASS_STORAGE_BUFFER => (Some(DescriptorKind::StorageBuffer), name_of(&pointee)),
             // A texel buffer's variable is of its image type, a sampler's of a sampled image.
             STORAGE_CLASS_UNIFORM_CONSTANT => {
-                let kind = match (sampled_images.get(&pointee), images.get(&pointee)) {
-                    (Some(_), _) => Some(DescriptorKind::CombinedImageSampler),
-                    (None, Some(&(true, sampled_type))) => scalar_kinds
+                let kind = match (sampled_images.contains(&pointee), images.get(&pointee)) {
+                    (true, _) => Some(DescriptorKind::CombinedImageSampler),
+                    (false, Some(&(true, sampled_type))) => scalar_kinds
                         .get(&sampled_type)
                         .map(|&format| DescriptorKind::UniformTexelBuffer(format)),
                     _ => None,

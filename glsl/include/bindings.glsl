@@ -198,8 +198,9 @@ uint patch_list(bool fallback) {
     return PATCH_LISTS * draw.mesh_index + (fallback ? FALLBACK_LIST : INTERPOLATED_LIST);
 }
 
-// Vertex `vertex`'s position, normal and uv, from its two texels of scene_vertices (a lane
-// fetches each once: the compiler merges equal fetches).
+// Vertex `vertex`'s position, normal and uv, from its two texels of scene_vertices (a caller
+// that reads all three asks for each texel twice; the driver's compiler, which inlines these,
+// can merge the equal fetches).
 vec3 scene_position(uint vertex) {
     return texelFetch(scene_vertices, int(2u * vertex)).xyz;
 }
