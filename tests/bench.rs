@@ -25,6 +25,7 @@ fn bench_writes_complete_rows_plots_images_and_a_capture() {
         .args(["--min-estimated-area", "0,auto"])
         .args(["--resolution", "256x192", "--frames", &frames, "--warmup", "1", "--images"])
         .args(["--out", out.to_str().unwrap(), "--capture", capture.to_str().unwrap(), "--draw-parts"])
+        .arg("--pre-pass-steps")
         .env_remove("DISPLAY")
         .output()
         .expect("run multirate bench");

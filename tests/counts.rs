@@ -167,6 +167,10 @@ fn level_one_patches_skip_the_tessellator_and_shade_their_corners() {
     let measured = renderer.measure(&target, &view, 0, 1).expect("measure");
     let stats = measured.statistics.expect("statistics");
     assert_eq!(stats.tessellation_control_patches, tessellated, "only the other patches are tessellated");
+    // Timed as a user's frame runs: the pre-pass whole, its steps only where asked
+    // (`MeasureOptions::pre_pass_steps`: their timestamps flush lavapipe's work).
+    assert_eq!(measured.pre_pass.len(), 1, "the frame ran its pre-pass");
+    assert!(measured.pre_pass_steps.is_empty(), "{:?}", measured.pre_pass_steps);
     let counted = renderer.count_evaluations(&target, &view).expect("count");
     let flat_only = View { estimator: EstimatorSettings { epsilon: 1e3, ..view.estimator }, ..view.clone() };
     let all_flat = renderer.record_levels(&target, &flat_only).expect("levels at a large ε");

@@ -86,6 +86,8 @@ pub fn calibrate(
         // What every frame costs: the camera still, each frame estimating for its own eye.
         orbit_degrees: 0.0,
         draw_parts: false,
+        // The estimator step's time is the estimate's cost.
+        pre_pass_steps: true,
         eye_ball_share: 0.0,
     };
     // Every triangle per pixel: ε 0, which the range class never settles, and an area floor

@@ -61,6 +61,9 @@ pub struct BenchConfig {
     /// Whether each part of the draws is timed apart (`MeasureOptions::draw_parts`): the frames
     /// are then slower by the split renderings.
     pub draw_parts: bool,
+    /// Whether each step of the pre-pass is timed apart (`MeasureOptions::pre_pass_steps`): the
+    /// frames are then slower by the flushes of the timestamps between the steps.
+    pub pre_pass_steps: bool,
     /// multirate: the radius of the ball of eyes its levels hold for and are kept in, as a share
     /// of the camera's distance to its target (`View`'s `EYE_BALL_SHARE`; 0: every frame
     /// estimates for its own eye).
@@ -75,6 +78,7 @@ impl BenchConfig {
             frames: self.frames,
             orbit_degrees: self.orbit_degrees,
             draw_parts: self.draw_parts,
+            pre_pass_steps: self.pre_pass_steps,
         }
     }
 }
@@ -370,6 +374,8 @@ pub struct Schedule {
     pub orbit_degrees: f32,
     /// Whether each part of the draws is timed apart (`MeasureOptions::draw_parts`).
     pub draw_parts: bool,
+    /// Whether each step of the pre-pass is timed apart (`MeasureOptions::pre_pass_steps`).
+    pub pre_pass_steps: bool,
 }
 
 /// Times `views` (one scene at one resolution) in turns: each configuration in order renders
@@ -397,7 +403,11 @@ pub fn measure_in_turns(
         let warmup = if turn == 0 { schedule.warmup } else { schedule.warmup.min(1) };
         for (view, measurement) in views.iter().zip(&mut measurements) {
             let turn = CameraTurn { degrees_per_frame: schedule.orbit_degrees, first_measured: measured };
-            let options = MeasureOptions { turn, draw_parts: schedule.draw_parts };
+            let options = MeasureOptions {
+                turn,
+                draw_parts: schedule.draw_parts,
+                pre_pass_steps: schedule.pre_pass_steps,
+            };
             let part = renderer.measure_with(target, view, warmup, frames, options)?;
             measurement.frames.extend(part.frames);
             measurement.pre_pass.extend(part.pre_pass);

@@ -74,6 +74,11 @@ pub struct BenchArgs {
     /// compare its time with a run without.
     #[arg(long)]
     pub draw_parts: bool,
+    /// Time each step of the pre-pass apart (culling, range, estimate, refine, patches: the
+    /// `<step>_ms_median` columns). lavapipe flushes its work at each step's timestamps, which
+    /// slows the pre-pass: compare its time with a run without.
+    #[arg(long)]
+    pub pre_pass_steps: bool,
     /// multirate: the radius of the ball of eyes its levels hold for and are reused in while
     /// the eye stays in it, as a share of the camera's distance to its target (0: every frame
     /// estimates for its own eye).
@@ -108,6 +113,7 @@ pub fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
         min_estimated_areas: args.min_estimated_area.iter().map(|a| a.pixels()).collect(),
         orbit_degrees: args.orbit,
         draw_parts: args.draw_parts,
+        pre_pass_steps: args.pre_pass_steps,
         eye_ball_share: args.eye_ball,
     };
     std::fs::create_dir_all(&args.out).with_context(|| format!("{}: cannot create", args.out.display()))?;

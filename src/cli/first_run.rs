@@ -55,7 +55,13 @@ fn first_run(gpu: &GpuArgs) -> Result<()> {
     let views = [multirate.clone(), pixel.clone()];
     let mut medians = Vec::new();
     for orbit_degrees in [0.0, TURN_DEGREES] {
-        let schedule = bench::Schedule { warmup: 2, frames: FRAMES, orbit_degrees, draw_parts: false };
+        let schedule = bench::Schedule {
+            warmup: 2,
+            frames: FRAMES,
+            orbit_degrees,
+            draw_parts: false,
+            pre_pass_steps: false,
+        };
         let measurements = bench::measure_in_turns(&renderer, &target, &views, schedule, &mut |_| {})?;
         let [multirate_ms, pixel_ms] = [0, 1].map(|k| bench::Timing::of(&measurements[k].gpu_ms()).median);
         medians.push((orbit_degrees, multirate_ms, pixel_ms));

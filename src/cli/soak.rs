@@ -239,6 +239,7 @@ fn soak_bench(args: &SoakArgs, options: &ContextOptions) -> Result<Soak> {
         min_estimated_areas: Vec::new(),
         orbit_degrees: 0.0,
         draw_parts: false,
+        pre_pass_steps: false,
         eye_ball_share: EYE_BALL_SHARE,
     };
     let bar = progress_bar();

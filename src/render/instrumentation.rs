@@ -25,8 +25,9 @@ pub struct Measurement {
     /// estimator, refining, patch; part of the frame) ran, in every measured frame that ran it (not those
     /// whose meshes were all drawn as `pixel` does); empty otherwise.
     pub pre_pass: Vec<GpuInterval>,
-    /// `Placement::Compute`: when each of its steps ran (`PrePassStep::ALL`'s order), in every
-    /// measured frame; empty otherwise.
+    /// `Placement::Compute` where its steps are timed ([`MeasureOptions::pre_pass_steps`]): when
+    /// each of them ran (`PrePassStep::ALL`'s order), in every measured frame that ran it; empty
+    /// otherwise.
     pub pre_pass_steps: Vec<[GpuInterval; PRE_PASS_STEPS]>,
     /// Where the draws' parts were timed ([`MeasureOptions::draw_parts`]): per measured frame, the
     /// milliseconds of each part (`DrawPart::ALL`'s order), summed over the meshes; empty
@@ -39,8 +40,9 @@ pub struct Measurement {
     pub drawn_as_pixel: Option<u32>,
 }
 
-/// How frames are measured besides their number: the camera's turn, and whether each part of
-/// the draws is timed apart.
+/// How frames are measured besides their number: the camera's turn, and whether the pre-pass's
+/// steps and each part of the draws are timed apart. By default a frame is timed as a user's
+/// frame runs: a timestamp at its start and end, and the pre-pass's two.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct MeasureOptions {
     pub turn: CameraTurn,
@@ -48,6 +50,10 @@ pub struct MeasureOptions {
     /// split at every part's start and end (lavapipe takes no timestamp inside a rendering),
     /// which makes the frame itself slower: compare its time with a run without.
     pub draw_parts: bool,
+    /// Time each step of the pre-pass apart. lavapipe flushes its queued work at a timestamp of
+    /// any stage after the top of the pipe, which a step's end needs: the timestamps between
+    /// the steps slow the pre-pass (`docs/frame_time.md`), which a user's frame does not pay.
+    pub pre_pass_steps: bool,
 }
 
 /// The camera turning about its target while frames are measured: `degrees_per_frame` about its
@@ -181,7 +187,7 @@ pub(super) fn measure(
     // written).
     let pre_pass = view.mode == Mode::Multirate && view.placement == Placement::Compute;
     let draw_passes = (renderer.mesh_count() * DRAW_PARTS) as u32;
-    let passes = match (options.draw_parts, pre_pass) {
+    let passes = match (options.draw_parts, pre_pass && options.pre_pass_steps) {
         (true, _) => FIRST_DRAW_PASS + draw_passes,
         (false, true) => 2 + PRE_PASS_STEPS as u32,
         (false, false) => 2,
@@ -211,8 +217,10 @@ pub(super) fn measure(
                 // The pre-pass's times are those of the frames that ran it.
                 if ran_pre_pass {
                     measurement.pre_pass.push(intervals[1]);
-                    let steps = PrePassStep::ALL.map(|step| intervals[Timed::Step(step).pass() as usize]);
-                    measurement.pre_pass_steps.push(steps);
+                    if options.pre_pass_steps {
+                        let steps = PrePassStep::ALL.map(|step| intervals[Timed::Step(step).pass() as usize]);
+                        measurement.pre_pass_steps.push(steps);
+                    }
                 }
                 if options.draw_parts {
                     let mut parts = [0.0; DRAW_PARTS];
@@ -267,7 +275,8 @@ pub(super) fn measure(
                 let pass = timed.pass();
                 match timed {
                     Timed::PrePass => timer.timestamp(cmd, slot, pass, end),
-                    Timed::Step(_) => timer.settled_timestamp(cmd, slot, pass, end),
+                    Timed::Step(_) if options.pre_pass_steps => timer.settled_timestamp(cmd, slot, pass, end),
+                    Timed::Step(_) => return,
                     Timed::Draw { .. } if options.draw_parts => {
                         let device = &renderer.context().device;
                         target.pause(device, cmd);

@@ -79,6 +79,7 @@ pub(super) fn config(
         min_estimated_areas: Vec::new(),
         orbit_degrees: 0.0,
         draw_parts: false,
+        pre_pass_steps: false,
         eye_ball_share: EYE_BALL_SHARE,
     }
 }

@@ -62,13 +62,13 @@ fn trade(
     scenes: &[BenchScene],
     progress: &mut dyn FnMut(&str, Progress<'_>),
 ) -> Result<()> {
-    let mut both = config(options, vec![Mode::Vertex, Mode::Multirate], vec![plan.sweep, plan.table]);
-    both.min_estimated_areas = vec![None, Some(0.0)];
-    let rows = run(context, scenes, &both, &mut |p| progress("the trade's bounds", p))?.rows;
+    let mut model = config(options, vec![Mode::Vertex, Mode::Multirate], vec![plan.sweep, plan.table]);
+    model.min_estimated_areas = vec![None];
+    let rows = run_apart(context, scenes, &model, &mut |p| progress("the trade's bounds", p))?;
     write(&options.out.join("trade.csv"), &to_csv(&rows))?;
     bounds_table(md, &rows, plan.sweep, true);
     bounds_table(md, &rows, plan.table, false);
-    let turning = BenchConfig { orbit_degrees: TURN_DEGREES, ..both.clone() };
+    let turning = BenchConfig { orbit_degrees: TURN_DEGREES, ..model.clone() };
     let turning_rows =
         run(context, scenes, &turning, &mut |p| progress("the trade's bounds, turning", p))?.rows;
     write(&options.out.join("trade_turning.csv"), &to_csv(&turning_rows))?;
@@ -76,7 +76,7 @@ fn trade(
     turning_table(md, &rows, &turning_rows, plan.table, false);
     pre_pass_table(md, &rows, plan.sweep, scenes);
 
-    both.resolutions = vec![plan.sweep];
+    model.resolutions = vec![plan.sweep];
 
     let lit: Vec<BenchScene> = SWEEP_LIGHTS
         .iter()
@@ -85,10 +85,27 @@ fn trade(
             scene: lit_by(&scenes[0].scene, count),
         })
         .collect();
-    let sweep_rows = run(context, &lit, &both, &mut |p| progress("light-count sweep", p))?.rows;
+    let sweep_rows = run_apart(context, &lit, &model, &mut |p| progress("light-count sweep", p))?;
     write(&options.out.join("lights.csv"), &to_csv(&sweep_rows))?;
     light_sweep(md, &sweep_rows, plan.sweep);
     Ok(())
+}
+
+/// `model` (multirate with the cost model) and the same estimating every visible triangle, each in
+/// a run of its own beside `pixel` and `vertex`, the second run's rows of those two left out. Run in
+/// turns, the two would begin a ball of eyes at every turn (its key holds the resolved break-even
+/// area, `level_ball`) and estimate every visible triangle each time, which no user's frames do.
+fn run_apart(
+    context: &Arc<Context>,
+    scenes: &[BenchScene],
+    model: &BenchConfig,
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<Vec<Row>> {
+    let every = BenchConfig { min_estimated_areas: vec![Some(0.0)], ..model.clone() };
+    let mut rows = run(context, scenes, model, progress)?.rows;
+    let every_rows = run(context, scenes, &every, progress)?.rows;
+    rows.extend(every_rows.into_iter().filter(|r| r.mode == "multirate"));
+    Ok(rows)
 }
 
 fn find<'a>(rows: &'a [Row], of: &Row, mode: &str, cost_model: Option<bool>) -> Option<&'a Row> {
@@ -124,7 +141,7 @@ fn share(row: &Row) -> String {
 fn bounds_table(md: &mut String, rows: &[Row], (w, h): (u32, u32), explain: bool) {
     let title = format!("The trade's bounds: floor, ceiling and the share of the saving taken ({w}×{h})");
     let explanation = explain.then_some(
-            "`vertex` shades once per vertex: its time is the floor any shading-rate method can approach, and `pixel` over it the ceiling of the speedup. The share of the possible saving a mode takes is (t_pixel − t) / (t_pixel − t_vertex): 100 % at the floor, 0 at `pixel`'s time, below 0 where it is slower. The empty frame draws nothing visible (every triangle behind the eye). multirate runs with the device's cost model (images below the break-even area, \"estimated above\", are shaded per pixel without an estimate; the frame guard draws a frame as `pixel` does where that measured faster, \"as pixel\" counting such frames among those measured: its probes, or all) and, for comparison, estimating every visible triangle. Times in ms (pre-pass in brackets, over the frames that ran it).",
+            "`vertex` shades once per vertex: its time is the floor any shading-rate method can approach, and `pixel` over it the ceiling of the speedup. The share of the possible saving a mode takes is (t_pixel − t) / (t_pixel − t_vertex): 100 % at the floor, 0 at `pixel`'s time, below 0 where it is slower. The empty frame draws nothing visible (every triangle behind the eye). multirate runs with the device's cost model (images below the break-even area, \"estimated above\", are shaded per pixel without an estimate; the frame guard draws a frame as `pixel` does where that measured faster, \"as pixel\" counting such frames among those measured: its probes, or all) and, for comparison, estimating every visible triangle, in a run of its own (in turns, the two would begin a ball of eyes at each turn). Times in ms (pre-pass in brackets, over the frames that ran it).",
     );
     let columns = [
         "scene",
@@ -200,7 +217,7 @@ fn slower_verdict(md: &mut String, slower: &[String], when: &str) {
 fn turning_table(md: &mut String, still: &[Row], turning: &[Row], (w, h): (u32, u32), explain: bool) {
     let title = format!("The camera still and turning {TURN_DEGREES}° a frame ({w}×{h})");
     let explanation = format!(
-            "The camera turns about its target by {TURN_DEGREES}° a frame while the frames are timed (`bench --orbit {TURN_DEGREES}`), every configuration's measured frames at the same cameras: the eye leaves the ball of eyes every frame, so the pre-pass estimates every visible triangle each frame, as it does for a user who moves the camera. multirate with the cost model; times in ms (pre-pass in brackets); \"as pixel\" counts the turning frames the frame guard drew as `pixel` does."
+            "The camera turns about its target by {TURN_DEGREES}° a frame while the frames are timed (`bench --orbit {TURN_DEGREES}`), every configuration's measured frames at the same cameras. The eye leaves a ball of eyes of the configured radius in one frame; the ball that begins then is widened to hold the eye's next few steps, so the pre-pass estimates the visible triangles once every few frames, as it does for a user who moves the camera. multirate with the cost model; times in ms (pre-pass in brackets); \"as pixel\" counts the turning frames the frame guard drew as `pixel` does."
     );
     let columns = [
         "scene",
