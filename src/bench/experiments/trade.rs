@@ -214,7 +214,13 @@ fn slower_verdict(md: &mut String, slower: &[String], when: &str) {
 
 /// The camera still and turning [`TURN_DEGREES`] a frame side by side at one resolution, multirate
 /// with the cost model; `explain`: the columns' explanation before it.
-fn turning_table(md: &mut String, still: &[Row], turning: &[Row], (w, h): (u32, u32), explain: bool) {
+pub(super) fn turning_table(
+    md: &mut String,
+    still: &[Row],
+    turning: &[Row],
+    (w, h): (u32, u32),
+    explain: bool,
+) {
     let title = format!("The camera still and turning {TURN_DEGREES}° a frame ({w}×{h})");
     let explanation = format!(
             "The camera turns about its target by {TURN_DEGREES}° a frame while the frames are timed (`bench --orbit {TURN_DEGREES}`), every configuration's measured frames at the same cameras. The eye leaves a ball of eyes of the configured radius in one frame; the ball that begins then is widened to hold the eye's next few steps, so the pre-pass estimates the visible triangles once every few frames, as it does for a user who moves the camera. multirate with the cost model; times in ms (pre-pass in brackets); \"as pixel\" counts the turning frames the frame guard drew as `pixel` does."
@@ -234,12 +240,15 @@ fn turning_table(md: &mut String, still: &[Row], turning: &[Row], (w, h): (u32, 
     table_head(md, &title, explain.then_some(explanation.as_str()), &columns);
     let mut slower = Vec::new();
     for pixel in turning.iter().filter(|r| r.mode == "pixel" && (r.width, r.height) == (w, h)) {
-        let (Some((vertex, model, _)), Some(still_pixel)) =
-            (measured(turning, pixel), find(still, pixel, "pixel", None))
-        else {
+        // The turning run measures multirate with the cost model only.
+        let (Some(vertex), Some(model), Some(still_pixel)) = (
+            find(turning, pixel, "vertex", None),
+            find(turning, pixel, "multirate", Some(true)),
+            find(still, pixel, "pixel", None),
+        ) else {
             continue;
         };
-        let still_model = measured(still, still_pixel).map(|(_, model, _)| model);
+        let still_model = find(still, still_pixel, "multirate", Some(true));
         slower.extend(slower_than_pixel(model, pixel));
         let _ = writeln!(
             md,
