@@ -31,8 +31,9 @@ pub const REPROBE_EVERY: u32 = 120;
 pub const LONGEST_GAP: u32 = 16 * REPROBE_EVERY;
 /// A decision is decisive where the slower way took at least this many times the faster's.
 pub const DECISIVE: f64 = 1.25;
-/// Where the chosen way's time moves by more than this factor from what it was chosen on (the
-/// camera, the scene or the machine changed), the guard probes at once.
+/// Where each of the chosen way's latest [`PROBE_FRAMES`] frames took more than this factor times
+/// what the way was chosen on (and more than the other way took then), or each less than that
+/// time divided by it (the camera, the scene or the machine changed), the guard probes at once.
 pub const MOVED: f64 = 1.5;
 
 /// How a guarded `multirate` frame is drawn.
@@ -73,9 +74,11 @@ impl FramePath {
 ///
 /// A probe costs what the slower way costs more, and shows as a hitch in a window, so the gap
 /// to the next probe starts at [`REPROBE_EVERY`] frames and doubles (up to [`LONGEST_GAP`])
-/// each time a probe decisively ([`DECISIVE`]) confirms the choice. Where the chosen way's own
-/// time moves by more than [`MOVED`] from what it was chosen on, the next frame probes and the
-/// gap starts over.
+/// each time a probe decisively ([`DECISIVE`]) confirms the choice. Where the chosen way's
+/// latest [`PROBE_FRAMES`] frames all moved by more than [`MOVED`] from what it was chosen on,
+/// the same way, and, slower, beyond what the other way took then (before that the choice still
+/// holds unless the other way sped up, which the next probe finds), the next frame probes and
+/// the gap starts over; a single frame never does.
 #[derive(Clone, Debug)]
 pub struct PathGuard {
     choice: FramePath,
@@ -91,6 +94,8 @@ pub struct PathGuard {
     probed: u32,
     /// The chosen way's fastest recent time when the last decision chose it.
     chosen_ms: Option<f64>,
+    /// The other way's fastest recent time at that decision.
+    beaten_ms: f64,
     decided: bool,
 }
 
@@ -104,6 +109,7 @@ impl Default for PathGuard {
             recent: [Vec::new(), Vec::new()],
             probed: 0,
             chosen_ms: None,
+            beaten_ms: 0.0,
             decided: false,
         }
     }
@@ -140,9 +146,14 @@ impl PathGuard {
         }
         recent.push(gpu_ms);
         if path == self.choice {
-            let now = fastest(&self.recent[path.index()]);
-            let moved = self.chosen_ms.is_some_and(|then| now > then * MOVED || now * MOVED < then);
-            if moved && self.recent[path.index()].len() == PROBE_FRAMES as usize && self.probe_left == 0 {
+            let recent = &self.recent[path.index()];
+            // Every one of the latest frames beyond the factor, the same way: one frame slowed by
+            // the machine, or sped up by a frame that reused its levels, is not a move.
+            // Slower counts only where it may have lost: beyond what the other way took then.
+            let moved = self.chosen_ms.is_some_and(|then| {
+                fastest(recent) > (then * MOVED).max(self.beaten_ms) || slowest(recent) * MOVED < then
+            });
+            if moved && recent.len() == PROBE_FRAMES as usize && self.probe_left == 0 {
                 self.until_probe = 0;
                 self.gap = REPROBE_EVERY;
                 self.chosen_ms = None;
@@ -164,6 +175,7 @@ impl PathGuard {
             self.probe_left = 0;
             self.until_probe = self.gap;
             self.chosen_ms = Some(multirate.min(pixel));
+            self.beaten_ms = multirate.max(pixel);
             self.probed = 0;
             self.decided = true;
         }
@@ -183,6 +195,11 @@ impl PathGuard {
 /// The fastest of `times` (infinite where there are none).
 fn fastest(times: &[f64]) -> f64 {
     times.iter().copied().fold(f64::INFINITY, f64::min)
+}
+
+/// The slowest of `times` (zero where there are none).
+fn slowest(times: &[f64]) -> f64 {
+    times.iter().copied().fold(0.0, f64::max)
 }
 
 /// The key of a frame of `view` in the multirate configuration `config`, or None where the guard

@@ -193,3 +193,32 @@ fn guards_are_kept_per_configuration_and_not_per_camera() {
     assert_eq!(guards.of(other).choice(), FramePath::Multirate, "a new configuration starts afresh");
     assert_eq!(guards.of(key).choice(), FramePath::Pixel, "the first keeps its choice");
 }
+
+#[test]
+fn only_a_lasting_change_that_may_flip_the_choice_sets_off_a_probe() {
+    let mut guard = PathGuard::default();
+    run(&mut guard, REPROBE_EVERY as usize, 0, |p| if p == FramePath::Multirate { 10.0 } else { 30.0 });
+    assert_eq!(guard.choice(), FramePath::Multirate);
+    let mut frames = |times: &[f64]| -> Vec<FramePath> {
+        times
+            .iter()
+            .map(|&ms| {
+                let path = guard.next_frame();
+                guard.record(path, ms);
+                path
+            })
+            .collect()
+    };
+    // A frame much faster (it reused its levels) or much slower (the machine was busy) than the
+    // rest, each among frames as before: no probe.
+    let odd = frames(&[10.0, 4.0, 10.0, 10.0, 40.0, 10.0, 10.0, 10.0]);
+    assert!(odd.iter().all(|&p| p == FramePath::Multirate), "{odd:?}");
+    // Slower by more than the factor, but faster than pixel was when multirate won: no probe.
+    let slower = frames(&[25.0; 2 * PROBE_FRAMES as usize]);
+    assert!(slower.iter().all(|&p| p == FramePath::Multirate), "{slower:?}");
+    frames(&[10.0; PROBE_FRAMES as usize]);
+    // Every frame of the latest three faster by more than the factor: the next frame probes.
+    let lasting = frames(&[10.0 / (MOVED + 0.5); PROBE_FRAMES as usize]);
+    assert!(lasting.iter().all(|&p| p == FramePath::Multirate), "{lasting:?}");
+    assert_eq!(guard.next_frame(), FramePath::Pixel, "a lasting change probes at once");
+}
