@@ -37,7 +37,7 @@ void main() {
     vec3 p2 = triangle_corner(triangle, 2u);
     if (patch_culled(p0, p1, p2)) {
         triangle_levels[triangle] = CULLED_LEVEL;
-        write_flat_corners(triangle, false, false);
+        write_flat_corners(triangle, false);
         if (COUNT_EVALUATIONS) {
             atomicAdd(counters.culled_patches, 1u);
         }

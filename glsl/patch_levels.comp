@@ -5,9 +5,9 @@
 // triangle_levels.comp) into the tessellation levels of its patch (estimator/patch_levels.glsl,
 // `patch_levels`), writes them to patch_tess_levels, and puts the triangle where its draw finds
 // it (bindings.glsl): a flat patch (all levels 1, drawn without tessellation) in the flat
-// patches' index buffers, or the flat list where its mesh's parameter map keeps it from
-// flat_indices; a tessellated one in the interpolated or the fallback list, counting it into the
-// indirect draw that covers its slot. A back face of a two-sided mesh goes to a list
+// patches' index buffers (appended to fallback_indices where it is shaded per pixel), or the
+// flat list where its mesh's parameter map keeps it from flat_indices; a tessellated one in the
+// interpolated or the fallback list, counting it into the indirect draw that covers its slot. A back face of a two-sided mesh goes to a list
 // only where a neighbour's edge is tessellated (its outer levels must match it): the others are
 // drawn by the mesh's back-face draw, as `pixel` mode draws them (`Renderer::record_mesh`). The
 // control stage (multirate_levels.tesc) only reads the levels.
@@ -57,21 +57,25 @@ void main() {
     if (VARIANT_RECORD_LEVELS != 0) {
         level_records[triangle] = level_record(levels);
     }
-    // A patch that is its own triangle needs no tessellator. Shaded per pixel, it is drawn from
-    // fallback_indices, and shaded on its corners without a parameter map from flat_indices, in
-    // the mesh's order (every visible triangle writes its words there); otherwise from the flat
-    // list. A back face's is drawn by the back-face draw.
+    // A patch that is its own triangle needs no tessellator. Shaded per pixel, it is appended to
+    // fallback_indices; shaded on its corners without a parameter map, it is drawn from
+    // flat_indices in the mesh's order (every visible triangle writes its words there), otherwise
+    // from the flat list. A back face's is drawn by the back-face draw.
     bool flat_patch = levels.inner <= 1.0 && all(lessThanEqual(levels.outer, vec3(1.0)));
-    write_flat_corners(triangle, flat_patch && !levels.fallback, flat_patch && levels.fallback && !back_face);
+    write_flat_corners(triangle, flat_patch && !levels.fallback);
     if (flat_patch) {
-        bool indexed = levels.fallback || (draw.flags & FLAG_SHARED_CORNERS) != 0u;
-        if (back_face || indexed) {
+        if (back_face || (!levels.fallback && (draw.flags & FLAG_SHARED_CORNERS) != 0u)) {
             return;
         }
-        uint entry = atomicAdd(flat_draws[draw.mesh_index].x, 3u) / 3u;
+        if (levels.fallback) {
+            append_fallback_flat(triangle);
+            return;
+        }
+        uint command = FLAT_DRAW_WORDS * draw.mesh_index + FLAT_LIST_DRAW;
+        uint entry = atomicAdd(flat_draws[command], 3u) / 3u;
         flat_patches[draw.patch_base + entry] = triangle;
         if (entry == 0u) {
-            flat_draws[draw.mesh_index].y = 1u;
+            flat_draws[command + 1u] = 1u;
         }
         return;
     }

@@ -181,6 +181,10 @@ fn level_one_patches_skip_the_tessellator_and_shade_their_corners() {
     );
     let stats = renderer.measure(&target, &flat_only, 0, 1).expect("measure").statistics.expect("statistics");
     assert_eq!(stats.tessellation_control_patches, 0, "no patch reaches the tessellator");
+    // Nor is any shaded per pixel: the per-pixel path draws only the flat patches the pre-pass
+    // appended for it, none here, so the frame's one draw is the flat patches' over the mesh.
+    let mesh_triangles = (scene.meshes[0].indices.len() / 3) as u64;
+    assert_eq!(stats.input_assembly_primitives, mesh_triangles, "{stats:?}");
     // The bunny has no parameter map: its flat patches are one indexed draw of the mesh, so a
     // vertex that visible triangles share is shaded once or a few times (the device reuses
     // vertices within a batch), never less than once, and the same number every frame.

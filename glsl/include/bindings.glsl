@@ -97,13 +97,15 @@ layout(set = 0, binding = 16, std430) buffer FallbackDraws { uvec4 fallback_draw
 // Per mesh, a third list: the visible triangles whose patch is the triangle itself (inner and
 // outer levels all 1), drawn without tessellation. Those shaded on their corners, where the
 // mesh's material has a parameter map (otherwise flat_indices, below), are listed from the
-// mesh's first triangle on and drawn by flat_draws[draw.mesh_index] (vertexCount = 3 per
-// triangle, counted as they are listed; the host zeroes it, and the first entry sets
-// instanceCount to 1). Those shaded per pixel are drawn from fallback_indices (below).
+// mesh's first triangle on and drawn by the mesh's FLAT_LIST_DRAW in flat_draws
+// (a VkDrawIndirectCommand: vertexCount = 3 per triangle, counted as they are listed; the host
+// zeroes it, and the first entry sets instanceCount to 1). Those shaded per pixel are drawn from
+// fallback_indices (below) by its FALLBACK_FLAT_DRAW (a VkDrawIndexedIndirectCommand, likewise;
+// the first entry also sets firstIndex). flat_draws holds FLAT_DRAW_WORDS words per mesh.
 // multirate_flat.vert shades the corners as the evaluation stage would, or, in the per-pixel
 // draw (FLAG_FALLBACK_PATCHES), passes them on for multirate.frag to shade.
 layout(set = 0, binding = 17, std430) buffer FlatPatches { uint flat_patches[]; };
-layout(set = 0, binding = 18, std430) buffer FlatDraws { uvec4 flat_draws[]; };
+layout(set = 0, binding = 18, std430) buffer FlatDraws { uint flat_draws[]; };
 // Per mesh, the pre-pass's five indirect dispatches and the lengths of their lists
 // (`VkDispatchIndirectCommand` in xyz, the length in w; the host resets each to (0, 1, 1, 0)):
 // level_dispatch(RANGE_DISPATCH) of the range step, one workgroup per PRE_PASS_GROUP
@@ -139,12 +141,14 @@ layout(set = 0, binding = 22, std430) writeonly buffer FlatIndices { uint flat_i
 // current ball (the patch step keeps each estimated triangle's), 0 where none yet: the culling
 // step reuses it where draw.flags has FLAG_REUSE_LEVELS. The host zeroes it when a ball begins.
 layout(set = 0, binding = 23, std430) buffer EstimatedLevels { float estimated_levels[]; };
-// Every mesh's flat patches shaded per pixel, as flat_indices holds those shaded on their
-// corners (three words per scene triangle, SKIPPED_VERTEX where the triangle is not one): both
-// passes of the per-pixel path draw them indexed, each vertex transformed once as far as the
-// device reuses vertices, where pulling them from a list would transform it once per triangle.
-// Whatever the material: nothing is shaded on their corners. The culling step writes the culled
-// triangles' words, the patch step the others'.
+// Every mesh's flat patches shaded per pixel, compacted: the patch step appends each one's three
+// vertices from the mesh's first index on, and lists the triangle in fallback_patches from the
+// end of the mesh's range down (the k-th appended at draw.patch_base + draw.triangle_count - 1 -
+// k, below the tessellated fallback patches listed from the start; write_triangle_id reads it).
+// Both passes of the per-pixel path draw them indexed (FALLBACK_FLAT_DRAW in flat_draws), each
+// vertex transformed once as far as the device reuses vertices, where pulling them from a list
+// would transform it once per triangle; a draw covers only those triangles, and none where the
+// mesh has none. Whatever the material: nothing is shaded on their corners.
 layout(set = 0, binding = 24, std430) writeonly buffer FallbackIndices { uint fallback_indices[]; };
 // Per triangle of the meshes, its corners' positions, a texel each (xyz, w 1; triangle_corner):
 // the culling step reads them in 3 fetches where the indices and the vertices take 12 loads. On
@@ -160,18 +164,15 @@ const uint SKIPPED_VERTEX = 16777215u;
 // (`BACK_FACE_ENTRY` in Rust): the triangle's index with bit 31 set.
 const uint BACK_FACE_ENTRY = 2147483648u;
 
-// Scene triangle `triangle`'s words of the flat patches' index buffers: of flat_indices, where
-// the draw's mesh is drawn from them (FLAG_SHARED_CORNERS), its vertices where `on_corners` (a
-// flat patch shaded on its corners); of fallback_indices, its vertices where `per_pixel` (a flat
-// patch shaded per pixel); SKIPPED_VERTEX elsewhere.
-void write_flat_corners(uint triangle, bool on_corners, bool per_pixel) {
-    bool shared_corners = (draw.flags & FLAG_SHARED_CORNERS) != 0u;
+// Scene triangle `triangle`'s words of flat_indices, where the draw's mesh is drawn from them
+// (FLAG_SHARED_CORNERS): its vertices where `on_corners` (a flat patch shaded on its corners),
+// SKIPPED_VERTEX elsewhere.
+void write_flat_corners(uint triangle, bool on_corners) {
+    if ((draw.flags & FLAG_SHARED_CORNERS) == 0u) {
+        return;
+    }
     for (uint corner = 0u; corner < 3u; corner++) {
-        uint vertex = scene_indices[3u * triangle + corner];
-        if (shared_corners) {
-            flat_indices[3u * triangle + corner] = on_corners ? vertex : SKIPPED_VERTEX;
-        }
-        fallback_indices[3u * triangle + corner] = per_pixel ? vertex : SKIPPED_VERTEX;
+        flat_indices[3u * triangle + corner] = on_corners ? scene_indices[3u * triangle + corner] : SKIPPED_VERTEX;
     }
 }
 
@@ -188,6 +189,27 @@ const uint FALLBACK_LIST = 1u;
 const uint PATCH_COUNT_WORDS = 2u;
 const uint LISTED_PATCHES = 0u;
 const uint OPENED_DRAWS = 1u;
+
+const uint FLAT_DRAW_WORDS = 12u;
+const uint FLAT_LIST_DRAW = 0u;
+const uint FALLBACK_FLAT_DRAW = 4u;
+
+// Appends scene triangle `triangle`, a flat patch shaded per pixel, to its mesh's part of
+// fallback_indices and fallback_patches, and counts it into the mesh's FALLBACK_FLAT_DRAW.
+void append_fallback_flat(uint triangle) {
+    uint command = FLAT_DRAW_WORDS * draw.mesh_index + FALLBACK_FLAT_DRAW;
+    uint appended = atomicAdd(flat_draws[command], 3u) / 3u;
+    uint first_index = 3u * draw.patch_base;
+    for (uint corner = 0u; corner < 3u; corner++) {
+        fallback_indices[first_index + 3u * appended + corner] = scene_indices[3u * triangle + corner];
+    }
+    fallback_patches[draw.patch_base + draw.triangle_count - 1u - appended] = triangle;
+    if (appended == 0u) {
+        // instanceCount and firstIndex; vertexOffset and firstInstance stay the host's zeros.
+        flat_draws[command + 1u] = 1u;
+        flat_draws[command + 2u] = first_index;
+    }
+}
 
 uint level_dispatch(uint which) {
     return LEVEL_DISPATCHES * draw.mesh_index + which;

@@ -10,10 +10,15 @@
 layout(location = 1) out uint out_triangle_id;
 
 // Writes the id of scene triangle `triangle`, as the stage before passed it on; where that was
-// ID_FROM_PRIMITIVE (an indexed draw), the id of the draw's gl_PrimitiveID-th triangle.
+// ID_FROM_PRIMITIVE (an indexed draw), the id of the draw's gl_PrimitiveID-th triangle: of the
+// mesh, or in the draw of the flat patches shaded per pixel (FLAG_FALLBACK_PATCHES), of those
+// appended to fallback_indices (bindings.glsl).
 void write_triangle_id(uint triangle) {
     if (triangle == ID_FROM_PRIMITIVE) {
-        triangle = draw.patch_base + uint(gl_PrimitiveID);
+        uint primitive = uint(gl_PrimitiveID);
+        triangle = (draw.flags & FLAG_FALLBACK_PATCHES) != 0u
+            ? fallback_patches[draw.patch_base + draw.triangle_count - 1u - primitive]
+            : draw.patch_base + primitive;
     }
     out_triangle_id = triangle + 1u;
 }

@@ -3,8 +3,9 @@
 //!
 //! Each mesh has [`LEVEL_DISPATCHES`] indirect dispatches in `LevelDispatches`, one per step
 //! that runs over the triangles an earlier step listed, and [`PATCH_LISTS`] lists of patches:
-//! the count of each and of its draws in `PatchCounts`, the flat triangles' draw of each in `FlatDraws`, and
-//! `InterpolatedDraws` and `FallbackDraws` for the tessellated ones.
+//! the count of each and of its draws in `PatchCounts`, the flat triangles' draw of each in
+//! `FlatDraws` ([`FLAT_DRAW_WORDS`] words a mesh), and `InterpolatedDraws` and `FallbackDraws`
+//! for the tessellated ones.
 
 use super::named_constants::named_constants;
 
@@ -42,6 +43,16 @@ named_constants! {
     /// A list's word in `PatchCounts` that counts the indirect draws its patches open: the
     /// count of its `vkCmdDrawIndirectCount` draw.
     OPENED_DRAWS = 1;
+    /// Words per mesh in `FlatDraws`: the flat list's `VkDrawIndirectCommand` at
+    /// [`FLAT_LIST_DRAW`], the per-pixel flat patches' `VkDrawIndexedIndirectCommand` at
+    /// [`FALLBACK_FLAT_DRAW`], padded to whole 16-byte words.
+    FLAT_DRAW_WORDS = 12;
+    /// A mesh's first word in `FlatDraws` of its flat list's draw (its flat patches shaded on
+    /// their corners, where they are listed).
+    FLAT_LIST_DRAW = 0;
+    /// A mesh's first word in `FlatDraws` of the indexed draw of its flat patches shaded per
+    /// pixel, compacted in `FallbackIndices` from the mesh's first index on.
+    FALLBACK_FLAT_DRAW = 4;
     /// The vertex index of no vertex in `FlatIndices`, 2^24 - 1 (Vulkan's least
     /// `maxDrawIndexedIndexValue`): a triangle that is not a flat patch shaded on its corners
     /// is this index three times. `render::limits` refuses scenes with more vertices.

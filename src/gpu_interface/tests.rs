@@ -55,6 +55,18 @@ fn slots_lie_within_their_counts() {
 }
 
 #[test]
+fn a_mesh_s_flat_draws_do_not_overlap_and_fill_whole_vectors() {
+    let word = std::mem::size_of::<u32>();
+    let list = slots::FLAT_LIST_DRAW as usize..slots::FLAT_LIST_DRAW as usize
+        + std::mem::size_of::<ash::vk::DrawIndirectCommand>() / word;
+    let fallback = slots::FALLBACK_FLAT_DRAW as usize..slots::FALLBACK_FLAT_DRAW as usize
+        + std::mem::size_of::<ash::vk::DrawIndexedIndirectCommand>() / word;
+    assert!(list.end <= fallback.start || fallback.end <= list.start);
+    assert!(list.end.max(fallback.end) <= slots::FLAT_DRAW_WORDS as usize);
+    assert_eq!(slots::FLAT_DRAW_WORDS % 4, 0, "a mesh's draws begin on a uvec4");
+}
+
+#[test]
 fn resources_are_put_in_binding_order_whatever_order_they_are_given_in() {
     let given =
         [(forward::PARAMETER_PYRAMID, 'c'), (forward::ALBEDO_MAP, 'a'), (forward::PARAMETER_MAP, 'b')];

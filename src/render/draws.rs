@@ -15,11 +15,11 @@ use super::view::View;
 use crate::analysis::tessellator::uniform_vertex_count;
 use crate::gpu_interface::flags::FLAG_FALLBACK_PATCHES;
 use crate::gpu_interface::slots::{
-    FALLBACK_LIST, INTERPOLATED_LIST, OPENED_DRAWS, PATCH_COUNT_WORDS, PATCH_LISTS,
+    FALLBACK_FLAT_DRAW, FALLBACK_LIST, FLAT_DRAW_WORDS, FLAT_LIST_DRAW, INTERPOLATED_LIST, OPENED_DRAWS,
+    PATCH_COUNT_WORDS, PATCH_LISTS,
 };
 use crate::gpu_types::DrawConstants;
 use crate::scene::adjacency::PATCH_SIZE;
-use crate::vk::memory::Buffer;
 use crate::vk::pipeline::Pipeline;
 use crate::vk::target::Attachments;
 use ash::vk;
@@ -222,24 +222,57 @@ impl ForwardDraws {
             rec.bind_pipeline(vk::PipelineBindPoint::GRAPHICS, pipeline);
             rec.push(constants);
         };
+        // The mesh's words in `flat_draws` (its two draws of flat patches).
+        let flat_draw_word = |first_word: u32| {
+            vk::DeviceSize::from(FLAT_DRAW_WORDS * draw.mesh_index + first_word) * u32_size
+        };
         // The flat list is one draw over the mesh (no tessellated-vertex limit applies), counted
         // by its own instance count (1 once the list has a triangle).
         let flat_list_draw = |constants: &mut DrawConstants, pipeline| {
             bind(constants, pipeline, 0);
-            let offset = vk::DeviceSize::from(draw.mesh_index * stride);
+            let offset = flat_draw_word(FLAT_LIST_DRAW);
             let flat_draws = buffers.flat_draws.raw;
             indirect((flat_draws, offset), (flat_draws, offset + u32_size), 1);
         };
-        // The flat patches of an index buffer the pre-pass wrote (`flat_indices` or
-        // `fallback_indices`): one indexed draw of the mesh in its own order, which skips the
-        // other triangles' words. The scene's index buffer is bound back for the draws that follow.
-        let indexed_flat_draw = |constants: &mut DrawConstants, pipeline, indices: &Buffer, flag| {
-            bind(constants, pipeline, flag);
-            // SAFETY: as above; the pre-pass wrote every word of the mesh's range of `indices`
-            // (INDEX_BUFFER usage) before its last barrier.
+        // The flat patches shaded on their corners, from `flat_indices`: one indexed draw of the
+        // mesh in its own order, which skips the other triangles' words. The scene's index buffer
+        // is bound back for the draws that follow.
+        let shared_corners_draw = |constants: &mut DrawConstants, pipeline| {
+            bind(constants, pipeline, 0);
+            // SAFETY: as above; the pre-pass wrote every word of the mesh's range of
+            // `flat_indices` (INDEX_BUFFER usage) before its last barrier.
             unsafe {
-                device.cmd_bind_index_buffer(cmd, indices.raw, 0, vk::IndexType::UINT32);
+                device.cmd_bind_index_buffer(cmd, buffers.flat_indices.raw, 0, vk::IndexType::UINT32);
                 device.cmd_draw_indexed(cmd, draw.index_count, 1, draw.first_index, 0, 0);
+                device.cmd_bind_index_buffer(cmd, rec.buffers.indices.raw, 0, vk::IndexType::UINT32);
+            }
+        };
+        // The flat patches shaded per pixel, which the pre-pass appended to `fallback_indices`:
+        // one indexed draw of as many as it appended (none where it appended none), counted by
+        // its own instance count like the flat list.
+        let fallback_flat_draw = |constants: &mut DrawConstants, pipeline| {
+            bind(constants, pipeline, FLAG_FALLBACK_PATCHES);
+            let offset = flat_draw_word(FALLBACK_FLAT_DRAW);
+            let flat_draws = buffers.flat_draws.raw;
+            let indexed_stride = std::mem::size_of::<vk::DrawIndexedIndirectCommand>() as u32;
+            // SAFETY: as above; the pre-pass wrote the command (zeroed by the host, INDIRECT_BUFFER
+            // usage) and the indices it counts within the mesh's range of `fallback_indices`
+            // (INDEX_BUFFER usage) before its last barrier; its count word is 0 or 1.
+            unsafe {
+                device.cmd_bind_index_buffer(cmd, buffers.fallback_indices.raw, 0, vk::IndexType::UINT32);
+                if counted {
+                    device.cmd_draw_indexed_indirect_count(
+                        cmd,
+                        flat_draws,
+                        offset,
+                        flat_draws,
+                        offset + u32_size,
+                        1,
+                        indexed_stride,
+                    );
+                } else {
+                    device.cmd_draw_indexed_indirect(cmd, flat_draws, offset, 1, indexed_stride);
+                }
                 device.cmd_bind_index_buffer(cmd, rec.buffers.indices.raw, 0, vk::IndexType::UINT32);
             }
         };
@@ -257,7 +290,7 @@ impl ForwardDraws {
         // are shared, the flat patches shaded on them are one indexed draw of the mesh.
         mesh.stamp_part(DrawPart::Flat, false);
         if draw.shared_corners {
-            indexed_flat_draw(constants, lists.flat, buffers.flat_indices, 0);
+            shared_corners_draw(constants, lists.flat);
         } else {
             flat_list_draw(constants, lists.flat);
         }
@@ -267,21 +300,11 @@ impl ForwardDraws {
         // surface: each covered pixel is shaded once, whatever the lists' order.
         mesh.part(DrawPart::FallbackDepth, || {
             tessellated_draw(constants, lists.fallback_prime, FALLBACK_LIST, FLAG_FALLBACK_PATCHES);
-            indexed_flat_draw(
-                constants,
-                lists.flat_fallback_prime,
-                buffers.fallback_indices,
-                FLAG_FALLBACK_PATCHES,
-            );
+            fallback_flat_draw(constants, lists.flat_fallback_prime);
         });
         mesh.part(DrawPart::FallbackShading, || {
             tessellated_draw(constants, lists.fallback, FALLBACK_LIST, FLAG_FALLBACK_PATCHES);
-            indexed_flat_draw(
-                constants,
-                lists.flat_fallback,
-                buffers.fallback_indices,
-                FLAG_FALLBACK_PATCHES,
-            );
+            fallback_flat_draw(constants, lists.flat_fallback);
         });
         constants.flags &= !FLAG_FALLBACK_PATCHES;
     }

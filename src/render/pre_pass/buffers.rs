@@ -2,7 +2,7 @@
 //! draws read ([`PatchLists`]).
 
 use crate::error::Result;
-use crate::gpu_interface::slots::{LEVEL_DISPATCHES, PATCH_COUNT_WORDS, PATCH_LISTS};
+use crate::gpu_interface::slots::{FLAT_DRAW_WORDS, LEVEL_DISPATCHES, PATCH_COUNT_WORDS, PATCH_LISTS};
 use crate::render::scene_geometry::SceneGeometry;
 use crate::vk::memory::Buffer;
 use crate::vk::Context;
@@ -49,14 +49,17 @@ pub(crate) struct PrePassBuffers {
     /// The indirect draws of the first two lists (`VkDrawIndirectCommand`, one per triangle),
     /// indexed by `INTERPOLATED_LIST` and `FALLBACK_LIST`.
     pub patch_draws: [Buffer; 2],
-    /// The indirect draw of each mesh's flat list (`VkDrawIndirectCommand`, one per mesh: its
-    /// flat patches shaded on their corners where its draws lack `DrawCall::shared_corners`).
+    /// Per mesh (`FLAT_DRAW_WORDS` words), the indirect draw of its flat list
+    /// (`VkDrawIndirectCommand`: its flat patches shaded on their corners where its draws lack
+    /// `DrawCall::shared_corners`) and that of its flat patches shaded per pixel
+    /// (`VkDrawIndexedIndirectCommand`, over `fallback_indices`).
     pub flat_draws: Buffer,
     /// The flat patches shaded on their corners as an index buffer over the scene's vertices
     /// (`flat_indices` in glsl/include/bindings.glsl), for meshes whose draws have
     /// `DrawCall::shared_corners`.
     pub flat_indices: Buffer,
-    /// Every mesh's flat patches shaded per pixel, likewise (`fallback_indices`).
+    /// Every mesh's flat patches shaded per pixel, appended from the mesh's first index on
+    /// (`fallback_indices`).
     pub fallback_indices: Buffer,
     /// Per triangle: its patch's tessellation levels, written by the last step.
     pub patch_levels: Buffer,
@@ -126,7 +129,8 @@ impl PrePassBuffers {
             device_words(context, "interpolated patch draws", 4 * triangle_count, indirect)?,
             device_words(context, "fallback patch draws", 4 * triangle_count, indirect)?,
         ];
-        let flat_draws = device_words(context, "flat patch draws", 4 * meshes, indirect)?;
+        let flat_draws =
+            device_words(context, "flat patch draws", FLAT_DRAW_WORDS as usize * meshes, indirect)?;
         let index_buffer =
             |name| device_words(context, name, 3 * triangle_count, vk::BufferUsageFlags::INDEX_BUFFER);
         let flat_indices = index_buffer("flat patch indices")?;
@@ -175,13 +179,14 @@ fn device_words(
 /// their counts, and the flat patches' indices.
 #[derive(Clone, Copy)]
 pub(crate) struct PatchLists<'a> {
-    /// Per mesh, the indirect draw of its flat list.
+    /// Per mesh, the indirect draws of its flat patches.
     pub flat_draws: &'a Buffer,
     /// Per mesh and list, `PATCH_COUNT_WORDS` words: the list's length and the draws it opened.
     pub patch_counts: &'a Buffer,
     /// The interpolated and the fallback lists' indirect draws, one per triangle.
     pub patch_draws: &'a [Buffer; 2],
-    /// The flat patches shaded on their corners, and those shaded per pixel, as index buffers.
+    /// The flat patches shaded on their corners, and those shaded per pixel, as index buffers
+    /// (the first in each mesh's order, the second appended).
     pub flat_indices: &'a Buffer,
     pub fallback_indices: &'a Buffer,
 }
