@@ -57,10 +57,11 @@ fn slots_lie_within_their_counts() {
 #[test]
 fn a_mesh_s_flat_draws_do_not_overlap_and_fill_whole_vectors() {
     let word = std::mem::size_of::<u32>();
-    let list = slots::FLAT_LIST_DRAW as usize..slots::FLAT_LIST_DRAW as usize
-        + std::mem::size_of::<ash::vk::DrawIndirectCommand>() / word;
-    let fallback = slots::FALLBACK_FLAT_DRAW as usize..slots::FALLBACK_FLAT_DRAW as usize
-        + std::mem::size_of::<ash::vk::DrawIndexedIndirectCommand>() / word;
+    let list = slots::FLAT_LIST_DRAW as usize
+        ..slots::FLAT_LIST_DRAW as usize + std::mem::size_of::<ash::vk::DrawIndirectCommand>() / word;
+    let fallback = slots::FALLBACK_FLAT_DRAW as usize
+        ..slots::FALLBACK_FLAT_DRAW as usize
+            + std::mem::size_of::<ash::vk::DrawIndexedIndirectCommand>() / word;
     assert!(list.end <= fallback.start || fallback.end <= list.start);
     assert!(list.end.max(fallback.end) <= slots::FLAT_DRAW_WORDS as usize);
     assert_eq!(slots::FLAT_DRAW_WORDS % 4, 0, "a mesh's draws begin on a uvec4");

@@ -223,9 +223,8 @@ impl ForwardDraws {
             rec.push(constants);
         };
         // The mesh's words in `flat_draws` (its two draws of flat patches).
-        let flat_draw_word = |first_word: u32| {
-            vk::DeviceSize::from(FLAT_DRAW_WORDS * draw.mesh_index + first_word) * u32_size
-        };
+        let flat_draw_word =
+            |first_word: u32| vk::DeviceSize::from(FLAT_DRAW_WORDS * draw.mesh_index + first_word) * u32_size;
         // The flat list is one draw over the mesh (no tessellated-vertex limit applies), counted
         // by its own instance count (1 once the list has a triangle).
         let flat_list_draw = |constants: &mut DrawConstants, pipeline| {

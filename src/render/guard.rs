@@ -92,11 +92,18 @@ pub struct PathGuard {
     recent: [Vec<f64>; 2],
     /// Times of the way not chosen that came back since the current probe began.
     probed: u32,
-    /// The chosen way's fastest recent time when the last decision chose it.
-    chosen_ms: Option<f64>,
-    /// The other way's fastest recent time at that decision.
-    beaten_ms: f64,
+    /// The last decision's times, until the chosen way's frames move away from them.
+    decision: Option<Decision>,
     decided: bool,
+}
+
+/// The times a probe's decision was made with: each way's fastest recent frame.
+#[derive(Clone, Copy, Debug)]
+struct Decision {
+    /// The way chosen.
+    chosen_ms: f64,
+    /// The other way.
+    beaten_ms: f64,
 }
 
 impl Default for PathGuard {
@@ -108,8 +115,7 @@ impl Default for PathGuard {
             gap: REPROBE_EVERY,
             recent: [Vec::new(), Vec::new()],
             probed: 0,
-            chosen_ms: None,
-            beaten_ms: 0.0,
+            decision: None,
             decided: false,
         }
     }
@@ -150,13 +156,13 @@ impl PathGuard {
             // Every one of the latest frames beyond the factor, the same way: one frame slowed by
             // the machine, or sped up by a frame that reused its levels, is not a move.
             // Slower counts only where it may have lost: beyond what the other way took then.
-            let moved = self.chosen_ms.is_some_and(|then| {
-                fastest(recent) > (then * MOVED).max(self.beaten_ms) || slowest(recent) * MOVED < then
+            let moved = self.decision.is_some_and(|Decision { chosen_ms, beaten_ms }| {
+                fastest(recent) > (chosen_ms * MOVED).max(beaten_ms) || slowest(recent) * MOVED < chosen_ms
             });
             if moved && recent.len() == PROBE_FRAMES as usize && self.probe_left == 0 {
                 self.until_probe = 0;
                 self.gap = REPROBE_EVERY;
-                self.chosen_ms = None;
+                self.decision = None;
             }
             return;
         }
@@ -174,8 +180,8 @@ impl PathGuard {
             // The probe's last frame of the chosen way, if still to draw, is drawn the way chosen.
             self.probe_left = 0;
             self.until_probe = self.gap;
-            self.chosen_ms = Some(multirate.min(pixel));
-            self.beaten_ms = multirate.max(pixel);
+            self.decision =
+                Some(Decision { chosen_ms: multirate.min(pixel), beaten_ms: multirate.max(pixel) });
             self.probed = 0;
             self.decided = true;
         }
