@@ -7,11 +7,10 @@
 // it (bindings.glsl): a flat patch (all levels 1, drawn without tessellation) in the flat
 // patches' index buffers (appended to fallback_indices where it is shaded per pixel), or the
 // flat list where its mesh's parameter map keeps it from flat_indices; a tessellated one in the
-// interpolated or the fallback list, counting it into the indirect draw that covers its slot.
-// A back face of a two-sided mesh goes to a list only where a neighbour's edge is tessellated
-// (its outer levels must match it): the others are drawn by the mesh's back-face draw, as
-// `pixel` mode draws them (`Renderer::record_mesh`). The control stage (multirate_levels.tesc)
-// only reads the levels.
+// interpolated or the fallback list, counting it into the indirect draw that covers its slot. A back face of a two-sided mesh goes to a list
+// only where a neighbour's edge is tessellated (its outer levels must match it): the others are
+// drawn by the mesh's back-face draw, as `pixel` mode draws them (`Renderer::record_mesh`). The
+// control stage (multirate_levels.tesc) only reads the levels.
 #include "triangle_level.glsl"
 
 layout(local_size_x = PRE_PASS_GROUP) in;
@@ -65,14 +64,11 @@ void main() {
     bool flat_patch = levels.inner <= 1.0 && all(lessThanEqual(levels.outer, vec3(1.0)));
     write_flat_corners(triangle, flat_patch && !levels.fallback);
     if (flat_patch) {
-        if (back_face) {
+        if (back_face || (!levels.fallback && (draw.flags & FLAG_SHARED_CORNERS) != 0u)) {
             return;
         }
         if (levels.fallback) {
             append_fallback_flat(triangle);
-            return;
-        }
-        if ((draw.flags & FLAG_SHARED_CORNERS) != 0u) {
             return;
         }
         uint command = FLAT_DRAW_WORDS * draw.mesh_index + FLAT_LIST_DRAW;

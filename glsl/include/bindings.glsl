@@ -100,9 +100,8 @@ layout(set = 0, binding = 16, std430) buffer FallbackDraws { uvec4 fallback_draw
 // mesh's first triangle on and drawn by the mesh's FLAT_LIST_DRAW in flat_draws
 // (a VkDrawIndirectCommand: vertexCount = 3 per triangle, counted as they are listed; the host
 // zeroes it, and the first entry sets instanceCount to 1). Those shaded per pixel are drawn from
-// fallback_indices (below) by its FALLBACK_FLAT_DRAW (a VkDrawIndexedIndirectCommand, likewise,
-// over the index buffer bound at the mesh's first index). flat_draws holds FLAT_DRAW_WORDS words
-// per mesh.
+// fallback_indices (below) by its FALLBACK_FLAT_DRAW (a VkDrawIndexedIndirectCommand, likewise;
+// the first entry also sets firstIndex). flat_draws holds FLAT_DRAW_WORDS words per mesh.
 // multirate_flat.vert shades the corners as the evaluation stage would, or, in the per-pixel
 // draw (FLAG_FALLBACK_PATCHES), passes them on for multirate.frag to shade.
 layout(set = 0, binding = 17, std430) buffer FlatPatches { uint flat_patches[]; };
@@ -173,8 +172,7 @@ void write_flat_corners(uint triangle, bool on_corners) {
         return;
     }
     for (uint corner = 0u; corner < 3u; corner++) {
-        uint vertex = scene_indices[3u * triangle + corner];
-        flat_indices[3u * triangle + corner] = on_corners ? vertex : SKIPPED_VERTEX;
+        flat_indices[3u * triangle + corner] = on_corners ? scene_indices[3u * triangle + corner] : SKIPPED_VERTEX;
     }
 }
 
@@ -201,16 +199,15 @@ const uint FALLBACK_FLAT_DRAW = 4u;
 void append_fallback_flat(uint triangle) {
     uint command = FLAT_DRAW_WORDS * draw.mesh_index + FALLBACK_FLAT_DRAW;
     uint appended = atomicAdd(flat_draws[command], 3u) / 3u;
-    // The mesh's range of the index buffer, which its draw binds from the first index on.
-    uint mesh_index_base = 3u * draw.patch_base;
+    uint first_index = 3u * draw.patch_base;
     for (uint corner = 0u; corner < 3u; corner++) {
-        uint vertex = scene_indices[3u * triangle + corner];
-        fallback_indices[mesh_index_base + 3u * appended + corner] = vertex;
+        fallback_indices[first_index + 3u * appended + corner] = scene_indices[3u * triangle + corner];
     }
     fallback_patches[draw.patch_base + draw.triangle_count - 1u - appended] = triangle;
     if (appended == 0u) {
-        // instanceCount; firstIndex, vertexOffset and firstInstance stay the host's zeros.
+        // instanceCount and firstIndex; vertexOffset and firstInstance stay the host's zeros.
         flat_draws[command + 1u] = 1u;
+        flat_draws[command + 2u] = first_index;
     }
 }
 

@@ -185,35 +185,34 @@ impl ForwardDraws {
         // draw's count buffer for the plain indirect draws recorded after it.
         let counted = patch_draws.counts.supported && commands <= patch_draws.counts.max_count;
         let u32_size = std::mem::size_of::<u32>() as vk::DeviceSize;
-        let indexed_stride = std::mem::size_of::<vk::DrawIndexedIndirectCommand>() as u32;
-        // `max_draws` indirect draws (indexed ones where `indexed`) from `draws` (a buffer and
-        // offset), as many as the word at `count` says where they are counted.
-        let indirect = |(buffer, offset): (vk::Buffer, vk::DeviceSize),
-                        count,
-                        max_draws: u32,
-                        indexed: bool| {
-            let stride = if indexed { indexed_stride } else { stride };
+        // `max_draws` indirect draws from `draws` (a buffer and offset), as many as the word at
+        // `count` says where they are counted.
+        let indirect = |(buffer, offset): (vk::Buffer, vk::DeviceSize), count, max_draws: u32| {
             // SAFETY: recording inside the rendering `record_meshes` draws into; the pre-pass wrote
             // the commands and counts before the barrier it ends with; both buffers have
             // INDIRECT_BUFFER usage; a count is at most `max_draws`, whose commands lie within
-            // the mesh's entries; an indexed draw's index buffer is bound.
+            // the mesh's entries.
             unsafe {
                 if counted {
                     let (count_buffer, count_offset) = count;
-                    let count_draw = if indexed {
-                        ash::Device::cmd_draw_indexed_indirect_count
-                    } else {
-                        ash::Device::cmd_draw_indirect_count
-                    };
-                    count_draw(device, cmd, buffer, offset, count_buffer, count_offset, max_draws, stride);
+                    device.cmd_draw_indirect_count(
+                        cmd,
+                        buffer,
+                        offset,
+                        count_buffer,
+                        count_offset,
+                        max_draws,
+                        stride,
+                    );
                 } else {
-                    let plain_draw = if indexed {
-                        ash::Device::cmd_draw_indexed_indirect
-                    } else {
-                        ash::Device::cmd_draw_indirect
-                    };
                     for k in 0..vk::DeviceSize::from(max_draws) {
-                        plain_draw(device, cmd, buffer, offset + k * vk::DeviceSize::from(stride), 1, stride);
+                        device.cmd_draw_indirect(
+                            cmd,
+                            buffer,
+                            offset + k * vk::DeviceSize::from(stride),
+                            1,
+                            stride,
+                        );
                     }
                 }
             }
@@ -232,7 +231,7 @@ impl ForwardDraws {
             bind(constants, pipeline, 0);
             let offset = flat_draw_word(FLAT_LIST_DRAW);
             let flat_draws = buffers.flat_draws.raw;
-            indirect((flat_draws, offset), (flat_draws, offset + u32_size), 1, false);
+            indirect((flat_draws, offset), (flat_draws, offset + u32_size), 1);
         };
         // The flat patches shaded on their corners, from `flat_indices`: one indexed draw of the
         // mesh in its own order, which skips the other triangles' words. The scene's index buffer
@@ -247,27 +246,34 @@ impl ForwardDraws {
                 device.cmd_bind_index_buffer(cmd, rec.buffers.indices.raw, 0, vk::IndexType::UINT32);
             }
         };
-        // The flat patches shaded per pixel, which the pre-pass appended to the mesh's range of
-        // `fallback_indices` (bound from there): one indexed draw of as many as it appended (none
-        // where it appended none), counted by its own instance count like the flat list.
+        // The flat patches shaded per pixel, which the pre-pass appended to `fallback_indices`:
+        // one indexed draw of as many as it appended (none where it appended none), counted by
+        // its own instance count like the flat list.
         let fallback_flat_draw = |constants: &mut DrawConstants, pipeline| {
             bind(constants, pipeline, FLAG_FALLBACK_PATCHES);
-            let first_index = vk::DeviceSize::from(draw.first_index) * u32_size;
-            // SAFETY: as above; `fallback_indices` has INDEX_BUFFER usage and holds the mesh's
-            // range, whose first words the pre-pass wrote before its last barrier.
-            unsafe {
-                device.cmd_bind_index_buffer(
-                    cmd,
-                    buffers.fallback_indices.raw,
-                    first_index,
-                    vk::IndexType::UINT32,
-                )
-            };
             let offset = flat_draw_word(FALLBACK_FLAT_DRAW);
             let flat_draws = buffers.flat_draws.raw;
-            indirect((flat_draws, offset), (flat_draws, offset + u32_size), 1, true);
-            // SAFETY: as above.
-            unsafe { device.cmd_bind_index_buffer(cmd, rec.buffers.indices.raw, 0, vk::IndexType::UINT32) };
+            let indexed_stride = std::mem::size_of::<vk::DrawIndexedIndirectCommand>() as u32;
+            // SAFETY: as above; the pre-pass wrote the command (zeroed by the host, INDIRECT_BUFFER
+            // usage) and the indices it counts within the mesh's range of `fallback_indices`
+            // (INDEX_BUFFER usage) before its last barrier; its count word is 0 or 1.
+            unsafe {
+                device.cmd_bind_index_buffer(cmd, buffers.fallback_indices.raw, 0, vk::IndexType::UINT32);
+                if counted {
+                    device.cmd_draw_indexed_indirect_count(
+                        cmd,
+                        flat_draws,
+                        offset,
+                        flat_draws,
+                        offset + u32_size,
+                        1,
+                        indexed_stride,
+                    );
+                } else {
+                    device.cmd_draw_indexed_indirect(cmd, flat_draws, offset, 1, indexed_stride);
+                }
+                device.cmd_bind_index_buffer(cmd, rec.buffers.indices.raw, 0, vk::IndexType::UINT32);
+            }
         };
         // A tessellated list: the draws its patches opened, the first of its `commands` (all of
         // them, mostly empty, where they are not counted).
@@ -276,7 +282,7 @@ impl ForwardDraws {
             let first = vk::DeviceSize::from(draw.first_triangle * stride);
             let count_word = PATCH_COUNT_WORDS * (PATCH_LISTS * draw.mesh_index + list) + OPENED_DRAWS;
             let count = (buffers.patch_counts.raw, vk::DeviceSize::from(count_word) * u32_size);
-            indirect((buffers.patch_draws[list as usize].raw, first), count, commands, false);
+            indirect((buffers.patch_draws[list as usize].raw, first), count, commands);
         };
         // The flat patches first and the per-pixel ones last, so that the early depth test
         // spares the per-pixel shading wherever the other lists cover it. Where their corners
