@@ -61,7 +61,7 @@ void main() {
     }
     GpuMaterial m = materials[draw.material_index];
     float parameter = parameter_at_grad(m, uv, duv_dx, duv_dy);
-    Shading s = shade(position, normal, draw.eye.xyz, draw.material_index, parameter);
+    Shading s = shade_shadowed(position, normal, draw.eye.xyz, draw.material_index, parameter);
     if (COUNT_EVALUATIONS) {
         atomicAdd(counters.pixel_evaluations, 1u);
     }

@@ -29,7 +29,7 @@ void main() {
     Shading s = Shading(in_diffuse, in_specular);
     if (in_level <= 0.0) {
         float parameter = parameter_at_grad(m, in_uv, duv_dx, duv_dy);
-        s = shade(in_position, in_normal, draw.eye.xyz, draw.material_index, parameter);
+        s = shade_shadowed(in_position, in_normal, draw.eye.xyz, draw.material_index, parameter);
         if (COUNT_EVALUATIONS) {
             atomicAdd(counters.pixel_evaluations, 1u);
         }

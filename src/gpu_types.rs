@@ -12,6 +12,21 @@ pub struct GpuLight {
     pub position: Vec4,
     /// rgb: colour × intensity.
     pub radiance: Vec4,
+    /// x: the light's first tile in [`GpuShadowTile`]s (a point light's six faces follow it),
+    /// or -1 where it casts no shadow; y: the radius of its filter kernel in texels.
+    pub shadow: IVec4,
+}
+
+/// One square tile of the shadow atlas: a directional light's map or one face of a point
+/// light's cube map (std430).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuShadowTile {
+    /// World to the tile's clip space (depth 0 to 1).
+    pub view_proj: Mat4,
+    /// x, y: the tile's first texel in the atlas; z: texels along its side; w: a texel's width
+    /// in world units (a point light's face: per unit of distance along the face's axis).
+    pub rect: Vec4,
 }
 
 /// A polygonal area light as the shaders read it (std430).

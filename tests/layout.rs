@@ -11,7 +11,7 @@
 use multirate::gpu_interface::bindings::{self, Binding, DescriptorKind, TexelFormat};
 use multirate::gpu_interface::specialization::{self, SpecId};
 use multirate::gpu_interface::{flags, slots};
-use multirate::gpu_types::{DrawConstants, GpuLight, GpuMaterial, GpuPolygonLight};
+use multirate::gpu_types::{DrawConstants, GpuLight, GpuMaterial, GpuPolygonLight, GpuShadowTile};
 use multirate::shaders::{self, Features};
 use std::collections::{HashMap, HashSet};
 use std::mem::{offset_of, size_of};
@@ -129,10 +129,24 @@ fn check_struct(name: &str, expected: &[(&str, usize)], size: usize) -> usize {
 fn gpu_light_matches_glsl() {
     let checked = check_struct(
         "GpuLight",
-        &[("position", offset_of!(GpuLight, position)), ("radiance", offset_of!(GpuLight, radiance))],
+        &[
+            ("position", offset_of!(GpuLight, position)),
+            ("radiance", offset_of!(GpuLight, radiance)),
+            ("shadow", offset_of!(GpuLight, shadow)),
+        ],
         size_of::<GpuLight>(),
     );
     assert!(checked > 0, "no shader declares GpuLight: the test would check nothing");
+}
+
+#[test]
+fn gpu_shadow_tile_matches_glsl() {
+    let checked = check_struct(
+        "GpuShadowTile",
+        &[("view_proj", offset_of!(GpuShadowTile, view_proj)), ("rect", offset_of!(GpuShadowTile, rect))],
+        size_of::<GpuShadowTile>(),
+    );
+    assert!(checked > 0, "no shader declares GpuShadowTile");
 }
 
 #[test]
@@ -284,8 +298,12 @@ fn untextured_pixel_shader_without_polygon_lights_has_neither() {
     assert!(full.texture_reads > 0, "{full:?}");
     assert!(!any_polygon_spec_id(&lean.spec_ids), "polygon constants in {lean:?}");
     assert_eq!(lean.texture_reads, 0, "texture reads in the untextured variant");
-    // Only the light counts are left to specialise.
-    let light_counts = [specialization::POINT_LIGHT_COUNT.id, specialization::DIRECTIONAL_LIGHT_COUNT.id];
+    // Only the light counts and whether any light casts shadows are left to specialise.
+    let light_counts = [
+        specialization::POINT_LIGHT_COUNT.id,
+        specialization::DIRECTIONAL_LIGHT_COUNT.id,
+        specialization::SHADOWS.id,
+    ];
     assert_eq!(lean.spec_ids.iter().copied().collect::<std::collections::BTreeSet<_>>(), light_counts.into());
     assert!(
         lean.instructions * 10 < full.instructions,

@@ -156,6 +156,8 @@ layout(set = 0, binding = 24, std430) writeonly buffer FallbackIndices { uint fa
 // lanes for each 32-bit word, and a texel fetch gathers four words at about the cost of two
 // such loads (docs/notebook/pre_pass_loads.md): most of that step's time was its loads.
 layout(set = 0, binding = 25) uniform samplerBuffer triangle_corners;
+// The shadow atlas's tiles (shadow.glsl); one unread entry where no light casts shadows.
+layout(set = 0, binding = 26, std430) readonly buffer ShadowTiles { GpuShadowTile shadow_tiles[]; };
 // The index of no vertex, 2^24 - 1 (`SKIPPED_VERTEX` in Rust, Vulkan's least
 // maxDrawIndexedIndexValue; render::limits refuses scenes with more vertices):
 // multirate_flat.vert shades nothing for it.
@@ -247,6 +249,9 @@ layout(set = 1, binding = 1) uniform sampler2D parameter_map;
 // The parameter map's min/max pyramid: per mip level, each texel's (min, max) over its block
 // of level-0 texels.
 layout(set = 1, binding = 2) uniform sampler2D parameter_pyramid;
+// Every shadow map, one depth image (the same in every material's set; shadow.glsl reads it
+// with texelFetch).
+layout(set = 1, binding = 3) uniform sampler2D shadow_atlas;
 // Whether any material of the scene has a texture: without, no texture code is compiled in.
 const bool TEXTURED = VARIANT_TEXTURED != 0;
 

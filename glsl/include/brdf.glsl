@@ -10,6 +10,7 @@
 #ifndef BRDF_GLSL
 #define BRDF_GLSL
 #include "bindings.glsl"
+#include "shadow.glsl"
 
 #define MATERIAL_LAMBERT 0
 #define MATERIAL_BLINN_PHONG 1
@@ -115,8 +116,10 @@ Shading reflect_one_light(vec3 n, vec3 l, vec3 v, GpuMaterial m, float parameter
 #endif
 
 // Outgoing radiance at a surface point, summed over every light of the scene, diffuse and
-// specular apart. `normal` need not be unit length (it is interpolated); `eye` is the camera.
-Shading shade(vec3 position, vec3 normal, vec3 eye, uint material_index, float parameter) {
+// specular apart, each point and directional light weighed by its visibility where `shadowed`
+// (shadow.glsl; a constant at every call, so a caller without shadows holds no shadow code).
+// `normal` need not be unit length (it is interpolated); `eye` is the camera.
+Shading shade_lights(vec3 position, vec3 normal, vec3 eye, uint material_index, float parameter, bool shadowed) {
     GpuMaterial m = materials[material_index];
     vec3 n = safe_normalize(normal);
     vec3 v = safe_normalize(eye - position);
@@ -126,15 +129,22 @@ Shading shade(vec3 position, vec3 normal, vec3 eye, uint material_index, float p
         float d2 = max(dot(to_light, to_light), MIN_LIGHT_DISTANCE_SQUARED);
         vec3 l = to_light * inversesqrt(d2);
         vec3 irradiance = lights[i].radiance.rgb / d2;
+        if (shadowed) {
+            irradiance *= shadow_visibility(lights[i], position, n, l);
+        }
         Shading one = reflect_one_light(n, l, v, m, parameter);
         total.diffuse += one.diffuse * irradiance;
         total.specular += one.specular * irradiance;
     }
     for (int i = 0; i < DIRECTIONAL_LIGHT_COUNT; ++i) {
         GpuLight light = lights[POINT_LIGHT_COUNT + i];
+        vec3 irradiance = light.radiance.rgb;
+        if (shadowed) {
+            irradiance *= shadow_visibility(light, position, n, -light.position.xyz);
+        }
         Shading one = reflect_one_light(n, -light.position.xyz, v, m, parameter);
-        total.diffuse += one.diffuse * light.radiance.rgb;
-        total.specular += one.specular * light.radiance.rgb;
+        total.diffuse += one.diffuse * irradiance;
+        total.specular += one.specular * irradiance;
     }
 #if VARIANT_POLYGON_LIGHTS
     for (int i = 0; i < POLYGON_LIGHT_COUNT; ++i) {
@@ -144,6 +154,16 @@ Shading shade(vec3 position, vec3 normal, vec3 eye, uint material_index, float p
     }
 #endif
     return total;
+}
+
+// The unshadowed shading: what multirate interpolates (a shadow is applied per pixel).
+Shading shade(vec3 position, vec3 normal, vec3 eye, uint material_index, float parameter) {
+    return shade_lights(position, normal, eye, material_index, parameter, false);
+}
+
+// The shading with every light's shadow, looked up at `position`.
+Shading shade_shadowed(vec3 position, vec3 normal, vec3 eye, uint material_index, float parameter) {
+    return shade_lights(position, normal, eye, material_index, parameter, true);
 }
 
 #endif

@@ -5,6 +5,8 @@
 //! Files, bottom to top: each imports through `super::` only from those listed before it.
 //! 1. [`camera`]: camera matrices for Vulkan's clip space and the viewer's orbit.
 //! 2. [`cull`]: which triangles are culled, or shaded per pixel, before their estimate.
+//! 3. [`shadow_view`]: the shadow maps' matrices and their tiles in the atlas.
 
 pub mod camera;
 pub mod cull;
+pub mod shadow_view;

@@ -137,17 +137,21 @@ pub mod forward {
     /// Per triangle of the meshes, its corners' positions (a texel each): what the culling step
     /// reads without the indices.
     pub const TRIANGLE_CORNERS: Binding = texels(0, 25, "triangle_corners", TexelFormat::Float4);
+    /// The shadow atlas's tiles (`GpuShadowTile`); one unread entry where no light casts shadows.
+    pub const SHADOW_TILES: Binding = storage(0, 26, "ShadowTiles");
 
     pub const ALBEDO_MAP: Binding = sampler(1, 0, "albedo_map");
     pub const PARAMETER_MAP: Binding = sampler(1, 1, "parameter_map");
     /// The parameter map's min/max pyramid.
     pub const PARAMETER_PYRAMID: Binding = sampler(1, 2, "parameter_pyramid");
+    /// Every shadow map in one depth image, the same in every material's set.
+    pub const SHADOW_ATLAS: Binding = sampler(1, 3, "shadow_atlas");
 
     /// The deferred pass's visibility buffer.
     pub const VISIBILITY: Binding = sampler(2, 0, "visibility");
 
     /// Set 0: the scene's storage and texel buffers, bound once.
-    pub const SCENE_BUFFERS: [Binding; 26] = [
+    pub const SCENE_BUFFERS: [Binding; 27] = [
         LIGHTS,
         MATERIALS,
         LEVEL_RECORDS,
@@ -174,9 +178,10 @@ pub mod forward {
         ESTIMATED_LEVELS,
         FALLBACK_INDICES,
         TRIANGLE_CORNERS,
+        SHADOW_TILES,
     ];
     /// Set 1: the draw's material textures, bound per draw.
-    pub const MATERIAL_TEXTURES: [Binding; 3] = [ALBEDO_MAP, PARAMETER_MAP, PARAMETER_PYRAMID];
+    pub const MATERIAL_TEXTURES: [Binding; 4] = [ALBEDO_MAP, PARAMETER_MAP, PARAMETER_PYRAMID, SHADOW_ATLAS];
     /// Set 2: the deferred pass's input.
     pub const DEFERRED_INPUTS: [Binding; 1] = [VISIBILITY];
 

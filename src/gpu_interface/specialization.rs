@@ -41,13 +41,15 @@ pub const COUNT_CULLED_PATCHES: SpecId = SpecId { name: "COUNT_CULLED_PATCHES", 
 /// estimator/constants.glsl: the estimator step's variant over the triangles whose every light's
 /// specular part is capped (no specular setup or jets).
 pub const SPECULAR_ALL_CAPPED: SpecId = SpecId { name: "SPECULAR_ALL_CAPPED", id: 16 };
+/// shadow.glsl: some light casts shadows (without, no shadow code is compiled in).
+pub const SHADOWS: SpecId = SpecId { name: "SHADOWS", id: 17 };
 
 /// The polygonal lights' constants, which only the variants with polygonal lights contain.
 pub const POLYGON_LIGHTS: [SpecId; 4] =
     [POLYGON_LIGHT_COUNT, POLYGON_SAMPLES, POLYGON_TECHNIQUE, MIS_VISIBILITY];
 
 /// Every specialization constant, by id.
-pub const ALL: [SpecId; 13] = [
+pub const ALL: [SpecId; 14] = [
     ENCODE_SRGB,
     POINT_LIGHT_COUNT,
     DIRECTIONAL_LIGHT_COUNT,
@@ -61,4 +63,5 @@ pub const ALL: [SpecId; 13] = [
     RECORD_LEVELS,
     COUNT_CULLED_PATCHES,
     SPECULAR_ALL_CAPPED,
+    SHADOWS,
 ];

@@ -69,14 +69,23 @@ fn a_mesh_s_flat_draws_do_not_overlap_and_fill_whole_vectors() {
 
 #[test]
 fn resources_are_put_in_binding_order_whatever_order_they_are_given_in() {
-    let given =
-        [(forward::PARAMETER_PYRAMID, 'c'), (forward::ALBEDO_MAP, 'a'), (forward::PARAMETER_MAP, 'b')];
-    assert_eq!(in_binding_order(&forward::MATERIAL_TEXTURES, given), ['a', 'b', 'c']);
+    let given = [
+        (forward::PARAMETER_PYRAMID, 'c'),
+        (forward::SHADOW_ATLAS, 'd'),
+        (forward::ALBEDO_MAP, 'a'),
+        (forward::PARAMETER_MAP, 'b'),
+    ];
+    assert_eq!(in_binding_order(&forward::MATERIAL_TEXTURES, given), ['a', 'b', 'c', 'd']);
 }
 
 #[test]
 #[should_panic(expected = "two resources for binding albedo_map")]
 fn a_binding_given_twice_is_refused() {
-    let given = [(forward::ALBEDO_MAP, 'a'), (forward::ALBEDO_MAP, 'b'), (forward::PARAMETER_PYRAMID, 'c')];
+    let given = [
+        (forward::ALBEDO_MAP, 'a'),
+        (forward::ALBEDO_MAP, 'b'),
+        (forward::PARAMETER_PYRAMID, 'c'),
+        (forward::SHADOW_ATLAS, 'd'),
+    ];
     in_binding_order(&forward::MATERIAL_TEXTURES, given);
 }

@@ -51,6 +51,7 @@ impl ForwardDescriptors {
         context: &Arc<Context>,
         scene: &Scene,
         binding_table: &[&Buffer; SCENE_BINDINGS],
+        shadow_atlas: (vk::ImageView, vk::Sampler),
     ) -> Result<ForwardDescriptors> {
         let bindings = forward::SCENE_BUFFERS.map(|b| shader_binding(b.binding, b.kind.descriptor_type()));
         let push = [vk::PushConstantRange::default()
@@ -64,7 +65,7 @@ impl ForwardDescriptors {
             &[&bindings, &material_bindings, &deferred_bindings],
             &push,
         )?;
-        let textures = SceneTextures::upload(context, scene, layout.set_layouts[1])?;
+        let textures = SceneTextures::upload(context, scene, layout.set_layouts[1], shadow_atlas)?;
         let count = |wanted: fn(DescriptorKind) -> bool| {
             forward::SCENE_BUFFERS.iter().filter(|b| wanted(b.kind)).count() as u32
         };

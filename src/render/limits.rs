@@ -7,9 +7,10 @@
 use super::pre_pass::steps::PRE_PASS_GROUP;
 use super::textures;
 use crate::error::{mib, Error, Result};
+use crate::geometry::shadow_view::ShadowLayout;
 use crate::gpu_interface::bindings::TexelFormat;
 use crate::gpu_interface::slots::{BACK_FACE_ENTRY, LEVEL_DISPATCHES, SKIPPED_VERTEX};
-use crate::gpu_types::{GpuLight, GpuMaterial, GpuPolygonLight, Vertex};
+use crate::gpu_types::{GpuLight, GpuMaterial, GpuPolygonLight, GpuShadowTile, Vertex};
 use crate::scene::adjacency::PATCH_SIZE;
 use crate::scene::{Light, Scene};
 use crate::shading::estimator::PATTERN_LEVELS;
@@ -66,7 +67,10 @@ pub struct SceneSizes {
     pub point_and_directional_lights: u64,
     pub polygon_lights: u64,
     pub materials: u64,
+    /// The materials' textures, then the shadow atlas (`shadows`; 1 × 1 without shadows).
     pub textures: Vec<TextureSize>,
+    /// The shadow atlas's tiles (a directional light's map, a point light's six faces).
+    pub shadow_tiles: u64,
 }
 
 /// Where a buffer's memory comes from.
@@ -134,6 +138,16 @@ impl SceneSizes {
                 }
             })
             .collect();
+        let shadows = ShadowLayout::of(scene);
+        let [width, height] = shadows.extent;
+        sizes.textures.push(TextureSize {
+            name: "shadow atlas".to_string(),
+            width,
+            height,
+            levels: 1,
+            bytes: 4 * u64::from(width) * u64::from(height),
+        });
+        sizes.shadow_tiles = shadows.tiles.len() as u64;
         sizes
     }
 
@@ -244,6 +258,13 @@ impl SceneSizes {
                 StorageBuffer,
                 self.polygon_lights,
                 "polygonal lights",
+            ),
+            buffer(
+                "shadow atlas tiles",
+                data(self.shadow_tiles.max(1), size_of::<GpuShadowTile>()),
+                StorageBuffer,
+                self.shadow_tiles,
+                "shadow map tiles",
             ),
             per_triangle("patch tessellation levels", 4),
             buffer("pattern levels", pattern_levels, StorageBuffer, PATTERN_LEVELS.len() as u64, "words"),

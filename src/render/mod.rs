@@ -22,11 +22,12 @@
 //! 14. [`scene_buffers`]: the scene uploaded.
 //! 15. [`descriptors`]: the forward layout, its sets, and the recorder that binds them.
 //! 16. [`pipelines`]: the pipeline variants of the draws, built on first use.
-//! 17. [`pre_pass`]: the triangle-level pre-pass of the compute placement.
-//! 18. [`limits`]: the scene's limits against the device's.
-//! 19. [`draws`]: the forward draws (and lavapipe's limits on them).
-//! 20. [`deferred`]: the `pixel-deferred` passes.
-//! 21. [`instrumentation`]: timings, evaluation counts and what is read back.
+//! 17. [`shadows`]: the shadow atlas, rendered once.
+//! 18. [`pre_pass`]: the triangle-level pre-pass of the compute placement.
+//! 19. [`limits`]: the scene's limits against the device's.
+//! 20. [`draws`]: the forward draws (and lavapipe's limits on them).
+//! 21. [`deferred`]: the `pixel-deferred` passes.
+//! 22. [`instrumentation`]: timings, evaluation counts and what is read back.
 
 pub mod capture;
 pub mod cost_model;
@@ -47,6 +48,7 @@ mod pre_pass;
 pub mod present;
 mod scene_buffers;
 mod scene_geometry;
+mod shadows;
 pub mod textures;
 mod view;
 
@@ -58,7 +60,7 @@ pub use instrumentation::{
 };
 pub use mode::{Mode, Placement, MAX_LEVEL};
 pub use pre_pass::steps::{PrePassStep, PRE_PASS_GROUP, PRE_PASS_STEPS, REFINE_BLOCK};
-pub use scene_geometry::{gpu_lights, gpu_polygon_lights};
+pub use scene_geometry::{gpu_lights, gpu_polygon_lights, gpu_shadow_tiles};
 pub use view::{View, EYE_BALL_SHARE};
 
 use crate::error::Result;
@@ -84,6 +86,7 @@ use pre_pass::steps::{FrameStamps, Timed};
 use pre_pass::PrePass;
 use scene_buffers::SceneBuffers;
 use scene_geometry::SceneGeometry;
+use shadows::ShadowAtlas;
 use std::cell::OnceCell;
 use std::sync::{Arc, Mutex};
 
@@ -102,6 +105,8 @@ pub struct Renderer {
     pipelines: Pipelines,
     /// The compute placement's pre-pass: its pipelines, its buffers and its ball of eyes.
     pre_pass: PrePass,
+    /// Every shadow map, rendered once; read through the materials' sets.
+    _shadow_atlas: ShadowAtlas,
     /// What is shaded per pixel, at the scales the frame does not decide itself.
     per_pixel: PerPixelChoice,
     /// The frame guards of the configurations drawn so far (`guarded`, `report_frame_time`).
@@ -129,9 +134,15 @@ impl Renderer {
         let geometry = SceneGeometry::of(scene);
         let buffers = SceneBuffers::upload(context, &geometry)?;
         let pre_pass = PrePass::new(context, &geometry, geometry.kinds.len())?;
-        let descriptors =
-            ForwardDescriptors::new(context, scene, &binding_table(&buffers, &pre_pass.buffers))?;
+        let shadow_atlas = ShadowAtlas::new(context, &geometry.shadows)?;
+        let descriptors = ForwardDescriptors::new(
+            context,
+            scene,
+            &binding_table(&buffers, &pre_pass.buffers),
+            (shadow_atlas.image.view, shadow_atlas.sampler.raw),
+        )?;
         let pipelines = Pipelines::new(context, scene, &descriptors.layout, &geometry)?;
+        shadow_atlas.render(context, &descriptors.layout, &buffers, &geometry.shadows, &geometry.draws)?;
         let clear = scene.settings.clear_color;
         Ok(Renderer {
             context: context.clone(),
@@ -140,6 +151,7 @@ impl Renderer {
             draws: ForwardDraws::new(geometry.draws, geometry.emitters, &context.info),
             pipelines,
             pre_pass,
+            _shadow_atlas: shadow_atlas,
             per_pixel: PerPixelChoice::new(&context.info.name, scene),
             guards: Mutex::new(Guards::default()),
             measured_table: Mutex::new(None),
@@ -648,6 +660,7 @@ fn binding_table<'a>(scene: &'a SceneBuffers, pre_pass: &'a PrePassBuffers) -> [
             (set_0::FLAT_INDICES, &pre_pass.flat_indices),
             (set_0::ESTIMATED_LEVELS, &pre_pass.estimated_levels),
             (set_0::FALLBACK_INDICES, &pre_pass.fallback_indices),
+            (set_0::SHADOW_TILES, &scene.shadow_tiles),
             (set_0::TRIANGLE_CORNERS, &pre_pass.triangle_corners),
         ],
     )

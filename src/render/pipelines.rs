@@ -31,6 +31,8 @@ pub(super) struct Pipelines {
     modules: Modules,
     /// Per material kind of the scene: its shader features and specialization constants.
     pub specializations: Vec<(Features, Specialization)>,
+    /// Whether some light casts shadows (multirate then draws every mesh per pixel).
+    shadowed: bool,
     /// The timed variants, one per material kind (`DrawCall::pipeline`).
     pub variants: Vec<Variant>,
     /// The same pipelines drawing edges only, built by `Renderer::enable_wireframe`.
@@ -76,7 +78,8 @@ impl Pipelines {
             };
             let specialization = Specialization::default()
                 .int(spec::POINT_LIGHT_COUNT.id, geometry.point_count)
-                .int(spec::DIRECTIONAL_LIGHT_COUNT.id, geometry.directional_count);
+                .int(spec::DIRECTIONAL_LIGHT_COUNT.id, geometry.directional_count)
+                .boolean(spec::SHADOWS.id, !scene.shadow_casters.is_empty());
             let specialization = polygon_specialization(specialization, scene, polygon_count);
             variants.push(Variant::new(features, Instrumentation::None, vk::PolygonMode::FILL));
             specializations.push((features, specialization));
@@ -84,6 +87,7 @@ impl Pipelines {
         Ok(Pipelines {
             modules,
             specializations,
+            shadowed: !scene.shadow_casters.is_empty(),
             variants,
             wireframe_variants: None,
             counting_variants: OnceCell::new(),
@@ -136,7 +140,7 @@ impl Pipelines {
                 build_once(variant.multirate_cell(config), || {
                     self.modules.multirate(context, layout, variant, specialization, config)
                 })?;
-                if may_draw_per_pixel(view, one_sided.clone()) {
+                if may_draw_per_pixel(view, self.shadowed, one_sided.clone()) {
                     build_once(variant.single_cell(SingleMode::Pixel), || {
                         self.modules.single(context, layout, variant, specialization, SingleMode::Pixel)
                     })?;

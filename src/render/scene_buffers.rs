@@ -1,9 +1,9 @@
 //! The scene on the GPU ([`SceneBuffers`]): its geometry, lights and materials uploaded, and the
 //! per-scene buffers the shaders write besides the pre-pass's (level records, counters).
 
-use super::scene_geometry::SceneGeometry;
+use super::scene_geometry::{gpu_shadow_tiles, SceneGeometry};
 use crate::error::Result;
-use crate::gpu_types::GpuPolygonLight;
+use crate::gpu_types::{GpuPolygonLight, GpuShadowTile};
 use crate::vk::memory::Buffer;
 use crate::vk::Context;
 use ash::vk;
@@ -23,6 +23,8 @@ pub(super) struct SceneBuffers {
     pub materials: Buffer,
     /// The polygonal lights; a scene without any still binds one (unread) entry.
     pub polygon_lights: Buffer,
+    /// The shadow atlas's tiles; a scene without shadows still binds one (unread) entry.
+    pub shadow_tiles: Buffer,
     /// `PATTERN_LEVELS`, the effective levels of the hardware patterns (replaced by the
     /// device's measured table where the built-in one does not hold on it).
     pub pattern_levels: Buffer,
@@ -74,6 +76,10 @@ impl SceneBuffers {
         let polygon_entries: &[GpuPolygonLight] =
             if geometry.polygon_lights.is_empty() { &unread } else { &geometry.polygon_lights };
         let polygon_lights = Buffer::with_data(context, "scene polygonal lights", storage, polygon_entries)?;
+        let tiles = gpu_shadow_tiles(&geometry.shadows);
+        let unread = [GpuShadowTile::default()];
+        let tile_entries: &[GpuShadowTile] = if tiles.is_empty() { &unread } else { &tiles };
+        let shadow_tiles = Buffer::with_data(context, "shadow atlas tiles", storage, tile_entries)?;
         let pattern_levels = Buffer::with_data(
             context,
             "pattern levels",
@@ -87,6 +93,7 @@ impl SceneBuffers {
             lights,
             materials,
             polygon_lights,
+            shadow_tiles,
             pattern_levels,
             level_records,
             counters,

@@ -3,10 +3,12 @@
 //! [`DrawCall`] per mesh and [`EmitterDraw`] per polygonal light saying where each lies.
 
 use super::textures::gpu_material;
+use crate::geometry::shadow_view::ShadowLayout;
 use crate::gpu_interface::flags::{FLAG_ONE_SIDED, FLAG_SHARED_CORNERS};
-use crate::gpu_types::{DrawConstants, GpuLight, GpuMaterial, GpuPolygonLight, Vertex};
+use crate::gpu_types::{DrawConstants, GpuLight, GpuMaterial, GpuPolygonLight, GpuShadowTile, Vertex};
 use crate::scene::adjacency::{adjacency_patches, neighbours};
 use crate::scene::{Light, MaterialKind, Mesh, Scene};
+use glam::{IVec4, Vec4};
 
 /// One mesh's draw: where its triangles lie in the scene's buffers and what it is drawn with.
 pub(super) struct DrawCall {
@@ -56,17 +58,27 @@ fn material_kind_id(kind: &MaterialKind) -> u32 {
     }
 }
 
-/// The scene's lights in the order the shaders expect: point lights, then directional ones.
-pub fn gpu_lights(lights: &[Light]) -> (Vec<GpuLight>, i32, i32) {
+/// The scene's lights in the order the shaders expect: point lights, then directional ones;
+/// each with its shadow map's first tile and filter radius from `shadows`
+/// (`ShadowLayout::lights`, per light of `lights`; empty: none casts shadows).
+pub fn gpu_lights(lights: &[Light], shadows: &[Option<(u32, u32)>]) -> (Vec<GpuLight>, i32, i32) {
     let mut points = Vec::new();
     let mut directionals = Vec::new();
-    for light in lights {
+    for (index, light) in lights.iter().enumerate() {
+        let shadow = match shadows.get(index).copied().flatten() {
+            Some((tile, radius)) => IVec4::new(tile as i32, radius as i32, 0, 0),
+            None => IVec4::new(-1, 0, 0, 0),
+        };
         match *light {
-            Light::Point { position, color, intensity } => points
-                .push(GpuLight { position: position.extend(1.0), radiance: (color * intensity).extend(0.0) }),
+            Light::Point { position, color, intensity } => points.push(GpuLight {
+                position: position.extend(1.0),
+                radiance: (color * intensity).extend(0.0),
+                shadow,
+            }),
             Light::Directional { direction, color, intensity } => directionals.push(GpuLight {
                 position: direction.extend(0.0),
                 radiance: (color * intensity).extend(0.0),
+                shadow,
             }),
             Light::Polygon(_) => {}
         }
@@ -74,6 +86,18 @@ pub fn gpu_lights(lights: &[Light]) -> (Vec<GpuLight>, i32, i32) {
     let counts = (points.len() as i32, directionals.len() as i32);
     points.extend(directionals);
     (points, counts.0, counts.1)
+}
+
+/// The shadow atlas's tiles as the shaders read them.
+pub fn gpu_shadow_tiles(layout: &ShadowLayout) -> Vec<GpuShadowTile> {
+    layout
+        .tiles
+        .iter()
+        .map(|t| GpuShadowTile {
+            view_proj: t.view_proj,
+            rect: Vec4::new(t.offset[0] as f32, t.offset[1] as f32, t.size as f32, t.texel_width),
+        })
+        .collect()
 }
 
 /// The scene's polygonal lights, in scene order (the shaders' `polygon_lights`).
@@ -125,6 +149,8 @@ pub(super) struct SceneGeometry {
     pub directional_count: i32,
     pub materials: Vec<GpuMaterial>,
     pub polygon_lights: Vec<GpuPolygonLight>,
+    /// The shadow maps' tiles in the atlas (`shadow_view`).
+    pub shadows: ShadowLayout,
 }
 
 impl SceneGeometry {
@@ -134,7 +160,8 @@ impl SceneGeometry {
         for (mesh_index, mesh) in scene.meshes.iter().enumerate() {
             geometry.add_mesh(scene, mesh_index, mesh);
         }
-        let (lights, point_count, directional_count) = gpu_lights(&scene.lights);
+        let shadows = ShadowLayout::of(scene);
+        let (lights, point_count, directional_count) = gpu_lights(&scene.lights, &shadows.lights);
         let materials: Vec<GpuMaterial> = scene.materials.iter().map(gpu_material).collect();
         let polygon_lights = gpu_polygon_lights(&scene.lights);
         // The emitters' triangles go after the meshes' (level records cover the meshes only).
@@ -149,6 +176,7 @@ impl SceneGeometry {
             directional_count,
             materials,
             polygon_lights,
+            shadows,
             ..geometry
         }
     }

@@ -85,11 +85,13 @@ pub fn material_set_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; MATE
 }
 
 impl SceneTextures {
-    /// Uploads every material's textures and writes one set of `layout` per material.
+    /// Uploads every material's textures and writes one set of `layout` per material, each
+    /// with the shadow atlas `shadow_atlas` (its view, read through its sampler).
     pub fn upload(
         context: &Arc<Context>,
         scene: &Scene,
         layout: vk::DescriptorSetLayout,
+        shadow_atlas: (vk::ImageView, vk::Sampler),
     ) -> Result<SceneTextures> {
         let white = [LevelData { width: 1, height: 1, texels: &[255, 255, 255, 255] }];
         let mut images = vec![upload_image(context, "white texture", vk::Format::R8G8B8A8_UNORM, &white)?];
@@ -117,6 +119,13 @@ impl SceneTextures {
             // The set was just allocated (idle); views and sampler are kept in `self`.
             let views = slot.map(|image| images[image].view);
             bind_sampled_images(context, set, forward::MATERIAL_TEXTURES[0].binding, sampler.raw, &views);
+            bind_sampled_images(
+                context,
+                set,
+                forward::SHADOW_ATLAS.binding,
+                shadow_atlas.1,
+                &[shadow_atlas.0],
+            );
             sets.push(set);
         }
         Ok(SceneTextures { _images: images, _sampler: sampler, _pool: pool, sets })

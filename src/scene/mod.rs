@@ -90,7 +90,6 @@ pub use schema::UvProjection;
 
 use file::{first_non_utf8_line, read_file};
 use glam::Vec3;
-use model::bounds_of;
 use std::path::Path;
 
 impl Scene {

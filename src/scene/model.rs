@@ -26,6 +26,8 @@ pub struct Scene {
     pub settings: RenderSettings,
     pub materials: Vec<Material>,
     pub lights: Vec<Light>,
+    /// The lights that cast shadows, each with its map's settings; empty where none does.
+    pub shadow_casters: Vec<ShadowCaster>,
     /// At least one after [`Scene::load`].
     pub meshes: Vec<Mesh>,
     /// The world point (f64) that every position here is relative to: a scene whose meshes
@@ -239,6 +241,29 @@ impl MaterialKind {
     }
 }
 
+/// A point or directional light's shadow map, from the `shadow = { .. }` table of its
+/// `[[lights]]` entry. A point light's map is six square faces (a cube map), a directional
+/// light's one orthographic square fitted to the scene's bounds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ShadowCaster {
+    /// The light's index in [`Scene::lights`].
+    pub light: usize,
+    /// Texels along a side of the map (of each face, for a point light).
+    pub resolution: u32,
+    /// Texels along a side of the percentage-closer filter's square kernel: odd, 1 for hard
+    /// shadows.
+    pub filter: u32,
+}
+
+impl ShadowCaster {
+    /// A side of the map when the scene file leaves `resolution` out.
+    pub const DEFAULT_RESOLUTION: u32 = 1024;
+    /// The least and the greatest side of a map.
+    pub const RESOLUTIONS: std::ops::RangeInclusive<u32> = 16..=4096;
+    /// The widest filter kernel.
+    pub const MAX_FILTER: u32 = 9;
+}
+
 /// A light. Irradiance from a point light falls off as 1/d²; a directional light's does not.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Light {
@@ -400,7 +425,7 @@ impl ParameterRange {
 }
 
 /// The axis-aligned bounds `(min, max)` of `points`, `(Vec3::ZERO, Vec3::ZERO)` where there are none.
-pub(super) fn bounds_of(points: impl Iterator<Item = Vec3>) -> (Vec3, Vec3) {
+pub fn bounds_of(points: impl Iterator<Item = Vec3>) -> (Vec3, Vec3) {
     let (min, max) = points.fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| (lo.min(p), hi.max(p)));
     if min.x > max.x {
         (Vec3::ZERO, Vec3::ZERO)

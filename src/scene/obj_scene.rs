@@ -178,6 +178,7 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
         settings: RenderSettings::default(),
         materials: scene_materials,
         lights,
+        shadow_casters: Vec::new(),
         meshes,
         origin,
         warnings,

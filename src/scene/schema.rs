@@ -131,6 +131,16 @@ pub(super) struct LightFile {
     pub(super) vertices: Option<Vec<[f64; 3]>>,
     pub(super) color: [f32; 3],
     pub(super) intensity: f32,
+    pub(super) shadow: Option<ShadowFile>,
+}
+
+/// A light's `shadow = { resolution = 1024, filter = 3 }`: it casts shadows, with these settings
+/// (both optional).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct ShadowFile {
+    pub(super) resolution: Option<u32>,
+    pub(super) filter: Option<u32>,
 }
 
 #[derive(Debug, Deserialize)]

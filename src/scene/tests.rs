@@ -668,3 +668,38 @@ fn closed_meshes_default_to_one_sided_and_open_ones_to_two_sided() {
     let shipped = Scene::load(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/bunny.toml"))).unwrap();
     assert!(!shipped.meshes[0].two_sided, "the bunny is closed");
 }
+
+/// A light's `shadow` table: defaults, the settings kept, the light it belongs to.
+#[test]
+fn shadow_tables_load_with_their_defaults() {
+    let dir = TempDir::new("shadow");
+    let plain = load_text(&dir, MINIMAL).1.unwrap();
+    assert!(plain.shadow_casters.is_empty());
+    let hard = load_text(&dir, &minimal_with("intensity = 1.0", "intensity = 1.0\nshadow = {}")).1.unwrap();
+    let expected = ShadowCaster { light: 0, resolution: ShadowCaster::DEFAULT_RESOLUTION, filter: 1 };
+    assert_eq!(hard.shadow_casters, [expected]);
+    let text = format!(
+        "{}\n[[lights]]\ntype = \"point\"\nposition = [0, 2, 0]\ncolor = [1, 1, 1]\nintensity = 1\nshadow = {{ resolution = 256, filter = 5 }}\n",
+        MINIMAL
+    );
+    let second = load_text(&dir, &text).1.unwrap();
+    assert_eq!(second.shadow_casters, [ShadowCaster { light: 1, resolution: 256, filter: 5 }]);
+}
+
+#[test]
+fn bad_shadow_tables_are_named() {
+    let cases: &[(&str, &[&str])] = &[
+        ("shadow = { filter = 2 }", &["[[lights]] #1 `shadow`", "`filter` = 2", "odd"]),
+        ("shadow = { filter = 11 }", &["`filter` = 11"]),
+        ("shadow = { resolution = 8 }", &["`resolution` = 8", "16..=4096"]),
+        ("shadow = { resolution = 100000 }", &["`resolution` = 100000"]),
+        ("shadow = { size = 3 }", &["unknown field `size`"]),
+    ];
+    for (table, needles) in cases {
+        expect_error(&minimal_with("intensity = 1.0", &format!("intensity = 1.0\n{table}")), needles);
+    }
+    expect_error(
+        &with_polygon("[[0, 2, 0], [1, 2, 0], [0, 2, 1]]", "shadow = {}"),
+        &["[[lights]] #2 `shadow`", "polygonal lights cast no shadows"],
+    );
+}

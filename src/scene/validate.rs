@@ -6,7 +6,7 @@
 use super::error::SceneError;
 use super::model::{
     bounds_of, Camera, Light, LightSampling, Material, MaterialKind, MaterialMaps, Mesh, ParameterMap,
-    ParameterMapping, PolygonLight, RenderSettings, Scene,
+    ParameterMapping, PolygonLight, RenderSettings, Scene, ShadowCaster,
 };
 use super::schema::{
     CameraFile, LightFile, LightType, MaterialFile, MaterialType, MeshFile, RenderFile, Scale, SceneFile,
@@ -185,6 +185,12 @@ pub(super) fn build(path: &Path, file: SceneFile) -> Result<Scene, SceneError> {
             .collect::<Result<Vec<_>, _>>()
     };
     let mut lights = check_lights(DVec3::ZERO)?;
+    let shadow_casters = file
+        .lights
+        .iter()
+        .enumerate()
+        .filter_map(|(i, l)| check_shadow(path, i, l).transpose())
+        .collect::<Result<Vec<_>, _>>()?;
 
     // The camera checks that do not need the meshes come first, so that a mistake there is
     // reported without reading any OBJ file.
@@ -229,10 +235,39 @@ pub(super) fn build(path: &Path, file: SceneFile) -> Result<Scene, SceneError> {
         settings,
         materials,
         lights,
+        shadow_casters,
         meshes,
         origin,
         warnings: Vec::new(),
     })
+}
+
+/// Light `index`'s shadow map, where its entry has a `shadow` table.
+fn check_shadow(path: &Path, index: usize, l: &LightFile) -> Result<Option<ShadowCaster>, SceneError> {
+    let Some(shadow) = &l.shadow else { return Ok(None) };
+    let item = Item { path, item: format!("[[lights]] #{} `shadow`", index + 1) };
+    if l.kind == LightType::Polygon {
+        return Err(item.error(
+            "polygonal lights cast no shadows (their light is unshadowed); remove `shadow` from this light",
+        ));
+    }
+    let resolution = shadow.resolution.unwrap_or(ShadowCaster::DEFAULT_RESOLUTION);
+    let range = ShadowCaster::RESOLUTIONS;
+    if !range.contains(&resolution) {
+        return Err(item.error(format!(
+            "`resolution` = {resolution} is outside {}..={} (texels along a side of the map)",
+            range.start(),
+            range.end()
+        )));
+    }
+    let filter = shadow.filter.unwrap_or(1);
+    if filter % 2 == 0 || filter > ShadowCaster::MAX_FILTER {
+        return Err(item.error(format!(
+            "`filter` = {filter} is not an odd width from 1 to {} (texels along a side of the kernel; 1: hard shadows)",
+            ShadowCaster::MAX_FILTER
+        )));
+    }
+    Ok(Some(ShadowCaster { light: index, resolution, filter }))
 }
 
 fn check_render(path: &Path, r: &RenderFile) -> Result<RenderSettings, SceneError> {

@@ -131,6 +131,26 @@ impl Sampler {
     }
 }
 
+impl Sampler {
+    /// Nearest filtering, clamped to the edge, level 0 only: for images read with `texelFetch`
+    /// (the shadow atlas), which a filtering sampler would need a filterable format for.
+    pub fn nearest_clamp(context: &Arc<Context>, name: &str) -> Result<Sampler> {
+        let info = vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::NEAREST)
+            .min_filter(vk::Filter::NEAREST)
+            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .min_lod(0.0)
+            .max_lod(0.0);
+        // SAFETY: valid create info; destroyed in `Drop`.
+        let raw = unsafe { context.device.create_sampler(&info, None) }.while_("creating a sampler")?;
+        context.name(raw, name);
+        Ok(Sampler { context: context.clone(), raw })
+    }
+}
+
 impl Drop for Sampler {
     fn drop(&mut self) {
         // SAFETY: the owner guarantees no pending work uses the sampler.

@@ -59,7 +59,7 @@ int light_sums(Frame frame, GpuMaterial material, vec2 param, float eps, uint n_
         int polygon = POLYGON_LIGHT_COUNT > 0 && turn >= light_turns ? turn - light_turns : -1;
         int i = refine ? turn / (REFINE_CHILDREN + 1) : turn;
         int r = refine ? turn % (REFINE_CHILDREN + 1) : REFINE_CHILDREN;
-        GpuLight light = GpuLight(vec4(0.0), vec4(0.0));
+        GpuLight light = GpuLight(vec4(0.0), vec4(0.0), ivec4(-1, 0, 0, 0));
         if (polygon < 0) {
             light = lights[i];
         }

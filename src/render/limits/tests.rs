@@ -40,6 +40,7 @@ fn sizes(triangles: u64) -> SceneSizes {
             levels: 9,
             bytes: 4 * 256 * 128 * 4 / 3,
         }],
+        shadow_tiles: 0,
     }
 }
 
@@ -200,4 +201,19 @@ fn the_buffer_list_follows_the_scene() {
     assert_eq!(find("scene polygonal lights"), size_of::<GpuPolygonLight>() as u64);
     let names: std::collections::HashSet<_> = buffers.iter().map(|b| b.name).collect();
     assert_eq!(names.len(), buffers.len(), "one entry per buffer");
+}
+
+#[test]
+fn a_shadow_atlas_wider_than_the_device_allows_is_refused_by_name() {
+    let mut over = sizes(10);
+    over.shadow_tiles = 6;
+    over.textures.push(TextureSize {
+        name: "shadow atlas".into(),
+        width: 2 * limits().max_image_dimension_2d,
+        height: 64,
+        levels: 1,
+        bytes: 4 * 64 * 2 * u64::from(limits().max_image_dimension_2d),
+    });
+    let message = refused(&over, &limits(), "maxImageDimension2D");
+    assert!(message.contains("shadow atlas"), "{message}");
 }

@@ -1,0 +1,150 @@
+//! The shadow atlas: every shadow map of the scene as a square tile of one depth image
+//! (`geometry::shadow_view` lays the tiles out), rendered once when the renderer is made, as
+//! lights and meshes do not move, and read by `glsl/include/shadow.glsl` through set 1.
+
+use super::descriptors::PUSH_STAGES;
+use super::pipelines::{scene_pipeline, Instrumentation};
+use super::scene_buffers::SceneBuffers;
+use super::scene_geometry::DrawCall;
+use crate::error::Result;
+use crate::geometry::shadow_view::ShadowLayout;
+use crate::gpu_types::DrawConstants;
+use crate::shaders;
+use crate::vk::memory::{transition, Image};
+use crate::vk::pipeline::{DepthUse, Optimization, Pipeline, PipelineLayout, ShaderModule, Stage};
+use crate::vk::target::{begin_rendering, DEPTH_FORMAT};
+use crate::vk::texture::Sampler;
+use crate::vk::Context;
+use ash::vk;
+use std::sync::Arc;
+
+/// The atlas image, in `SHADER_READ_ONLY_OPTIMAL` once [`ShadowAtlas::render`] ran, and the
+/// sampler set 1 reads it with.
+pub(super) struct ShadowAtlas {
+    pub image: Image,
+    pub sampler: Sampler,
+}
+
+impl ShadowAtlas {
+    /// The atlas of `layout` (1 × 1 where no light casts shadows: set 1 binds it all the same).
+    pub(super) fn new(context: &Arc<Context>, layout: &ShadowLayout) -> Result<ShadowAtlas> {
+        let [width, height] = layout.extent;
+        let image = Image::new(
+            context,
+            "shadow atlas",
+            vk::Extent2D { width, height },
+            DEPTH_FORMAT,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
+            vk::ImageAspectFlags::DEPTH,
+        )?;
+        let sampler = Sampler::nearest_clamp(context, "shadow atlas sampler")?;
+        Ok(ShadowAtlas { image, sampler })
+    }
+
+    /// Clears the atlas to the far plane and draws every mesh of `draws` into each tile of
+    /// `layout`, depth only, both faces; leaves the atlas ready for the shaders to read.
+    pub(super) fn render(
+        &self,
+        context: &Arc<Context>,
+        pipeline_layout: &PipelineLayout,
+        buffers: &SceneBuffers,
+        layout: &ShadowLayout,
+        draws: &[DrawCall],
+    ) -> Result<()> {
+        let vertex = ShaderModule::new(context, "forward.vert", shaders::single("forward.vert"))?;
+        let stages =
+            vec![Stage { stage: vk::ShaderStageFlags::VERTEX, module: &vertex, specialization: None }];
+        let mut desc = scene_pipeline("shadow map", stages, pipeline_layout, Instrumentation::None);
+        desc.color_formats = &[];
+        desc.depth_use = DepthUse::Prime;
+        desc.dynamic_cull_mode = false;
+        desc.cull_mode = vk::CullModeFlags::NONE;
+        desc.optimization = Optimization::Optimized;
+        let pipeline = Pipeline::graphics(context, &desc)?;
+        let device = &context.device;
+        let atlas = self.image.raw;
+        context.run_once(|cmd| {
+            let depth = vk::ImageAspectFlags::DEPTH;
+            transition(
+                device,
+                cmd,
+                atlas,
+                depth,
+                (vk::ImageLayout::UNDEFINED, vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
+                (
+                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                    vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+                        | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
+                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE
+                        | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ,
+                ),
+            );
+            let attachment = vk::RenderingAttachmentInfo::default()
+                .image_view(self.image.view)
+                .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .clear_value(vk::ClearValue {
+                    depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 },
+                });
+            begin_rendering(
+                device,
+                cmd,
+                self.image.extent,
+                vk::RenderingInfo::default().depth_attachment(&attachment),
+            );
+            // SAFETY: `cmd` is recording inside the rendering begun above; the pipeline, the
+            // buffers and the layout outlive the wait `run_once` ends with.
+            unsafe {
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
+                device.cmd_bind_vertex_buffers(cmd, 0, &[buffers.vertices.raw], &[0]);
+                device.cmd_bind_index_buffer(cmd, buffers.indices.raw, 0, vk::IndexType::UINT32);
+                for tile in &layout.tiles {
+                    let (x, y, size) = (tile.offset[0], tile.offset[1], tile.size);
+                    let area = vk::Rect2D {
+                        offset: vk::Offset2D { x: x as i32, y: y as i32 },
+                        extent: vk::Extent2D { width: size, height: size },
+                    };
+                    let viewport = vk::Viewport {
+                        x: x as f32,
+                        y: y as f32,
+                        width: size as f32,
+                        height: size as f32,
+                        min_depth: 0.0,
+                        max_depth: 1.0,
+                    };
+                    device.cmd_set_viewport(cmd, 0, &[viewport]);
+                    device.cmd_set_scissor(cmd, 0, &[area]);
+                    let constants = DrawConstants { view_proj: tile.view_proj, ..Default::default() };
+                    device.cmd_push_constants(
+                        cmd,
+                        pipeline_layout.raw,
+                        PUSH_STAGES,
+                        0,
+                        bytemuck::bytes_of(&constants),
+                    );
+                    for draw in draws {
+                        device.cmd_draw_indexed(cmd, draw.index_count, 1, draw.first_index, 0, 0);
+                    }
+                }
+                device.cmd_end_rendering(cmd);
+            }
+            transition(
+                device,
+                cmd,
+                atlas,
+                depth,
+                (
+                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                    vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
+                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                ),
+                (
+                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                    vk::PipelineStageFlags2::ALL_GRAPHICS | vk::PipelineStageFlags2::COMPUTE_SHADER,
+                    vk::AccessFlags2::SHADER_SAMPLED_READ,
+                ),
+            );
+        })
+    }
+}

@@ -1,0 +1,130 @@
+//! Shadow maps on lavapipe (validation layer on): every mode renders the shadow scene; the
+//! maps shadow what a ray cast towards the light finds occluded (no acne on lit surfaces, no
+//! light leaking under the caster); a shadow only ever darkens; multirate, which shades a
+//! shadowed scene per pixel for now, draws `pixel`'s image.
+
+mod common;
+
+use ash::vk;
+use common::{assert_validation_clean, ray_cast, repo_path, validated_context};
+use glam::Vec3;
+use multirate::geometry::camera::pixel_ray;
+use multirate::render::{Mode, Placement, Renderer, View};
+use multirate::scene::{Light, Scene, ShadowCaster};
+use multirate::vk::target::{FloatImage, RenderTarget};
+
+const WIDTH: u32 = 160;
+const HEIGHT: u32 = 120;
+/// The ground's index in scenes/shadows.toml.
+const GROUND: usize = 1;
+
+fn shadow_scene() -> Scene {
+    Scene::load(&repo_path("scenes/shadows.toml")).expect("scenes/shadows.toml loads")
+}
+
+/// `scene` lit by its light `index` alone, with that light's shadow where `shadowed`.
+fn one_light(scene: &Scene, index: usize, shadowed: bool) -> Scene {
+    let caster = scene.shadow_casters.iter().find(|c| c.light == index).expect("the light casts shadows");
+    Scene {
+        lights: vec![scene.lights[index]],
+        shadow_casters: if shadowed { vec![ShadowCaster { light: 0, ..*caster }] } else { Vec::new() },
+        ..scene.clone()
+    }
+}
+
+fn render(scene: &Scene, views: &[View]) -> Vec<FloatImage> {
+    let context = validated_context();
+    let renderer = Renderer::new(&context, scene).expect("renderer");
+    let target = RenderTarget::new(&context, vk::Extent2D { width: WIDTH, height: HEIGHT }).expect("target");
+    let images = views.iter().map(|view| renderer.render(&target, view).expect("render")).collect();
+    assert_validation_clean(&context);
+    images
+}
+
+#[test]
+fn every_mode_renders_the_shadow_scene_and_multirate_draws_pixel_s_image() {
+    let scene = shadow_scene();
+    assert_eq!(scene.shadow_casters.len(), 2);
+    let base = View::of_scene(&scene);
+    let modes =
+        [Mode::Pixel, Mode::PixelDeferred, Mode::Vertex, Mode::Fixed(2), Mode::Multirate, Mode::Multirate];
+    let views: Vec<View> = modes
+        .iter()
+        .enumerate()
+        .map(|(i, &mode)| View {
+            mode,
+            placement: if i == 5 { Placement::Tcs } else { Placement::Compute },
+            ..base.clone()
+        })
+        .collect();
+    let images = render(&scene, &views);
+    let pixel = &images[0];
+    let covered = pixel.pixels.iter().filter(|p| p[3] == 1.0).count();
+    assert!(covered > (WIDTH * HEIGHT / 3) as usize, "{covered} pixels covered");
+    for (view, image) in views.iter().zip(&images) {
+        assert!(image.pixels.iter().flatten().all(|v| v.is_finite()), "{:?}: not finite", view.mode);
+        assert!(image.pixels.iter().any(|p| p[0] + p[1] + p[2] > 0.05), "{:?}: black", view.mode);
+    }
+    for image in &images[4..] {
+        assert_eq!(image, pixel, "multirate on a shadowed scene is drawn as pixel draws it");
+    }
+    // pixel-deferred rebuilds each pixel's point from the triangle: where a shadow's edge
+    // passes through a pixel's centre it may fall on the other side.
+    let apart = pixel
+        .pixels
+        .iter()
+        .zip(&images[1].pixels)
+        .filter(|(p, q)| (0..3).any(|c| (p[c] - q[c]).abs() > 0.02))
+        .count();
+    assert!(apart * 200 < covered, "pixel-deferred differs from pixel at {apart} of {covered} pixels");
+}
+
+/// Per light of the shadow scene, lit alone: at every pixel of the ground whose unshadowed
+/// shading is not black, the shadowed image's share of it (the visibility; the ground is
+/// Lambertian) against a ray cast from the ground point towards the light.
+#[test]
+fn shadows_fall_where_a_ray_towards_the_light_is_blocked() {
+    let scene = shadow_scene();
+    for index in 0..scene.lights.len() {
+        let view = View::of_scene(&scene);
+        let unshadowed = &render(&one_light(&scene, index, false), std::slice::from_ref(&view))[0];
+        let shadowed = &render(&one_light(&scene, index, true), std::slice::from_ref(&view))[0];
+        for (p, q) in unshadowed.pixels.iter().zip(&shadowed.pixels) {
+            assert!((0..3).all(|c| q[c] <= p[c] * (1.0 + 1e-6) + 1e-7), "a shadow brightened {p:?} to {q:?}");
+        }
+        let (mut ground, mut blocked, mut mismatched) = (0, 0, 0);
+        for y in 0..HEIGHT {
+            for x in 0..WIDTH {
+                let lit = unshadowed.pixel(x, y)[1];
+                if lit < 1e-4 {
+                    continue;
+                }
+                let (origin, direction) =
+                    pixel_ray(&scene.camera, WIDTH, HEIGHT, x as f32 + 0.5, y as f32 + 0.5);
+                let Some(hit) = ray_cast(&scene, origin, direction) else { continue };
+                if hit.mesh != GROUND {
+                    continue;
+                }
+                let point = origin + direction * hit.distance as f32 + Vec3::Y * 1e-3;
+                let (towards, reach) = match scene.lights[index] {
+                    Light::Point { position, .. } => {
+                        ((position - point).normalize(), (position - point).length())
+                    }
+                    Light::Directional { direction, .. } => (-direction, f32::INFINITY),
+                    Light::Polygon(_) => unreachable!(),
+                };
+                let occluded = ray_cast(&scene, point, towards).is_some_and(|h| (h.distance as f32) < reach);
+                let visibility = shadowed.pixel(x, y)[1] / lit;
+                ground += 1;
+                blocked += usize::from(occluded);
+                mismatched += usize::from((visibility > 0.5) == occluded);
+            }
+        }
+        eprintln!("light {index}: {ground} ground pixels, {blocked} in shadow, {mismatched} disagree");
+        assert!(
+            blocked * 20 > ground && blocked * 2 < ground,
+            "light {index}: {blocked} of {ground} in shadow"
+        );
+        assert!(mismatched * 100 <= ground, "light {index}: {mismatched} of {ground} ground pixels disagree");
+    }
+}
