@@ -31,12 +31,13 @@ struct Axis {
 
 /// In `shaders::Axis::ALL` order (the names are written to `$OUT_DIR/spirv/axes.rs`, which
 /// `src/shaders.rs` checks against it at compile time).
-const AXES: [Axis; 5] = [
+const AXES: [Axis; 6] = [
     Axis { name: "material_kind", define: "VARIANT_MATERIAL_KIND", values: 3 },
     Axis { name: "polygon_lights", define: "VARIANT_POLYGON_LIGHTS", values: 2 },
     Axis { name: "textured", define: "VARIANT_TEXTURED", values: 2 },
     Axis { name: "count_evaluations", define: "VARIANT_COUNT_EVALUATIONS", values: 2 },
     Axis { name: "record_levels", define: "VARIANT_RECORD_LEVELS", values: 2 },
+    Axis { name: "shadows", define: "VARIANT_SHADOWS", values: 2 },
 ];
 
 /// Stack of each shader-compiling thread (address space; only what is touched is committed).

@@ -61,7 +61,8 @@ void main() {
     }
     GpuMaterial m = materials[draw.material_index];
     float parameter = parameter_at_grad(m, uv, duv_dx, duv_dy);
-    Shading s = shade_shadowed(position, normal, draw.eye.xyz, draw.material_index, parameter);
+    ShadowPoint lookup = fragment_shadow_point(triangle);
+    Shading s = shade_visible(position, normal, draw.eye.xyz, draw.material_index, parameter, lookup);
     if (COUNT_EVALUATIONS) {
         atomicAdd(counters.pixel_evaluations, 1u);
     }

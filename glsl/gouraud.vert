@@ -16,7 +16,8 @@ layout(location = TRIANGLE_ID_LOCATION) flat out uint out_triangle;
 
 void main() {
     float parameter = parameter_at_lod(materials[draw.material_index], in_uv, 0.0);
-    Shading s = shade_shadowed(in_position, in_normal, draw.eye.xyz, draw.material_index, parameter);
+    Shading s = shade_visible(in_position, in_normal, draw.eye.xyz, draw.material_index, parameter,
+                               ShadowPoint(in_position, safe_normalize(in_normal), true));
     out_diffuse = s.diffuse;
     out_specular = s.specular;
     out_uv = in_uv;

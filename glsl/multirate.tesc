@@ -81,8 +81,6 @@ void main() {
         set_patch_levels(own, vec3(neighbourhood_level[1], neighbourhood_level[2], neighbourhood_level[3]),
                          material_lod_bound(in_uv[0], in_uv[1], in_uv[2]),
                          draw.patch_base + uint(gl_PrimitiveID));
-#if TRIANGLE_IDS
         patch_triangle = draw.patch_base + uint(gl_PrimitiveID);
-#endif
     }
 }

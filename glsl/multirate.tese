@@ -1,5 +1,5 @@
 #version 460
-// variants: material_kind polygon_lights textured count_evaluations
+// variants: material_kind polygon_lights textured count_evaluations shadows
 // `multirate` mode: shade the sub-vertices of tessellated triangles; for fallback triangles
 // (patch_level 0) pass position, normal and texture coordinates on for per-pixel shading.
 #include "texturing.glsl"
@@ -14,7 +14,7 @@ layout(location = 1) in vec3 in_normal[];
 layout(location = 2) in vec2 in_uv[];
 layout(location = 3) patch in float patch_level;
 layout(location = 4) patch in float parameter_lod_bound;
-#if TRIANGLE_IDS
+#if TRIANGLE_IDS || VARIANT_SHADOWS
 layout(location = 6) patch in uint patch_triangle;
 #endif
 
@@ -24,8 +24,13 @@ layout(location = 2) out vec3 out_position;
 layout(location = 3) out vec3 out_normal;
 layout(location = 4) out vec2 out_uv;
 layout(location = 5) flat out float out_level;
-#if TRIANGLE_IDS
+#if TRIANGLE_IDS || VARIANT_SHADOWS
 layout(location = TRIANGLE_ID_LOCATION) flat out uint out_triangle;
+#endif
+#if VARIANT_SHADOWS
+// Each shadow-casting light's unshadowed shading, by slot (shadow.glsl).
+layout(location = SHADOWED_DIFFUSE_LOCATION) out vec3 out_shadowed_diffuse[MAX_SHADOWED_LIGHTS];
+layout(location = SHADOWED_SPECULAR_LOCATION) out vec3 out_shadowed_specular[MAX_SHADOWED_LIGHTS];
 #endif
 
 // See shade.tese: no fused multiply-adds, so shared edge vertices match bit for bit.
@@ -38,6 +43,7 @@ void main() {
     vec2 uv = b.x * in_uv[0] + b.y * in_uv[1] + b.z * in_uv[2];
     out_diffuse = vec3(0.0);
     out_specular = vec3(0.0);
+    Shading apart[MAX_SHADOWED_LIGHTS] = no_shading_apart();
     if (patch_level > 0.0) {
         GpuMaterial m = materials[draw.material_index];
         float parameter = m.params.x;
@@ -47,7 +53,11 @@ void main() {
             float lod = subvertex_lod(m, p, t, position, gl_TessLevelInner[0], parameter_lod_bound);
             parameter = parameter_at_lod(m, uv, lod);
         }
+#if VARIANT_SHADOWS
+        Shading s = shade_split(position, normal, draw.eye.xyz, draw.material_index, parameter, apart);
+#else
         Shading s = shade(position, normal, draw.eye.xyz, draw.material_index, parameter);
+#endif
         out_diffuse = s.diffuse;
         out_specular = s.specular;
         if (COUNT_EVALUATIONS) {
@@ -58,8 +68,14 @@ void main() {
     out_normal = normal;
     out_uv = uv;
     out_level = patch_level;
-#if TRIANGLE_IDS
+#if TRIANGLE_IDS || VARIANT_SHADOWS
     out_triangle = patch_triangle;
+#endif
+#if VARIANT_SHADOWS
+    for (uint k = 0u; k < MAX_SHADOWED_LIGHTS; ++k) {
+        out_shadowed_diffuse[k] = apart[k].diffuse;
+        out_shadowed_specular[k] = apart[k].specular;
+    }
 #endif
     gl_Position = draw.view_proj * vec4(position, 1.0);
 }

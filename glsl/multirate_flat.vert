@@ -1,5 +1,5 @@
 #version 460
-// variants: material_kind polygon_lights textured count_evaluations
+// variants: material_kind polygon_lights textured count_evaluations shadows
 // `multirate` mode, `--estimator compute`: the flat patches (bindings.glsl), whose inner and
 // outer levels are all 1, drawn without the tessellation stages. Drawn indexed from
 // flat_indices or fallback_indices, vertex v is the scene's; drawn from the flat list, vertex
@@ -18,9 +18,31 @@ layout(location = 2) out vec3 out_position;
 layout(location = 3) out vec3 out_normal;
 layout(location = 4) out vec2 out_uv;
 layout(location = 5) flat out float out_level;
-#if TRIANGLE_IDS
+#if TRIANGLE_IDS || VARIANT_SHADOWS
 layout(location = TRIANGLE_ID_LOCATION) flat out uint out_triangle;
 #endif
+#if VARIANT_SHADOWS
+// Each shadow-casting light's unshadowed shading, by slot (shadow.glsl).
+layout(location = SHADOWED_DIFFUSE_LOCATION) out vec3 out_shadowed_diffuse[MAX_SHADOWED_LIGHTS];
+layout(location = SHADOWED_SPECULAR_LOCATION) out vec3 out_shadowed_specular[MAX_SHADOWED_LIGHTS];
+#endif
+
+// Writes `apart` to the shadowed lights' outputs (where the variant has them).
+void write_shadowed(Shading apart[MAX_SHADOWED_LIGHTS]) {
+#if VARIANT_SHADOWS
+    for (uint k = 0u; k < MAX_SHADOWED_LIGHTS; ++k) {
+        out_shadowed_diffuse[k] = apart[k].diffuse;
+        out_shadowed_specular[k] = apart[k].specular;
+    }
+#endif
+}
+
+// Writes the triangle the fragment stage reads (where the variant passes it on).
+void write_triangle(uint triangle) {
+#if TRIANGLE_IDS || VARIANT_SHADOWS
+    out_triangle = triangle;
+#endif
+}
 
 precise gl_Position;
 
@@ -45,9 +67,8 @@ void main() {
         out_normal = vec3(0.0);
         out_uv = vec2(0.0);
         out_level = 1.0;
-#if TRIANGLE_IDS
-        out_triangle = triangle;
-#endif
+        write_triangle(triangle);
+        write_shadowed(no_shading_apart());
         return;
     }
     vec3 position = scene_position(vertex);
@@ -56,14 +77,13 @@ void main() {
     out_position = position;
     out_normal = normal;
     out_uv = uv;
-#if TRIANGLE_IDS
-    out_triangle = triangle;
-#endif
+    write_triangle(triangle);
     gl_Position = draw.view_proj * vec4(position, 1.0);
     if (per_pixel) {
         out_diffuse = vec3(0.0);
         out_specular = vec3(0.0);
         out_level = 0.0;
+        write_shadowed(no_shading_apart());
         return;
     }
     float parameter = m.params.x;
@@ -76,7 +96,13 @@ void main() {
         float lod_bound = material_lod_bound(t[0], t[1], t[2]) - 0.02;
         parameter = parameter_at_lod(m, uv, subvertex_lod(m, p, t, position, 1.0, lod_bound));
     }
+    Shading apart[MAX_SHADOWED_LIGHTS] = no_shading_apart();
+#if VARIANT_SHADOWS
+    Shading s = shade_split(position, normal, draw.eye.xyz, draw.material_index, parameter, apart);
+#else
     Shading s = shade(position, normal, draw.eye.xyz, draw.material_index, parameter);
+#endif
+    write_shadowed(apart);
     out_diffuse = s.diffuse;
     out_specular = s.specular;
     if (COUNT_EVALUATIONS) {

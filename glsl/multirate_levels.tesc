@@ -27,8 +27,6 @@ void main() {
         levels.outer = tess.yzw;
         levels.fallback = tess.x == 0.0;
         write_patch_levels(levels, material_lod_bound(in_uv[0], in_uv[1], in_uv[2]));
-#if TRIANGLE_IDS
         patch_triangle = in_triangle[0];
-#endif
     }
 }

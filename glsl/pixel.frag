@@ -22,7 +22,8 @@ void main() {
     if (!heat_map_on()) {
         GpuMaterial m = materials[draw.material_index];
         float parameter = parameter_at_grad(m, in_uv, duv_dx, duv_dy);
-        Shading s = shade_shadowed(in_position, in_normal, draw.eye.xyz, draw.material_index, parameter);
+        ShadowPoint lookup = fragment_shadow_point(ID_FROM_PRIMITIVE);
+        Shading s = shade_visible(in_position, in_normal, draw.eye.xyz, draw.material_index, parameter, lookup);
         color = albedo_at_grad(m, in_uv, duv_dx, duv_dy) * s.diffuse + s.specular;
         if (COUNT_EVALUATIONS) {
             atomicAdd(counters.pixel_evaluations, 1u);

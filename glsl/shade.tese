@@ -38,7 +38,8 @@ void main() {
         float lod = subvertex_lod(m, p, t, position, gl_TessLevelInner[0], 1.0e30);
         parameter = parameter_at_lod(m, uv, lod);
     }
-    Shading s = shade_shadowed(position, normal, draw.eye.xyz, draw.material_index, parameter);
+    Shading s = shade_visible(position, normal, draw.eye.xyz, draw.material_index, parameter,
+                               ShadowPoint(position, safe_normalize(normal), true));
     out_diffuse = s.diffuse;
     out_specular = s.specular;
     out_uv = uv;

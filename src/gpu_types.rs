@@ -12,21 +12,24 @@ pub struct GpuLight {
     pub position: Vec4,
     /// rgb: colour × intensity.
     pub radiance: Vec4,
-    /// x: the light's first tile in [`GpuShadowTile`]s (a point light's six faces follow it),
-    /// or -1 where it casts no shadow; y: the radius of its filter kernel in texels.
+    /// x: the light's map in [`GpuShadowMap`]s, or -1 where it casts no shadow; y: the radius of its filter kernel in texels; z: its slot
+    /// in multirate's interpolants (`LightShadow::slot`).
     pub shadow: IVec4,
 }
 
-/// One square tile of the shadow atlas: a directional light's map or one face of a point
-/// light's cube map (std430).
+/// One shadow map in the atlas: a directional light's square, or a point light's six square
+/// faces in a block of 3 × 2 (std430).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuShadowTile {
-    /// World to the tile's clip space (depth 0 to 1).
+pub struct GpuShadowMap {
+    /// A directional light's map: world to its clip space (depth 0 to 1); unread for a cube.
     pub view_proj: Mat4,
-    /// x, y: the tile's first texel in the atlas; z: texels along its side; w: a texel's width
-    /// in world units (a point light's face: per unit of distance along the face's axis).
+    /// x, y: the map's first texel in the atlas; z: texels along its (each face's) side; w: a
+    /// texel's width in world units (a cube face: per unit of distance along its axis).
     pub rect: Vec4,
+    /// A cube: x, y the faces' near and far distances along their axes, z 1; a directional
+    /// light's map: z 0.
+    pub depth: Vec4,
 }
 
 /// A polygonal area light as the shaders read it (std430).

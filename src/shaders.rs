@@ -18,6 +18,9 @@ pub struct Features {
     pub count_evaluations: bool,
     /// The control stage writes each triangle's levels (the analysis pipelines).
     pub record_levels: bool,
+    /// Some light casts shadows: multirate's stages pass each one's unshadowed shading on apart
+    /// (without, they hold none of those interpolants).
+    pub shadows: bool,
 }
 
 /// A feature axis of `build.rs`: a field of [`Features`], named alike in a stage's
@@ -29,12 +32,19 @@ pub enum Axis {
     Textured,
     CountEvaluations,
     RecordLevels,
+    Shadows,
 }
 
 impl Axis {
     /// Every axis, in `build.rs`'s order (the order of a module's values).
-    pub const ALL: [Axis; 5] =
-        [Axis::MaterialKind, Axis::PolygonLights, Axis::Textured, Axis::CountEvaluations, Axis::RecordLevels];
+    pub const ALL: [Axis; 6] = [
+        Axis::MaterialKind,
+        Axis::PolygonLights,
+        Axis::Textured,
+        Axis::CountEvaluations,
+        Axis::RecordLevels,
+        Axis::Shadows,
+    ];
 
     /// Its name in `build.rs` and in the `// variants:` lines.
     pub const fn name(self) -> &'static str {
@@ -44,6 +54,7 @@ impl Axis {
             Axis::Textured => "textured",
             Axis::CountEvaluations => "count_evaluations",
             Axis::RecordLevels => "record_levels",
+            Axis::Shadows => "shadows",
         }
     }
 }
@@ -90,6 +101,7 @@ impl Features {
             Axis::Textured => u32::from(self.textured),
             Axis::CountEvaluations => u32::from(self.count_evaluations),
             Axis::RecordLevels => u32::from(self.record_levels),
+            Axis::Shadows => u32::from(self.shadows),
         }
     }
 
@@ -120,6 +132,7 @@ impl Module {
             textured: value(Axis::Textured) != 0,
             count_evaluations: value(Axis::CountEvaluations) != 0,
             record_levels: value(Axis::RecordLevels) != 0,
+            shadows: value(Axis::Shadows) != 0,
         }
     }
 

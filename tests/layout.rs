@@ -11,7 +11,7 @@
 use multirate::gpu_interface::bindings::{self, Binding, DescriptorKind, TexelFormat};
 use multirate::gpu_interface::specialization::{self, SpecId};
 use multirate::gpu_interface::{flags, slots};
-use multirate::gpu_types::{DrawConstants, GpuLight, GpuMaterial, GpuPolygonLight, GpuShadowTile};
+use multirate::gpu_types::{DrawConstants, GpuLight, GpuMaterial, GpuPolygonLight};
 use multirate::shaders::{self, Features};
 use std::collections::{HashMap, HashSet};
 use std::mem::{offset_of, size_of};
@@ -137,16 +137,6 @@ fn gpu_light_matches_glsl() {
         size_of::<GpuLight>(),
     );
     assert!(checked > 0, "no shader declares GpuLight: the test would check nothing");
-}
-
-#[test]
-fn gpu_shadow_tile_matches_glsl() {
-    let checked = check_struct(
-        "GpuShadowTile",
-        &[("view_proj", offset_of!(GpuShadowTile, view_proj)), ("rect", offset_of!(GpuShadowTile, rect))],
-        size_of::<GpuShadowTile>(),
-    );
-    assert!(checked > 0, "no shader declares GpuShadowTile");
 }
 
 #[test]

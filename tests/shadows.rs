@@ -1,13 +1,14 @@
 //! Shadow maps on lavapipe (validation layer on): every mode renders the shadow scene; the
 //! maps shadow what a ray cast towards the light finds occluded (no acne on lit surfaces, no
-//! light leaking under the caster); a shadow only ever darkens; multirate, which shades a
-//! shadowed scene per pixel for now, draws `pixel`'s image.
+//! light leaking under the caster); a shadow only ever darkens; multirate keeps every pixel of
+//! the same triangle within ε of `pixel` with the same maps, interpolating the shadowed lights.
 
 mod common;
 
 use ash::vk;
 use common::{assert_validation_clean, ray_cast, repo_path, validated_context};
 use glam::Vec3;
+use multirate::analysis::metrics;
 use multirate::geometry::camera::pixel_ray;
 use multirate::render::{Mode, Placement, Renderer, View};
 use multirate::scene::{Light, Scene, ShadowCaster};
@@ -42,21 +43,12 @@ fn render(scene: &Scene, views: &[View]) -> Vec<FloatImage> {
 }
 
 #[test]
-fn every_mode_renders_the_shadow_scene_and_multirate_draws_pixel_s_image() {
+fn every_mode_renders_the_shadow_scene() {
     let scene = shadow_scene();
     assert_eq!(scene.shadow_casters.len(), 2);
     let base = View::of_scene(&scene);
-    let modes =
-        [Mode::Pixel, Mode::PixelDeferred, Mode::Vertex, Mode::Fixed(2), Mode::Multirate, Mode::Multirate];
-    let views: Vec<View> = modes
-        .iter()
-        .enumerate()
-        .map(|(i, &mode)| View {
-            mode,
-            placement: if i == 5 { Placement::Tcs } else { Placement::Compute },
-            ..base.clone()
-        })
-        .collect();
+    let modes = [Mode::Pixel, Mode::PixelDeferred, Mode::Vertex, Mode::Fixed(2), Mode::Multirate];
+    let views: Vec<View> = modes.iter().map(|&mode| View { mode, ..base.clone() }).collect();
     let images = render(&scene, &views);
     let pixel = &images[0];
     let covered = pixel.pixels.iter().filter(|p| p[3] == 1.0).count();
@@ -65,11 +57,8 @@ fn every_mode_renders_the_shadow_scene_and_multirate_draws_pixel_s_image() {
         assert!(image.pixels.iter().flatten().all(|v| v.is_finite()), "{:?}: not finite", view.mode);
         assert!(image.pixels.iter().any(|p| p[0] + p[1] + p[2] > 0.05), "{:?}: black", view.mode);
     }
-    for image in &images[4..] {
-        assert_eq!(image, pixel, "multirate on a shadowed scene is drawn as pixel draws it");
-    }
-    // pixel-deferred rebuilds each pixel's point from the triangle: where a shadow's edge
-    // passes through a pixel's centre it may fall on the other side.
+    // pixel-deferred looks its shadows up at the same points as pixel (shadow_point) and
+    // rebuilds the rest of the shading from the triangle.
     let apart = pixel
         .pixels
         .iter()
@@ -77,6 +66,42 @@ fn every_mode_renders_the_shadow_scene_and_multirate_draws_pixel_s_image() {
         .filter(|(p, q)| (0..3).any(|c| (p[c] - q[c]).abs() > 0.02))
         .count();
     assert!(apart * 200 < covered, "pixel-deferred differs from pixel at {apart} of {covered} pixels");
+}
+
+/// Multirate, both placements, with hard and filtered shadows: every pixel of the same triangle
+/// within ε of `pixel` with the same maps, and the shadowed lights interpolated on sub-vertices
+/// (not shaded per pixel).
+#[test]
+fn multirate_keeps_the_bound_with_shadows_applied_per_pixel() {
+    let context = validated_context();
+    let target = RenderTarget::new(&context, vk::Extent2D { width: WIDTH, height: HEIGHT }).expect("target");
+    let loaded = shadow_scene();
+    for filter in [1, 5] {
+        let casters = loaded.shadow_casters.iter().map(|c| ShadowCaster { filter, ..*c }).collect();
+        let scene = Scene { shadow_casters: casters, ..loaded.clone() };
+        let renderer = Renderer::new(&context, &scene).expect("renderer");
+        let reference = renderer.analyze(&target, &View::of_scene(&scene)).expect("pixel");
+        for placement in [Placement::Compute, Placement::Tcs] {
+            let what = format!("filter {filter}, {placement:?}");
+            let view = View { mode: Mode::Multirate, placement, ..View::of_scene(&scene) };
+            let analysis = renderer.analyze(&target, &view).expect("multirate");
+            let epsilon = f64::from(view.estimator.epsilon);
+            let over = metrics::pixels_over(reference.frame(), analysis.frame(), epsilon);
+            let error = metrics::image_error(reference.frame(), analysis.frame(), scene.settings.exposure);
+            eprintln!(
+                "{what}: L∞ {:.4} on pixels of the same triangle, {over} over ε",
+                error.l_inf_same_triangle
+            );
+            assert_eq!(over, 0, "{what}: {over} pixels of the same triangle over ε ({error:?})");
+            let counts = analysis.evaluations;
+            assert!(
+                counts.sub_vertices > 0 && counts.fragments * 2 < reference.evaluations.fragments,
+                "{what}: {counts:?} against pixel's {:?}",
+                reference.evaluations
+            );
+        }
+    }
+    assert_validation_clean(&context);
 }
 
 /// Per light of the shadow scene, lit alone: at every pixel of the ground whose unshadowed

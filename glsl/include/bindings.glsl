@@ -156,8 +156,10 @@ layout(set = 0, binding = 24, std430) writeonly buffer FallbackIndices { uint fa
 // lanes for each 32-bit word, and a texel fetch gathers four words at about the cost of two
 // such loads (docs/notebook/pre_pass_loads.md): most of that step's time was its loads.
 layout(set = 0, binding = 25) uniform samplerBuffer triangle_corners;
-// The shadow atlas's tiles (shadow.glsl); one unread entry where no light casts shadows.
-layout(set = 0, binding = 26, std430) readonly buffer ShadowTiles { GpuShadowTile shadow_tiles[]; };
+// The shadow maps (shadow.glsl), six texels each: a directional light's matrix's columns,
+// GpuShadowMap.rect, GpuShadowMap.depth (types.glsl); one unread entry where no light casts
+// shadows. Texels, not a storage buffer: see shadow_map_rect.
+layout(set = 0, binding = 26) uniform samplerBuffer shadow_maps;
 // The index of no vertex, 2^24 - 1 (`SKIPPED_VERTEX` in Rust, Vulkan's least
 // maxDrawIndexedIndexValue; render::limits refuses scenes with more vertices):
 // multirate_flat.vert shades nothing for it.
@@ -180,6 +182,9 @@ void write_flat_corners(uint triangle, bool on_corners) {
 
 // The per-mesh slots of the pre-pass's indirect buffers (`src/gpu_interface/slots.rs`).
 const uint LEVEL_DISPATCHES = 5u;
+// Shadow-casting lights whose unshadowed shading multirate's interpolants carry apart
+// (shadow.glsl).
+const uint MAX_SHADOWED_LIGHTS = 4u;
 const uint RANGE_DISPATCH = 0u;
 const uint PATCH_DISPATCH = 1u;
 const uint REFINE_DISPATCH = 2u;

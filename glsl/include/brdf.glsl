@@ -17,8 +17,6 @@
 #define MATERIAL_GGX 2
 
 const int MATERIAL_KIND = VARIANT_MATERIAL_KIND;
-layout(constant_id = 1) const int POINT_LIGHT_COUNT = 0;
-layout(constant_id = 2) const int DIRECTIONAL_LIGHT_COUNT = 0;
 #if VARIANT_POLYGON_LIGHTS
 // Polygonal lights: how many, samples per technique, the light technique (0 projected solid
 // angle, 1 solid angle) and MIS's visibility estimate v (polygon_light.glsl).
@@ -115,11 +113,33 @@ Shading reflect_one_light(vec3 n, vec3 l, vec3 v, GpuMaterial m, float parameter
 #include "polygon_light.glsl"
 #endif
 
-// Outgoing radiance at a surface point, summed over every light of the scene, diffuse and
-// specular apart, each point and directional light weighed by its visibility where `shadowed`
-// (shadow.glsl; a constant at every call, so a caller without shadows holds no shadow code).
-// `normal` need not be unit length (it is interpolated); `eye` is the camera.
-Shading shade_lights(vec3 position, vec3 normal, vec3 eye, uint material_index, float parameter, bool shadowed) {
+// How `shade_lights` treats a shadow-casting light (a constant at every call, so a caller holds
+// only its rule's code, and none where no light casts shadows).
+const int LIGHTS_UNSHADOWED = 0; // every light in the sum, unshadowed
+const int LIGHTS_VISIBLE = 1;    // every light in the sum, each times its visibility at `lookup`
+const int LIGHTS_SPLIT = 2;      // the shadow-casting lights apart, unshadowed, by slot
+
+// Adds light `light`'s shading (towards it `l`, its irradiance `irradiance`) to `total`, or
+// puts it in `apart` by `rule`.
+void add_light_shading(GpuLight light, vec3 l, vec3 irradiance, vec3 n, vec3 v, GpuMaterial m, float parameter,
+                       int rule, ShadowPoint lookup, inout Shading total, inout Shading apart[MAX_SHADOWED_LIGHTS]) {
+    bool casts = SHADOWS && light.shadow.x >= 0;
+    if (rule == LIGHTS_VISIBLE && casts) {
+        irradiance *= shadow_visibility_at(light, lookup);
+    }
+    Shading one = reflect_one_light(n, l, v, m, parameter);
+    if (rule == LIGHTS_SPLIT && casts) {
+        apart[light.shadow.z] = Shading(one.diffuse * irradiance, one.specular * irradiance);
+    } else {
+        total.diffuse += one.diffuse * irradiance;
+        total.specular += one.specular * irradiance;
+    }
+}
+
+// Outgoing radiance at a surface point, summed over the scene's lights by `rule`, diffuse and
+// specular apart. `normal` need not be unit length (it is interpolated); `eye` is the camera.
+Shading shade_lights(vec3 position, vec3 normal, vec3 eye, uint material_index, float parameter, int rule,
+                     ShadowPoint lookup, inout Shading apart[MAX_SHADOWED_LIGHTS]) {
     GpuMaterial m = materials[material_index];
     vec3 n = safe_normalize(normal);
     vec3 v = safe_normalize(eye - position);
@@ -129,22 +149,11 @@ Shading shade_lights(vec3 position, vec3 normal, vec3 eye, uint material_index, 
         float d2 = max(dot(to_light, to_light), MIN_LIGHT_DISTANCE_SQUARED);
         vec3 l = to_light * inversesqrt(d2);
         vec3 irradiance = lights[i].radiance.rgb / d2;
-        if (shadowed) {
-            irradiance *= shadow_visibility(lights[i], position, n, l);
-        }
-        Shading one = reflect_one_light(n, l, v, m, parameter);
-        total.diffuse += one.diffuse * irradiance;
-        total.specular += one.specular * irradiance;
+        add_light_shading(lights[i], l, irradiance, n, v, m, parameter, rule, lookup, total, apart);
     }
     for (int i = 0; i < DIRECTIONAL_LIGHT_COUNT; ++i) {
         GpuLight light = lights[POINT_LIGHT_COUNT + i];
-        vec3 irradiance = light.radiance.rgb;
-        if (shadowed) {
-            irradiance *= shadow_visibility(light, position, n, -light.position.xyz);
-        }
-        Shading one = reflect_one_light(n, -light.position.xyz, v, m, parameter);
-        total.diffuse += one.diffuse * irradiance;
-        total.specular += one.specular * irradiance;
+        add_light_shading(light, -light.position.xyz, light.radiance.rgb, n, v, m, parameter, rule, lookup, total, apart);
     }
 #if VARIANT_POLYGON_LIGHTS
     for (int i = 0; i < POLYGON_LIGHT_COUNT; ++i) {
@@ -156,14 +165,36 @@ Shading shade_lights(vec3 position, vec3 normal, vec3 eye, uint material_index, 
     return total;
 }
 
-// The unshadowed shading: what multirate interpolates (a shadow is applied per pixel).
-Shading shade(vec3 position, vec3 normal, vec3 eye, uint material_index, float parameter) {
-    return shade_lights(position, normal, eye, material_index, parameter, false);
+// No shading per shadow-casting light (the `apart` of the rules that fill none).
+Shading[MAX_SHADOWED_LIGHTS] no_shading_apart() {
+    Shading apart[MAX_SHADOWED_LIGHTS];
+    for (uint k = 0u; k < MAX_SHADOWED_LIGHTS; ++k) {
+        apart[k] = Shading(vec3(0.0), vec3(0.0));
+    }
+    return apart;
 }
 
-// The shading with every light's shadow, looked up at `position`.
-Shading shade_shadowed(vec3 position, vec3 normal, vec3 eye, uint material_index, float parameter) {
-    return shade_lights(position, normal, eye, material_index, parameter, true);
+// Every light, unshadowed.
+Shading shade(vec3 position, vec3 normal, vec3 eye, uint material_index, float parameter) {
+    Shading apart[MAX_SHADOWED_LIGHTS] = no_shading_apart();
+    ShadowPoint none = ShadowPoint(vec3(0.0), vec3(0.0), false);
+    return shade_lights(position, normal, eye, material_index, parameter, LIGHTS_UNSHADOWED, none, apart);
+}
+
+// Every light, each shadow-casting one times its visibility at `lookup`.
+Shading shade_visible(vec3 position, vec3 normal, vec3 eye, uint material_index, float parameter,
+                      ShadowPoint lookup) {
+    Shading apart[MAX_SHADOWED_LIGHTS] = no_shading_apart();
+    return shade_lights(position, normal, eye, material_index, parameter, LIGHTS_VISIBLE, lookup, apart);
+}
+
+// The lights without a shadow map summed, and apart, by slot, each shadow-casting light's
+// unshadowed shading (what multirate interpolates; zero in the slots no light uses).
+Shading shade_split(vec3 position, vec3 normal, vec3 eye, uint material_index, float parameter,
+                    out Shading apart[MAX_SHADOWED_LIGHTS]) {
+    apart = no_shading_apart();
+    ShadowPoint none = ShadowPoint(vec3(0.0), vec3(0.0), false);
+    return shade_lights(position, normal, eye, material_index, parameter, LIGHTS_SPLIT, none, apart);
 }
 
 #endif

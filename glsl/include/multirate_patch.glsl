@@ -14,10 +14,9 @@
 
 layout(location = 3) patch out float patch_level;
 layout(location = 4) patch out float parameter_lod_bound;
-#if TRIANGLE_IDS
-// The triangle's scene index, for the evaluation stage's triangle id (triangle_id.glsl).
+// The triangle's scene index, for the fragment stage's triangle (triangle_id.glsl): its id in
+// the analysis variant, its shadow point (shadow.glsl).
 layout(location = 6) patch out uint patch_triangle;
-#endif
 
 // Writes `levels` (not culled) to the patch, with the triangle's parameter-map lod bound.
 void write_patch_levels(PatchLevels levels, float own_lod_bound) {

@@ -1,14 +1,18 @@
 // Shadow-map visibility V_k(x) in [0, 1] of one light at a surface point: the share of the
 // filter kernel's texels around the point's image whose stored depth is not nearer to the light
-// than the point (percentage-closer filtering; one texel: a hard shadow). The maps are tiles of
+// than the point (percentage-closer filtering; one texel: a hard shadow). The maps lie in
 // shadow_atlas (a directional light's orthographic map, a point light's six cube faces), laid
 // out and rendered once by the host (src/geometry/shadow_view.rs, src/render/shadows.rs).
 //
-// The bound does not see V: every stage that applies it multiplies a light's exact or
-// interpolated unshadowed shading by it per pixel (docs/estimator.md, "Shadows").
+// The bound does not see V (docs/estimator.md section 17): multirate interpolates each
+// shadow-casting light's unshadowed shading apart (its slot, GpuLight.shadow.z, in the
+// interpolants below) and multiplies it per pixel by the visibility at the same point that
+// `pixel` mode looks it up at: the point of the triangle's plane the pixel's centre sees
+// (`shadow_point`), computed from the same inputs by the same precise code in every fragment
+// stage, so that both read the same V bit for bit.
 #ifndef SHADOW_GLSL
 #define SHADOW_GLSL
-#include "bindings.glsl"
+#include "lights.glsl"
 
 // Whether any light casts shadows: without, no shadow code is compiled in.
 layout(constant_id = 17) const bool SHADOWS = false;
@@ -19,46 +23,167 @@ layout(constant_id = 17) const bool SHADOWS = false;
 // stays within a few texels (no visible gap between a caster and its shadow).
 const float SHADOW_TEXEL_SLACK = 1.5;
 
-// Light `light`'s visibility at `position`, on a surface of unit normal `n`; `l` is the unit
-// direction towards the light. 1 where the light casts no shadow.
-float shadow_visibility(GpuLight light, vec3 position, vec3 n, vec3 l) {
-    int first = light.shadow.x;
-    if (!SHADOWS || first < 0) {
+// Where a fragment looks its shadows up: a point of its triangle's plane and the plane's unit
+// normal; not `valid` where the pixel's ray runs along the plane (its lights are then unshadowed).
+struct ShadowPoint {
+    vec3 position;
+    vec3 normal;
+    bool valid;
+};
+
+// The point of scene triangle `triangle`'s plane that the ray through the pixel centre
+// `frag_coord` (gl_FragCoord.xy) meets: x with view_proj·x at that pixel, and n·x = n·a. Solved
+// by Cramer's rule from the triangle's corners (triangle_corners) and the draw's view-projection:
+// the same inputs in every pass that draws the triangle.
+ShadowPoint shadow_point(uint triangle, vec2 frag_coord) {
+    precise vec3 a = triangle_corner(triangle, 0u);
+    precise vec3 b = triangle_corner(triangle, 1u);
+    precise vec3 c = triangle_corner(triangle, 2u);
+    precise vec3 n = cross(b - a, c - a);
+    precise float d = dot(n, a);
+    precise vec2 ndc = frag_coord / draw.viewport_size * 2.0 - 1.0;
+    mat4 m = draw.view_proj;
+    precise vec4 row_x = vec4(m[0][0], m[1][0], m[2][0], m[3][0]) - ndc.x * vec4(m[0][3], m[1][3], m[2][3], m[3][3]);
+    precise vec4 row_y = vec4(m[0][1], m[1][1], m[2][1], m[3][1]) - ndc.y * vec4(m[0][3], m[1][3], m[2][3], m[3][3]);
+    precise vec3 yz = cross(row_y.xyz, n);
+    precise vec3 zx = cross(n, row_x.xyz);
+    precise vec3 xy = cross(row_x.xyz, row_y.xyz);
+    precise float det = dot(row_x.xyz, yz);
+    precise vec3 position = (-row_x.w * yz - row_y.w * zx + d * xy) / det;
+    float length_n = length(n);
+    bool valid = abs(det) > 0.0 && length_n > 0.0 && all(lessThan(abs(position), vec3(3.0e38)));
+    return ShadowPoint(position, valid ? n / length_n : vec3(0.0), valid);
+}
+
+// The unit direction from `position` towards `light`.
+vec3 towards_light(GpuLight light, vec3 position) {
+    if (light.position.w != 0.0) {
+        vec3 to_light = light.position.xyz - position;
+        float d2 = max(dot(to_light, to_light), 1.0e-8);
+        return to_light * inversesqrt(d2);
+    }
+    return -light.position.xyz;
+}
+
+// One shadow map in the atlas (src/gpu_types.rs, GpuShadowMap; six texels of shadow_maps): a
+// directional light's square, or a point light's six square faces in a block of 3 x 2 (face f
+// at (f mod 3, f div 3) sides from its first texel). Read as texels: on lavapipe a storage
+// buffer load at an index that itself was loaded is a loop over the lanes for every word, and
+// the map's 24 words cost more than the rest of a fragment's shading.
+struct ShadowMapRecord {
+    vec4 rect;   // xy: first texel in the atlas; z: side in texels; w: a texel's world width
+                 // (a cube face: per unit of distance along its axis)
+    vec4 depth;  // a cube: x near, y far along the faces' axes, z 1; directional: z 0
+};
+
+ShadowMapRecord shadow_map(int index) {
+    return ShadowMapRecord(texelFetch(shadow_maps, 6 * index + 4), texelFetch(shadow_maps, 6 * index + 5));
+}
+
+// A directional light's map: world to its clip space (depth 0 to 1).
+mat4 shadow_map_view_proj(int index) {
+    int t = 6 * index;
+    return mat4(texelFetch(shadow_maps, t), texelFetch(shadow_maps, t + 1), texelFetch(shadow_maps, t + 2),
+                texelFetch(shadow_maps, t + 3));
+}
+
+// Where `lookup` falls in the cube face of a point light at `light` that looks along `axis` (a
+// unit axis vector, either sign), its depths `near`..`far` along the axis: its position in the
+// face's clip space, divided through. The face's map's x and y directions are
+// src/geometry/shadow_view.rs's `face_basis`; the depth maps as its `perspective` does, so the
+// lookup compares with what the shadow pass rasterised. (No component is indexed by a
+// variable: llvmpipe would spill the vector to memory per lane.)
+vec3 cube_face_ndc(vec3 lookup, vec3 light, vec3 axis, float near, float far) {
+    vec3 up = axis.y != 0.0 ? vec3(0.0, 0.0, 1.0) : vec3(0.0, 1.0, 0.0);
+    vec3 side = cross(axis, up);
+    vec3 image_up = cross(side, axis);
+    vec3 d = lookup - light;
+    float along = dot(axis, d);
+    return vec3(dot(side, d), -dot(image_up, d), far * (along - near) / (far - near)) / along;
+}
+
+// Light `light`'s visibility at `position`, on a surface of unit normal `normal` (either side).
+// 1 where the light casts no shadow.
+float shadow_visibility(GpuLight light, vec3 position, vec3 normal) {
+    int index = light.shadow.x;
+    if (!SHADOWS || index < 0) {
         return 1.0;
     }
+    ShadowMapRecord map = shadow_map(index);
+    vec3 l = towards_light(light, position);
     int radius = light.shadow.y;
-    int tile = first;
-    float distance_scale = 1.0;
-    if (light.position.w != 0.0) {
-        // A point light: the cube face of the largest component of the light-to-point vector.
-        vec3 d = position - light.position.xyz;
-        vec3 a = abs(d);
-        int axis = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
-        tile += 2 * axis + (d[axis] < 0.0 ? 1 : 0);
-        distance_scale = a[axis];
+    bool cube = map.depth.z != 0.0;
+    float texel = map.rect.w;
+    // A cube's face: that of the largest component of the light-to-point vector, at
+    // (face mod 3, face div 3) sides from the map's first texel.
+    vec3 d = position - light.position.xyz;
+    vec3 a = abs(d);
+    bool x_major = a.x >= a.y && a.x >= a.z;
+    bool y_major = !x_major && a.y >= a.z;
+    vec3 major = x_major ? vec3(1.0, 0.0, 0.0) : (y_major ? vec3(0.0, 1.0, 0.0) : vec3(0.0, 0.0, 1.0));
+    float signed_along = dot(d, major);
+    vec3 axis = signed_along < 0.0 ? -major : major;
+    int face = (x_major ? 0 : (y_major ? 2 : 4)) + (signed_along < 0.0 ? 1 : 0);
+    if (cube) {
+        texel *= abs(signed_along);
+    } else {
+        face = 0;
     }
-    GpuShadowTile t = shadow_tiles[tile];
-    float texel = t.rect.w * distance_scale;
-    float cos_theta = clamp(dot(n, l), -1.0, 1.0);
+    // The normal of the side the light is on: the lift goes towards the light.
+    float cos_theta = clamp(dot(normal, l), -1.0, 1.0);
+    vec3 n = cos_theta < 0.0 ? -normal : normal;
     float sin_theta = sqrt(max(1.0 - cos_theta * cos_theta, 0.0));
     float lift = (float(radius) + SHADOW_TEXEL_SLACK) * texel;
     vec3 lookup = position + n * (lift * sin_theta) + l * (0.5 * texel);
-    vec4 clip = t.view_proj * vec4(lookup, 1.0);
-    vec3 ndc = clip.xyz / clip.w;
-    int size = int(t.rect.z);
-    ivec2 origin = ivec2(t.rect.xy);
-    ivec2 centre = ivec2(floor((ndc.xy * 0.5 + 0.5) * t.rect.z));
-    float depth = ndc.z;
+    vec3 ndc;
+    if (cube) {
+        ndc = cube_face_ndc(lookup, light.position.xyz, axis, map.depth.x, map.depth.y);
+    } else {
+        vec4 clip = shadow_map_view_proj(index) * vec4(lookup, 1.0);
+        ndc = clip.xyz / clip.w;
+    }
+    int size = int(map.rect.z);
+    ivec2 origin = ivec2(map.rect.xy) + ivec2(face % 3, face / 3) * size;
+    ivec2 centre = ivec2(floor((ndc.xy * 0.5 + 0.5) * map.rect.z));
     int lit = 0;
     for (int y = -radius; y <= radius; ++y) {
         for (int x = -radius; x <= radius; ++x) {
             ivec2 texel_at = clamp(centre + ivec2(x, y), ivec2(0), ivec2(size - 1));
             float stored = texelFetch(shadow_atlas, origin + texel_at, 0).r;
-            lit += depth <= stored ? 1 : 0;
+            lit += ndc.z <= stored ? 1 : 0;
         }
     }
     int side = 2 * radius + 1;
     return float(lit) / float(side * side);
+}
+
+// Light `light`'s visibility at the fragment's shadow point (1 where it is not valid).
+float shadow_visibility_at(GpuLight light, ShadowPoint point) {
+    return point.valid ? shadow_visibility(light, point.position, point.normal) : 1.0;
+}
+
+// What the multirate interpolants carry per shadow-casting light, by its slot: its unshadowed
+// diffuse and specular shading (the diffuse part is multiplied by the albedo map per pixel).
+// Locations after TRIANGLE_ID_LOCATION (bindings.glsl), in the evaluation stage, the flat
+// patches' vertex stage and the fragment stages that read them.
+#define SHADOWED_DIFFUSE_LOCATION 7
+#define SHADOWED_SPECULAR_LOCATION 11
+
+// The shadow-casting lights' part of a fragment's colour: each light's interpolated unshadowed
+// shading (`diffuse`, `specular` by slot) times its visibility at `point`.
+vec3 shadowed_lights_color(vec3 albedo, vec3 diffuse[MAX_SHADOWED_LIGHTS], vec3 specular[MAX_SHADOWED_LIGHTS], ShadowPoint point) {
+    vec3 color = vec3(0.0);
+    if (!SHADOWS) {
+        return color;
+    }
+    for (int i = 0; i < POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT; ++i) {
+        GpuLight light = lights[i];
+        if (light.shadow.x >= 0) {
+            int slot = light.shadow.z;
+            color += shadow_visibility_at(light, point) * (albedo * diffuse[slot] + specular[slot]);
+        }
+    }
+    return color;
 }
 
 #endif

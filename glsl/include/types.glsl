@@ -10,16 +10,11 @@
 struct GpuLight {
     vec4 position;   // point: world position; directional: unit direction the light travels
     vec4 radiance;   // rgb: colour * intensity (the irradiance at unit distance, facing the light)
-    ivec4 shadow;    // x: first tile in shadow_tiles (a point light's 6 faces follow), -1: none;
-                     // y: the filter kernel's radius in texels
+    ivec4 shadow;    // x: its map in shadow_maps, -1: none;
+                     // y: the filter kernel's radius in texels; z: its slot in the
+                     // interpolants that carry its unshadowed shading apart (shadow.glsl)
 };
 
-// One square tile of the shadow atlas: a directional light's map or a point light's cube face.
-struct GpuShadowTile {
-    mat4 view_proj;  // world to the tile's clip space (depth 0 to 1)
-    vec4 rect;       // xy: first texel in the atlas; z: side in texels; w: a texel's world width
-                     // (a point light's face: per unit of distance along its axis)
-};
 
 // One polygonal area light (a one-sided Lambertian emitter, convex, planar).
 struct GpuPolygonLight {

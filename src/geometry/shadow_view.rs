@@ -1,97 +1,136 @@
 //! Where each shadow map looks from, and where it lies in the atlas: a directional light's
-//! orthographic map fitted to the scene's bounds, a point light's six cube faces, each a square
-//! tile of one depth image ([`ShadowLayout`]). Lights and meshes do not move, so the maps are
+//! orthographic map fitted to the scene's bounds, a point light's six cube faces in a block of
+//! 3 × 2, all in one depth image ([`ShadowLayout`]). Lights and meshes do not move, so the maps are
 //! rendered once; the shaders' lookup is `glsl/include/shadow.glsl`.
 
 use super::camera::{look_at, perspective};
 use crate::scene::{bounds_of, Light, Scene};
 use glam::{Mat4, Vec3, Vec4};
 
-/// A point light's cube faces in tile order: the axis a face looks along (shadow.glsl picks
-/// face `2 · axis + (negative ? 1 : 0)` by the largest component of the light-to-point vector).
+/// A point light's cube faces in order: the axis a face looks along (shadow.glsl picks face
+/// `2 · axis + (negative ? 1 : 0)` by the largest component of the light-to-point vector). In
+/// the atlas face `f` lies at (`f mod 3`, `f div 3`) sides from its map's first texel.
 pub const CUBE_FACES: [Vec3; 6] = [Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z];
 
-/// One square tile of the atlas: a directional light's map or one face of a point light's.
+/// How a map projects: orthographically, or as a point light's six faces.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ShadowTile {
-    /// World to the tile's clip space (depth 0 to 1).
-    pub view_proj: Mat4,
-    /// The tile's first texel in the atlas.
+pub enum Projection {
+    /// A directional light's map: world to its clip space (depth 0 to 1).
+    Orthographic(Mat4),
+    /// A point light's cube: at `light`, its faces' depth from `near` to `far` along their
+    /// axes (`point_face`).
+    Cube { light: Vec3, near: f32, far: f32 },
+}
+
+/// One shadow map in the atlas: a directional light's square, or a point light's six square
+/// faces in a block of 3 × 2.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadowMap {
+    pub projection: Projection,
+    /// Its first texel in the atlas.
     pub offset: [u32; 2],
-    /// Texels along its side.
+    /// Texels along a side of the map (of each face).
     pub size: u32,
     /// A texel's width in world units; a point light's face: per unit of distance along the
     /// face's axis.
     pub texel_width: f32,
 }
 
-/// Every shadow map of a scene as tiles of one atlas.
+impl ShadowMap {
+    /// Texels it takes in the atlas, across and down.
+    pub fn footprint(&self) -> [u32; 2] {
+        match self.projection {
+            Projection::Orthographic(_) => [self.size, self.size],
+            Projection::Cube { .. } => [3 * self.size, 2 * self.size],
+        }
+    }
+
+    /// What the shadow pass renders: each square's world-to-clip matrix and first texel.
+    pub fn views(&self) -> Vec<(Mat4, [u32; 2])> {
+        match self.projection {
+            Projection::Orthographic(view_proj) => vec![(view_proj, self.offset)],
+            Projection::Cube { light, near, far } => (0..6)
+                .map(|face| {
+                    let at =
+                        [self.offset[0] + (face % 3) * self.size, self.offset[1] + (face / 3) * self.size];
+                    (point_face(light, face as usize, near, far), at)
+                })
+                .collect(),
+        }
+    }
+}
+
+/// A shadow-casting light's map and its part of multirate's interpolants.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LightShadow {
+    /// Its map's index in [`ShadowLayout::maps`].
+    pub map: u32,
+    /// Its filter kernel's radius in texels.
+    pub radius: u32,
+    /// Its slot in the interpolants that carry its unshadowed shading apart: its index in
+    /// `Scene::shadow_casters`.
+    pub slot: u32,
+}
+
+/// Every shadow map of a scene in one atlas.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ShadowLayout {
-    /// In the order of `Scene::shadow_casters`, a point light's faces in [`CUBE_FACES`] order.
-    pub tiles: Vec<ShadowTile>,
-    /// The atlas's width and height in texels (1 × 1 without any tile).
+    /// In the order of `Scene::shadow_casters`.
+    pub maps: Vec<ShadowMap>,
+    /// The atlas's width and height in texels (1 × 1 without any map).
     pub extent: [u32; 2],
-    /// Per light of the scene (`Scene::lights` order): its first tile and its filter kernel's
-    /// radius in texels, where it casts shadows.
-    pub lights: Vec<Option<(u32, u32)>>,
+    /// Per light of the scene (`Scene::lights` order), where it casts shadows.
+    pub lights: Vec<Option<LightShadow>>,
 }
 
 impl ShadowLayout {
-    /// The tiles of `scene`'s shadow casters, packed in rows (largest first).
+    /// The maps of `scene`'s shadow casters, packed in rows (tallest first).
     pub fn of(scene: &Scene) -> ShadowLayout {
         let (lo, hi) = bounds_of(scene.meshes.iter().flat_map(|m| m.positions.iter().copied()));
-        let mut tiles = Vec::new();
+        let mut maps = Vec::new();
         let mut lights = vec![None; scene.lights.len()];
-        for caster in &scene.shadow_casters {
-            lights[caster.light] = Some((tiles.len() as u32, caster.filter / 2));
+        for (slot, caster) in scene.shadow_casters.iter().enumerate() {
+            let map = maps.len() as u32;
+            lights[caster.light] = Some(LightShadow { map, radius: caster.filter / 2, slot: slot as u32 });
             let size = caster.resolution;
-            match scene.lights[caster.light] {
+            let (projection, width) = match scene.lights[caster.light] {
                 Light::Point { position, .. } => {
-                    tiles.extend(point_faces(position, lo, hi).map(|(view_proj, texel)| ShadowTile {
-                        view_proj,
-                        offset: [0, 0],
-                        size,
-                        texel_width: texel / size as f32,
-                    }))
+                    let (near, far) = point_depth_range(position, lo, hi);
+                    (Projection::Cube { light: position, near, far }, 2.0)
                 }
                 Light::Directional { direction, .. } => {
                     let (view_proj, width) = directional_map(direction, lo, hi);
-                    tiles.push(ShadowTile {
-                        view_proj,
-                        offset: [0, 0],
-                        size,
-                        texel_width: width / size as f32,
-                    });
+                    (Projection::Orthographic(view_proj), width)
                 }
                 Light::Polygon(_) => unreachable!("validation refuses shadows of polygonal lights"),
-            }
+            };
+            maps.push(ShadowMap { projection, offset: [0, 0], size, texel_width: width / size as f32 });
         }
-        let extent = pack(&mut tiles);
-        ShadowLayout { tiles, extent, lights }
+        let extent = pack(&mut maps);
+        ShadowLayout { maps, extent, lights }
     }
 }
 
-/// Places `tiles` in rows, largest first, in an atlas as wide as the smallest power of two
-/// that holds them all in about a square; returns its extent.
-fn pack(tiles: &mut [ShadowTile]) -> [u32; 2] {
-    if tiles.is_empty() {
+/// Places `maps` in rows, tallest first, in an atlas as wide as the smallest power of two that
+/// holds them all in about a square; returns its extent.
+fn pack(maps: &mut [ShadowMap]) -> [u32; 2] {
+    if maps.is_empty() {
         return [1, 1];
     }
-    let area: u64 = tiles.iter().map(|t| u64::from(t.size).pow(2)).sum();
-    let largest = tiles.iter().map(|t| t.size).max().unwrap_or(1);
-    let width = ((area as f64).sqrt().ceil() as u32).max(largest).next_power_of_two();
-    let mut order: Vec<usize> = (0..tiles.len()).collect();
-    order.sort_by_key(|&i| std::cmp::Reverse(tiles[i].size));
+    let area: u64 = maps.iter().map(|m| m.footprint().iter().map(|&t| u64::from(t)).product::<u64>()).sum();
+    let widest = maps.iter().map(|m| m.footprint()[0]).max().unwrap_or(1);
+    let width = ((area as f64).sqrt().ceil() as u32).max(widest).next_power_of_two();
+    let mut order: Vec<usize> = (0..maps.len()).collect();
+    order.sort_by_key(|&i| std::cmp::Reverse(maps[i].footprint()[1]));
     let (mut x, mut y, mut row_height) = (0, 0, 0);
     for i in order {
-        let size = tiles[i].size;
-        if x + size > width {
+        let [across, down] = maps[i].footprint();
+        if x + across > width {
             (x, y, row_height) = (0, y + row_height, 0);
         }
-        tiles[i].offset = [x, y];
-        x += size;
-        row_height = row_height.max(size);
+        maps[i].offset = [x, y];
+        x += across;
+        row_height = row_height.max(down);
     }
     [width, y + row_height]
 }
@@ -133,18 +172,34 @@ pub fn directional_map(direction: Vec3, lo: Vec3, hi: Vec3) -> (Mat4, f32) {
     (projection * view, 2.0 * half)
 }
 
-/// A point light at `light`: its six 90° faces reaching every corner of `lo`..`hi`, each with a
-/// texel's width per texel of side and unit of distance along its axis (2, before dividing by
-/// the resolution).
-pub fn point_faces(light: Vec3, lo: Vec3, hi: Vec3) -> [(Mat4, f32); 6] {
+/// A point light at `light`'s depth range: its faces reach every corner of `lo`..`hi`.
+pub fn point_depth_range(light: Vec3, lo: Vec3, hi: Vec3) -> (f32, f32) {
     let reach = corners(lo, hi).iter().map(|c| (*c - light).length()).fold(0.0f32, f32::max);
     let far = (reach * 1.01).max(1e-3);
-    let near = (far * 1e-3).max(1e-6);
-    let projection = perspective(std::f32::consts::FRAC_PI_2, 1.0, near, far);
-    CUBE_FACES.map(|axis| {
-        let up = if axis.y == 0.0 { Vec3::Y } else { Vec3::Z };
-        (projection * look_at(light, light + axis, up), 2.0)
-    })
+    (far * 1e-3, far)
+}
+
+/// The basis of cube face `face` ([`CUBE_FACES`]): its axis, and the directions of its map's
+/// x and y (shadow.glsl builds the same three).
+pub fn face_basis(face: usize) -> [Vec3; 3] {
+    let axis = CUBE_FACES[face];
+    let up = if axis.y == 0.0 { Vec3::Y } else { Vec3::Z };
+    let side = axis.cross(up);
+    [axis, side, side.cross(axis)]
+}
+
+/// World to the clip space of face `face` of a point light at `light`, 90° wide, its depth from
+/// `near` to `far` along the face's axis: x = side·d / (axis·d), y = −up·d / (axis·d), with
+/// d the light-to-point vector, as shadow.glsl projects.
+pub fn point_face(light: Vec3, face: usize, near: f32, far: f32) -> Mat4 {
+    let [axis, side, up] = face_basis(face);
+    let view = Mat4::from_cols(
+        Vec4::new(side.x, up.x, -axis.x, 0.0),
+        Vec4::new(side.y, up.y, -axis.y, 0.0),
+        Vec4::new(side.z, up.z, -axis.z, 0.0),
+        Vec4::new(-side.dot(light), -up.dot(light), axis.dot(light), 1.0),
+    );
+    perspective(std::f32::consts::FRAC_PI_2, 1.0, near, far) * view
 }
 
 /// The face of a point light's cube map that holds the direction `d` (from the light), as

@@ -137,8 +137,21 @@ pub mod forward {
     /// Per triangle of the meshes, its corners' positions (a texel each): what the culling step
     /// reads without the indices.
     pub const TRIANGLE_CORNERS: Binding = texels(0, 25, "triangle_corners", TexelFormat::Float4);
-    /// The shadow atlas's tiles (`GpuShadowTile`); one unread entry where no light casts shadows.
-    pub const SHADOW_TILES: Binding = storage(0, 26, "ShadowTiles");
+    /// The shadow maps (`GpuShadowMap`), six texels each: the directional light's matrix's
+    /// columns, `rect`, `depth`; one unread entry where no light casts shadows. A texel buffer:
+    /// on lavapipe a storage-buffer load at an index read from another buffer is a loop over the
+    /// lanes for every word, and took most of a frame's time with shadows.
+    pub const SHADOW_MAPS: Binding = texels(0, 26, "shadow_maps", TexelFormat::Float4);
+    const _: () = {
+        use crate::gpu_types::GpuShadowMap;
+        assert!(
+            std::mem::offset_of!(GpuShadowMap, rect) == 4 * TexelFormat::BYTES as usize
+                && std::mem::offset_of!(GpuShadowMap, depth) == 5 * TexelFormat::BYTES as usize
+                && std::mem::size_of::<GpuShadowMap>() == SHADOW_MAP_TEXELS * TexelFormat::BYTES as usize
+        );
+    };
+    /// Texels of one shadow map in `shadow_maps`.
+    pub const SHADOW_MAP_TEXELS: usize = 6;
 
     pub const ALBEDO_MAP: Binding = sampler(1, 0, "albedo_map");
     pub const PARAMETER_MAP: Binding = sampler(1, 1, "parameter_map");
@@ -178,7 +191,7 @@ pub mod forward {
         ESTIMATED_LEVELS,
         FALLBACK_INDICES,
         TRIANGLE_CORNERS,
-        SHADOW_TILES,
+        SHADOW_MAPS,
     ];
     /// Set 1: the draw's material textures, bound per draw.
     pub const MATERIAL_TEXTURES: [Binding; 4] = [ALBEDO_MAP, PARAMETER_MAP, PARAMETER_PYRAMID, SHADOW_ATLAS];

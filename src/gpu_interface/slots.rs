@@ -9,7 +9,13 @@
 
 use super::named_constants::named_constants;
 
+const _: () = assert!(MAX_SHADOWED_LIGHTS as usize == crate::scene::ShadowCaster::MAX_LIGHTS);
+
 named_constants! {
+    /// Shadow-casting lights whose unshadowed shading multirate's interpolants carry apart, a
+    /// diffuse and a specular `vec3` each (`glsl/include/shadow.glsl`); a scene may have no
+    /// more (`scene::ShadowCaster::MAX_LIGHTS`).
+    MAX_SHADOWED_LIGHTS = 4;
     /// Dispatches per mesh in `LevelDispatches`.
     LEVEL_DISPATCHES = 5;
     /// The range step's dispatch (`range_levels.comp`) over the triangles to estimate, counted

@@ -31,9 +31,6 @@ pub(super) struct PerPixelChoice {
     /// The scene's lights: the cost model weighs their count, and the per-mesh choice tries the
     /// range class under them.
     lights: Vec<Light>,
-    /// Whether some light casts shadows: multirate shades every mesh per pixel then, until the
-    /// interpolated shading carries the shadowed lights apart (`docs/estimator.md`, "Shadows").
-    shadowed: bool,
 }
 
 impl PerPixelChoice {
@@ -47,7 +44,6 @@ impl PerPixelChoice {
                 .map(|m| MeshSample::of(m, &scene.materials[m.material]))
                 .collect(),
             lights: scene.lights.clone(),
-            shadowed: !scene.shadow_casters.is_empty(),
         }
     }
 
@@ -67,13 +63,12 @@ impl PerPixelChoice {
     /// whole as `pixel` mode does on a target of `extent`. Every mesh where the frame guard
     /// draws the frame as `pixel` does (`View::drawn_as_pixel`); with the cost model on, the
     /// meshes most of whose visible triangles are too small for an estimate to pay
-    /// ([`MeshSample::mostly_small`]); every mesh where some light casts shadows. Empty outside
-    /// multirate, or without the cost model and shadows.
+    /// ([`MeshSample::mostly_small`]). Empty outside multirate or without the cost model.
     pub(super) fn meshes(&self, view: &View, extent: vk::Extent2D) -> Vec<bool> {
         if view.mode != Mode::Multirate {
             return Vec::new();
         }
-        if view.drawn_as_pixel || self.shadowed {
+        if view.drawn_as_pixel {
             return vec![true; self.mesh_samples.len()];
         }
         if !view.cost_model {
@@ -118,17 +113,11 @@ pub(super) fn back_faces_per_pixel(placement: Placement, one_sided: bool) -> boo
 }
 
 /// Whether a frame of `view` may draw a mesh with `pixel` mode's pipeline: outside `pixel` mode,
-/// where the cost model may draw a mesh whole per pixel, the scene is `shadowed` (every mesh is),
-/// or some mesh is two-sided (`one_sided` per mesh) and its back faces are drawn per pixel.
-pub(super) fn may_draw_per_pixel(
-    view: &View,
-    shadowed: bool,
-    mut one_sided: impl Iterator<Item = bool>,
-) -> bool {
+/// where the cost model may draw a mesh whole per pixel, or some mesh is two-sided
+/// (`one_sided` per mesh) and its back faces are drawn per pixel.
+pub(super) fn may_draw_per_pixel(view: &View, mut one_sided: impl Iterator<Item = bool>) -> bool {
     view.mode == Mode::Multirate
-        && (view.cost_model
-            || shadowed
-            || one_sided.any(|one_sided| back_faces_per_pixel(view.placement, one_sided)))
+        && (view.cost_model || one_sided.any(|one_sided| back_faces_per_pixel(view.placement, one_sided)))
 }
 
 /// Whether a frame commits what it learns (the ball of eyes) once submitted: the frames drawn

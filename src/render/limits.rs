@@ -10,7 +10,7 @@ use crate::error::{mib, Error, Result};
 use crate::geometry::shadow_view::ShadowLayout;
 use crate::gpu_interface::bindings::TexelFormat;
 use crate::gpu_interface::slots::{BACK_FACE_ENTRY, LEVEL_DISPATCHES, SKIPPED_VERTEX};
-use crate::gpu_types::{GpuLight, GpuMaterial, GpuPolygonLight, GpuShadowTile, Vertex};
+use crate::gpu_types::{GpuLight, GpuMaterial, GpuPolygonLight, GpuShadowMap, Vertex};
 use crate::scene::adjacency::PATCH_SIZE;
 use crate::scene::{Light, Scene};
 use crate::shading::estimator::PATTERN_LEVELS;
@@ -69,8 +69,8 @@ pub struct SceneSizes {
     pub materials: u64,
     /// The materials' textures, then the shadow atlas (`shadows`; 1 × 1 without shadows).
     pub textures: Vec<TextureSize>,
-    /// The shadow atlas's tiles (a directional light's map, a point light's six faces).
-    pub shadow_tiles: u64,
+    /// The shadow maps (a directional light's, a point light's cube).
+    pub shadow_maps: u64,
 }
 
 /// Where a buffer's memory comes from.
@@ -147,7 +147,7 @@ impl SceneSizes {
             levels: 1,
             bytes: 4 * u64::from(width) * u64::from(height),
         });
-        sizes.shadow_tiles = shadows.tiles.len() as u64;
+        sizes.shadow_maps = shadows.maps.len() as u64;
         sizes
     }
 
@@ -260,11 +260,11 @@ impl SceneSizes {
                 "polygonal lights",
             ),
             buffer(
-                "shadow atlas tiles",
-                data(self.shadow_tiles.max(1), size_of::<GpuShadowTile>()),
-                StorageBuffer,
-                self.shadow_tiles,
-                "shadow map tiles",
+                "shadow maps",
+                data(self.shadow_maps.max(1), size_of::<GpuShadowMap>()),
+                TexelBuffer,
+                self.shadow_maps,
+                "shadow maps",
             ),
             per_triangle("patch tessellation levels", 4),
             buffer("pattern levels", pattern_levels, StorageBuffer, PATTERN_LEVELS.len() as u64, "words"),

@@ -60,7 +60,7 @@ pub use instrumentation::{
 };
 pub use mode::{Mode, Placement, MAX_LEVEL};
 pub use pre_pass::steps::{PrePassStep, PRE_PASS_GROUP, PRE_PASS_STEPS, REFINE_BLOCK};
-pub use scene_geometry::{gpu_lights, gpu_polygon_lights, gpu_shadow_tiles};
+pub use scene_geometry::{gpu_lights, gpu_polygon_lights, gpu_shadow_maps};
 pub use view::{View, EYE_BALL_SHARE};
 
 use crate::error::Result;
@@ -660,7 +660,7 @@ fn binding_table<'a>(scene: &'a SceneBuffers, pre_pass: &'a PrePassBuffers) -> [
             (set_0::FLAT_INDICES, &pre_pass.flat_indices),
             (set_0::ESTIMATED_LEVELS, &pre_pass.estimated_levels),
             (set_0::FALLBACK_INDICES, &pre_pass.fallback_indices),
-            (set_0::SHADOW_TILES, &scene.shadow_tiles),
+            (set_0::SHADOW_MAPS, &scene.shadow_maps),
             (set_0::TRIANGLE_CORNERS, &pre_pass.triangle_corners),
         ],
     )

@@ -31,8 +31,6 @@ pub(super) struct Pipelines {
     modules: Modules,
     /// Per material kind of the scene: its shader features and specialization constants.
     pub specializations: Vec<(Features, Specialization)>,
-    /// Whether some light casts shadows (multirate then draws every mesh per pixel).
-    shadowed: bool,
     /// The timed variants, one per material kind (`DrawCall::pipeline`).
     pub variants: Vec<Variant>,
     /// The same pipelines drawing edges only, built by `Renderer::enable_wireframe`.
@@ -74,6 +72,7 @@ impl Pipelines {
                 material_kind: kind,
                 polygon_lights: polygon_count > 0,
                 textured: SceneTextures::any(scene),
+                shadows: !scene.shadow_casters.is_empty(),
                 ..Features::default()
             };
             let specialization = Specialization::default()
@@ -87,7 +86,6 @@ impl Pipelines {
         Ok(Pipelines {
             modules,
             specializations,
-            shadowed: !scene.shadow_casters.is_empty(),
             variants,
             wireframe_variants: None,
             counting_variants: OnceCell::new(),
@@ -140,7 +138,7 @@ impl Pipelines {
                 build_once(variant.multirate_cell(config), || {
                     self.modules.multirate(context, layout, variant, specialization, config)
                 })?;
-                if may_draw_per_pixel(view, self.shadowed, one_sided.clone()) {
+                if may_draw_per_pixel(view, one_sided.clone()) {
                     build_once(variant.single_cell(SingleMode::Pixel), || {
                         self.modules.single(context, layout, variant, specialization, SingleMode::Pixel)
                     })?;

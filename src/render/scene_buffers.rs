@@ -1,9 +1,9 @@
 //! The scene on the GPU ([`SceneBuffers`]): its geometry, lights and materials uploaded, and the
 //! per-scene buffers the shaders write besides the pre-pass's (level records, counters).
 
-use super::scene_geometry::{gpu_shadow_tiles, SceneGeometry};
+use super::scene_geometry::{gpu_shadow_maps, SceneGeometry};
 use crate::error::Result;
-use crate::gpu_types::{GpuPolygonLight, GpuShadowTile};
+use crate::gpu_types::{GpuPolygonLight, GpuShadowMap};
 use crate::vk::memory::Buffer;
 use crate::vk::Context;
 use ash::vk;
@@ -24,7 +24,7 @@ pub(super) struct SceneBuffers {
     /// The polygonal lights; a scene without any still binds one (unread) entry.
     pub polygon_lights: Buffer,
     /// The shadow atlas's tiles; a scene without shadows still binds one (unread) entry.
-    pub shadow_tiles: Buffer,
+    pub shadow_maps: Buffer,
     /// `PATTERN_LEVELS`, the effective levels of the hardware patterns (replaced by the
     /// device's measured table where the built-in one does not hold on it).
     pub pattern_levels: Buffer,
@@ -76,10 +76,11 @@ impl SceneBuffers {
         let polygon_entries: &[GpuPolygonLight] =
             if geometry.polygon_lights.is_empty() { &unread } else { &geometry.polygon_lights };
         let polygon_lights = Buffer::with_data(context, "scene polygonal lights", storage, polygon_entries)?;
-        let tiles = gpu_shadow_tiles(&geometry.shadows);
-        let unread = [GpuShadowTile::default()];
-        let tile_entries: &[GpuShadowTile] = if tiles.is_empty() { &unread } else { &tiles };
-        let shadow_tiles = Buffer::with_data(context, "shadow atlas tiles", storage, tile_entries)?;
+        let tiles = gpu_shadow_maps(&geometry.shadows);
+        let unread = [GpuShadowMap::default()];
+        let tile_entries: &[GpuShadowMap] = if tiles.is_empty() { &unread } else { &tiles };
+        let texels = vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
+        let shadow_maps = Buffer::with_data(context, "shadow maps", texels, tile_entries)?;
         let pattern_levels = Buffer::with_data(
             context,
             "pattern levels",
@@ -93,7 +94,7 @@ impl SceneBuffers {
             lights,
             materials,
             polygon_lights,
-            shadow_tiles,
+            shadow_maps,
             pattern_levels,
             level_records,
             counters,

@@ -3,12 +3,12 @@
 //! [`DrawCall`] per mesh and [`EmitterDraw`] per polygonal light saying where each lies.
 
 use super::textures::gpu_material;
-use crate::geometry::shadow_view::ShadowLayout;
+use crate::geometry::shadow_view::{LightShadow, Projection, ShadowLayout};
 use crate::gpu_interface::flags::{FLAG_ONE_SIDED, FLAG_SHARED_CORNERS};
-use crate::gpu_types::{DrawConstants, GpuLight, GpuMaterial, GpuPolygonLight, GpuShadowTile, Vertex};
+use crate::gpu_types::{DrawConstants, GpuLight, GpuMaterial, GpuPolygonLight, GpuShadowMap, Vertex};
 use crate::scene::adjacency::{adjacency_patches, neighbours};
 use crate::scene::{Light, MaterialKind, Mesh, Scene};
-use glam::{IVec4, Vec4};
+use glam::{IVec4, Mat4, Vec4};
 
 /// One mesh's draw: where its triangles lie in the scene's buffers and what it is drawn with.
 pub(super) struct DrawCall {
@@ -59,14 +59,14 @@ fn material_kind_id(kind: &MaterialKind) -> u32 {
 }
 
 /// The scene's lights in the order the shaders expect: point lights, then directional ones;
-/// each with its shadow map's first tile and filter radius from `shadows`
+/// each with its shadow map's first tile, filter radius and slot from `shadows`
 /// (`ShadowLayout::lights`, per light of `lights`; empty: none casts shadows).
-pub fn gpu_lights(lights: &[Light], shadows: &[Option<(u32, u32)>]) -> (Vec<GpuLight>, i32, i32) {
+pub fn gpu_lights(lights: &[Light], shadows: &[Option<LightShadow>]) -> (Vec<GpuLight>, i32, i32) {
     let mut points = Vec::new();
     let mut directionals = Vec::new();
     for (index, light) in lights.iter().enumerate() {
         let shadow = match shadows.get(index).copied().flatten() {
-            Some((tile, radius)) => IVec4::new(tile as i32, radius as i32, 0, 0),
+            Some(s) => IVec4::new(s.map as i32, s.radius as i32, s.slot as i32, 0),
             None => IVec4::new(-1, 0, 0, 0),
         };
         match *light {
@@ -88,14 +88,18 @@ pub fn gpu_lights(lights: &[Light], shadows: &[Option<(u32, u32)>]) -> (Vec<GpuL
     (points, counts.0, counts.1)
 }
 
-/// The shadow atlas's tiles as the shaders read them.
-pub fn gpu_shadow_tiles(layout: &ShadowLayout) -> Vec<GpuShadowTile> {
+/// The shadow maps as the shaders read them.
+pub fn gpu_shadow_maps(layout: &ShadowLayout) -> Vec<GpuShadowMap> {
     layout
-        .tiles
+        .maps
         .iter()
-        .map(|t| GpuShadowTile {
-            view_proj: t.view_proj,
-            rect: Vec4::new(t.offset[0] as f32, t.offset[1] as f32, t.size as f32, t.texel_width),
+        .map(|m| {
+            let (view_proj, depth) = match m.projection {
+                Projection::Orthographic(view_proj) => (view_proj, Vec4::ZERO),
+                Projection::Cube { near, far, .. } => (Mat4::IDENTITY, Vec4::new(near, far, 1.0, 0.0)),
+            };
+            let rect = Vec4::new(m.offset[0] as f32, m.offset[1] as f32, m.size as f32, m.texel_width);
+            GpuShadowMap { view_proj, rect, depth }
         })
         .collect()
 }

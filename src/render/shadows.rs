@@ -1,5 +1,5 @@
-//! The shadow atlas: every shadow map of the scene as a square tile of one depth image
-//! (`geometry::shadow_view` lays the tiles out), rendered once when the renderer is made, as
+//! The shadow atlas: every shadow map of the scene in one depth image (`geometry::shadow_view`
+//! lays the maps out), rendered once when the renderer is made, as
 //! lights and meshes do not move, and read by `glsl/include/shadow.glsl` through set 1.
 
 use super::descriptors::PUSH_STAGES;
@@ -41,8 +41,8 @@ impl ShadowAtlas {
         Ok(ShadowAtlas { image, sampler })
     }
 
-    /// Clears the atlas to the far plane and draws every mesh of `draws` into each tile of
-    /// `layout`, depth only, both faces; leaves the atlas ready for the shaders to read.
+    /// Clears the atlas to the far plane and draws every mesh of `draws` into each square of
+    /// `layout`'s maps, depth only, both faces; leaves the atlas ready for the shaders to read.
     pub(super) fn render(
         &self,
         context: &Arc<Context>,
@@ -99,8 +99,9 @@ impl ShadowAtlas {
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
                 device.cmd_bind_vertex_buffers(cmd, 0, &[buffers.vertices.raw], &[0]);
                 device.cmd_bind_index_buffer(cmd, buffers.indices.raw, 0, vk::IndexType::UINT32);
-                for tile in &layout.tiles {
-                    let (x, y, size) = (tile.offset[0], tile.offset[1], tile.size);
+                for (view_proj, [x, y], size) in
+                    layout.maps.iter().flat_map(|m| m.views().into_iter().map(|(v, at)| (v, at, m.size)))
+                {
                     let area = vk::Rect2D {
                         offset: vk::Offset2D { x: x as i32, y: y as i32 },
                         extent: vk::Extent2D { width: size, height: size },
@@ -115,7 +116,7 @@ impl ShadowAtlas {
                     };
                     device.cmd_set_viewport(cmd, 0, &[viewport]);
                     device.cmd_set_scissor(cmd, 0, &[area]);
-                    let constants = DrawConstants { view_proj: tile.view_proj, ..Default::default() };
+                    let constants = DrawConstants { view_proj, ..Default::default() };
                     device.cmd_push_constants(
                         cmd,
                         pipeline_layout.raw,

@@ -262,6 +262,9 @@ impl ShadowCaster {
     pub const RESOLUTIONS: std::ops::RangeInclusive<u32> = 16..=4096;
     /// The widest filter kernel.
     pub const MAX_FILTER: u32 = 9;
+    /// Most lights of a scene that cast shadows: multirate's interpolants carry each one's
+    /// unshadowed shading apart (`gpu_interface::slots::MAX_SHADOWED_LIGHTS`).
+    pub const MAX_LIGHTS: usize = 4;
 }
 
 /// A light. Irradiance from a point light falls off as 1/d²; a directional light's does not.

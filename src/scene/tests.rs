@@ -698,6 +698,14 @@ fn bad_shadow_tables_are_named() {
     for (table, needles) in cases {
         expect_error(&minimal_with("intensity = 1.0", &format!("intensity = 1.0\n{table}")), needles);
     }
+    let point = "\n[[lights]]\ntype = \"point\"\nposition = [0, 2, 0]\ncolor = [1, 1, 1]\nintensity = 1\nshadow = {}\n";
+    let casters = ShadowCaster::MAX_LIGHTS + 1;
+    let crowded = format!(
+        "{}{}",
+        minimal_with("intensity = 1.0", "intensity = 1.0\nshadow = {}"),
+        point.repeat(casters - 1)
+    );
+    expect_error(&crowded, &["`lights`", &format!("{casters} lights cast shadows"), "at most 4"]);
     expect_error(
         &with_polygon("[[0, 2, 0], [1, 2, 0], [0, 2, 1]]", "shadow = {}"),
         &["[[lights]] #2 `shadow`", "polygonal lights cast no shadows"],

@@ -191,6 +191,13 @@ pub(super) fn build(path: &Path, file: SceneFile) -> Result<Scene, SceneError> {
         .enumerate()
         .filter_map(|(i, l)| check_shadow(path, i, l).transpose())
         .collect::<Result<Vec<_>, _>>()?;
+    if shadow_casters.len() > ShadowCaster::MAX_LIGHTS {
+        return Err(top("lights").error(format!(
+            "{} lights cast shadows; at most {} may (remove `shadow` from the others)",
+            shadow_casters.len(),
+            ShadowCaster::MAX_LIGHTS
+        )));
+    }
 
     // The camera checks that do not need the meshes come first, so that a mistake there is
     // reported without reading any OBJ file.

@@ -1,5 +1,5 @@
 //! Tests of `geometry::shadow_view`: every point of the scene's box lands inside the map that
-//! shadow.glsl looks it up in, and the atlas's tiles do not overlap.
+//! shadow.glsl looks it up in, and the atlas's maps do not overlap.
 
 use super::*;
 use crate::test_rng::Rng;
@@ -58,7 +58,7 @@ fn a_point_light_face_holds_every_direction_it_is_chosen_for() {
         let hi = lo + rng.point(Vec3::splat(0.5), Vec3::splat(20.0));
         // Inside the box or outside it.
         let light = rng.point(lo - 5.0, hi + 5.0);
-        let faces = point_faces(light, lo, hi);
+        let (near, far) = point_depth_range(light, lo, hi);
         for _ in 0..100 {
             let p = rng.point(lo, hi);
             let d = p - light;
@@ -66,40 +66,51 @@ fn a_point_light_face_holds_every_direction_it_is_chosen_for() {
                 continue;
             }
             let face = cube_face(d);
-            assert_eq!(CUBE_FACES[face].dot(d), d.abs().max_element());
-            let v = ndc(faces[face].0, p);
+            let [axis, side, up] = face_basis(face);
+            assert_eq!(axis.dot(d), d.abs().max_element());
+            let v = ndc(point_face(light, face, near, far), p);
             assert!(inside(v), "{p} seen from {light} lies at {v} of face {face}");
+            // shadow.glsl's projection without the matrix: the same point of the face.
+            let along = axis.dot(d);
+            let expected = Vec3::new(side.dot(d), -up.dot(d), far * (along - near) / (far - near)) / along;
+            assert!((v - expected).abs().max_element() < 1e-4, "{v} against {expected}");
             // Farther along the same ray: deeper.
-            assert!(ndc(faces[face].0, light + 1.05 * d).z > v.z);
+            assert!(ndc(point_face(light, face, near, far), light + 1.05 * d).z > v.z);
         }
     }
 }
 
 #[test]
-fn tiles_lie_inside_the_atlas_and_apart() {
+fn maps_lie_inside_the_atlas_and_apart() {
     let mut rng = Rng(0x5eed_0003);
     for _ in 0..50 {
-        let count = 1 + rng.below(14) as usize;
-        let mut tiles: Vec<ShadowTile> = (0..count)
-            .map(|_| ShadowTile {
-                view_proj: Mat4::IDENTITY,
+        let count = 1 + rng.below(8) as usize;
+        let mut maps: Vec<ShadowMap> = (0..count)
+            .map(|_| ShadowMap {
+                projection: if rng.below(2) == 0 {
+                    Projection::Orthographic(Mat4::IDENTITY)
+                } else {
+                    Projection::Cube { light: Vec3::ZERO, near: 0.1, far: 10.0 }
+                },
                 offset: [0, 0],
                 size: 16 << rng.below(5),
                 texel_width: 1.0,
             })
             .collect();
-        let [width, height] = pack(&mut tiles);
-        for (i, a) in tiles.iter().enumerate() {
-            assert!(a.offset[0] + a.size <= width && a.offset[1] + a.size <= height);
-            for b in &tiles[i + 1..] {
-                let apart = a.offset[0] + a.size <= b.offset[0]
-                    || b.offset[0] + b.size <= a.offset[0]
-                    || a.offset[1] + a.size <= b.offset[1]
-                    || b.offset[1] + b.size <= a.offset[1];
-                assert!(apart, "{a:?} overlaps {b:?}");
+        let [width, height] = pack(&mut maps);
+        let squares: Vec<([u32; 2], u32)> =
+            maps.iter().flat_map(|m| m.views().into_iter().map(|(_, at)| (at, m.size))).collect();
+        for (i, &(a, size_a)) in squares.iter().enumerate() {
+            assert!(a[0] + size_a <= width && a[1] + size_a <= height);
+            for &(b, size_b) in &squares[i + 1..] {
+                let apart = a[0] + size_a <= b[0]
+                    || b[0] + size_b <= a[0]
+                    || a[1] + size_a <= b[1]
+                    || b[1] + size_b <= a[1];
+                assert!(apart, "{a:?} ({size_a}) overlaps {b:?} ({size_b})");
             }
         }
-        let area: u32 = tiles.iter().map(|t| t.size * t.size).sum();
+        let area: u32 = squares.iter().map(|(_, s)| s * s).sum();
         assert!(
             u64::from(width) * u64::from(height) <= 4 * u64::from(area),
             "{width}x{height} for {area} texels"
