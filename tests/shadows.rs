@@ -12,6 +12,7 @@ use multirate::analysis::metrics;
 use multirate::geometry::camera::pixel_ray;
 use multirate::render::{Mode, Placement, Renderer, View};
 use multirate::scene::{Light, Scene, ShadowCaster};
+use multirate::shading::estimator::EstimatorSettings;
 use multirate::vk::target::{FloatImage, RenderTarget};
 
 const WIDTH: u32 = 160;
@@ -152,4 +153,51 @@ fn shadows_fall_where_a_ray_towards_the_light_is_blocked() {
         );
         assert!(mismatched * 100 <= ground, "light {index}: {mismatched} of {ground} ground pixels disagree");
     }
+}
+
+/// Each light of the shadow scene alone, hard shadows, ε 0.02 (the ground tessellated where the
+/// point light's shading varies): on the ground, where the shading is at least 0.08 (4 ε)
+/// and multirate's interpolation error under ε, a pixel that differs from `pixel` by half its
+/// value reads another visibility. None may: both look it up at the same point with the same
+/// filter and bias. (A flip from rounding alone is rare at this size: with the lookup moved to
+/// the interpolated position this found none either; the shadow point rules it out.)
+#[test]
+fn multirate_and_pixel_read_the_same_visibility() {
+    let loaded = shadow_scene();
+    let ground_first = loaded.meshes[0].indices.len() as u32 / 3;
+    let context = validated_context();
+    let extent = vk::Extent2D { width: 4 * WIDTH, height: 4 * HEIGHT };
+    let target = RenderTarget::new(&context, extent).expect("target");
+    for light in 0..loaded.lights.len() {
+        let lit = one_light(&loaded, light, true);
+        let scene =
+            Scene { shadow_casters: vec![ShadowCaster { filter: 1, ..lit.shadow_casters[0] }], ..lit };
+        let renderer = Renderer::new(&context, &scene).expect("renderer");
+        let reference = renderer.analyze(&target, &View::of_scene(&scene)).expect("pixel");
+        for placement in [Placement::Compute, Placement::Tcs] {
+            let base = View::of_scene(&scene);
+            let estimator = EstimatorSettings { epsilon: 0.02, ..base.estimator };
+            let view = View { mode: Mode::Multirate, placement, estimator, ..base };
+            let analysis = renderer.analyze(&target, &view).expect("multirate");
+            let (mut ground, mut differing) = (0, 0);
+            for (i, (&id, p)) in reference.triangles.iter().zip(&reference.image.pixels).enumerate() {
+                let q = analysis.image.pixels[i];
+                if id <= ground_first || analysis.triangles[i] != id || p[1].max(q[1]) < 0.08 {
+                    continue;
+                }
+                ground += 1;
+                differing += usize::from((p[1] - q[1]).abs() > 0.5 * p[1].max(q[1]));
+            }
+            eprintln!(
+                "light {light} {placement:?}: {ground} lit ground pixels, {differing} differ, {:?}",
+                analysis.evaluations
+            );
+            assert!(ground > 1000, "light {light} {placement:?}: {ground} ground pixels");
+            assert_eq!(
+                differing, 0,
+                "light {light} {placement:?}: {differing} ground pixels read another visibility"
+            );
+        }
+    }
+    assert_validation_clean(&context);
 }
