@@ -142,7 +142,8 @@ impl Renderer {
             (shadow_atlas.image.view, shadow_atlas.sampler.raw),
         )?;
         let pipelines = Pipelines::new(context, scene, &descriptors.layout, &geometry)?;
-        shadow_atlas.render(context, &descriptors.layout, &buffers, &geometry.shadows, &geometry.draws)?;
+        let shadow_pass = (&descriptors.layout, pipelines.forward_vert());
+        shadow_atlas.render(context, shadow_pass, &buffers, &geometry.shadows, &geometry.draws)?;
         let clear = scene.settings.clear_color;
         Ok(Renderer {
             context: context.clone(),

@@ -95,6 +95,11 @@ impl Pipelines {
         })
     }
 
+    /// `forward.vert`, which the shadow pass draws with too (depth only).
+    pub(super) fn forward_vert(&self) -> &ShaderModule {
+        &self.modules.forward_vert
+    }
+
     /// One variant per feature set the scene uses, with `instrumentation` and `polygon_mode`.
     pub(super) fn new_variants(
         &self,

@@ -9,7 +9,6 @@ use super::scene_geometry::DrawCall;
 use crate::error::Result;
 use crate::geometry::shadow_view::ShadowLayout;
 use crate::gpu_types::DrawConstants;
-use crate::shaders;
 use crate::vk::memory::{transition, Image};
 use crate::vk::pipeline::{DepthUse, Optimization, Pipeline, PipelineLayout, ShaderModule, Stage};
 use crate::vk::target::{begin_rendering, DEPTH_FORMAT};
@@ -42,25 +41,29 @@ impl ShadowAtlas {
     }
 
     /// Clears the atlas to the far plane and draws every mesh of `draws` into each square of
-    /// `layout`'s maps, depth only, both faces; leaves the atlas ready for the shaders to read.
+    /// `layout`'s maps with `vertex` (`forward.vert`), depth only, both faces; leaves the atlas
+    /// ready for the shaders to read. Without a map it only clears (no pipeline is built).
     pub(super) fn render(
         &self,
         context: &Arc<Context>,
-        pipeline_layout: &PipelineLayout,
+        (pipeline_layout, vertex): (&PipelineLayout, &ShaderModule),
         buffers: &SceneBuffers,
         layout: &ShadowLayout,
         draws: &[DrawCall],
     ) -> Result<()> {
-        let vertex = ShaderModule::new(context, "forward.vert", shaders::single("forward.vert"))?;
-        let stages =
-            vec![Stage { stage: vk::ShaderStageFlags::VERTEX, module: &vertex, specialization: None }];
-        let mut desc = scene_pipeline("shadow map", stages, pipeline_layout, Instrumentation::None);
-        desc.color_formats = &[];
-        desc.depth_use = DepthUse::Prime;
-        desc.dynamic_cull_mode = false;
-        desc.cull_mode = vk::CullModeFlags::NONE;
-        desc.optimization = Optimization::Optimized;
-        let pipeline = Pipeline::graphics(context, &desc)?;
+        let pipeline = if layout.maps.is_empty() {
+            None
+        } else {
+            let stages =
+                vec![Stage { stage: vk::ShaderStageFlags::VERTEX, module: vertex, specialization: None }];
+            let mut desc = scene_pipeline("shadow map", stages, pipeline_layout, Instrumentation::None);
+            desc.color_formats = &[];
+            desc.depth_use = DepthUse::Prime;
+            desc.dynamic_cull_mode = false;
+            desc.cull_mode = vk::CullModeFlags::NONE;
+            desc.optimization = Optimization::Optimized;
+            Some(Pipeline::graphics(context, &desc)?)
+        };
         let device = &context.device;
         let atlas = self.image.raw;
         context.run_once(|cmd| {
@@ -96,36 +99,38 @@ impl ShadowAtlas {
             // SAFETY: `cmd` is recording inside the rendering begun above; the pipeline, the
             // buffers and the layout outlive the wait `run_once` ends with.
             unsafe {
-                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
-                device.cmd_bind_vertex_buffers(cmd, 0, &[buffers.vertices.raw], &[0]);
-                device.cmd_bind_index_buffer(cmd, buffers.indices.raw, 0, vk::IndexType::UINT32);
-                for (view_proj, [x, y], size) in
-                    layout.maps.iter().flat_map(|m| m.views().into_iter().map(|(v, at)| (v, at, m.size)))
-                {
-                    let area = vk::Rect2D {
-                        offset: vk::Offset2D { x: x as i32, y: y as i32 },
-                        extent: vk::Extent2D { width: size, height: size },
-                    };
-                    let viewport = vk::Viewport {
-                        x: x as f32,
-                        y: y as f32,
-                        width: size as f32,
-                        height: size as f32,
-                        min_depth: 0.0,
-                        max_depth: 1.0,
-                    };
-                    device.cmd_set_viewport(cmd, 0, &[viewport]);
-                    device.cmd_set_scissor(cmd, 0, &[area]);
-                    let constants = DrawConstants { view_proj, ..Default::default() };
-                    device.cmd_push_constants(
-                        cmd,
-                        pipeline_layout.raw,
-                        PUSH_STAGES,
-                        0,
-                        bytemuck::bytes_of(&constants),
-                    );
-                    for draw in draws {
-                        device.cmd_draw_indexed(cmd, draw.index_count, 1, draw.first_index, 0, 0);
+                if let Some(pipeline) = &pipeline {
+                    device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
+                    device.cmd_bind_vertex_buffers(cmd, 0, &[buffers.vertices.raw], &[0]);
+                    device.cmd_bind_index_buffer(cmd, buffers.indices.raw, 0, vk::IndexType::UINT32);
+                    for (view_proj, [x, y], size) in
+                        layout.maps.iter().flat_map(|m| m.views().into_iter().map(|(v, at)| (v, at, m.size)))
+                    {
+                        let area = vk::Rect2D {
+                            offset: vk::Offset2D { x: x as i32, y: y as i32 },
+                            extent: vk::Extent2D { width: size, height: size },
+                        };
+                        let viewport = vk::Viewport {
+                            x: x as f32,
+                            y: y as f32,
+                            width: size as f32,
+                            height: size as f32,
+                            min_depth: 0.0,
+                            max_depth: 1.0,
+                        };
+                        device.cmd_set_viewport(cmd, 0, &[viewport]);
+                        device.cmd_set_scissor(cmd, 0, &[area]);
+                        let constants = DrawConstants { view_proj, ..Default::default() };
+                        device.cmd_push_constants(
+                            cmd,
+                            pipeline_layout.raw,
+                            PUSH_STAGES,
+                            0,
+                            bytemuck::bytes_of(&constants),
+                        );
+                        for draw in draws {
+                            device.cmd_draw_indexed(cmd, draw.index_count, 1, draw.first_index, 0, 0);
+                        }
                     }
                 }
                 device.cmd_end_rendering(cmd);

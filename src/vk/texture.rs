@@ -106,44 +106,44 @@ pub fn upload_image(
     Ok(image)
 }
 
-/// A sampler: trilinear filtering with REPEAT addressing, no anisotropy, every mip level.
-/// `scene::texture::Texture::sample_parameter` is its CPU twin.
+/// A sampler: trilinear with REPEAT addressing for the materials' textures, or nearest with
+/// edge clamping for images read with `texelFetch`; no anisotropy.
 pub struct Sampler {
     context: Arc<Context>,
     pub raw: vk::Sampler,
 }
 
 impl Sampler {
+    /// Trilinear filtering, REPEAT addressing, every mip level.
+    /// `scene::texture::Texture::sample_parameter` is its CPU twin.
     pub fn trilinear_repeat(context: &Arc<Context>, name: &str) -> Result<Sampler> {
-        let info = vk::SamplerCreateInfo::default()
-            .mag_filter(vk::Filter::LINEAR)
-            .min_filter(vk::Filter::LINEAR)
-            .mipmap_mode(vk::SamplerMipmapMode::LINEAR)
-            .address_mode_u(vk::SamplerAddressMode::REPEAT)
-            .address_mode_v(vk::SamplerAddressMode::REPEAT)
-            .address_mode_w(vk::SamplerAddressMode::REPEAT)
-            .min_lod(0.0)
-            .max_lod(vk::LOD_CLAMP_NONE);
-        // SAFETY: valid create info; destroyed in `Drop`.
-        let raw = unsafe { context.device.create_sampler(&info, None) }.while_("creating a sampler")?;
-        context.name(raw, name);
-        Ok(Sampler { context: context.clone(), raw })
+        let linear = (vk::Filter::LINEAR, vk::SamplerMipmapMode::LINEAR);
+        Sampler::new(context, name, linear, vk::SamplerAddressMode::REPEAT, vk::LOD_CLAMP_NONE)
     }
-}
 
-impl Sampler {
     /// Nearest filtering, clamped to the edge, level 0 only: for images read with `texelFetch`
     /// (the shadow atlas), which a filtering sampler would need a filterable format for.
     pub fn nearest_clamp(context: &Arc<Context>, name: &str) -> Result<Sampler> {
+        let nearest = (vk::Filter::NEAREST, vk::SamplerMipmapMode::NEAREST);
+        Sampler::new(context, name, nearest, vk::SamplerAddressMode::CLAMP_TO_EDGE, 0.0)
+    }
+
+    fn new(
+        context: &Arc<Context>,
+        name: &str,
+        (filter, mipmap_mode): (vk::Filter, vk::SamplerMipmapMode),
+        address: vk::SamplerAddressMode,
+        max_lod: f32,
+    ) -> Result<Sampler> {
         let info = vk::SamplerCreateInfo::default()
-            .mag_filter(vk::Filter::NEAREST)
-            .min_filter(vk::Filter::NEAREST)
-            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
-            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .mag_filter(filter)
+            .min_filter(filter)
+            .mipmap_mode(mipmap_mode)
+            .address_mode_u(address)
+            .address_mode_v(address)
+            .address_mode_w(address)
             .min_lod(0.0)
-            .max_lod(0.0);
+            .max_lod(max_lod);
         // SAFETY: valid create info; destroyed in `Drop`.
         let raw = unsafe { context.device.create_sampler(&info, None) }.while_("creating a sampler")?;
         context.name(raw, name);
