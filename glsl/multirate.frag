@@ -33,12 +33,12 @@ void main() {
     GpuMaterial m = materials[draw.material_index];
     Shading s = Shading(in_diffuse, in_specular);
     bool per_pixel = in_level <= 0.0;
-#if VARIANT_SHADOWS
-    ShadowPoint lookup = fragment_shadow_point(in_triangle);
-#else
-    ShadowPoint lookup = ShadowPoint(vec3(0.0), vec3(0.0), false);
-#endif
     if (per_pixel) {
+#if VARIANT_SHADOWS
+        ShadowPoint lookup = fragment_shadow_point(in_triangle);
+#else
+        ShadowPoint lookup = ShadowPoint(vec3(0.0), vec3(0.0), false);
+#endif
         float parameter = parameter_at_grad(m, in_uv, duv_dx, duv_dy);
         s = shade_visible(in_position, in_normal, draw.eye.xyz, draw.material_index, parameter, lookup);
         if (COUNT_EVALUATIONS) {
@@ -49,7 +49,8 @@ void main() {
     vec3 color = albedo * s.diffuse + s.specular;
 #if VARIANT_SHADOWS
     if (!per_pixel) {
-        color += shadowed_lights_color(albedo, in_shadowed_diffuse, in_shadowed_specular, lookup);
+        color += shadowed_lights_color(albedo, in_shadowed_diffuse, in_shadowed_specular,
+                                       fragment_triangle(in_triangle), gl_FragCoord.xy);
     }
 #endif
     out_color = vec4(heat_map_on() ? heat_color(in_level) : color, 1.0);

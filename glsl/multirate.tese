@@ -54,7 +54,8 @@ void main() {
             parameter = parameter_at_lod(m, uv, lod);
         }
 #if VARIANT_SHADOWS
-        Shading s = shade_split(position, normal, draw.eye.xyz, draw.material_index, parameter, apart);
+        uint classes = triangle_shadow_classes(patch_triangle);
+        Shading s = shade_split(position, normal, draw.eye.xyz, draw.material_index, parameter, classes, apart);
 #else
         Shading s = shade(position, normal, draw.eye.xyz, draw.material_index, parameter);
 #endif

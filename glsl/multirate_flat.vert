@@ -98,7 +98,9 @@ void main() {
     }
     Shading apart[MAX_SHADOWED_LIGHTS] = no_shading_apart();
 #if VARIANT_SHADOWS
-    Shading s = shade_split(position, normal, draw.eye.xyz, draw.material_index, parameter, apart);
+    // A shared corner serves triangles of every class: each shadow-casting light apart.
+    uint classes = listed ? triangle_shadow_classes(triangle) : MIXED_CLASS_BIT * ((1u << MAX_SHADOWED_LIGHTS) - 1u);
+    Shading s = shade_split(position, normal, draw.eye.xyz, draw.material_index, parameter, classes, apart);
 #else
     Shading s = shade(position, normal, draw.eye.xyz, draw.material_index, parameter);
 #endif

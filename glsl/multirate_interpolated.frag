@@ -33,8 +33,8 @@ void main() {
     vec3 albedo = albedo_at_grad(materials[draw.material_index], in_uv, duv_dx, duv_dy);
     vec3 color = albedo * in_diffuse + in_specular;
 #if VARIANT_SHADOWS
-    ShadowPoint lookup = fragment_shadow_point(in_triangle);
-    color += shadowed_lights_color(albedo, in_shadowed_diffuse, in_shadowed_specular, lookup);
+    color += shadowed_lights_color(albedo, in_shadowed_diffuse, in_shadowed_specular, fragment_triangle(in_triangle),
+                                   gl_FragCoord.xy);
 #endif
     out_color = vec4(heat_map_on() ? heat_color(in_level) : color, 1.0);
 #if TRIANGLE_IDS

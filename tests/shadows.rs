@@ -1,15 +1,17 @@
 //! Shadow maps on lavapipe (validation layer on): every mode renders the shadow scene; the
 //! maps shadow what a ray cast towards the light finds occluded (no acne on lit surfaces, no
 //! light leaking under the caster); a shadow only ever darkens; multirate keeps every pixel of
-//! the same triangle within ε of `pixel` with the same maps, interpolating the shadowed lights.
+//! the same triangle within ε of `pixel` with the same maps, interpolating the shadowed lights;
+//! a triangle classed lit or shadowed shows V = 1 or V = 0 at every pixel `pixel` shades.
 
 mod common;
 
 use ash::vk;
-use common::{assert_validation_clean, ray_cast, repo_path, validated_context};
+use common::{assert_validation_clean, ray_cast, repo_path, validated_context, SplitMix64};
 use glam::Vec3;
 use multirate::analysis::metrics;
 use multirate::geometry::camera::pixel_ray;
+use multirate::geometry::shadow_class::Visibility;
 use multirate::render::{Mode, Placement, Renderer, View};
 use multirate::scene::{Light, Scene, ShadowCaster};
 use multirate::shading::estimator::EstimatorSettings;
@@ -198,6 +200,75 @@ fn multirate_and_pixel_read_the_same_visibility() {
                 "light {light} {placement:?}: {differing} ground pixels read another visibility"
             );
         }
+    }
+    assert_validation_clean(&context);
+}
+
+/// Pixels of triangles `scene`'s only light (which casts shadows) is classed lit for or
+/// shadowed for, and of those, how many `pixel` mode shows with another visibility: a lit
+/// pixel not as bright as without the shadow, a shadowed one not black.
+fn class_against_pixel(context: &std::sync::Arc<multirate::vk::Context>, scene: &Scene) -> [usize; 3] {
+    let target =
+        RenderTarget::new(context, vk::Extent2D { width: 2 * WIDTH, height: 2 * HEIGHT }).expect("target");
+    let shadowed = Renderer::new(context, scene).expect("renderer");
+    let classes = shadowed.shadow_classes().clone();
+    let with = shadowed.analyze(&target, &View::of_scene(scene)).expect("pixel");
+    drop(shadowed);
+    let unshadowed = Scene { shadow_casters: Vec::new(), ..scene.clone() };
+    let without =
+        Renderer::new(context, &unshadowed).expect("renderer").analyze(&target, &View::of_scene(&unshadowed));
+    let without = without.expect("pixel");
+    let [mut lit, mut dark, mut wrong] = [0; 3];
+    for (i, (&id, p)) in with.triangles.iter().zip(&with.image.pixels).enumerate() {
+        if id == 0 || without.triangles[i] != id {
+            continue;
+        }
+        let q = without.image.pixels[i];
+        let brightest = q[..3].iter().fold(0.0f32, |m, c| m.max(c.abs()));
+        match classes.visibility(id as usize - 1, 0) {
+            Visibility::Lit => {
+                lit += 1;
+                wrong += usize::from((0..3).any(|c| (p[c] - q[c]).abs() > 1e-5 * (1.0 + brightest)));
+            }
+            Visibility::Shadowed => {
+                dark += 1;
+                wrong += usize::from(p[..3].iter().any(|c| c.abs() > 1e-6));
+            }
+            Visibility::Mixed => {}
+        }
+    }
+    [lit, dark, wrong]
+}
+
+#[test]
+fn triangles_classed_lit_or_shadowed_show_that_visibility_at_every_pixel() {
+    let loaded = shadow_scene();
+    let context = validated_context();
+    let mut rng = SplitMix64(0x5eed_0c1d);
+    let mut scenes: Vec<(String, Scene)> = (0..loaded.lights.len())
+        .map(|light| (format!("light {light}"), one_light(&loaded, light, true)))
+        .collect();
+    // A random point light above the ground, hard, and a random directional one, filtered.
+    let caster = |light, filter| ShadowCaster { light, resolution: 512, filter };
+    let point = Light::Point {
+        position: Vec3::new(rng.range(-10.0, 10.0), rng.range(6.0, 14.0), rng.range(-10.0, 10.0)),
+        color: Vec3::ONE,
+        intensity: 200.0,
+    };
+    let direction = Vec3::new(rng.range(-1.0, 1.0), -1.0, rng.range(-1.0, 1.0)).normalize();
+    let directional = Light::Directional { direction, color: Vec3::ONE, intensity: 1.0 };
+    for (name, light, filter) in [("random point", point, 1), ("random directional", directional, 3)] {
+        let scene = Scene { lights: vec![light], shadow_casters: vec![caster(0, filter)], ..loaded.clone() };
+        scenes.push((format!("{name} {light:?}"), scene));
+    }
+    for (name, scene) in &scenes {
+        let [lit, dark, wrong] = class_against_pixel(&context, scene);
+        eprintln!(
+            "{name}: {lit} pixels of lit triangles, {dark} of shadowed ones, {wrong} show another visibility"
+        );
+        assert_eq!(wrong, 0, "{name}: {wrong} pixels of decided triangles show another visibility");
+        assert!(lit > 2000, "{name}: the class decides few lit pixels ({lit})");
+        assert!(dark > 100, "{name}: the class decides few shadowed pixels ({dark})");
     }
     assert_validation_clean(&context);
 }

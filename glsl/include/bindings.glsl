@@ -150,7 +150,8 @@ layout(set = 0, binding = 23, std430) buffer EstimatedLevels { float estimated_l
 // would transform it once per triangle; a draw covers only those triangles, and none where the
 // mesh has none. Whatever the material: nothing is shaded on their corners.
 layout(set = 0, binding = 24, std430) writeonly buffer FallbackIndices { uint fallback_indices[]; };
-// Per triangle of the meshes, its corners' positions, a texel each (xyz, w 1; triangle_corner):
+// Per triangle of the meshes, its corners' positions, a texel each (xyz; triangle_corner), the
+// first's w its shadow classes (triangle_shadow_classes):
 // the culling step reads them in 3 fetches where the indices and the vertices take 12 loads. On
 // a CPU rasteriser a load of a lane's own address from a storage buffer is a loop over the
 // lanes for each 32-bit word, and a texel fetch gathers four words at about the cost of two
@@ -185,6 +186,8 @@ const uint LEVEL_DISPATCHES = 5u;
 // Shadow-casting lights whose unshadowed shading multirate's interpolants carry apart
 // (shadow.glsl).
 const uint MAX_SHADOWED_LIGHTS = 4u;
+const uint SHADOWED_CLASS_BIT = 1u;
+const uint MIXED_CLASS_BIT = 16u;
 const uint RANGE_DISPATCH = 0u;
 const uint PATCH_DISPATCH = 1u;
 const uint REFINE_DISPATCH = 2u;
@@ -241,6 +244,14 @@ vec3 scene_normal(uint vertex) {
 // Corner `corner` (0, 1, 2) of scene triangle `triangle`'s position, from triangle_corners.
 vec3 triangle_corner(uint triangle, uint corner) {
     return texelFetch(triangle_corners, int(3u * triangle + corner)).xyz;
+}
+
+// Scene triangle `triangle`'s visibility classes (src/geometry/shadow_class.rs), a bit each per
+// shadow-casting light's slot s: SHADOWED_CLASS_BIT << s where the light reaches none of the
+// triangle, MIXED_CLASS_BIT << s where it may reach part; neither: all of it. Kept as a float
+// (exact: fewer than 2^24) in the w of the triangle's first texel of triangle_corners.
+uint triangle_shadow_classes(uint triangle) {
+    return uint(texelFetch(triangle_corners, int(3u * triangle)).w);
 }
 
 vec2 scene_uv(uint vertex) {

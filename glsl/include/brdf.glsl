@@ -117,18 +117,25 @@ Shading reflect_one_light(vec3 n, vec3 l, vec3 v, GpuMaterial m, float parameter
 // only its rule's code, and none where no light casts shadows).
 const int LIGHTS_UNSHADOWED = 0; // every light in the sum, unshadowed
 const int LIGHTS_VISIBLE = 1;    // every light in the sum, each times its visibility at `lookup`
-const int LIGHTS_SPLIT = 2;      // the shadow-casting lights apart, unshadowed, by slot
+const int LIGHTS_SPLIT = 2;      // by the triangle's class (`classes`): those that reach all of it
+                                 // in the sum, those that reach part apart by slot, unshadowed,
+                                 // those that reach none left out
 
 // Adds light `light`'s shading (towards it `l`, its irradiance `irradiance`) to `total`, or
-// puts it in `apart` by `rule`.
+// puts it in `apart`, or leaves it out, by `rule`.
 void add_light_shading(GpuLight light, vec3 l, vec3 irradiance, vec3 n, vec3 v, GpuMaterial m, float parameter,
-                       int rule, ShadowPoint lookup, inout Shading total, inout Shading apart[MAX_SHADOWED_LIGHTS]) {
+                       int rule, ShadowPoint lookup, uint classes, inout Shading total,
+                       inout Shading apart[MAX_SHADOWED_LIGHTS]) {
     bool casts = SHADOWS && light.shadow.x >= 0;
+    uint slot_bit = casts ? 1u << uint(light.shadow.z) : 0u;
+    if (rule == LIGHTS_SPLIT && (classes & SHADOWED_CLASS_BIT * slot_bit) != 0u) {
+        return;
+    }
     if (rule == LIGHTS_VISIBLE && casts) {
         irradiance *= shadow_visibility_at(light, lookup);
     }
     Shading one = reflect_one_light(n, l, v, m, parameter);
-    if (rule == LIGHTS_SPLIT && casts) {
+    if (rule == LIGHTS_SPLIT && (classes & MIXED_CLASS_BIT * slot_bit) != 0u) {
         apart[light.shadow.z] = Shading(one.diffuse * irradiance, one.specular * irradiance);
     } else {
         total.diffuse += one.diffuse * irradiance;
@@ -139,7 +146,7 @@ void add_light_shading(GpuLight light, vec3 l, vec3 irradiance, vec3 n, vec3 v, 
 // Outgoing radiance at a surface point, summed over the scene's lights by `rule`, diffuse and
 // specular apart. `normal` need not be unit length (it is interpolated); `eye` is the camera.
 Shading shade_lights(vec3 position, vec3 normal, vec3 eye, uint material_index, float parameter, int rule,
-                     ShadowPoint lookup, inout Shading apart[MAX_SHADOWED_LIGHTS]) {
+                     ShadowPoint lookup, uint classes, inout Shading apart[MAX_SHADOWED_LIGHTS]) {
     GpuMaterial m = materials[material_index];
     vec3 n = safe_normalize(normal);
     vec3 v = safe_normalize(eye - position);
@@ -149,11 +156,12 @@ Shading shade_lights(vec3 position, vec3 normal, vec3 eye, uint material_index, 
         float d2 = max(dot(to_light, to_light), MIN_LIGHT_DISTANCE_SQUARED);
         vec3 l = to_light * inversesqrt(d2);
         vec3 irradiance = lights[i].radiance.rgb / d2;
-        add_light_shading(lights[i], l, irradiance, n, v, m, parameter, rule, lookup, total, apart);
+        add_light_shading(lights[i], l, irradiance, n, v, m, parameter, rule, lookup, classes, total, apart);
     }
     for (int i = 0; i < DIRECTIONAL_LIGHT_COUNT; ++i) {
         GpuLight light = lights[POINT_LIGHT_COUNT + i];
-        add_light_shading(light, -light.position.xyz, light.radiance.rgb, n, v, m, parameter, rule, lookup, total, apart);
+        add_light_shading(light, -light.position.xyz, light.radiance.rgb, n, v, m, parameter, rule, lookup, classes,
+                          total, apart);
     }
 #if VARIANT_POLYGON_LIGHTS
     for (int i = 0; i < POLYGON_LIGHT_COUNT; ++i) {
@@ -178,23 +186,25 @@ Shading[MAX_SHADOWED_LIGHTS] no_shading_apart() {
 Shading shade(vec3 position, vec3 normal, vec3 eye, uint material_index, float parameter) {
     Shading apart[MAX_SHADOWED_LIGHTS] = no_shading_apart();
     ShadowPoint none = ShadowPoint(vec3(0.0), vec3(0.0), false);
-    return shade_lights(position, normal, eye, material_index, parameter, LIGHTS_UNSHADOWED, none, apart);
+    return shade_lights(position, normal, eye, material_index, parameter, LIGHTS_UNSHADOWED, none, 0u, apart);
 }
 
 // Every light, each shadow-casting one times its visibility at `lookup`.
 Shading shade_visible(vec3 position, vec3 normal, vec3 eye, uint material_index, float parameter,
                       ShadowPoint lookup) {
     Shading apart[MAX_SHADOWED_LIGHTS] = no_shading_apart();
-    return shade_lights(position, normal, eye, material_index, parameter, LIGHTS_VISIBLE, lookup, apart);
+    return shade_lights(position, normal, eye, material_index, parameter, LIGHTS_VISIBLE, lookup, 0u, apart);
 }
 
-// The lights without a shadow map summed, and apart, by slot, each shadow-casting light's
-// unshadowed shading (what multirate interpolates; zero in the slots no light uses).
-Shading shade_split(vec3 position, vec3 normal, vec3 eye, uint material_index, float parameter,
+// What multirate interpolates on a triangle of visibility classes `classes`
+// (triangle_shadow_classes): summed, the lights without a shadow map and those that reach all
+// of the triangle; apart, by slot, the unshadowed shading of each light that may reach part of
+// it (zero in the other slots); the lights that reach none of it nowhere.
+Shading shade_split(vec3 position, vec3 normal, vec3 eye, uint material_index, float parameter, uint classes,
                     out Shading apart[MAX_SHADOWED_LIGHTS]) {
     apart = no_shading_apart();
     ShadowPoint none = ShadowPoint(vec3(0.0), vec3(0.0), false);
-    return shade_lights(position, normal, eye, material_index, parameter, LIGHTS_SPLIT, none, apart);
+    return shade_lights(position, normal, eye, material_index, parameter, LIGHTS_SPLIT, none, classes, apart);
 }
 
 #endif

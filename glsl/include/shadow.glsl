@@ -169,19 +169,32 @@ float shadow_visibility_at(GpuLight light, ShadowPoint point) {
 #define SHADOWED_DIFFUSE_LOCATION 7
 #define SHADOWED_SPECULAR_LOCATION 11
 
-// The shadow-casting lights' part of a fragment's colour: each light's interpolated unshadowed
-// shading (`diffuse`, `specular` by slot) times its visibility at `point`.
-vec3 shadowed_lights_color(vec3 albedo, vec3 diffuse[MAX_SHADOWED_LIGHTS], vec3 specular[MAX_SHADOWED_LIGHTS], ShadowPoint point) {
+// The shadow-casting lights' part of the colour of a fragment at `frag_coord` on scene triangle
+// `triangle`, by the triangle's visibility classes (triangle_shadow_classes): each light's
+// interpolated unshadowed shading (`diffuse`, `specular` by slot) as it is where the light
+// reaches all of the triangle, times its visibility at the fragment's shadow point where it may
+// reach part of it, nothing where it reaches none. Only a part-lit triangle looks anything up.
+// (Where the stage before applied the class, a slot it left zero adds zero.)
+vec3 shadowed_lights_color(vec3 albedo, vec3 diffuse[MAX_SHADOWED_LIGHTS], vec3 specular[MAX_SHADOWED_LIGHTS],
+                           uint triangle, vec2 frag_coord) {
     vec3 color = vec3(0.0);
     if (!SHADOWS) {
         return color;
     }
+    uint classes = triangle_shadow_classes(triangle);
+    ShadowPoint point = ShadowPoint(vec3(0.0), vec3(0.0), false);
+    if (classes >= MIXED_CLASS_BIT) {
+        point = shadow_point(triangle, frag_coord);
+    }
     for (int i = 0; i < POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT; ++i) {
         GpuLight light = lights[i];
-        if (light.shadow.x >= 0) {
-            int slot = light.shadow.z;
-            color += shadow_visibility_at(light, point) * (albedo * diffuse[slot] + specular[slot]);
+        uint slot_bit = 1u << uint(max(light.shadow.z, 0));
+        if (light.shadow.x < 0 || (classes & SHADOWED_CLASS_BIT * slot_bit) != 0u) {
+            continue;
         }
+        float visibility = (classes & MIXED_CLASS_BIT * slot_bit) != 0u ? shadow_visibility_at(light, point) : 1.0;
+        int slot = light.shadow.z;
+        color += visibility * (albedo * diffuse[slot] + specular[slot]);
     }
     return color;
 }

@@ -10,12 +10,19 @@
 use super::named_constants::named_constants;
 
 const _: () = assert!(MAX_SHADOWED_LIGHTS as usize == crate::scene::ShadowCaster::MAX_LIGHTS);
+const _: () = assert!(SHADOWED_CLASS_BIT << MAX_SHADOWED_LIGHTS <= MIXED_CLASS_BIT);
 
 named_constants! {
     /// Shadow-casting lights whose unshadowed shading multirate's interpolants carry apart, a
     /// diffuse and a specular `vec3` each (`glsl/include/shadow.glsl`); a scene may have no
     /// more (`scene::ShadowCaster::MAX_LIGHTS`).
     MAX_SHADOWED_LIGHTS = 4;
+    /// A triangle's visibility classes (`geometry::shadow_class`, in `triangle_corners`): this
+    /// bit shifted by a shadow-casting light's slot where the light reaches none of the
+    /// triangle.
+    SHADOWED_CLASS_BIT = 1;
+    /// This bit shifted by the slot where the light may reach part of it (neither bit: all).
+    MIXED_CLASS_BIT = 16;
     /// Dispatches per mesh in `LevelDispatches`.
     LEVEL_DISPATCHES = 5;
     /// The range step's dispatch (`range_levels.comp`) over the triangles to estimate, counted

@@ -64,6 +64,7 @@ pub use scene_geometry::{gpu_lights, gpu_polygon_lights, gpu_shadow_maps};
 pub use view::{View, EYE_BALL_SHARE};
 
 use crate::error::Result;
+use crate::geometry::shadow_class::{ShadowClasses, ShadowDepths};
 use crate::gpu_interface::bindings::in_binding_order;
 use crate::gpu_interface::slots::{FALLBACK_LIST, INTERPOLATED_LIST};
 use crate::scene::Scene;
@@ -85,7 +86,7 @@ use pre_pass::buffers::PrePassBuffers;
 use pre_pass::steps::{FrameStamps, Timed};
 use pre_pass::PrePass;
 use scene_buffers::SceneBuffers;
-use scene_geometry::SceneGeometry;
+use scene_geometry::{with_classes, SceneGeometry};
 use shadows::ShadowAtlas;
 use std::cell::OnceCell;
 use std::sync::{Arc, Mutex};
@@ -107,6 +108,9 @@ pub struct Renderer {
     pre_pass: PrePass,
     /// Every shadow map, rendered once; read through the materials' sets.
     _shadow_atlas: ShadowAtlas,
+    /// Every triangle's visibility class per shadow-casting light, from the maps as rendered
+    /// (in `triangle_corners` for the shaders).
+    shadow_classes: ShadowClasses,
     /// What is shaded per pixel, at the scales the frame does not decide itself.
     per_pixel: PerPixelChoice,
     /// The frame guards of the configurations drawn so far (`guarded`, `report_frame_time`).
@@ -143,7 +147,17 @@ impl Renderer {
         )?;
         let pipelines = Pipelines::new(context, scene, &descriptors.layout, &geometry)?;
         let shadow_pass = (&descriptors.layout, pipelines.forward_vert());
-        shadow_atlas.render(context, shadow_pass, &buffers, &geometry.shadows, &geometry.draws)?;
+        let depths =
+            shadow_atlas.render(context, shadow_pass, &buffers, &geometry.shadows, &geometry.draws)?;
+        let shadow_classes = if scene.shadow_casters.is_empty() {
+            ShadowClasses::default()
+        } else {
+            let classes =
+                ShadowClasses::of(scene, &geometry.shadows, &ShadowDepths::new(&geometry.shadows, &depths));
+            let corners = with_classes(&geometry.triangle_corners, &classes, scene.shadow_casters.len());
+            pre_pass.buffers.triangle_corners.upload(&corners)?;
+            classes
+        };
         let clear = scene.settings.clear_color;
         Ok(Renderer {
             context: context.clone(),
@@ -153,12 +167,19 @@ impl Renderer {
             pipelines,
             pre_pass,
             _shadow_atlas: shadow_atlas,
+            shadow_classes,
             per_pixel: PerPixelChoice::new(&context.info.name, scene),
             guards: Mutex::new(Guards::default()),
             measured_table: Mutex::new(None),
             deferred: OnceCell::new(),
             clear_color: [clear.x, clear.y, clear.z, 0.0],
         })
+    }
+
+    /// Every triangle's visibility class per shadow-casting light (none where no light casts
+    /// shadows).
+    pub fn shadow_classes(&self) -> &ShadowClasses {
+        &self.shadow_classes
     }
 
     /// The device's cost model (a stored calibration or the built-in figures).

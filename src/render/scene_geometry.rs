@@ -3,8 +3,10 @@
 //! [`DrawCall`] per mesh and [`EmitterDraw`] per polygonal light saying where each lies.
 
 use super::textures::gpu_material;
+use crate::geometry::shadow_class::{ShadowClasses, Visibility};
 use crate::geometry::shadow_view::{LightShadow, Projection, ShadowLayout};
 use crate::gpu_interface::flags::{FLAG_ONE_SIDED, FLAG_SHARED_CORNERS};
+use crate::gpu_interface::slots::{MAX_SHADOWED_LIGHTS, MIXED_CLASS_BIT, SHADOWED_CLASS_BIT};
 use crate::gpu_types::{DrawConstants, GpuLight, GpuMaterial, GpuPolygonLight, GpuShadowMap, Vertex};
 use crate::scene::adjacency::{adjacency_patches, neighbours};
 use crate::scene::{Light, MaterialKind, Mesh, Scene};
@@ -136,7 +138,8 @@ pub(super) struct SceneGeometry {
     pub patch_indices: Vec<u32>,
     /// Per triangle of the meshes: the triangles across its edges (scene indices), then 0.
     pub triangle_neighbours: Vec<[u32; 4]>,
-    /// Per triangle of the meshes: its corners' positions, each a texel (w 1).
+    /// Per triangle of the meshes: its corners' positions, each a texel, the first's w its
+    /// visibility classes ([`class_word`]; every light mixed until the maps are rendered).
     pub triangle_corners: Vec<[[f32; 4]; 3]>,
     /// One per mesh, in scene order.
     pub draws: Vec<DrawCall>,
@@ -198,11 +201,11 @@ impl SceneGeometry {
         }));
         let first_index = self.indices.len() as u32;
         self.indices.extend(mesh.indices.iter().map(|i| i + base));
-        self.triangle_corners.extend(
-            mesh.indices
-                .chunks_exact(3)
-                .map(|t| [0, 1, 2].map(|k| mesh.positions[t[k] as usize].extend(1.0).to_array())),
-        );
+        let unknown = class_word(&[Visibility::Mixed; MAX_SHADOWED_LIGHTS as usize]) as f32;
+        self.triangle_corners.extend(mesh.indices.chunks_exact(3).map(|t| {
+            [0, 1, 2]
+                .map(|k| mesh.positions[t[k] as usize].extend(if k == 0 { unknown } else { 0.0 }).to_array())
+        }));
         let first_patch_index = self.patch_indices.len() as u32;
         self.patch_indices.extend(adjacency_patches(mesh).iter().map(|i| i + base));
         let first_triangle = first_index / 3;
@@ -244,4 +247,30 @@ impl SceneGeometry {
             light_index: light_index as u32,
         });
     }
+}
+
+/// A triangle's visibility classes by slot as `triangle_shadow_classes` (bindings.glsl) reads
+/// them: `SHADOWED_CLASS_BIT` or `MIXED_CLASS_BIT` shifted by the slot.
+pub fn class_word(classes: &[Visibility]) -> u32 {
+    classes.iter().enumerate().fold(0, |word, (slot, class)| match class {
+        Visibility::Lit => word,
+        Visibility::Shadowed => word | SHADOWED_CLASS_BIT << slot,
+        Visibility::Mixed => word | MIXED_CLASS_BIT << slot,
+    })
+}
+
+/// `corners` (a triangle's texels of `triangle_corners`, as [`SceneGeometry`] made them) with
+/// the first one's w set to each triangle's word of `classes`.
+pub fn with_classes(corners: &[[[f32; 4]; 3]], classes: &ShadowClasses, slots: usize) -> Vec<[[f32; 4]; 3]> {
+    corners
+        .iter()
+        .enumerate()
+        .map(|(triangle, texels)| {
+            let word =
+                class_word(&(0..slots).map(|slot| classes.visibility(triangle, slot)).collect::<Vec<_>>());
+            let mut texels = *texels;
+            texels[0][3] = word as f32;
+            texels
+        })
+        .collect()
 }

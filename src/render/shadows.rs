@@ -1,6 +1,7 @@
 //! The shadow atlas: every shadow map of the scene in one depth image (`geometry::shadow_view`
 //! lays the maps out), rendered once when the renderer is made, as
-//! lights and meshes do not move, and read by `glsl/include/shadow.glsl` through set 1.
+//! lights and meshes do not move, and read by `glsl/include/shadow.glsl` through set 1; its
+//! depths read back for the triangles' visibility classes (`geometry::shadow_class`).
 
 use super::descriptors::PUSH_STAGES;
 use super::pipelines::{scene_pipeline, Instrumentation};
@@ -9,12 +10,13 @@ use super::scene_geometry::DrawCall;
 use crate::error::Result;
 use crate::geometry::shadow_view::ShadowLayout;
 use crate::gpu_types::DrawConstants;
-use crate::vk::memory::{transition, Image};
+use crate::vk::memory::{transition, Buffer, Image};
 use crate::vk::pipeline::{DepthUse, Optimization, Pipeline, PipelineLayout, ShaderModule, Stage};
 use crate::vk::target::{begin_rendering, DEPTH_FORMAT};
 use crate::vk::texture::Sampler;
 use crate::vk::Context;
 use ash::vk;
+use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
 
 /// The atlas image, in `SHADER_READ_ONLY_OPTIMAL` once [`ShadowAtlas::render`] ran, and the
@@ -33,7 +35,9 @@ impl ShadowAtlas {
             "shadow atlas",
             vk::Extent2D { width, height },
             DEPTH_FORMAT,
-            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
+                | vk::ImageUsageFlags::SAMPLED
+                | vk::ImageUsageFlags::TRANSFER_SRC,
             vk::ImageAspectFlags::DEPTH,
         )?;
         let sampler = Sampler::nearest_clamp(context, "shadow atlas sampler")?;
@@ -42,7 +46,8 @@ impl ShadowAtlas {
 
     /// Clears the atlas to the far plane and draws every mesh of `draws` into each square of
     /// `layout`'s maps with `vertex` (`forward.vert`), depth only, both faces; leaves the atlas
-    /// ready for the shaders to read. Without a map it only clears (no pipeline is built).
+    /// ready for the shaders to read and returns its depths row by row. Without a map it only
+    /// clears (no pipeline is built) and returns none.
     pub(super) fn render(
         &self,
         context: &Arc<Context>,
@@ -50,7 +55,7 @@ impl ShadowAtlas {
         buffers: &SceneBuffers,
         layout: &ShadowLayout,
         draws: &[DrawCall],
-    ) -> Result<()> {
+    ) -> Result<Vec<f32>> {
         let pipeline = if layout.maps.is_empty() {
             None
         } else {
@@ -66,6 +71,15 @@ impl ShadowAtlas {
         };
         let device = &context.device;
         let atlas = self.image.raw;
+        let extent = self.image.extent;
+        let texels = if pipeline.is_some() { extent.width as usize * extent.height as usize } else { 0 };
+        let readback = Buffer::new(
+            context,
+            "shadow atlas readback",
+            4 * texels as vk::DeviceSize,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
         context.run_once(|cmd| {
             let depth = vk::ImageAspectFlags::DEPTH;
             transition(
@@ -135,22 +149,70 @@ impl ShadowAtlas {
                 }
                 device.cmd_end_rendering(cmd);
             }
+            let attachment_written = (
+                vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
+                vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+            );
+            let copied = (
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                vk::PipelineStageFlags2::COPY,
+                vk::AccessFlags2::TRANSFER_READ,
+            );
+            let before_shaders = if texels > 0 {
+                transition(device, cmd, atlas, depth, attachment_written, copied);
+                copy_to_host(device, cmd, atlas, extent, &readback);
+                copied
+            } else {
+                attachment_written
+            };
             transition(
                 device,
                 cmd,
                 atlas,
                 depth,
-                (
-                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                    vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
-                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
-                ),
+                before_shaders,
                 (
                     vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
                     vk::PipelineStageFlags2::ALL_GRAPHICS | vk::PipelineStageFlags2::COMPUTE_SHADER,
                     vk::AccessFlags2::SHADER_SAMPLED_READ,
                 ),
             );
-        })
+        })?;
+        let bytes = readback.mapped().expect("GpuToCpu memory is mapped");
+        Ok(bytemuck::pod_collect_to_vec::<u8, f32>(&bytes[..4 * texels]))
+    }
+}
+
+/// Records the copy of the depth image `atlas` of `extent` (in TRANSFER_SRC_OPTIMAL) into
+/// `readback`, tightly packed, and makes it visible to the host.
+fn copy_to_host(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    atlas: vk::Image,
+    extent: vk::Extent2D,
+    readback: &Buffer,
+) {
+    let region = [vk::BufferImageCopy::default()
+        .image_subresource(
+            vk::ImageSubresourceLayers::default().aspect_mask(vk::ImageAspectFlags::DEPTH).layer_count(1),
+        )
+        .image_extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 })];
+    let to_host = [vk::MemoryBarrier2::default()
+        .src_stage_mask(vk::PipelineStageFlags2::COPY)
+        .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+        .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+        .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+    // SAFETY: `cmd` is recording; the atlas is in TRANSFER_SRC_OPTIMAL and the buffer holds its
+    // texels tightly packed, 4 bytes each (D32); the caller waits for the copy before reading.
+    unsafe {
+        device.cmd_copy_image_to_buffer(
+            cmd,
+            atlas,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            readback.raw,
+            &region,
+        );
+        device.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&to_host));
     }
 }

@@ -1,0 +1,450 @@
+//! Whether a shadow-casting light reaches every pixel of a triangle (lit), none (shadowed) or
+//! some (mixed), from the rendered maps' depths and their min/max pyramid ([`ShadowDepths`]).
+//! Conservative for everything `glsl/include/shadow.glsl`'s lookup does at any point of the
+//! triangle: the lift off its plane, the filter kernel, the clamp to the map's edge and the
+//! rounding of the GPU's arithmetic; where it cannot prove either, mixed. Multirate sums a lit
+//! light with the unshadowed ones, leaves a shadowed one out of the triangle's estimate and
+//! shading, and looks the visibility up per pixel only for a mixed one (`docs/estimator.md`
+//! section 18).
+//!
+//! Both kinds of map are handled alike: over the image of the triangle's plane in a map, a
+//! directional map's depth and the reciprocal of a cube face's distance along its axis are
+//! affine in the map's coordinates, so their extremes over any box of texels lie at its corners.
+
+use super::shadow_view::{cube_face, face_basis, Projection, ShadowLayout, ShadowMap};
+use crate::scene::{Light, Scene};
+use glam::{DVec2, DVec3, Vec3};
+use std::borrow::Cow;
+
+/// A light's visibility over the whole of a triangle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Visibility {
+    /// Every kernel sample of every pixel passes: V = 1.
+    Lit,
+    /// Every kernel sample of every pixel fails: V = 0.
+    Shadowed,
+    /// Neither could be proven: V is looked up per pixel.
+    Mixed,
+}
+
+/// The lookup's slack for the GPU's rounding: in texels across the map, and in depth (the
+/// maps' depths run from 0 to 1: eight units in the last place of 1).
+const TEXEL_SLACK: f64 = 0.02;
+const DEPTH_SLACK: f64 = 1e-6;
+/// A cube face's vertices must lie this far (relative) inside the face's cone, so that
+/// rounding never sends one of the triangle's pixels to the neighbouring face.
+const FACE_SLACK: f64 = 1e-4;
+/// The pyramid level is chosen so that a footprint spans at most this many cells a side.
+const CELLS_ACROSS: u32 = 16;
+
+/// One square of depths as the shadow pass rendered it (a directional map or a cube face),
+/// and above it a min/max pyramid: level `k` holds each block of `2^k × 2^k` texels' least
+/// and greatest depth.
+pub struct DepthSquare {
+    size: u32,
+    texels: Vec<f32>,
+    /// Levels 1, 2, …: side in cells and the cells' (min, max), row by row.
+    coarse: Vec<(u32, Vec<[f32; 2]>)>,
+}
+
+impl DepthSquare {
+    /// The square of `size` texels a side at `origin` in an atlas `width` texels wide.
+    fn new(atlas: &[f32], width: u32, origin: [u32; 2], size: u32) -> DepthSquare {
+        let texels: Vec<f32> = (0..size)
+            .flat_map(|y| {
+                let row = (origin[1] + y) as usize * width as usize + origin[0] as usize;
+                atlas[row..row + size as usize].iter().copied()
+            })
+            .collect();
+        let mut coarse: Vec<(u32, Vec<[f32; 2]>)> = Vec::new();
+        let mut side = size;
+        while side > 1 {
+            let below = |x: u32, y: u32| match coarse.last() {
+                None => {
+                    let d = texels[(y * size + x) as usize];
+                    [d, d]
+                }
+                Some((s, cells)) => cells[(y * s + x) as usize],
+            };
+            let next = side.div_ceil(2);
+            let cells = (0..next * next)
+                .map(|i| {
+                    let (x, y) = (2 * (i % next), 2 * (i / next));
+                    let mut range = below(x, y);
+                    for (dx, dy) in [(1, 0), (0, 1), (1, 1)] {
+                        if x + dx < side && y + dy < side {
+                            let [lo, hi] = below(x + dx, y + dy);
+                            range = [range[0].min(lo), range[1].max(hi)];
+                        }
+                    }
+                    range
+                })
+                .collect();
+            coarse.push((next, cells));
+            side = next;
+        }
+        DepthSquare { size, texels, coarse }
+    }
+
+    /// The least and greatest depth of cell (`x`, `y`) of level `level`.
+    fn range(&self, level: usize, x: u32, y: u32) -> [f32; 2] {
+        if level == 0 {
+            let d = self.texels[(y * self.size + x) as usize];
+            return [d, d];
+        }
+        let (side, cells) = &self.coarse[level - 1];
+        cells[(y * side + x) as usize]
+    }
+}
+
+/// Every map's depths: a square for a directional map, six (by face) for a point light's.
+pub struct ShadowDepths {
+    maps: Vec<Vec<DepthSquare>>,
+}
+
+impl ShadowDepths {
+    /// The squares of `layout`'s maps in `atlas`, the atlas's depths read back row by row.
+    pub fn new(layout: &ShadowLayout, atlas: &[f32]) -> ShadowDepths {
+        let width = layout.extent[0];
+        let maps = layout
+            .maps
+            .iter()
+            .map(|map| {
+                let faces = match map.projection {
+                    Projection::Orthographic(_) => 1,
+                    Projection::Cube { .. } => 6,
+                };
+                (0..faces)
+                    .map(|f| {
+                        let origin = [map.offset[0] + (f % 3) * map.size, map.offset[1] + (f / 3) * map.size];
+                        DepthSquare::new(atlas, width, origin, map.size)
+                    })
+                    .collect()
+            })
+            .collect();
+        ShadowDepths { maps }
+    }
+
+    /// Light `light`'s visibility over the triangle `corners`, where it casts shadows through
+    /// map `map` of `layout` with a kernel of `radius` texels.
+    pub fn classify(
+        &self,
+        layout: &ShadowLayout,
+        map: u32,
+        radius: u32,
+        light: &Light,
+        corners: [Vec3; 3],
+    ) -> Visibility {
+        let record = &layout.maps[map as usize];
+        let squares = &self.maps[map as usize];
+        let corners = corners.map(|c| c.as_dvec3());
+        let normal = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
+        if normal.length().partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
+            || !corners.iter().all(|c| c.is_finite())
+        {
+            return Visibility::Mixed;
+        }
+        let image = match (record.projection, light) {
+            (Projection::Orthographic(_), Light::Directional { direction, .. }) => directional_image(
+                record,
+                radius,
+                -direction.as_dvec3().normalize(),
+                normal.normalize(),
+                corners,
+            ),
+            (Projection::Cube { light: at, .. }, Light::Point { .. }) => {
+                cube_image(record, radius, at.as_dvec3(), corners)
+            }
+            _ => None,
+        };
+        match image {
+            Some(image) => image.visibility(&squares[image.face], radius),
+            None => Visibility::Mixed,
+        }
+    }
+}
+
+/// Every shadow-casting light's visibility over every triangle of a scene's meshes (in the
+/// order the renderer numbers them: mesh by mesh, each mesh's triangles in order).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ShadowClasses {
+    /// Shadow-casting lights (`Scene::shadow_casters`), the stride of `classes`.
+    slots: usize,
+    /// Per triangle, per slot.
+    classes: Vec<Visibility>,
+}
+
+impl ShadowClasses {
+    /// The classes of every triangle of `scene` against its maps, laid out by `layout` and
+    /// rendered into `depths`.
+    pub fn of(scene: &Scene, layout: &ShadowLayout, depths: &ShadowDepths) -> ShadowClasses {
+        let slots = scene.shadow_casters.len();
+        let mut classes = Vec::new();
+        for mesh in &scene.meshes {
+            for triangle in mesh.indices.chunks_exact(3) {
+                let corners = [0, 1, 2].map(|k| mesh.positions[triangle[k] as usize]);
+                classes.extend(scene.shadow_casters.iter().map(|caster| {
+                    let shadow = layout.lights[caster.light].expect("a caster has a map");
+                    depths.classify(layout, shadow.map, shadow.radius, &scene.lights[caster.light], corners)
+                }));
+            }
+        }
+        ShadowClasses { slots, classes }
+    }
+
+    /// Triangle `triangle`'s class against the light in slot `slot`.
+    pub fn visibility(&self, triangle: usize, slot: usize) -> Visibility {
+        self.classes[triangle * self.slots + slot]
+    }
+
+    /// Per slot, how many triangles are lit, shadowed and mixed.
+    pub fn counts(&self) -> Vec<[usize; 3]> {
+        let mut counts = vec![[0; 3]; self.slots];
+        for (i, class) in self.classes.iter().enumerate() {
+            let column = match class {
+                Visibility::Lit => 0,
+                Visibility::Shadowed => 1,
+                Visibility::Mixed => 2,
+            };
+            counts[i % self.slots][column] += 1;
+        }
+        counts
+    }
+
+    /// The lights of `scene` that reach some of triangle `triangle`: every light but those
+    /// that shadow all of it (the lights its estimate sums), in the scene's order.
+    pub fn lights_reaching<'a>(&self, scene: &'a Scene, triangle: usize) -> Cow<'a, [Light]> {
+        let shadowed =
+            |slot: usize| self.slots > 0 && self.visibility(triangle, slot) == Visibility::Shadowed;
+        if !(0..self.slots).any(shadowed) {
+            return Cow::Borrowed(&scene.lights);
+        }
+        let dark: Vec<usize> =
+            (0..self.slots).filter(|&s| shadowed(s)).map(|s| scene.shadow_casters[s].light).collect();
+        Cow::Owned(
+            scene.lights.iter().enumerate().filter(|(i, _)| !dark.contains(i)).map(|(_, l)| *l).collect(),
+        )
+    }
+}
+
+/// What the lookups of a triangle's pixels can see of one square: the image of the triangle's
+/// plane there (`corners`, in texels), a bound on its depth over any box of the square, and
+/// how far a lookup may land from the image of its own surface point.
+struct Image {
+    face: usize,
+    corners: [DVec2; 3],
+    /// Texels a lookup may land from its point's image, beside the slack for rounding.
+    spread: f64,
+    depth: DepthBound,
+}
+
+/// How the depths compared over a box of the map are bounded.
+enum DepthBound {
+    /// A directional map: the lookup's depth is affine over the image, `at` the corners.
+    Affine { at: [f64; 3] },
+    /// A cube face: the reciprocal of the distance along the face's axis is affine over the
+    /// image (`at` the corners); the lookup lies up to `closer` nearer and `farther` farther
+    /// (less than 0: at least that much nearer) along it than its point; depth is
+    /// `far·(a − near) / ((far − near)·a)` of distance `a`.
+    Reciprocal { at: [f64; 3], closer: f64, farther: f64, near: f64, far: f64 },
+}
+
+impl Image {
+    /// Whether every sample the kernel reads for any point of the image passes, or fails.
+    fn visibility(&self, square: &DepthSquare, radius: u32) -> Visibility {
+        let r = f64::from(radius);
+        let reach = self.spread + TEXEL_SLACK;
+        let (mut lo, mut hi) = (self.corners[0], self.corners[0]);
+        for c in &self.corners[1..] {
+            (lo, hi) = (lo.min(*c), hi.max(*c));
+        }
+        // The texels any lookup's kernel reads: a lookup at u reads floor(u) − r ..= floor(u) + r.
+        let first = ((lo - reach).floor() - r).as_ivec2();
+        let last = ((hi + reach).floor() + r).as_ivec2();
+        let size = square.size as i32;
+        // A lookup beyond the map reads its edge clamped: not followed, mixed.
+        if first.min_element() < 0 || last.max_element() >= size {
+            return Visibility::Mixed;
+        }
+        let across = (last - first).max_element() as u32 + 1;
+        let level = (across.div_ceil(CELLS_ACROSS)).next_power_of_two().trailing_zeros() as usize;
+        let level = level.min(square.coarse.len());
+        let (mut lit, mut shadowed) = (true, true);
+        for y in (first.y >> level)..=(last.y >> level) {
+            for x in (first.x >> level)..=(last.x >> level) {
+                let [stored_lo, stored_hi] = square.range(level, x as u32, y as u32);
+                // The points whose kernel can read a texel of the cell: within r texels (and
+                // the spread) of its texels, the texel's own width included.
+                let cell_lo = DVec2::new(f64::from(x << level), f64::from(y << level)) - r - reach;
+                let cell_hi =
+                    DVec2::new(f64::from((x + 1) << level), f64::from((y + 1) << level)) + r + reach;
+                let Some([depth_lo, depth_hi]) = self.depth_over(cell_lo, cell_hi) else {
+                    return Visibility::Mixed;
+                };
+                lit &= f64::from(stored_lo) >= depth_hi + DEPTH_SLACK;
+                shadowed &= f64::from(stored_hi) < depth_lo - DEPTH_SLACK;
+                if !lit && !shadowed {
+                    return Visibility::Mixed;
+                }
+            }
+        }
+        if lit {
+            Visibility::Lit
+        } else {
+            Visibility::Shadowed
+        }
+    }
+
+    /// The least and greatest depth a lookup compares whose point's image lies in the box
+    /// `lo`..`hi` and in the triangle's image (within the slack); None where the image is a line.
+    fn depth_over(&self, lo: DVec2, hi: DVec2) -> Option<[f64; 2]> {
+        let (DepthBound::Affine { at } | DepthBound::Reciprocal { at, .. }) = self.depth;
+        let affine = Affine::through(self.corners, at)?;
+        let [box_lo, box_hi] = affine.over(lo, hi);
+        // Over the triangle the function lies between its corners' values, give or take the
+        // slack by which a pixel's point may stray outside.
+        let stray = affine.gradient.abs().element_sum() * TEXEL_SLACK;
+        let value_lo = box_lo.max(at[0].min(at[1]).min(at[2]) - stray);
+        let value_hi = box_hi.min(at[0].max(at[1]).max(at[2]) + stray);
+        Some(match self.depth {
+            DepthBound::Affine { .. } => [value_lo, value_hi],
+            DepthBound::Reciprocal { closer, farther, near, far, .. } => {
+                // The point's distance along the axis runs from 1/value_hi to 1/value_lo.
+                let depth = |a: f64| far * (a - near) / ((far - near) * a);
+                let nearest = (1.0 / value_hi - closer).max(0.5 * near);
+                let farthest = 1.0 / value_lo + farther;
+                [depth(nearest), depth(farthest)]
+            }
+        })
+    }
+}
+
+/// The affine function of the map's coordinates that takes given values at a triangle's
+/// corners.
+struct Affine {
+    origin: DVec2,
+    value: f64,
+    gradient: DVec2,
+}
+
+impl Affine {
+    /// The function taking `at[k]` at `corners[k]`; None where the corners lie on a line.
+    fn through(corners: [DVec2; 3], at: [f64; 3]) -> Option<Affine> {
+        let (e1, e2) = (corners[1] - corners[0], corners[2] - corners[0]);
+        let det = e1.perp_dot(e2);
+        if det.abs().partial_cmp(&(1e-9 * e1.length() * e2.length())) != Some(std::cmp::Ordering::Greater) {
+            return None;
+        }
+        let (d1, d2) = (at[1] - at[0], at[2] - at[0]);
+        // The gradient solves g·e1 = d1, g·e2 = d2.
+        let gradient = DVec2::new(d1 * e2.y - d2 * e1.y, d2 * e1.x - d1 * e2.x) / det;
+        Some(Affine { origin: corners[0], value: at[0], gradient })
+    }
+
+    /// Its least and greatest value over the box `lo`..`hi` (at two of its corners).
+    fn over(&self, lo: DVec2, hi: DVec2) -> [f64; 2] {
+        let corner = |up: bool| {
+            DVec2::new(
+                if (self.gradient.x > 0.0) == up { hi.x } else { lo.x },
+                if (self.gradient.y > 0.0) == up { hi.y } else { lo.y },
+            )
+        };
+        let value = |p: DVec2| self.value + self.gradient.dot(p - self.origin);
+        [value(corner(false)), value(corner(true))]
+    }
+}
+
+/// In texels, where a point at clip-space x, y (−1..1) lies in a square of `size` texels.
+fn texel_of(ndc: DVec2, size: u32) -> DVec2 {
+    (ndc * 0.5 + 0.5) * f64::from(size)
+}
+
+/// A directional light's map: every pixel's lookup is its point moved by the same offset (the
+/// plane's normal and the light's direction are the triangle's), so the lookups' image is the
+/// triangle's image moved, and their depth is affine over it.
+fn directional_image(
+    record: &ShadowMap,
+    radius: u32,
+    to_light: DVec3,
+    normal: DVec3,
+    corners: [DVec3; 3],
+) -> Option<Image> {
+    let Projection::Orthographic(view_proj) = record.projection else { return None };
+    let view_proj = view_proj.as_dmat4();
+    let texel = f64::from(record.texel_width);
+    let cos_theta = normal.dot(to_light).clamp(-1.0, 1.0);
+    let n = if cos_theta < 0.0 { -normal } else { normal };
+    let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
+    let lift = (f64::from(radius) + 1.5) * texel;
+    let offset = n * (lift * sin_theta) + to_light * (0.5 * texel);
+    let ndc = corners.map(|c| view_proj.project_point3(c + offset));
+    Some(Image {
+        face: 0,
+        corners: ndc.map(|p| texel_of(p.truncate(), record.size)),
+        spread: 0.0,
+        depth: DepthBound::Affine { at: ndc.map(|p| p.z) },
+    })
+}
+
+/// A point light's cube: the triangle must lie inside one face's cone. The lookup moves off
+/// its point by up to the lift along the plane's normal n plus half a texel towards the light,
+/// in world units at most `reach` = (r + 2)·(texel width at the farthest corner). Only the lift
+/// moves its image (the half texel runs along the ray through the light): by at most
+/// `size/2 · lift·(max(|side·n|, |up·n|) + |axis·n|) / (a_min − reach)` texels (a_min: the
+/// nearest corner's distance along the axis; the image's coordinates are at most 1 in the face).
+/// Along the axis, half a texel towards the light brings it nearer by at least
+/// `w_min·a_min / (2·d_max)`, and the lift along the plane's normal (the same side of the plane
+/// for every point: that of the light) moves it farther only where that normal leans away from
+/// the light along the axis.
+fn cube_image(record: &ShadowMap, radius: u32, light: DVec3, corners: [DVec3; 3]) -> Option<Image> {
+    let Projection::Cube { near, far, .. } = record.projection else { return None };
+    let d = corners.map(|c| c - light);
+    let face = cube_face(d[0].as_vec3());
+    if d.iter().any(|v| cube_face(v.as_vec3()) != face) {
+        return None;
+    }
+    let [axis, side, up] = face_basis(face).map(|v| v.as_dvec3());
+    let along = d.map(|v| axis.dot(v));
+    let inside = |v: &DVec3, a: f64| side.dot(*v).abs().max(up.dot(*v).abs()) <= (1.0 - FACE_SLACK) * a;
+    if !d.iter().zip(along).all(|(v, a)| a > 0.0 && inside(v, a)) {
+        return None;
+    }
+    let normal = (corners[1] - corners[0]).cross(corners[2] - corners[0]).normalize();
+    let towards = -normal.dot(d[0]);
+    if towards.abs().partial_cmp(&(FACE_SLACK * d[0].length())) != Some(std::cmp::Ordering::Greater) {
+        // The light in the triangle's plane, or nearly: the side a pixel lifts to may flip.
+        return None;
+    }
+    let lifted_normal = if towards > 0.0 { normal } else { -normal };
+    let (a_min, a_max) = (along[0].min(along[1]).min(along[2]), along[0].max(along[1]).max(along[2]));
+    let d_max = d.iter().map(|v| v.length()).fold(0.0, f64::max);
+    let texel_width = f64::from(record.texel_width);
+    let texel = texel_width * a_max;
+    let lift = (f64::from(radius) + 1.5) * texel;
+    let reach = lift + 0.5 * texel;
+    if a_min.partial_cmp(&(2.0 * reach)) != Some(std::cmp::Ordering::Greater) {
+        return None;
+    }
+    let nearer = 0.5 * texel_width * a_min * a_min / d_max;
+    let image =
+        std::array::from_fn(|k| texel_of(DVec2::new(side.dot(d[k]), -up.dot(d[k])) / along[k], record.size));
+    Some(Image {
+        face,
+        corners: image,
+        spread: 0.5
+            * f64::from(record.size)
+            * lift
+            * (side.dot(normal).abs().max(up.dot(normal).abs()) + axis.dot(normal).abs())
+            / (a_min - reach),
+        depth: DepthBound::Reciprocal {
+            at: along.map(|a| 1.0 / a),
+            closer: reach,
+            farther: axis.dot(lifted_normal).max(0.0) * lift - nearer,
+            near: f64::from(near),
+            far: f64::from(far),
+        },
+    })
+}
+
+#[cfg(test)]
+mod tests;

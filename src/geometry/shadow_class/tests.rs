@@ -1,0 +1,264 @@
+//! Tests of `geometry::shadow_class`: on maps ray cast on the CPU, a triangle classed lit or
+//! shadowed reads V = 1 or V = 0 at every point the lookup twin (`shadow_lookup`) is asked
+//! at, for directional and point lights, hard and filtered; and the class decides most of a
+//! finely cut ground, or it would be of no use.
+
+use super::*;
+use crate::geometry::shadow_lookup::shadow_visibility;
+use crate::geometry::shadow_view::{directional_map, point_depth_range, LightShadow};
+use crate::test_rng::Rng;
+use glam::Mat4;
+
+/// The ray `origin + t·direction`'s nearest hit among `triangles`, as t.
+fn nearest_hit(origin: Vec3, direction: Vec3, triangles: &[[Vec3; 3]]) -> Option<f32> {
+    let mut nearest: Option<f32> = None;
+    for [a, b, c] in triangles {
+        let (e1, e2) = (*b - *a, *c - *a);
+        let p = direction.cross(e2);
+        let det = e1.dot(p);
+        if det.abs() < 1e-12 {
+            continue;
+        }
+        let s = origin - *a;
+        let u = s.dot(p) / det;
+        let q = s.cross(e1);
+        let v = direction.dot(q) / det;
+        let t = e2.dot(q) / det;
+        if u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t > 0.0 && nearest.is_none_or(|n| t < n) {
+            nearest = Some(t);
+        }
+    }
+    nearest
+}
+
+/// A one-map layout of `light`'s map of `size` texels over the box `lo`..`hi`, its depths
+/// ray cast through the texels' centres against `occluders` (1 where nothing is hit).
+fn rendered(
+    light: &Light,
+    size: u32,
+    radius: u32,
+    lo: Vec3,
+    hi: Vec3,
+    occluders: &[[Vec3; 3]],
+) -> (ShadowLayout, Vec<f32>) {
+    let (projection, width) = match *light {
+        Light::Directional { direction, .. } => {
+            let (view_proj, width) = directional_map(direction, lo, hi);
+            (Projection::Orthographic(view_proj), width)
+        }
+        Light::Point { position, .. } => {
+            let (near, far) = point_depth_range(position, lo, hi);
+            (Projection::Cube { light: position, near, far }, 2.0)
+        }
+        Light::Polygon(_) => unreachable!(),
+    };
+    let map = ShadowMap { projection, offset: [0, 0], size, texel_width: width / size as f32 };
+    let extent = map.footprint();
+    let mut atlas = vec![1.0f32; (extent[0] * extent[1]) as usize];
+    let centre = |i: u32| (i as f32 + 0.5) / size as f32 * 2.0 - 1.0;
+    match projection {
+        Projection::Orthographic(view_proj) => {
+            let inverse: Mat4 = view_proj.inverse();
+            for y in 0..size {
+                for x in 0..size {
+                    let front = inverse.project_point3(Vec3::new(centre(x), centre(y), 0.0));
+                    let back = inverse.project_point3(Vec3::new(centre(x), centre(y), 1.0));
+                    if let Some(t) = nearest_hit(front, back - front, occluders) {
+                        atlas[(y * extent[0] + x) as usize] = t;
+                    }
+                }
+            }
+        }
+        Projection::Cube { light, near, far } => {
+            for face in 0..6u32 {
+                let [axis, side, up] = face_basis(face as usize);
+                for y in 0..size {
+                    for x in 0..size {
+                        let direction = axis + side * centre(x) - up * centre(y);
+                        if let Some(along) = nearest_hit(light, direction, occluders) {
+                            let at = (face / 3 * size + y) * extent[0] + face % 3 * size + x;
+                            atlas[at as usize] = far * (along - near) / ((far - near) * along);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let shadow = LightShadow { map: 0, radius, slot: 0 };
+    (ShadowLayout { maps: vec![map], extent, lights: vec![Some(shadow)] }, atlas)
+}
+
+/// Points spread over the triangle: its corners, points along its edges and inside.
+fn points_of(corners: [Vec3; 3], rng: &mut Rng) -> Vec<Vec3> {
+    let mut points = corners.to_vec();
+    for _ in 0..150 {
+        let (mut u, mut v) = (rng.f(), rng.f());
+        if u + v > 1.0 {
+            (u, v) = (1.0 - u, 1.0 - v);
+        }
+        // Every third on an edge.
+        if rng.below(3) == 0 {
+            v = 0.0;
+        }
+        points.push(corners[0] + (corners[1] - corners[0]) * u + (corners[2] - corners[0]) * v);
+    }
+    points
+}
+
+/// The ground: 20 × 20 in two triangles at y = 0; above it a tilted square and a triangle.
+fn occluders() -> Vec<[Vec3; 3]> {
+    let g = |x: f32, z: f32| Vec3::new(x, 0.0, z);
+    let q = |x: f32, z: f32| Vec3::new(x, 3.0 + 0.3 * x, z);
+    vec![
+        [g(-10.0, -10.0), g(-10.0, 10.0), g(10.0, 10.0)],
+        [g(-10.0, -10.0), g(10.0, 10.0), g(10.0, -10.0)],
+        [q(-2.0, -2.0), q(-2.0, 2.0), q(2.0, 2.0)],
+        [q(-2.0, -2.0), q(2.0, 2.0), q(2.0, -2.0)],
+        [Vec3::new(4.0, 1.5, 4.0), Vec3::new(6.0, 1.5, 4.0), Vec3::new(5.0, 2.5, 6.0)],
+    ]
+}
+
+/// The ground cut into a grid of `cells` × `cells` squares (two triangles each) over `half`
+/// units either side of the origin.
+fn ground_triangles(cells: u32, half: f32) -> Vec<[Vec3; 3]> {
+    let step = 2.0 * half / cells as f32;
+    let at = |i: u32, j: u32| Vec3::new(-half + i as f32 * step, 0.0, -half + j as f32 * step);
+    (0..cells * cells)
+        .flat_map(|k| {
+            let (i, j) = (k % cells, k / cells);
+            [[at(i, j), at(i, j + 1), at(i + 1, j + 1)], [at(i, j), at(i + 1, j + 1), at(i + 1, j)]]
+        })
+        .collect()
+}
+
+/// Classes `receivers` against `light`'s map and checks every decided one against the lookup
+/// twin; returns how many were lit, shadowed and mixed.
+fn check_sound(light: Light, size: u32, radius: u32, receivers: &[[Vec3; 3]], rng: &mut Rng) -> [usize; 3] {
+    let (lo, hi) = (Vec3::new(-10.0, -0.5, -10.0), Vec3::new(10.0, 6.0, 10.0));
+    let (layout, atlas) = rendered(&light, size, radius, lo, hi, &occluders());
+    let depths = ShadowDepths::new(&layout, &atlas);
+    let shadow = layout.lights[0].expect("one map");
+    let mut counts = [0; 3];
+    for corners in receivers {
+        let class = depths.classify(&layout, 0, radius, &light, *corners);
+        let normal = (corners[1] - corners[0]).cross(corners[2] - corners[0]).normalize();
+        let expected = match class {
+            Visibility::Lit => 1.0,
+            Visibility::Shadowed => 0.0,
+            Visibility::Mixed => {
+                counts[2] += 1;
+                continue;
+            }
+        };
+        counts[usize::from(class == Visibility::Shadowed)] += 1;
+        for p in points_of(*corners, rng) {
+            let v = shadow_visibility(&layout, &atlas, &light, shadow, p, normal);
+            assert_eq!(v, expected, "{light:?} r {radius}: {corners:?} classed {class:?} reads {v} at {p}");
+        }
+    }
+    counts
+}
+
+fn directional(direction: Vec3) -> Light {
+    Light::Directional { direction: direction.normalize(), color: Vec3::ONE, intensity: 1.0 }
+}
+
+fn point(position: Vec3) -> Light {
+    Light::Point { position, color: Vec3::ONE, intensity: 1.0 }
+}
+
+#[test]
+fn lit_and_shadowed_ground_triangles_read_one_and_zero_everywhere() {
+    let mut rng = Rng(0x5eed_0c1a);
+    let ground = ground_triangles(40, 8.0);
+    for (light, radius) in [
+        (directional(Vec3::new(-0.3, -1.0, -0.2)), 0),
+        (directional(Vec3::new(0.5, -1.0, 0.4)), 1),
+        (point(Vec3::new(1.0, 8.0, 2.0)), 0),
+        (point(Vec3::new(-3.0, 6.0, 1.0)), 2),
+    ] {
+        let [lit, shadowed, mixed] = check_sound(light, 256, radius, &ground, &mut rng);
+        // A shadow's boundary crosses few of the cells: most are decided.
+        assert!(
+            lit + shadowed > mixed,
+            "{light:?} r {radius}: {lit} lit, {shadowed} shadowed, {mixed} mixed"
+        );
+        assert!(shadowed > 20, "{light:?}: the square's shadow holds whole cells ({shadowed})");
+    }
+}
+
+#[test]
+fn the_class_is_sound_for_random_lights_and_triangles() {
+    let mut rng = Rng(0x5eed_0c1b);
+    let mut decided = 0;
+    for _ in 0..24 {
+        let light = if rng.below(2) == 0 {
+            directional(Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, -0.2), rng.range(-1.0, 1.0)))
+        } else {
+            point(rng.point(Vec3::new(-8.0, 2.0, -8.0), Vec3::new(8.0, 10.0, 8.0)))
+        };
+        let radius = rng.below(3);
+        let size = [32, 64, 128][rng.below(3) as usize];
+        // Small triangles anywhere in the box, at any angle, and pieces of the ground.
+        let receivers: Vec<[Vec3; 3]> = (0..120)
+            .map(|_| {
+                let a = rng.point(Vec3::new(-9.0, 0.0, -9.0), Vec3::new(9.0, 5.0, 9.0));
+                let span = rng.range(0.05, 2.0);
+                [
+                    a,
+                    a + rng.point(Vec3::splat(-span), Vec3::splat(span)),
+                    a + rng.point(Vec3::splat(-span), Vec3::splat(span)),
+                ]
+            })
+            .chain(ground_triangles(12, 9.0))
+            .collect();
+        let [lit, shadowed, _] = check_sound(light, size, radius, &receivers, &mut rng);
+        decided += lit + shadowed;
+    }
+    assert!(decided > 24 * 100, "the class decides too little to be of use: {decided}");
+}
+
+#[test]
+fn the_pyramid_holds_each_blocks_least_and_greatest_depth() {
+    let mut rng = Rng(0x5eed_0c1c);
+    let (width, size) = (40u32, 37u32);
+    let atlas: Vec<f32> = (0..width * width).map(|_| rng.f()).collect();
+    let square = DepthSquare::new(&atlas, width, [2, 3], size);
+    for level in 0..=square.coarse.len() {
+        let block = 1u32 << level;
+        let side = size.div_ceil(block);
+        for y in 0..side {
+            for x in 0..side {
+                let texels = (y * block..((y + 1) * block).min(size))
+                    .flat_map(|ty| (x * block..((x + 1) * block).min(size)).map(move |tx| (tx, ty)))
+                    .map(|(tx, ty)| atlas[((3 + ty) * width + 2 + tx) as usize]);
+                let (lo, hi) =
+                    texels.fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), d| (lo.min(d), hi.max(d)));
+                assert_eq!(square.range(level, x, y), [lo, hi], "level {level} cell ({x}, {y})");
+            }
+        }
+    }
+}
+
+#[test]
+fn degenerate_and_unfaceable_triangles_are_mixed() {
+    let light = point(Vec3::new(0.0, 5.0, 0.0));
+    let (lo, hi) = (Vec3::splat(-10.0), Vec3::splat(10.0));
+    let (layout, atlas) = rendered(&light, 64, 0, lo, hi, &occluders());
+    let depths = ShadowDepths::new(&layout, &atlas);
+    let classify = |c: [Vec3; 3]| depths.classify(&layout, 0, 0, &light, c);
+    let a = Vec3::new(1.0, 0.0, 1.0);
+    assert_eq!(classify([a, a, a]), Visibility::Mixed, "a point");
+    assert_eq!(classify([a, 2.0 * a, 3.0 * a]), Visibility::Mixed, "a line");
+    assert_eq!(classify([a, Vec3::NAN, a]), Visibility::Mixed, "NaN");
+    // Across two cube faces (one corner below the light, one beside it).
+    assert_eq!(
+        classify([Vec3::new(0.0, 0.0, 0.0), Vec3::new(9.0, 4.0, 0.0), Vec3::new(9.0, 4.0, 1.0)]),
+        Visibility::Mixed
+    );
+    // Under the light, far from any occluder's shadow: decided.
+    assert_eq!(
+        classify([Vec3::new(-4.5, 0.0, -1.0), Vec3::new(-4.7, 0.0, -1.0), Vec3::new(-4.5, 0.0, -1.2)]),
+        Visibility::Lit
+    );
+}
