@@ -234,6 +234,32 @@ fn analyze_writes_one_row_per_visible_triangle() {
     assert!(stdout.contains("exceeds ε: 0"), "no violations on the shipped scene: {stdout}");
 }
 
+#[test]
+fn analyze_reports_each_shadow_casting_lights_classes() {
+    let scene = repo_path("scenes/shadows.toml");
+    let out = scratch("analyze_shadows").join("triangles.csv");
+    let (ok, stdout, stderr) =
+        multirate(&["analyze", "--scene", scene.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert!(ok, "analyze failed:\n{stderr}");
+    let triangles = |line: &str| -> usize {
+        ["lit", "shadowed", "mixed"]
+            .iter()
+            .map(|class| {
+                let before = line.split(&format!(" {class} (")).next().expect("the class");
+                before.rsplit(' ').next().and_then(|n| n.parse::<usize>().ok()).expect("its count")
+            })
+            .sum()
+    };
+    for light in [0, 1] {
+        let line = stdout
+            .lines()
+            .find(|l| l.contains(&format!("light {light} casts shadows")))
+            .unwrap_or_else(|| panic!("no classes of light {light}: {stdout}"));
+        // Every triangle of the bunny (3,674) and the ground (8,192) is in one class.
+        assert_eq!(triangles(line), 3674 + 8192, "{line}");
+    }
+}
+
 /// `multirate` with no command and no display, as a newcomer's `cargo run --release` runs it:
 /// the default scene in multirate mode, its level map, and the trade against `pixel` measured
 /// in the same run.

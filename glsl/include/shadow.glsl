@@ -16,6 +16,11 @@
 
 // Whether any light casts shadows: without, no shadow code is compiled in.
 layout(constant_id = 17) const bool SHADOWS = false;
+// Whether the fragment stage may look a visibility up: false in the draw of the flat patches
+// that no light reaches only in part (multirate_flat.vert, DRAWN_SHADOW_CLASSES), whose
+// fragment stage then holds no lookup code. llvmpipe runs both sides of every branch under a
+// mask, so the lookups cost every fragment of a draw that contains them, needed or not.
+layout(constant_id = 18) const bool SHADOW_LOOKUPS = true;
 
 // The kernel's texels reach this far (in texels) beyond the point's own texel, plus rounding;
 // the lookup point is pushed off the surface by as much, times the sine of the angle between
@@ -183,7 +188,7 @@ vec3 shadowed_lights_color(vec3 albedo, vec3 diffuse[MAX_SHADOWED_LIGHTS], vec3 
     }
     uint classes = triangle_shadow_classes(triangle);
     ShadowPoint point = ShadowPoint(vec3(0.0), vec3(0.0), false);
-    if (classes >= MIXED_CLASS_BIT) {
+    if (SHADOW_LOOKUPS && classes >= MIXED_CLASS_BIT) {
         point = shadow_point(triangle, frag_coord);
     }
     for (int i = 0; i < POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT; ++i) {
@@ -192,7 +197,8 @@ vec3 shadowed_lights_color(vec3 albedo, vec3 diffuse[MAX_SHADOWED_LIGHTS], vec3 
         if (light.shadow.x < 0 || (classes & SHADOWED_CLASS_BIT * slot_bit) != 0u) {
             continue;
         }
-        float visibility = (classes & MIXED_CLASS_BIT * slot_bit) != 0u ? shadow_visibility_at(light, point) : 1.0;
+        bool mixed = SHADOW_LOOKUPS && (classes & MIXED_CLASS_BIT * slot_bit) != 0u;
+        float visibility = mixed ? shadow_visibility_at(light, point) : 1.0;
         int slot = light.shadow.z;
         color += visibility * (albedo * diffuse[slot] + specular[slot]);
     }

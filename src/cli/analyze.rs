@@ -68,6 +68,7 @@ pub fn analyze(args: &AnalyzeArgs, gpu: &GpuArgs) -> Result<()> {
         summary.fallbacks, summary.back_faces, summary.small_images, settings.min_estimated_area
     );
     println!("  shading evaluations (tessellated vertices), estimator: {}", summary.estimator_evaluations);
+    report_shadow_classes(&scene, gpu)?;
     if args.oracle {
         println!("  shading evaluations (tessellated vertices), oracle:    {}", summary.oracle_evaluations);
         println!("  tessellated triangles whose true error exceeds ε: {}", summary.violations);
@@ -95,6 +96,29 @@ pub fn analyze(args: &AnalyzeArgs, gpu: &GpuArgs) -> Result<()> {
             multirate::analysis::measured::scatter_svg(&points, f64::from(settings.epsilon), &title, plot)?;
             println!("  scatter plot: {}", plot.display());
         }
+    }
+    Ok(())
+}
+
+/// Each shadow-casting light's visibility classes over the scene's triangles (section 18 of
+/// docs/estimator.md), from the maps the renderer draws and reads back.
+fn report_shadow_classes(scene: &Scene, gpu: &GpuArgs) -> Result<()> {
+    if scene.shadow_casters.is_empty() {
+        return Ok(());
+    }
+    let context = Context::headless(&options(gpu))?;
+    let renderer = multirate::render::Renderer::new(&context, scene)?;
+    for (caster, [lit, shadowed, mixed]) in
+        scene.shadow_casters.iter().zip(renderer.shadow_classes().counts())
+    {
+        let share = |n: usize| 100.0 * n as f64 / (lit + shadowed + mixed).max(1) as f64;
+        println!(
+            "  light {} casts shadows: of the triangles, {lit} lit ({:.1} %), {shadowed} shadowed ({:.1} %), {mixed} mixed ({:.1} %)",
+            caster.light,
+            share(lit),
+            share(shadowed),
+            share(mixed)
+        );
     }
     Ok(())
 }

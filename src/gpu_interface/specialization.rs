@@ -43,13 +43,19 @@ pub const COUNT_CULLED_PATCHES: SpecId = SpecId { name: "COUNT_CULLED_PATCHES", 
 pub const SPECULAR_ALL_CAPPED: SpecId = SpecId { name: "SPECULAR_ALL_CAPPED", id: 16 };
 /// shadow.glsl: some light casts shadows (without, no shadow code is compiled in).
 pub const SHADOWS: SpecId = SpecId { name: "SHADOWS", id: 17 };
+/// shadow.glsl: the fragment stage may look a visibility up; false in the draw of the flat
+/// patches no light reaches only in part, which then holds no lookup code.
+pub const SHADOW_LOOKUPS: SpecId = SpecId { name: "SHADOW_LOOKUPS", id: 18 };
+/// multirate_flat.vert: which of the listed flat patches a draw shows, by visibility class
+/// (`DrawnShadowClasses`): every one, those no light reaches only in part, or the others.
+pub const DRAWN_SHADOW_CLASSES: SpecId = SpecId { name: "DRAWN_SHADOW_CLASSES", id: 19 };
 
 /// The polygonal lights' constants, which only the variants with polygonal lights contain.
 pub const POLYGON_LIGHTS: [SpecId; 4] =
     [POLYGON_LIGHT_COUNT, POLYGON_SAMPLES, POLYGON_TECHNIQUE, MIS_VISIBILITY];
 
 /// Every specialization constant, by id.
-pub const ALL: [SpecId; 14] = [
+pub const ALL: [SpecId; 16] = [
     ENCODE_SRGB,
     POINT_LIGHT_COUNT,
     DIRECTIONAL_LIGHT_COUNT,
@@ -64,4 +70,6 @@ pub const ALL: [SpecId; 14] = [
     COUNT_CULLED_PATCHES,
     SPECULAR_ALL_CAPPED,
     SHADOWS,
+    SHADOW_LOOKUPS,
+    DRAWN_SHADOW_CLASSES,
 ];

@@ -292,6 +292,9 @@ impl ForwardDraws {
             shared_corners_draw(constants, lists.flat);
         } else {
             flat_list_draw(constants, lists.flat);
+            if let Some(without_mixed) = lists.flat_without_mixed {
+                flat_list_draw(constants, without_mixed);
+            }
         }
         mesh.stamp_part(DrawPart::Flat, true);
         mesh.part(DrawPart::Tessellated, || tessellated_draw(constants, interpolated, INTERPOLATED_LIST, 0));

@@ -298,8 +298,11 @@ pub(super) struct ListPipelines<P> {
     /// the per-pixel shading of overlapping fallback patches depend on that order.
     pub fallback_prime: P,
     /// The flat patches (all levels 1), without tessellation stages: multirate_flat.vert shades
-    /// their corners.
+    /// their corners. With shadows, listed, only those some light reaches in part.
     pub flat: P,
+    /// With shadows: the flat patches no light reaches only in part, drawn by a fragment stage
+    /// without lookup code.
+    pub flat_without_mixed: Option<P>,
     /// The flat patches shaded per pixel: multirate_flat.vert passes their corners on to
     /// multirate.frag (DepthUse::Primed).
     pub flat_fallback: P,
@@ -336,6 +339,7 @@ impl Variant {
                     fallback: l.fallback.raw,
                     fallback_prime: l.fallback_prime.raw,
                     flat: l.flat.raw,
+                    flat_without_mixed: l.flat_without_mixed.as_ref().map(|p| p.raw),
                     flat_fallback: l.flat_fallback.raw,
                     flat_fallback_prime: l.flat_fallback_prime.raw,
                 }),
@@ -649,28 +653,72 @@ impl Modules {
             graphics(&format!("{name}, fallback patches"), Some(&multirate_frag), DepthUse::Primed)?;
         let fallback_prime = graphics(&format!("{name}, fallback patches' depth"), None, DepthUse::Prime)?;
         let flat_vert = variant_module(context, "multirate_flat.vert", features)?;
-        let flat = |name: &str, fragment: Option<&ShaderModule>, depth_use| {
-            let stage = |stage, module| Stage { stage, module, specialization: Some(&specialization) };
-            let mut stages = vec![stage(vk::ShaderStageFlags::VERTEX, &flat_vert)];
-            stages.extend(fragment.map(|module| stage(vk::ShaderStageFlags::FRAGMENT, module)));
-            let scene = scene_pipeline(name, stages, layout, variant.instrumentation);
-            Pipeline::graphics(
-                context,
-                &GraphicsPipelineDesc {
-                    polygon_mode: variant.polygon_mode,
-                    vertex_bindings: &[],
-                    vertex_attributes: &[],
-                    depth_use,
-                    ..scene
-                },
-            )
-        };
+        let flat_with =
+            |name: &str, fragment: Option<&ShaderModule>, depth_use, specialization: &Specialization| {
+                let stage = |stage, module| Stage { stage, module, specialization: Some(specialization) };
+                let mut stages = vec![stage(vk::ShaderStageFlags::VERTEX, &flat_vert)];
+                stages.extend(fragment.map(|module| stage(vk::ShaderStageFlags::FRAGMENT, module)));
+                let scene = scene_pipeline(name, stages, layout, variant.instrumentation);
+                Pipeline::graphics(
+                    context,
+                    &GraphicsPipelineDesc {
+                        polygon_mode: variant.polygon_mode,
+                        vertex_bindings: &[],
+                        vertex_attributes: &[],
+                        depth_use,
+                        ..scene
+                    },
+                )
+            };
+        let flat = |name: &str, fragment, depth_use| flat_with(name, fragment, depth_use, &specialization);
         let flat_fallback =
             flat(&format!("{name}, flat patches shaded per pixel"), Some(&multirate_frag), DepthUse::Primed)?;
         let flat_fallback_prime =
             flat(&format!("{name}, flat patches shaded per pixel, their depth"), None, DepthUse::Prime)?;
-        let flat = flat(&format!("{name}, flat patches"), Some(&interpolated_frag), DepthUse::Nearest)?;
-        let lists = ListPipelines { fallback, fallback_prime, flat, flat_fallback, flat_fallback_prime };
+        // With shadows, the listed flat patches in two draws by their visibility classes: those
+        // no light reaches only in part with no lookup code (llvmpipe runs every branch).
+        let (flat, flat_without_mixed) = if features.shadows {
+            let with_mixed = specialization
+                .clone()
+                .int(spec::DRAWN_SHADOW_CLASSES.id, DrawnShadowClasses::WithMixed as i32);
+            let without_mixed = specialization
+                .clone()
+                .int(spec::DRAWN_SHADOW_CLASSES.id, DrawnShadowClasses::WithoutMixed as i32)
+                .boolean(spec::SHADOW_LOOKUPS.id, false);
+            let name = format!("{name}, flat patches");
+            (
+                flat_with(
+                    &format!("{name} some light reaches in part"),
+                    Some(&interpolated_frag),
+                    DepthUse::Nearest,
+                    &with_mixed,
+                )?,
+                Some(flat_with(
+                    &format!("{name} no light reaches in part"),
+                    Some(&interpolated_frag),
+                    DepthUse::Nearest,
+                    &without_mixed,
+                )?),
+            )
+        } else {
+            (flat(&format!("{name}, flat patches"), Some(&interpolated_frag), DepthUse::Nearest)?, None)
+        };
+        let lists = ListPipelines {
+            fallback,
+            fallback_prime,
+            flat,
+            flat_without_mixed,
+            flat_fallback,
+            flat_fallback_prime,
+        };
         Ok(Multirate { draw, lists: Some(lists) })
     }
+}
+
+/// Which listed flat patches a draw of them shows (`DRAWN_SHADOW_CLASSES` in
+/// multirate_flat.vert, whose constants of the same names these values are).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum DrawnShadowClasses {
+    WithoutMixed = 1,
+    WithMixed = 2,
 }

@@ -223,7 +223,9 @@ impl SceneGeometry {
             index_count: mesh.indices.len() as u32,
             first_patch_index,
             one_sided: !mesh.two_sided,
-            shared_corners: scene.materials[mesh.material].maps.parameter.is_none(),
+            // With shadows the flat patches are listed: drawn apart by their visibility classes.
+            shared_corners: scene.materials[mesh.material].maps.parameter.is_none()
+                && scene.shadow_casters.is_empty(),
             material_index: mesh.material as u32,
             mesh_index: mesh_index as u32,
             pipeline,
