@@ -386,16 +386,17 @@ fn directional_image(
     })
 }
 
-/// A point light's cube: the triangle must lie inside one face's cone. The lookup moves off
-/// its point by up to the lift along the plane's normal n plus half a texel towards the light,
-/// in world units at most `reach` = (r + 2)·(texel width at the farthest corner). Only the lift
-/// moves its image (the half texel runs along the ray through the light): by at most
-/// `size/2 · lift·(max(|side·n|, |up·n|) + |axis·n|) / (a_min − reach)` texels (a_min: the
-/// nearest corner's distance along the axis; the image's coordinates are at most 1 in the face).
-/// Along the axis, half a texel towards the light brings it nearer by at least
-/// `w_min·a_min / (2·d_max)`, and the lift along the plane's normal (the same side of the plane
-/// for every point: that of the light) moves it farther only where that normal leans away from
-/// the light along the axis.
+/// A point light's cube: the triangle must lie inside one face's cone. A lookup is its point
+/// moved by `n'·H(p)` (the lift along the plane's normal on the light's side, `H = (r + 1.5)·w·
+/// sin θ` with `w` the texel width at the point's distance `a` along the face's axis) and by
+/// half a texel towards the light, which runs along the ray through the light: it moves the
+/// image not at all and `a` nearer by `w/2·a/|d|`. `H` varies over the triangle within
+/// `H̄ ± e` (`a` between the corners', `cos θ = D/|d|` with `D` the light's distance to the plane
+/// and `|d|` between the light's least and greatest distance to the triangle), so the lookups
+/// lie within `e` along `n'` of the triangle moved by `n'·H̄`: its image and `1/a` are exact (a
+/// plane's), and `e` moves the image by at most `size/2 · e·(max(|side·n'|, |up·n'|) +
+/// |axis·n'|) / (a_min − e)` texels and `a` by at most `e·|axis·n'|` either way (and the half
+/// texel a little more, below).
 fn cube_image(record: &ShadowMap, radius: u32, light: DVec3, corners: [DVec3; 3]) -> Option<Image> {
     let Projection::Cube { near, far, .. } = record.projection else { return None };
     let d = corners.map(|c| c - light);
@@ -415,35 +416,66 @@ fn cube_image(record: &ShadowMap, radius: u32, light: DVec3, corners: [DVec3; 3]
         // The light in the triangle's plane, or nearly: the side a pixel lifts to may flip.
         return None;
     }
-    let lifted_normal = if towards > 0.0 { normal } else { -normal };
+    let n = if towards > 0.0 { normal } else { -normal };
+    let plane_distance = towards.abs();
     let (a_min, a_max) = (along[0].min(along[1]).min(along[2]), along[0].max(along[1]).max(along[2]));
     let d_max = d.iter().map(|v| v.length()).fold(0.0, f64::max);
+    let d_min = distance_to_triangle(light, corners).max(plane_distance);
+    let sine = |distance: f64| (1.0 - (plane_distance / distance).min(1.0).powi(2)).sqrt();
     let texel_width = f64::from(record.texel_width);
-    let texel = texel_width * a_max;
-    let lift = (f64::from(radius) + 1.5) * texel;
-    let reach = lift + 0.5 * texel;
-    if a_min.partial_cmp(&(2.0 * reach)) != Some(std::cmp::Ordering::Greater) {
+    let lift = (f64::from(radius) + 1.5) * texel_width;
+    let (h_lo, h_hi) = (lift * a_min * sine(d_min), lift * a_max * sine(d_max));
+    let (h_mid, e) = (0.5 * (h_lo + h_hi), 0.5 * (h_hi - h_lo) + 1e-9 * a_max);
+    let moved = corners.map(|c| c + n * h_mid - light);
+    let moved_along = moved.map(|v| axis.dot(v));
+    let moved_min = moved_along[0].min(moved_along[1]).min(moved_along[2]);
+    let half_texel = 0.5 * texel_width * a_max;
+    if moved_min.partial_cmp(&(2.0 * (e + half_texel))) != Some(std::cmp::Ordering::Greater) {
         return None;
     }
+    let image = std::array::from_fn(|k| {
+        texel_of(DVec2::new(side.dot(moved[k]), -up.dot(moved[k])) / moved_along[k], record.size)
+    });
+    let across = side.dot(n).abs().max(up.dot(n).abs()) + axis.dot(n).abs();
     let nearer = 0.5 * texel_width * a_min * a_min / d_max;
-    let image =
-        std::array::from_fn(|k| texel_of(DVec2::new(side.dot(d[k]), -up.dot(d[k])) / along[k], record.size));
+    // Half a texel towards the light runs along the ray through the point, not through the
+    // lifted point: off that ray by at most half_texel·H/(|d| − H), which moves the image by at
+    // most twice that over the distance along the axis.
+    let off_ray = half_texel * h_hi / (d_min - h_hi).max(f64::MIN_POSITIVE);
+    let shift = (e * across + 2.0 * off_ray) / (moved_min - e - half_texel);
     Some(Image {
         face,
         corners: image,
-        spread: 0.5
-            * f64::from(record.size)
-            * lift
-            * (side.dot(normal).abs().max(up.dot(normal).abs()) + axis.dot(normal).abs())
-            / (a_min - reach),
+        spread: 0.5 * f64::from(record.size) * shift,
         depth: DepthBound::Reciprocal {
-            at: along.map(|a| 1.0 / a),
-            closer: reach,
-            farther: axis.dot(lifted_normal).max(0.0) * lift - nearer,
+            at: moved_along.map(|a| 1.0 / a),
+            closer: e * axis.dot(n).abs() + half_texel,
+            farther: e * axis.dot(n).abs() - nearer,
             near: f64::from(near),
             far: f64::from(far),
         },
     })
+}
+
+/// The least distance from `point` to the triangle `corners` (not degenerate): to the point of
+/// its plane below `point` where that lies inside it, else to the nearest edge.
+fn distance_to_triangle(point: DVec3, corners: [DVec3; 3]) -> f64 {
+    let normal = (corners[1] - corners[0]).cross(corners[2] - corners[0]).normalize();
+    let foot = point - normal * normal.dot(point - corners[0]);
+    let inside = (0..3).all(|k| {
+        let (a, b) = (corners[k], corners[(k + 1) % 3]);
+        (b - a).cross(foot - a).dot(normal) >= 0.0
+    });
+    if inside {
+        return (point - foot).length();
+    }
+    (0..3)
+        .map(|k| {
+            let (a, b) = (corners[k], corners[(k + 1) % 3]);
+            let t = ((point - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+            (point - (a + (b - a) * t)).length()
+        })
+        .fold(f64::INFINITY, f64::min)
 }
 
 #[cfg(test)]

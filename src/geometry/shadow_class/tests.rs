@@ -180,7 +180,7 @@ fn lit_and_shadowed_ground_triangles_read_one_and_zero_everywhere() {
         let [lit, shadowed, mixed] = check_sound(light, 256, radius, &ground, &mut rng);
         // A shadow's boundary crosses few of the cells: most are decided.
         assert!(
-            lit + shadowed > mixed,
+            lit + shadowed > 3 * mixed,
             "{light:?} r {radius}: {lit} lit, {shadowed} shadowed, {mixed} mixed"
         );
         assert!(shadowed > 20, "{light:?}: the square's shadow holds whole cells ({shadowed})");
@@ -191,7 +191,7 @@ fn lit_and_shadowed_ground_triangles_read_one_and_zero_everywhere() {
 fn the_class_is_sound_for_random_lights_and_triangles() {
     let mut rng = Rng(0x5eed_0c1b);
     let mut decided = 0;
-    for _ in 0..24 {
+    for _ in 0..100 {
         let light = if rng.below(2) == 0 {
             directional(Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, -0.2), rng.range(-1.0, 1.0)))
         } else {
@@ -215,7 +215,7 @@ fn the_class_is_sound_for_random_lights_and_triangles() {
         let [lit, shadowed, _] = check_sound(light, size, radius, &receivers, &mut rng);
         decided += lit + shadowed;
     }
-    assert!(decided > 24 * 100, "the class decides too little to be of use: {decided}");
+    assert!(decided > 100 * 100, "the class decides too little to be of use: {decided}");
 }
 
 #[test]
