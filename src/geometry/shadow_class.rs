@@ -14,7 +14,6 @@
 use super::shadow_view::{cube_face, face_basis, Projection, ShadowLayout, ShadowMap};
 use crate::scene::{Light, Scene};
 use glam::{DVec2, DVec3, Vec3};
-use std::borrow::Cow;
 
 /// A light's visibility over the whole of a triangle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -197,6 +196,11 @@ impl ShadowClasses {
         self.classes[triangle * self.slots + slot]
     }
 
+    /// Every triangle's classes, by slot.
+    pub fn per_triangle(&self) -> impl Iterator<Item = &[Visibility]> {
+        self.classes.chunks_exact(self.slots.max(1))
+    }
+
     /// Per slot, how many triangles are lit, shadowed and mixed.
     pub fn counts(&self) -> Vec<[usize; 3]> {
         let mut counts = vec![[0; 3]; self.slots];
@@ -209,21 +213,6 @@ impl ShadowClasses {
             counts[i % self.slots][column] += 1;
         }
         counts
-    }
-
-    /// The lights of `scene` that reach some of triangle `triangle`: every light but those
-    /// that shadow all of it (the lights its estimate sums), in the scene's order.
-    pub fn lights_reaching<'a>(&self, scene: &'a Scene, triangle: usize) -> Cow<'a, [Light]> {
-        let shadowed =
-            |slot: usize| self.slots > 0 && self.visibility(triangle, slot) == Visibility::Shadowed;
-        if !(0..self.slots).any(shadowed) {
-            return Cow::Borrowed(&scene.lights);
-        }
-        let dark: Vec<usize> =
-            (0..self.slots).filter(|&s| shadowed(s)).map(|s| scene.shadow_casters[s].light).collect();
-        Cow::Owned(
-            scene.lights.iter().enumerate().filter(|(i, _)| !dark.contains(i)).map(|(_, l)| *l).collect(),
-        )
     }
 }
 

@@ -23,6 +23,12 @@ named_constants! {
     SHADOWED_CLASS_BIT = 1;
     /// This bit shifted by the slot where the light may reach part of it (neither bit: all).
     MIXED_CLASS_BIT = 16;
+    /// `DRAWN_SHADOW_CLASSES` (multirate_flat.vert): the draw shows every flat patch.
+    EVERY_SHADOW_CLASS = 0;
+    /// The draw shows the listed flat patches that no light reaches only in part.
+    WITHOUT_MIXED_LIGHTS = 1;
+    /// The draw shows the listed flat patches that some light reaches only in part.
+    WITH_MIXED_LIGHTS = 2;
     /// Dispatches per mesh in `LevelDispatches`.
     LEVEL_DISPATCHES = 5;
     /// The range step's dispatch (`range_levels.comp`) over the triangles to estimate, counted

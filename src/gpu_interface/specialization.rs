@@ -47,7 +47,7 @@ pub const SHADOWS: SpecId = SpecId { name: "SHADOWS", id: 17 };
 /// patches no light reaches only in part, which then holds no lookup code.
 pub const SHADOW_LOOKUPS: SpecId = SpecId { name: "SHADOW_LOOKUPS", id: 18 };
 /// multirate_flat.vert: which of the listed flat patches a draw shows, by visibility class
-/// (`DrawnShadowClasses`): every one, those no light reaches only in part, or the others.
+/// (`slots::EVERY_SHADOW_CLASS`, `WITHOUT_MIXED_LIGHTS`, `WITH_MIXED_LIGHTS`).
 pub const DRAWN_SHADOW_CLASSES: SpecId = SpecId { name: "DRAWN_SHADOW_CLASSES", id: 19 };
 
 /// The polygonal lights' constants, which only the variants with polygonal lights contain.

@@ -154,7 +154,7 @@ impl Renderer {
         } else {
             let classes =
                 ShadowClasses::of(scene, &geometry.shadows, &ShadowDepths::new(&geometry.shadows, &depths));
-            let corners = with_classes(&geometry.triangle_corners, &classes, scene.shadow_casters.len());
+            let corners = with_classes(&geometry.triangle_corners, &classes);
             pre_pass.buffers.triangle_corners.upload(&corners)?;
             classes
         };

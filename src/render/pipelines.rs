@@ -10,6 +10,7 @@ use super::scene_geometry::SceneGeometry;
 use super::textures::SceneTextures;
 use super::view::View;
 use crate::error::Result;
+use crate::gpu_interface::slots::{WITHOUT_MIXED_LIGHTS, WITH_MIXED_LIGHTS};
 use crate::gpu_interface::specialization as spec;
 use crate::gpu_types::Vertex;
 use crate::scene::adjacency::PATCH_SIZE;
@@ -678,12 +679,10 @@ impl Modules {
         // With shadows, the listed flat patches in two draws by their visibility classes: those
         // no light reaches only in part with no lookup code (llvmpipe runs every branch).
         let (flat, flat_without_mixed) = if features.shadows {
-            let with_mixed = specialization
-                .clone()
-                .int(spec::DRAWN_SHADOW_CLASSES.id, DrawnShadowClasses::WithMixed as i32);
+            let with_mixed = specialization.clone().uint(spec::DRAWN_SHADOW_CLASSES.id, WITH_MIXED_LIGHTS);
             let without_mixed = specialization
                 .clone()
-                .int(spec::DRAWN_SHADOW_CLASSES.id, DrawnShadowClasses::WithoutMixed as i32)
+                .uint(spec::DRAWN_SHADOW_CLASSES.id, WITHOUT_MIXED_LIGHTS)
                 .boolean(spec::SHADOW_LOOKUPS.id, false);
             let name = format!("{name}, flat patches");
             (
@@ -713,12 +712,4 @@ impl Modules {
         };
         Ok(Multirate { draw, lists: Some(lists) })
     }
-}
-
-/// Which listed flat patches a draw of them shows (`DRAWN_SHADOW_CLASSES` in
-/// multirate_flat.vert, whose constants of the same names these values are).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum DrawnShadowClasses {
-    WithoutMixed = 1,
-    WithMixed = 2,
 }

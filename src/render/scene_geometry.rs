@@ -263,15 +263,13 @@ pub fn class_word(classes: &[Visibility]) -> u32 {
 
 /// `corners` (a triangle's texels of `triangle_corners`, as [`SceneGeometry`] made them) with
 /// the first one's w set to each triangle's word of `classes`.
-pub fn with_classes(corners: &[[[f32; 4]; 3]], classes: &ShadowClasses, slots: usize) -> Vec<[[f32; 4]; 3]> {
+pub fn with_classes(corners: &[[[f32; 4]; 3]], classes: &ShadowClasses) -> Vec<[[f32; 4]; 3]> {
     corners
         .iter()
-        .enumerate()
-        .map(|(triangle, texels)| {
-            let word =
-                class_word(&(0..slots).map(|slot| classes.visibility(triangle, slot)).collect::<Vec<_>>());
+        .zip(classes.per_triangle())
+        .map(|(texels, classes)| {
             let mut texels = *texels;
-            texels[0][3] = word as f32;
+            texels[0][3] = class_word(classes) as f32;
             texels
         })
         .collect()

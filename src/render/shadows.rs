@@ -72,14 +72,17 @@ impl ShadowAtlas {
         let device = &context.device;
         let atlas = self.image.raw;
         let extent = self.image.extent;
-        let texels = if pipeline.is_some() { extent.width as usize * extent.height as usize } else { 0 };
-        let readback = Buffer::new(
-            context,
-            "shadow atlas readback",
-            4 * texels as vk::DeviceSize,
-            vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuToCpu,
-        )?;
+        let texels = extent.width as usize * extent.height as usize;
+        let readback = match pipeline {
+            Some(_) => Some(Buffer::new(
+                context,
+                "shadow atlas readback",
+                4 * texels as vk::DeviceSize,
+                vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuToCpu,
+            )?),
+            None => None,
+        };
         context.run_once(|cmd| {
             let depth = vk::ImageAspectFlags::DEPTH;
             transition(
@@ -159,9 +162,9 @@ impl ShadowAtlas {
                 vk::PipelineStageFlags2::COPY,
                 vk::AccessFlags2::TRANSFER_READ,
             );
-            let before_shaders = if texels > 0 {
+            let before_shaders = if let Some(readback) = &readback {
                 transition(device, cmd, atlas, depth, attachment_written, copied);
-                copy_to_host(device, cmd, atlas, extent, &readback);
+                copy_to_host(device, cmd, atlas, extent, readback);
                 copied
             } else {
                 attachment_written
@@ -179,8 +182,10 @@ impl ShadowAtlas {
                 ),
             );
         })?;
-        let bytes = readback.mapped().expect("GpuToCpu memory is mapped");
-        Ok(bytemuck::pod_collect_to_vec::<u8, f32>(&bytes[..4 * texels]))
+        Ok(readback.map_or_else(Vec::new, |readback| {
+            let bytes = readback.mapped().expect("GpuToCpu memory is mapped");
+            bytemuck::pod_collect_to_vec::<u8, f32>(&bytes[..4 * texels])
+        }))
     }
 }
 

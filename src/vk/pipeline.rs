@@ -23,6 +23,12 @@ impl Specialization {
         self
     }
 
+    /// Sets constant `id` (a GLSL `uint`).
+    pub fn uint(mut self, id: u32, value: u32) -> Self {
+        self.push(id, &value.to_ne_bytes());
+        self
+    }
+
     /// Sets constant `id` (a GLSL `bool`, 32 bits in SPIR-V).
     pub fn boolean(mut self, id: u32, value: bool) -> Self {
         self.push(id, &u32::from(value).to_ne_bytes());
