@@ -13,7 +13,7 @@
 
 use super::shadow_view::{cube_face, face_basis, Projection, ShadowLayout, ShadowMap};
 use crate::scene::{Light, Scene};
-use glam::{DVec2, DVec3, Vec3};
+use glam::{DVec2, DVec3, IVec2, Vec3};
 
 /// A light's visibility over the whole of a triangle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -216,6 +216,23 @@ impl ShadowClasses {
     }
 }
 
+/// The texels a triangle's lookups may read in one square (`first` ..= `last`), with what
+/// [`Image::narrow`] needs beside: the lookups' depth over the image, and how far (in texels)
+/// a point whose kernel reads a texel may lie from it.
+struct Footprint<'a> {
+    square: &'a DepthSquare,
+    affine: &'a Affine,
+    first: IVec2,
+    last: IVec2,
+    reach: f64,
+}
+
+/// What the cells seen so far allow: every sample passes (lit), every sample fails (shadowed).
+struct Verdict {
+    lit: bool,
+    shadowed: bool,
+}
+
 /// What the lookups of a triangle's pixels can see of one square: the image of the triangle's
 /// plane there (`corners`, in texels), a bound on its depth over any box of the square, and
 /// how far a lookup may land from the image of its own surface point.
@@ -241,61 +258,108 @@ enum DepthBound {
 impl Image {
     /// Whether every sample the kernel reads for any point of the image passes, or fails.
     fn visibility(&self, square: &DepthSquare, radius: u32) -> Visibility {
-        let r = f64::from(radius);
-        let reach = self.spread + TEXEL_SLACK;
+        let reach = f64::from(radius) + self.spread + TEXEL_SLACK;
         let (mut lo, mut hi) = (self.corners[0], self.corners[0]);
         for c in &self.corners[1..] {
             (lo, hi) = (lo.min(*c), hi.max(*c));
         }
         // The texels any lookup's kernel reads: a lookup at u reads floor(u) − r ..= floor(u) + r.
-        let first = ((lo - reach).floor() - r).as_ivec2();
-        let last = ((hi + reach).floor() + r).as_ivec2();
+        let first = (lo - reach).floor().as_ivec2();
+        let last = (hi + reach).floor().as_ivec2();
         let size = square.size as i32;
         // A lookup beyond the map reads its edge clamped: not followed, mixed.
         if first.min_element() < 0 || last.max_element() >= size {
             return Visibility::Mixed;
         }
+        let Some(affine) = self.affine() else {
+            return Visibility::Mixed;
+        };
         let across = (last - first).max_element() as u32 + 1;
         let level = (across.div_ceil(CELLS_ACROSS)).next_power_of_two().trailing_zeros() as usize;
         let level = level.min(square.coarse.len());
-        let (mut lit, mut shadowed) = (true, true);
+        let footprint = Footprint { square, affine: &affine, first, last, reach };
+        let mut verdict = Verdict { lit: true, shadowed: true };
         for y in (first.y >> level)..=(last.y >> level) {
             for x in (first.x >> level)..=(last.x >> level) {
-                let [stored_lo, stored_hi] = square.range(level, x as u32, y as u32);
-                // The points whose kernel can read a texel of the cell: within r texels (and
-                // the spread) of its texels, the texel's own width included.
-                let cell_lo = DVec2::new(f64::from(x << level), f64::from(y << level)) - r - reach;
-                let cell_hi =
-                    DVec2::new(f64::from((x + 1) << level), f64::from((y + 1) << level)) + r + reach;
-                let Some([depth_lo, depth_hi]) = self.depth_over(cell_lo, cell_hi) else {
-                    return Visibility::Mixed;
-                };
-                lit &= f64::from(stored_lo) >= depth_hi + DEPTH_SLACK;
-                shadowed &= f64::from(stored_hi) < depth_lo - DEPTH_SLACK;
-                if !lit && !shadowed {
+                if !self.narrow(&footprint, level, IVec2::new(x, y), &mut verdict) {
                     return Visibility::Mixed;
                 }
             }
         }
-        if lit {
+        if verdict.lit {
             Visibility::Lit
         } else {
             Visibility::Shadowed
         }
     }
 
-    /// The least and greatest depth a lookup compares whose point's image lies in the box
-    /// `lo`..`hi` and in the triangle's image (within the slack); None where the image is a line.
-    fn depth_over(&self, lo: DVec2, hi: DVec2) -> Option<[f64; 2]> {
+    /// Narrows `verdict` by cell `cell` of pyramid level `level`: where the cell's depth range
+    /// cannot decide what is still possible, by its four cells a level finer, down to single
+    /// texels. Whether lit or shadowed is still possible after it.
+    fn narrow(&self, footprint: &Footprint, level: usize, cell: IVec2, verdict: &mut Verdict) -> bool {
+        // The cell's texels that some lookup's kernel may read.
+        let first = (cell << level as i32).max(footprint.first);
+        let last = (((cell + 1) << level as i32) - 1).min(footprint.last);
+        if first.cmpgt(last).any() {
+            return verdict.lit || verdict.shadowed;
+        }
+        // The points whose kernel can read one of them: within r texels (and the spread) of
+        // their texels, the texel's own width included.
+        let box_lo = first.as_dvec2() - footprint.reach;
+        let box_hi = (last + 1).as_dvec2() + footprint.reach;
+        if !self.touches(box_lo - TEXEL_SLACK, box_hi + TEXEL_SLACK) {
+            return verdict.lit || verdict.shadowed;
+        }
+        let [stored_lo, stored_hi] = footprint.square.range(level, cell.x as u32, cell.y as u32);
+        let [depth_lo, depth_hi] = self.depth_over(footprint.affine, box_lo, box_hi);
+        let cell_lit = f64::from(stored_lo) >= depth_hi + DEPTH_SLACK;
+        let cell_shadowed = f64::from(stored_hi) < depth_lo - DEPTH_SLACK;
+        let settled = (cell_lit || !verdict.lit) && (cell_shadowed || !verdict.shadowed);
+        if settled || level == 0 {
+            verdict.lit &= cell_lit;
+            verdict.shadowed &= cell_shadowed;
+            return verdict.lit || verdict.shadowed;
+        }
+        [(0, 0), (1, 0), (0, 1), (1, 1)]
+            .into_iter()
+            .all(|(dx, dy)| self.narrow(footprint, level - 1, 2 * cell + IVec2::new(dx, dy), verdict))
+    }
+
+    /// Whether the triangle's image meets the box `lo`..`hi` (separating axes: the box's and
+    /// the triangle's edges' normals).
+    fn touches(&self, lo: DVec2, hi: DVec2) -> bool {
+        let c = self.corners;
+        let (image_lo, image_hi) = (c[0].min(c[1]).min(c[2]), c[0].max(c[1]).max(c[2]));
+        if image_lo.cmpgt(hi).any() || image_hi.cmplt(lo).any() {
+            return false;
+        }
+        let orientation = (c[1] - c[0]).perp_dot(c[2] - c[0]).signum();
+        let box_corners = [lo, DVec2::new(hi.x, lo.y), DVec2::new(lo.x, hi.y), hi];
+        (0..3).all(|k| {
+            let (a, edge) = (c[k], c[(k + 1) % 3] - c[k]);
+            box_corners.iter().any(|p| orientation * edge.perp_dot(*p - a) >= 0.0)
+        })
+    }
+
+    /// The lookups' depth (or reciprocal distance) as an affine function over the image; None
+    /// where the image is a line.
+    fn affine(&self) -> Option<Affine> {
         let (DepthBound::Affine { at } | DepthBound::Reciprocal { at, .. }) = self.depth;
-        let affine = Affine::through(self.corners, at)?;
+        Affine::through(self.corners, at)
+    }
+
+    /// The least and greatest depth a lookup compares whose point's image lies in the box
+    /// `lo`..`hi` and in the triangle's image (within the slack), `affine` being
+    /// [`Image::affine`].
+    fn depth_over(&self, affine: &Affine, lo: DVec2, hi: DVec2) -> [f64; 2] {
+        let (DepthBound::Affine { at } | DepthBound::Reciprocal { at, .. }) = self.depth;
         let [box_lo, box_hi] = affine.over(lo, hi);
         // Over the triangle the function lies between its corners' values, give or take the
         // slack by which a pixel's point may stray outside.
         let stray = affine.gradient.abs().element_sum() * TEXEL_SLACK;
         let value_lo = box_lo.max(at[0].min(at[1]).min(at[2]) - stray);
         let value_hi = box_hi.min(at[0].max(at[1]).max(at[2]) + stray);
-        Some(match self.depth {
+        match self.depth {
             DepthBound::Affine { .. } => [value_lo, value_hi],
             DepthBound::Reciprocal { closer, farther, near, far, .. } => {
                 // The point's distance along the axis runs from 1/value_hi to 1/value_lo.
@@ -304,7 +368,7 @@ impl Image {
                 let farthest = 1.0 / value_lo + farther;
                 [depth(nearest), depth(farthest)]
             }
-        })
+        }
     }
 }
 
