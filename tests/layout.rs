@@ -288,11 +288,13 @@ fn untextured_pixel_shader_without_polygon_lights_has_neither() {
     assert!(full.texture_reads > 0, "{full:?}");
     assert!(!any_polygon_spec_id(&lean.spec_ids), "polygon constants in {lean:?}");
     assert_eq!(lean.texture_reads, 0, "texture reads in the untextured variant");
-    // Only the light counts and whether any light casts shadows are left to specialise.
+    // Only the light counts and which lights cast shadows are left to specialise.
     let light_counts = [
         specialization::POINT_LIGHT_COUNT.id,
         specialization::DIRECTIONAL_LIGHT_COUNT.id,
         specialization::SHADOWS.id,
+        specialization::SHADOWED_POINT_LIGHTS.id,
+        specialization::SHADOWED_DIRECTIONAL_LIGHTS.id,
     ];
     assert_eq!(lean.spec_ids.iter().copied().collect::<std::collections::BTreeSet<_>>(), light_counts.into());
     assert!(

@@ -71,17 +71,40 @@ fn every_mode_renders_the_shadow_scene() {
     assert!(apart * 200 < covered, "pixel-deferred differs from pixel at {apart} of {covered} pixels");
 }
 
+/// `scene`'s lights in another order, the directional one first, and an unshadowed point light
+/// between: the shaders number the lights that cast shadows first in their kind (their slots),
+/// so this order differs from the scene's, and from the shipped one's.
+fn lights_reordered(scene: &Scene, filter: u32) -> Scene {
+    let [point, directional] = [0, 1].map(|i| scene.lights[i]);
+    let unshadowed = Light::Point {
+        position: Vec3::new(-6.0, 8.0, -4.0),
+        color: Vec3::new(0.9, 0.9, 1.0),
+        intensity: 40.0,
+    };
+    let caster = |light, of: usize| ShadowCaster { light, filter, ..scene.shadow_casters[of] };
+    Scene {
+        lights: vec![directional, unshadowed, point],
+        shadow_casters: vec![caster(0, 1), caster(2, 0)],
+        ..scene.clone()
+    }
+}
+
 /// Multirate, both placements, with hard and filtered shadows: every pixel of the same triangle
 /// within ε of `pixel` with the same maps, and the shadowed lights interpolated on sub-vertices
-/// (not shaded per pixel).
+/// (not shaded per pixel). The filtered case has its lights reordered (`lights_reordered`).
 #[test]
 fn multirate_keeps_the_bound_with_shadows_applied_per_pixel() {
     let context = validated_context();
     let target = RenderTarget::new(&context, vk::Extent2D { width: WIDTH, height: HEIGHT }).expect("target");
     let loaded = shadow_scene();
+    assert!(matches!(loaded.lights[..], [Light::Point { .. }, Light::Directional { .. }]));
     for filter in [1, 5] {
-        let casters = loaded.shadow_casters.iter().map(|c| ShadowCaster { filter, ..*c }).collect();
-        let scene = Scene { shadow_casters: casters, ..loaded.clone() };
+        let scene = if filter == 1 {
+            let casters = loaded.shadow_casters.iter().map(|c| ShadowCaster { filter, ..*c }).collect();
+            Scene { shadow_casters: casters, ..loaded.clone() }
+        } else {
+            lights_reordered(&loaded, filter)
+        };
         let renderer = Renderer::new(&context, &scene).expect("renderer");
         let reference = renderer.analyze(&target, &View::of_scene(&scene)).expect("pixel");
         for placement in [Placement::Compute, Placement::Tcs] {

@@ -121,22 +121,23 @@ const int LIGHTS_SPLIT = 2;      // by the triangle's class (`classes`): those t
                                  // in the sum, those that reach part apart by slot, unshadowed,
                                  // those that reach none left out
 
-// Adds light `light`'s shading (towards it `l`, its irradiance `irradiance`) to `total`, or
-// puts it in `apart`, or leaves it out, by `rule`.
-void add_light_shading(GpuLight light, vec3 l, vec3 irradiance, vec3 n, vec3 v, GpuMaterial m, float parameter,
-                       int rule, ShadowPoint lookup, uint classes, inout Shading total,
+// Adds the shading of light `light`, light `i` of `lights` (towards it `l`, its irradiance
+// `irradiance`), to `total`, or puts it in `apart`, or leaves it out, by `rule`.
+void add_light_shading(GpuLight light, int i, vec3 l, vec3 irradiance, vec3 n, vec3 v, GpuMaterial m,
+                       float parameter, int rule, ShadowPoint lookup, uint classes, inout Shading total,
                        inout Shading apart[MAX_SHADOWED_LIGHTS]) {
-    bool casts = SHADOWS && light.shadow.x >= 0;
-    uint slot_bit = casts ? 1u << uint(light.shadow.z) : 0u;
+    bool casts = casts_shadows(i);
+    int slot = casts ? shadow_slot(i) : 0;
+    uint slot_bit = casts ? 1u << uint(slot) : 0u;
     if (rule == LIGHTS_SPLIT && (classes & SHADOWED_CLASS_BIT * slot_bit) != 0u) {
         return;
     }
     if (rule == LIGHTS_VISIBLE && casts) {
-        irradiance *= shadow_visibility_at(light, lookup);
+        irradiance *= shadow_visibility_at(light, i, lookup);
     }
     Shading one = reflect_one_light(n, l, v, m, parameter);
     if (rule == LIGHTS_SPLIT && (classes & MIXED_CLASS_BIT * slot_bit) != 0u) {
-        apart[light.shadow.z] = Shading(one.diffuse * irradiance, one.specular * irradiance);
+        apart[slot] = Shading(one.diffuse * irradiance, one.specular * irradiance);
     } else {
         total.diffuse += one.diffuse * irradiance;
         total.specular += one.specular * irradiance;
@@ -156,12 +157,12 @@ Shading shade_lights(vec3 position, vec3 normal, vec3 eye, uint material_index, 
         float d2 = max(dot(to_light, to_light), MIN_LIGHT_DISTANCE_SQUARED);
         vec3 l = to_light * inversesqrt(d2);
         vec3 irradiance = lights[i].radiance.rgb / d2;
-        add_light_shading(lights[i], l, irradiance, n, v, m, parameter, rule, lookup, classes, total, apart);
+        add_light_shading(lights[i], i, l, irradiance, n, v, m, parameter, rule, lookup, classes, total, apart);
     }
     for (int i = 0; i < DIRECTIONAL_LIGHT_COUNT; ++i) {
         GpuLight light = lights[POINT_LIGHT_COUNT + i];
-        add_light_shading(light, -light.position.xyz, light.radiance.rgb, n, v, m, parameter, rule, lookup, classes,
-                          total, apart);
+        add_light_shading(light, POINT_LIGHT_COUNT + i, -light.position.xyz, light.radiance.rgb, n, v, m, parameter,
+                          rule, lookup, classes, total, apart);
     }
 #if VARIANT_POLYGON_LIGHTS
     for (int i = 0; i < POLYGON_LIGHT_COUNT; ++i) {

@@ -21,6 +21,29 @@ layout(constant_id = 17) const bool SHADOWS = false;
 // fragment stage then holds no lookup code. llvmpipe runs both sides of every branch under a
 // mask, so the lookups cost every fragment of a draw that contains them, needed or not.
 layout(constant_id = 18) const bool SHADOW_LOOKUPS = true;
+// How many point and directional lights cast shadows: in `lights`, the first point lights and
+// the first directional ones (src/render/scene_geometry.rs, ShaderLights), their slots in that
+// order. So whether a light casts shadows and its slot are constants wherever its index is (an
+// unrolled loop's): no light's record is read to know them, and no array is indexed by a
+// loaded value (which llvmpipe spills to memory per lane).
+layout(constant_id = 20) const int SHADOWED_POINT_LIGHTS = 0;
+layout(constant_id = 21) const int SHADOWED_DIRECTIONAL_LIGHTS = 0;
+
+// Whether light `i` of `lights` casts shadows.
+bool casts_shadows(int i) {
+    return SHADOWS && (i < SHADOWED_POINT_LIGHTS
+                       || (i >= POINT_LIGHT_COUNT && i < POINT_LIGHT_COUNT + SHADOWED_DIRECTIONAL_LIGHTS));
+}
+
+// The slot of light `i` of `lights`, where it casts shadows.
+int shadow_slot(int i) {
+    return i < POINT_LIGHT_COUNT ? i : SHADOWED_POINT_LIGHTS + i - POINT_LIGHT_COUNT;
+}
+
+// The index in `lights` of the light in slot `slot`.
+int slot_light(int slot) {
+    return slot < SHADOWED_POINT_LIGHTS ? slot : POINT_LIGHT_COUNT + slot - SHADOWED_POINT_LIGHTS;
+}
 
 // The kernel's texels reach this far (in texels) beyond the point's own texel, plus rounding;
 // the lookup point is pushed off the surface by as much, times the sine of the angle between
@@ -60,9 +83,9 @@ ShadowPoint shadow_point(uint triangle, vec2 frag_coord) {
     return ShadowPoint(position, valid ? n / length_n : vec3(0.0), valid);
 }
 
-// The unit direction from `position` towards `light`.
-vec3 towards_light(GpuLight light, vec3 position) {
-    if (light.position.w != 0.0) {
+// The unit direction from `position` towards `light` (a point light where `point_light`).
+vec3 towards_light(GpuLight light, bool point_light, vec3 position) {
+    if (point_light) {
         vec3 to_light = light.position.xyz - position;
         float d2 = max(dot(to_light, to_light), 1.0e-8);
         return to_light * inversesqrt(d2);
@@ -107,17 +130,18 @@ vec3 cube_face_ndc(vec3 lookup, vec3 light, vec3 axis, float near, float far) {
     return vec3(dot(side, d), -dot(image_up, d), far * (along - near) / (far - near)) / along;
 }
 
-// Light `light`'s visibility at `position`, on a surface of unit normal `normal` (either side).
-// 1 where the light casts no shadow.
-float shadow_visibility(GpuLight light, vec3 position, vec3 normal) {
-    int index = light.shadow.x;
-    if (!SHADOWS || index < 0) {
+// The visibility of light `light`, light `i` of `lights`, at `position`, on a surface of unit
+// normal `normal` (either side). 1 where the light casts no shadow.
+float shadow_visibility(GpuLight light, int i, vec3 position, vec3 normal) {
+    if (!casts_shadows(i)) {
         return 1.0;
     }
+    int index = light.shadow.x;
     ShadowMapRecord map = shadow_map(index);
-    vec3 l = towards_light(light, position);
+    // A point light's map is a cube, a directional light's a square (ShadowLayout).
+    bool cube = i < POINT_LIGHT_COUNT;
+    vec3 l = towards_light(light, cube, position);
     int radius = light.shadow.y;
-    bool cube = map.depth.z != 0.0;
     float texel = map.rect.w;
     // A cube's face: that of the largest component of the light-to-point vector, at
     // (face mod 3, face div 3) sides from the map's first texel.
@@ -162,9 +186,10 @@ float shadow_visibility(GpuLight light, vec3 position, vec3 normal) {
     return float(lit) / float(side * side);
 }
 
-// Light `light`'s visibility at the fragment's shadow point (1 where it is not valid).
-float shadow_visibility_at(GpuLight light, ShadowPoint point) {
-    return point.valid ? shadow_visibility(light, point.position, point.normal) : 1.0;
+// The visibility of light `light`, light `i` of `lights`, at the fragment's shadow point (1
+// where it is not valid).
+float shadow_visibility_at(GpuLight light, int i, ShadowPoint point) {
+    return point.valid ? shadow_visibility(light, i, point.position, point.normal) : 1.0;
 }
 
 // What the multirate interpolants carry per shadow-casting light, by its slot: its unshadowed
@@ -179,27 +204,29 @@ float shadow_visibility_at(GpuLight light, ShadowPoint point) {
 // interpolated unshadowed shading (`diffuse`, `specular` by slot) as it is where the light
 // reaches all of the triangle, times its visibility at the fragment's shadow point where it may
 // reach part of it, nothing where it reaches none. Only a part-lit triangle looks anything up.
-// (Where the stage before applied the class, a slot it left zero adds zero.)
+// (Where the stage before applied the class, a slot it left zero adds zero.) Without lookups
+// (SHADOW_LOOKUPS false: the draw of the listed flat patches that no light reaches only in
+// part, whose vertex stage applied their class) every slot is zero: nothing to add, nothing
+// read.
 vec3 shadowed_lights_color(vec3 albedo, vec3 diffuse[MAX_SHADOWED_LIGHTS], vec3 specular[MAX_SHADOWED_LIGHTS],
                            uint triangle, vec2 frag_coord) {
     vec3 color = vec3(0.0);
-    if (!SHADOWS) {
+    if (!SHADOWS || !SHADOW_LOOKUPS) {
         return color;
     }
     uint classes = triangle_shadow_classes(triangle);
     ShadowPoint point = ShadowPoint(vec3(0.0), vec3(0.0), false);
-    if (SHADOW_LOOKUPS && classes >= MIXED_CLASS_BIT) {
+    if (classes >= MIXED_CLASS_BIT) {
         point = shadow_point(triangle, frag_coord);
     }
-    for (int i = 0; i < POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT; ++i) {
-        GpuLight light = lights[i];
-        uint slot_bit = 1u << uint(max(light.shadow.z, 0));
-        if (light.shadow.x < 0 || (classes & SHADOWED_CLASS_BIT * slot_bit) != 0u) {
+    for (int slot = 0; slot < SHADOWED_POINT_LIGHTS + SHADOWED_DIRECTIONAL_LIGHTS; ++slot) {
+        uint slot_bit = 1u << uint(slot);
+        if ((classes & SHADOWED_CLASS_BIT * slot_bit) != 0u) {
             continue;
         }
-        bool mixed = SHADOW_LOOKUPS && (classes & MIXED_CLASS_BIT * slot_bit) != 0u;
-        float visibility = mixed ? shadow_visibility_at(light, point) : 1.0;
-        int slot = light.shadow.z;
+        int i = slot_light(slot);
+        bool mixed = (classes & MIXED_CLASS_BIT * slot_bit) != 0u;
+        float visibility = mixed ? shadow_visibility_at(lights[i], i, point) : 1.0;
         color += visibility * (albedo * diffuse[slot] + specular[slot]);
     }
     return color;

@@ -108,13 +108,12 @@ fn report_shadow_classes(scene: &Scene, gpu: &GpuArgs) -> Result<()> {
     }
     let context = Context::headless(&options(gpu))?;
     let renderer = multirate::render::Renderer::new(&context, scene)?;
-    for (caster, [lit, shadowed, mixed]) in
-        scene.shadow_casters.iter().zip(renderer.shadow_classes().counts())
-    {
+    let classes = renderer.shadow_classes();
+    for (slot, [lit, shadowed, mixed]) in classes.counts().into_iter().enumerate() {
         let share = |n: usize| 100.0 * n as f64 / (lit + shadowed + mixed).max(1) as f64;
         println!(
             "  light {} casts shadows: of the triangles, {lit} lit ({:.1} %), {shadowed} shadowed ({:.1} %), {mixed} mixed ({:.1} %)",
-            caster.light,
+            classes.light(slot),
             share(lit),
             share(shadowed),
             share(mixed)

@@ -164,11 +164,12 @@ impl ShadowDepths {
 }
 
 /// Every shadow-casting light's visibility over every triangle of a scene's meshes (in the
-/// order the renderer numbers them: mesh by mesh, each mesh's triangles in order).
+/// order the renderer numbers them: mesh by mesh, each mesh's triangles in order), by slot
+/// (`LightShadow::slot`).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ShadowClasses {
-    /// Shadow-casting lights (`Scene::shadow_casters`), the stride of `classes`.
-    slots: usize,
+    /// Per slot, the light (its index in `Scene::lights`); their count is the stride of `classes`.
+    lights: Vec<usize>,
     /// Per triangle, per slot.
     classes: Vec<Visibility>,
 }
@@ -177,40 +178,44 @@ impl ShadowClasses {
     /// The classes of every triangle of `scene` against its maps, laid out by `layout` and
     /// rendered into `depths`.
     pub fn of(scene: &Scene, layout: &ShadowLayout, depths: &ShadowDepths) -> ShadowClasses {
-        let slots = scene.shadow_casters.len();
         let mut classes = Vec::new();
         for mesh in &scene.meshes {
             for triangle in mesh.indices.chunks_exact(3) {
                 let corners = [0, 1, 2].map(|k| mesh.positions[triangle[k] as usize]);
-                classes.extend(scene.shadow_casters.iter().map(|caster| {
-                    let shadow = layout.lights[caster.light].expect("a caster has a map");
-                    depths.classify(layout, shadow.map, shadow.radius, &scene.lights[caster.light], corners)
+                classes.extend(layout.by_slot.iter().map(|&light| {
+                    let shadow = layout.lights[light].expect("a slot's light has a map");
+                    depths.classify(layout, shadow.map, shadow.radius, &scene.lights[light], corners)
                 }));
             }
         }
-        ShadowClasses { slots, classes }
+        ShadowClasses { lights: layout.by_slot.clone(), classes }
+    }
+
+    /// The light in slot `slot` (its index in `Scene::lights`).
+    pub fn light(&self, slot: usize) -> usize {
+        self.lights[slot]
     }
 
     /// Triangle `triangle`'s class against the light in slot `slot`.
     pub fn visibility(&self, triangle: usize, slot: usize) -> Visibility {
-        self.classes[triangle * self.slots + slot]
+        self.classes[triangle * self.lights.len() + slot]
     }
 
     /// Every triangle's classes, by slot.
     pub fn per_triangle(&self) -> impl Iterator<Item = &[Visibility]> {
-        self.classes.chunks_exact(self.slots.max(1))
+        self.classes.chunks_exact(self.lights.len().max(1))
     }
 
     /// Per slot, how many triangles are lit, shadowed and mixed.
     pub fn counts(&self) -> Vec<[usize; 3]> {
-        let mut counts = vec![[0; 3]; self.slots];
+        let mut counts = vec![[0; 3]; self.lights.len()];
         for (i, class) in self.classes.iter().enumerate() {
             let column = match class {
                 Visibility::Lit => 0,
                 Visibility::Shadowed => 1,
                 Visibility::Mixed => 2,
             };
-            counts[i % self.slots][column] += 1;
+            counts[i % self.lights.len()][column] += 1;
         }
         counts
     }

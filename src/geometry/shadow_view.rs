@@ -4,7 +4,7 @@
 //! rendered once; the shaders' lookup is `glsl/include/shadow.glsl`.
 
 use super::camera::{look_at, perspective};
-use crate::scene::{bounds_of, Light, Scene};
+use crate::scene::{bounds_of, Light, Scene, ShadowCaster};
 use glam::{Mat4, Vec3, Vec4};
 
 /// A point light's cube faces in order: the axis a face looks along (shadow.glsl picks face
@@ -67,20 +67,23 @@ pub struct LightShadow {
     pub map: u32,
     /// Its filter kernel's radius in texels.
     pub radius: u32,
-    /// Its slot in the interpolants that carry its unshadowed shading apart: its index in
-    /// `Scene::shadow_casters`.
+    /// Its slot in the interpolants that carry its unshadowed shading apart: the shadow-casting
+    /// point lights first, then the directional ones, each in `Scene::lights` order (the order
+    /// the shaders number them in, `render::gpu_lights`).
     pub slot: u32,
 }
 
 /// Every shadow map of a scene in one atlas.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ShadowLayout {
-    /// In the order of `Scene::shadow_casters`.
+    /// By slot ([`LightShadow::slot`]).
     pub maps: Vec<ShadowMap>,
     /// The atlas's width and height in texels (1 × 1 without any map).
     pub extent: [u32; 2],
     /// Per light of the scene (`Scene::lights` order), where it casts shadows.
     pub lights: Vec<Option<LightShadow>>,
+    /// Per slot, the light (its index in `Scene::lights`).
+    pub by_slot: Vec<usize>,
 }
 
 impl ShadowLayout {
@@ -89,7 +92,10 @@ impl ShadowLayout {
         let (lo, hi) = bounds_of(scene.meshes.iter().flat_map(|m| m.positions.iter().copied()));
         let mut maps = Vec::new();
         let mut lights = vec![None; scene.lights.len()];
-        for (slot, caster) in scene.shadow_casters.iter().enumerate() {
+        let mut casters: Vec<&ShadowCaster> = scene.shadow_casters.iter().collect();
+        casters.sort_by_key(|c| (matches!(scene.lights[c.light], Light::Directional { .. }), c.light));
+        let by_slot = casters.iter().map(|c| c.light).collect();
+        for (slot, caster) in casters.into_iter().enumerate() {
             let map = maps.len() as u32;
             lights[caster.light] = Some(LightShadow { map, radius: caster.filter / 2, slot: slot as u32 });
             let size = caster.resolution;
@@ -107,7 +113,7 @@ impl ShadowLayout {
             maps.push(ShadowMap { projection, offset: [0, 0], size, texel_width: width / size as f32 });
         }
         let extent = pack(&mut maps);
-        ShadowLayout { maps, extent, lights }
+        ShadowLayout { maps, extent, lights, by_slot }
     }
 }
 

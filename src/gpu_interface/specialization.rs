@@ -49,13 +49,18 @@ pub const SHADOW_LOOKUPS: SpecId = SpecId { name: "SHADOW_LOOKUPS", id: 18 };
 /// multirate_flat.vert: which of the listed flat patches a draw shows, by visibility class
 /// (`slots::EVERY_SHADOW_CLASS`, `WITHOUT_MIXED_LIGHTS`, `WITH_MIXED_LIGHTS`).
 pub const DRAWN_SHADOW_CLASSES: SpecId = SpecId { name: "DRAWN_SHADOW_CLASSES", id: 19 };
+/// shadow.glsl: the point lights that cast shadows, the first in the light buffer
+/// (`render::ShaderLights`).
+pub const SHADOWED_POINT_LIGHTS: SpecId = SpecId { name: "SHADOWED_POINT_LIGHTS", id: 20 };
+/// shadow.glsl: the directional lights that cast shadows, the first after the point lights.
+pub const SHADOWED_DIRECTIONAL_LIGHTS: SpecId = SpecId { name: "SHADOWED_DIRECTIONAL_LIGHTS", id: 21 };
 
 /// The polygonal lights' constants, which only the variants with polygonal lights contain.
 pub const POLYGON_LIGHTS: [SpecId; 4] =
     [POLYGON_LIGHT_COUNT, POLYGON_SAMPLES, POLYGON_TECHNIQUE, MIS_VISIBILITY];
 
 /// Every specialization constant, by id.
-pub const ALL: [SpecId; 16] = [
+pub const ALL: [SpecId; 18] = [
     ENCODE_SRGB,
     POINT_LIGHT_COUNT,
     DIRECTIONAL_LIGHT_COUNT,
@@ -72,4 +77,6 @@ pub const ALL: [SpecId; 16] = [
     SHADOWS,
     SHADOW_LOOKUPS,
     DRAWN_SHADOW_CLASSES,
+    SHADOWED_POINT_LIGHTS,
+    SHADOWED_DIRECTIONAL_LIGHTS,
 ];

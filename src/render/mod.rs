@@ -60,7 +60,7 @@ pub use instrumentation::{
 };
 pub use mode::{Mode, Placement, MAX_LEVEL};
 pub use pre_pass::steps::{PrePassStep, PRE_PASS_GROUP, PRE_PASS_STEPS, REFINE_BLOCK};
-pub use scene_geometry::{gpu_lights, gpu_polygon_lights, gpu_shadow_maps};
+pub use scene_geometry::{gpu_lights, gpu_polygon_lights, gpu_shadow_maps, ShaderLights};
 pub use view::{View, EYE_BALL_SHARE};
 
 use crate::error::Result;

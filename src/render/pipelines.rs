@@ -77,9 +77,11 @@ impl Pipelines {
                 ..Features::default()
             };
             let specialization = Specialization::default()
-                .int(spec::POINT_LIGHT_COUNT.id, geometry.point_count)
-                .int(spec::DIRECTIONAL_LIGHT_COUNT.id, geometry.directional_count)
-                .boolean(spec::SHADOWS.id, !scene.shadow_casters.is_empty());
+                .int(spec::POINT_LIGHT_COUNT.id, geometry.lights.point_count)
+                .int(spec::DIRECTIONAL_LIGHT_COUNT.id, geometry.lights.directional_count)
+                .boolean(spec::SHADOWS.id, !scene.shadow_casters.is_empty())
+                .int(spec::SHADOWED_POINT_LIGHTS.id, geometry.lights.shadowed_point_count)
+                .int(spec::SHADOWED_DIRECTIONAL_LIGHTS.id, geometry.lights.shadowed_directional_count);
             let specialization = polygon_specialization(specialization, scene, polygon_count);
             variants.push(Variant::new(features, Instrumentation::None, vk::PolygonMode::FILL));
             specializations.push((features, specialization));

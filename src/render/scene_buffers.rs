@@ -70,7 +70,7 @@ impl SceneBuffers {
             gpu_allocator::MemoryLocation::GpuToCpu,
         )?;
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let lights = Buffer::with_data(context, "scene lights", storage, &geometry.lights)?;
+        let lights = Buffer::with_data(context, "scene lights", storage, &geometry.lights.lights)?;
         let materials = Buffer::with_data(context, "scene materials", storage, &geometry.materials)?;
         let unread = [GpuPolygonLight::default()];
         let polygon_entries: &[GpuPolygonLight] =

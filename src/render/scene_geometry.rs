@@ -60,34 +60,64 @@ fn material_kind_id(kind: &MaterialKind) -> u32 {
     }
 }
 
-/// The scene's lights in the order the shaders expect: point lights, then directional ones;
-/// each with its shadow map's first tile, filter radius and slot from `shadows`
-/// (`ShadowLayout::lights`, per light of `lights`; empty: none casts shadows).
-pub fn gpu_lights(lights: &[Light], shadows: &[Option<LightShadow>]) -> (Vec<GpuLight>, i32, i32) {
+/// The scene's point and directional lights as the shaders read them ([`ShaderLights`]).
+pub fn gpu_lights(lights: &[Light], shadows: &[Option<LightShadow>]) -> ShaderLights {
     let mut points = Vec::new();
     let mut directionals = Vec::new();
     for (index, light) in lights.iter().enumerate() {
-        let shadow = match shadows.get(index).copied().flatten() {
+        let shadow = shadows.get(index).copied().flatten();
+        let gpu_shadow = match shadow {
             Some(s) => IVec4::new(s.map as i32, s.radius as i32, s.slot as i32, 0),
             None => IVec4::new(-1, 0, 0, 0),
         };
+        // Shadow-casting lights first, by slot; the others in the scene's order.
+        let key = (shadow.map_or(u32::MAX, |s| s.slot), index);
         match *light {
-            Light::Point { position, color, intensity } => points.push(GpuLight {
-                position: position.extend(1.0),
-                radiance: (color * intensity).extend(0.0),
-                shadow,
-            }),
-            Light::Directional { direction, color, intensity } => directionals.push(GpuLight {
-                position: direction.extend(0.0),
-                radiance: (color * intensity).extend(0.0),
-                shadow,
-            }),
+            Light::Point { position, color, intensity } => points.push((
+                key,
+                GpuLight {
+                    position: position.extend(1.0),
+                    radiance: (color * intensity).extend(0.0),
+                    shadow: gpu_shadow,
+                },
+            )),
+            Light::Directional { direction, color, intensity } => directionals.push((
+                key,
+                GpuLight {
+                    position: direction.extend(0.0),
+                    radiance: (color * intensity).extend(0.0),
+                    shadow: gpu_shadow,
+                },
+            )),
             Light::Polygon(_) => {}
         }
     }
-    let counts = (points.len() as i32, directionals.len() as i32);
-    points.extend(directionals);
-    (points, counts.0, counts.1)
+    points.sort_by_key(|(key, _)| *key);
+    directionals.sort_by_key(|(key, _)| *key);
+    let shadowed =
+        |group: &[((u32, usize), GpuLight)]| group.iter().filter(|(_, l)| l.shadow.x >= 0).count() as i32;
+    ShaderLights {
+        point_count: points.len() as i32,
+        directional_count: directionals.len() as i32,
+        shadowed_point_count: shadowed(&points),
+        shadowed_directional_count: shadowed(&directionals),
+        lights: points.into_iter().chain(directionals).map(|(_, light)| light).collect(),
+    }
+}
+
+/// The point and directional lights in the order the shaders number them: the point lights,
+/// then the directional ones; in each, those that cast shadows first, in slot order
+/// (`LightShadow::slot`: the point lights' slots come first), so that a light's slot follows
+/// from its index and the four counts (shadow.glsl's `shadow_slot`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ShaderLights {
+    pub lights: Vec<GpuLight>,
+    pub point_count: i32,
+    pub directional_count: i32,
+    /// The point lights that cast shadows: the first of them.
+    pub shadowed_point_count: i32,
+    /// The directional lights that cast shadows: the first of them.
+    pub shadowed_directional_count: i32,
 }
 
 /// The shadow maps as the shaders read them.
@@ -150,10 +180,8 @@ pub(super) struct SceneGeometry {
     /// Triangles of the meshes; the emitters' come after them (level records cover the meshes
     /// only).
     pub triangle_count: usize,
-    /// Point lights, then directional ones ([`gpu_lights`]).
-    pub lights: Vec<GpuLight>,
-    pub point_count: i32,
-    pub directional_count: i32,
+    /// The point and directional lights ([`gpu_lights`]).
+    pub lights: ShaderLights,
     pub materials: Vec<GpuMaterial>,
     pub polygon_lights: Vec<GpuPolygonLight>,
     /// The shadow maps' tiles in the atlas (`shadow_view`).
@@ -168,7 +196,7 @@ impl SceneGeometry {
             geometry.add_mesh(scene, mesh_index, mesh);
         }
         let shadows = ShadowLayout::of(scene);
-        let (lights, point_count, directional_count) = gpu_lights(&scene.lights, &shadows.lights);
+        let lights = gpu_lights(&scene.lights, &shadows.lights);
         let materials: Vec<GpuMaterial> = scene.materials.iter().map(gpu_material).collect();
         let polygon_lights = gpu_polygon_lights(&scene.lights);
         // The emitters' triangles go after the meshes' (level records cover the meshes only).
@@ -176,16 +204,7 @@ impl SceneGeometry {
         for (light_index, light) in polygon_lights.iter().enumerate() {
             geometry.add_emitter(light_index, light);
         }
-        SceneGeometry {
-            triangle_count,
-            lights,
-            point_count,
-            directional_count,
-            materials,
-            polygon_lights,
-            shadows,
-            ..geometry
-        }
+        SceneGeometry { triangle_count, lights, materials, polygon_lights, shadows, ..geometry }
     }
 
     /// Appends mesh `mesh_index` of `scene`: its vertices, triangles, adjacency patches,

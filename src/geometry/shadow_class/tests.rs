@@ -85,7 +85,7 @@ fn rendered(
         }
     }
     let shadow = LightShadow { map: 0, radius, slot: 0 };
-    (ShadowLayout { maps: vec![map], extent, lights: vec![Some(shadow)] }, atlas)
+    (ShadowLayout { maps: vec![map], extent, lights: vec![Some(shadow)], by_slot: vec![0] }, atlas)
 }
 
 /// Points spread over the triangle: its corners, points along its edges and inside.
