@@ -46,12 +46,6 @@ void write_triangle(uint triangle) {
 
 precise gl_Position;
 
-// Which listed flat patches the draw shows by their visibility classes (EVERY_SHADOW_CLASS,
-// WITHOUT_MIXED_LIGHTS, WITH_MIXED_LIGHTS in bindings.glsl): where some light casts shadows, the
-// flat list is drawn twice, the patches no light reaches only in part by a pipeline whose
-// fragment stage looks nothing up (SHADOW_LOOKUPS false), the others by one that does.
-layout(constant_id = 19) const uint DRAWN_SHADOW_CLASSES = EVERY_SHADOW_CLASS;
-
 void main() {
     bool per_pixel = (draw.flags & FLAG_FALLBACK_PATCHES) != 0u;
     GpuMaterial m = materials[draw.material_index];
@@ -65,9 +59,8 @@ void main() {
         triangle = flat_patches[draw.patch_base + uint(gl_VertexIndex) / 3u];
         vertex = scene_indices[3u * triangle + uint(gl_VertexIndex) % 3u];
     }
-    bool by_class = DRAWN_SHADOW_CLASSES != EVERY_SHADOW_CLASS && listed;
-    bool other_draws =
-        by_class && (triangle_shadow_classes(triangle) >= MIXED_CLASS_BIT) != (DRAWN_SHADOW_CLASSES == WITH_MIXED_LIGHTS);
+    // The listed patches are drawn by class (DRAWN_SHADOW_CLASSES, bindings.glsl).
+    bool other_draws = listed && !drawn_by_class(triangle);
     if (vertex == SKIPPED_VERTEX || other_draws) {
         // A triangle that is not such a patch, or that the other draw shows: a point, dropped
         // before rasterisation.

@@ -21,12 +21,23 @@ void main() {
     out_normal[gl_InvocationID] = in_normal[gl_InvocationID];
     out_uv[gl_InvocationID] = in_uv[gl_InvocationID];
     if (gl_InvocationID == 0) {
+        patch_triangle = in_triangle[0];
+        if (!drawn_by_class(in_triangle[0])) {
+            // The other draw of the list shows this patch (DRAWN_SHADOW_CLASSES, bindings.glsl):
+            // levels 0 cull it here, on purpose.
+            gl_TessLevelOuter[0] = 0.0;
+            gl_TessLevelOuter[1] = 0.0;
+            gl_TessLevelOuter[2] = 0.0;
+            gl_TessLevelInner[0] = 0.0;
+            patch_level = 0.0;
+            parameter_lod_bound = 0.0;
+            return;
+        }
         vec4 tess = patch_tess_levels[in_triangle[0]];
         PatchLevels levels;
         levels.inner = max(tess.x, 1.0);
         levels.outer = tess.yzw;
         levels.fallback = tess.x == 0.0;
         write_patch_levels(levels, material_lod_bound(in_uv[0], in_uv[1], in_uv[2]));
-        patch_triangle = in_triangle[0];
     }
 }

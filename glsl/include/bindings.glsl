@@ -257,6 +257,20 @@ uint triangle_shadow_classes(uint triangle) {
     return uint(texelFetch(triangle_corners, int(3u * triangle)).w);
 }
 
+// Which patches of a list a draw shows by their visibility classes (EVERY_SHADOW_CLASS,
+// WITHOUT_MIXED_LIGHTS, WITH_MIXED_LIGHTS): where some light casts shadows, the flat and the
+// tessellated lists are each drawn twice, the patches no light reaches only in part by a
+// pipeline whose fragment stage looks nothing up (SHADOW_LOOKUPS false, shadow.glsl), the others
+// by one that does. llvmpipe runs both sides of every branch, so only a pipeline without the
+// lookups' code skips their cost.
+layout(constant_id = 19) const uint DRAWN_SHADOW_CLASSES = EVERY_SHADOW_CLASS;
+
+// Whether the draw shows scene triangle `triangle` (DRAWN_SHADOW_CLASSES).
+bool drawn_by_class(uint triangle) {
+    return DRAWN_SHADOW_CLASSES == EVERY_SHADOW_CLASS
+        || (triangle_shadow_classes(triangle) >= MIXED_CLASS_BIT) == (DRAWN_SHADOW_CLASSES == WITH_MIXED_LIGHTS);
+}
+
 vec2 scene_uv(uint vertex) {
     return texelFetch(scene_vertices, int(2u * vertex + 1u)).zw;
 }

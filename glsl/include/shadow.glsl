@@ -16,9 +16,9 @@
 
 // Whether any light casts shadows: without, no shadow code is compiled in.
 layout(constant_id = 17) const bool SHADOWS = false;
-// Whether the fragment stage may look a visibility up: false in the draw of the flat patches
-// that no light reaches only in part (multirate_flat.vert, DRAWN_SHADOW_CLASSES), whose
-// fragment stage then holds no lookup code. llvmpipe runs both sides of every branch under a
+// Whether the fragment stage may look a visibility up: false in the draws of the flat and the
+// interpolated patches that no light reaches only in part (DRAWN_SHADOW_CLASSES, bindings.glsl),
+// whose fragment stage then holds no lookup code. llvmpipe runs both sides of every branch under a
 // mask, so the lookups cost every fragment of a draw that contains them, needed or not.
 layout(constant_id = 18) const bool SHADOW_LOOKUPS = true;
 // How many point and directional lights cast shadows: in `lights`, the first point lights and
@@ -205,9 +205,9 @@ float shadow_visibility_at(GpuLight light, int i, ShadowPoint point) {
 // reaches all of the triangle, times its visibility at the fragment's shadow point where it may
 // reach part of it, nothing where it reaches none. Only a part-lit triangle looks anything up.
 // (Where the stage before applied the class, a slot it left zero adds zero.) Without lookups
-// (SHADOW_LOOKUPS false: the draw of the listed flat patches that no light reaches only in
-// part, whose vertex stage applied their class) every slot is zero: nothing to add, nothing
-// read.
+// (SHADOW_LOOKUPS false: the draws of the patches no light reaches only in part, whose stage
+// before applied their class: a lit light is in the sum, a shadowed one nowhere) every slot is
+// zero: nothing to add, nothing read.
 vec3 shadowed_lights_color(vec3 albedo, vec3 diffuse[MAX_SHADOWED_LIGHTS], vec3 specular[MAX_SHADOWED_LIGHTS],
                            uint triangle, vec2 frag_coord) {
     vec3 color = vec3(0.0);

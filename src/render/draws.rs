@@ -297,7 +297,12 @@ impl ForwardDraws {
             }
         }
         mesh.stamp_part(DrawPart::Flat, true);
-        mesh.part(DrawPart::Tessellated, || tessellated_draw(constants, interpolated, INTERPOLATED_LIST, 0));
+        mesh.part(DrawPart::Tessellated, || {
+            tessellated_draw(constants, interpolated, INTERPOLATED_LIST, 0);
+            if let Some(without_mixed) = lists.interpolated_without_mixed {
+                tessellated_draw(constants, without_mixed, INTERPOLATED_LIST, 0);
+            }
+        });
         // The per-pixel patches' depth first, then their shading where they are the nearest
         // surface: each covered pixel is shaded once, whatever the lists' order.
         mesh.part(DrawPart::FallbackDepth, || {

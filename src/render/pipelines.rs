@@ -306,6 +306,9 @@ pub(super) struct ListPipelines<P> {
     /// With shadows: the flat patches no light reaches only in part, drawn by a fragment stage
     /// without lookup code.
     pub flat_without_mixed: Option<P>,
+    /// With shadows: the interpolated patches no light reaches only in part, likewise (the
+    /// mesh's first pipeline then draws the others).
+    pub interpolated_without_mixed: Option<P>,
     /// The flat patches shaded per pixel: multirate_flat.vert passes their corners on to
     /// multirate.frag (DepthUse::Primed).
     pub flat_fallback: P,
@@ -343,6 +346,7 @@ impl Variant {
                     fallback_prime: l.fallback_prime.raw,
                     flat: l.flat.raw,
                     flat_without_mixed: l.flat_without_mixed.as_ref().map(|p| p.raw),
+                    interpolated_without_mixed: l.interpolated_without_mixed.as_ref().map(|p| p.raw),
                     flat_fallback: l.flat_fallback.raw,
                     flat_fallback_prime: l.flat_fallback_prime.raw,
                 }),
@@ -621,37 +625,68 @@ impl Modules {
             false => None,
         };
         // `fragment` None: a depth prime (DepthUse::Prime).
-        let graphics = |name: &str, fragment: Option<&ShaderModule>, depth_use| {
-            let stage = |stage, module| Stage { stage, module, specialization: Some(&specialization) };
-            use vk::ShaderStageFlags as S;
-            let mut stages = vec![
-                stage(S::VERTEX, pull_vert.as_ref().unwrap_or(&self.patch_vert)),
-                stage(S::TESSELLATION_CONTROL, &multirate_tesc),
-                stage(S::TESSELLATION_EVALUATION, &multirate_tese),
-            ];
-            stages.extend(fragment.map(|module| stage(S::FRAGMENT, module)));
-            let scene = scene_pipeline(name, stages, layout, variant.instrumentation);
-            let pulled = pull_vert.is_some();
-            Pipeline::graphics(
-                context,
-                &GraphicsPipelineDesc {
-                    topology: vk::PrimitiveTopology::PATCH_LIST,
-                    patch_control_points: Some(control_points),
-                    polygon_mode: variant.polygon_mode,
-                    vertex_bindings: if pulled { &[] } else { scene.vertex_bindings },
-                    vertex_attributes: if pulled { &[] } else { scene.vertex_attributes },
-                    depth_use,
-                    ..scene
-                },
-            )
-        };
+        let graphics_with =
+            |name: &str, fragment: Option<&ShaderModule>, depth_use, specialization: &Specialization| {
+                let stage = |stage, module| Stage { stage, module, specialization: Some(specialization) };
+                use vk::ShaderStageFlags as S;
+                let mut stages = vec![
+                    stage(S::VERTEX, pull_vert.as_ref().unwrap_or(&self.patch_vert)),
+                    stage(S::TESSELLATION_CONTROL, &multirate_tesc),
+                    stage(S::TESSELLATION_EVALUATION, &multirate_tese),
+                ];
+                stages.extend(fragment.map(|module| stage(S::FRAGMENT, module)));
+                let scene = scene_pipeline(name, stages, layout, variant.instrumentation);
+                let pulled = pull_vert.is_some();
+                Pipeline::graphics(
+                    context,
+                    &GraphicsPipelineDesc {
+                        topology: vk::PrimitiveTopology::PATCH_LIST,
+                        patch_control_points: Some(control_points),
+                        polygon_mode: variant.polygon_mode,
+                        vertex_bindings: if pulled { &[] } else { scene.vertex_bindings },
+                        vertex_attributes: if pulled { &[] } else { scene.vertex_attributes },
+                        depth_use,
+                        ..scene
+                    },
+                )
+            };
+        let graphics =
+            |name: &str, fragment, depth_use| graphics_with(name, fragment, depth_use, &specialization);
         if !compute {
             let draw = graphics(&name, Some(&multirate_frag), DepthUse::Nearest)?;
             return Ok(Multirate { draw, lists: None });
         }
         let interpolated_frag = variant_module(context, "multirate_interpolated.frag", features)?;
-        let draw =
-            graphics(&format!("{name}, interpolated patches"), Some(&interpolated_frag), DepthUse::Nearest)?;
+        // With shadows, the interpolated and the flat lists are each drawn twice by the patches'
+        // visibility classes (DRAWN_SHADOW_CLASSES): those no light reaches only in part with no
+        // lookup code (llvmpipe runs every branch).
+        let by_class = |drawn| {
+            let classes = specialization.clone().uint(spec::DRAWN_SHADOW_CLASSES.id, drawn);
+            match drawn {
+                WITHOUT_MIXED_LIGHTS => classes.boolean(spec::SHADOW_LOOKUPS.id, false),
+                _ => classes,
+            }
+        };
+        let (with_mixed, without_mixed) = (by_class(WITH_MIXED_LIGHTS), by_class(WITHOUT_MIXED_LIGHTS));
+        let interpolated = format!("{name}, interpolated patches");
+        let (draw, interpolated_without_mixed) = if features.shadows {
+            (
+                graphics_with(
+                    &format!("{interpolated} some light reaches in part"),
+                    Some(&interpolated_frag),
+                    DepthUse::Nearest,
+                    &with_mixed,
+                )?,
+                Some(graphics_with(
+                    &format!("{interpolated} no light reaches in part"),
+                    Some(&interpolated_frag),
+                    DepthUse::Nearest,
+                    &without_mixed,
+                )?),
+            )
+        } else {
+            (graphics(&interpolated, Some(&interpolated_frag), DepthUse::Nearest)?, None)
+        };
         let fallback =
             graphics(&format!("{name}, fallback patches"), Some(&multirate_frag), DepthUse::Primed)?;
         let fallback_prime = graphics(&format!("{name}, fallback patches' depth"), None, DepthUse::Prime)?;
@@ -678,14 +713,7 @@ impl Modules {
             flat(&format!("{name}, flat patches shaded per pixel"), Some(&multirate_frag), DepthUse::Primed)?;
         let flat_fallback_prime =
             flat(&format!("{name}, flat patches shaded per pixel, their depth"), None, DepthUse::Prime)?;
-        // With shadows, the listed flat patches in two draws by their visibility classes: those
-        // no light reaches only in part with no lookup code (llvmpipe runs every branch).
         let (flat, flat_without_mixed) = if features.shadows {
-            let with_mixed = specialization.clone().uint(spec::DRAWN_SHADOW_CLASSES.id, WITH_MIXED_LIGHTS);
-            let without_mixed = specialization
-                .clone()
-                .uint(spec::DRAWN_SHADOW_CLASSES.id, WITHOUT_MIXED_LIGHTS)
-                .boolean(spec::SHADOW_LOOKUPS.id, false);
             let name = format!("{name}, flat patches");
             (
                 flat_with(
@@ -709,6 +737,7 @@ impl Modules {
             fallback_prime,
             flat,
             flat_without_mixed,
+            interpolated_without_mixed,
             flat_fallback,
             flat_fallback_prime,
         };
