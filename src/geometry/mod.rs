@@ -7,10 +7,13 @@
 //! 2. [`cull`]: which triangles are culled, or shaded per pixel, before their estimate.
 //! 3. [`shadow_view`]: the shadow maps' matrices and their tiles in the atlas.
 //! 4. [`shadow_lookup`]: a light's visibility at a point, read from the maps (shadow.glsl's twin).
-//! 5. [`shadow_class`]: whether a light reaches all, none or part of a triangle.
+//! 5. [`shadow_footprint`]: what a triangle's lookups read of one map square, and whether all
+//!    pass or all fail there.
+//! 6. [`shadow_class`]: whether a light reaches all, none or part of a triangle.
 
 pub mod camera;
 pub mod cull;
 pub mod shadow_class;
+pub mod shadow_footprint;
 pub mod shadow_lookup;
 pub mod shadow_view;

@@ -5,7 +5,7 @@
 
 use super::*;
 use crate::geometry::shadow_lookup::shadow_visibility;
-use crate::geometry::shadow_view::{directional_map, point_depth_range, LightShadow};
+use crate::geometry::shadow_view::{directional_map, face_basis, point_depth_range, LightShadow, ShadowMap};
 use crate::test_rng::Rng;
 use glam::Mat4;
 
@@ -293,7 +293,7 @@ fn the_pyramid_holds_each_blocks_least_and_greatest_depth() {
 }
 
 #[test]
-fn degenerate_and_unfaceable_triangles_are_mixed() {
+fn degenerate_triangles_are_mixed_and_those_across_cube_faces_decided() {
     let light = point(Vec3::new(0.0, 5.0, 0.0));
     let (lo, hi) = (Vec3::splat(-10.0), Vec3::splat(10.0));
     let (layout, atlas) = rendered(&light, 64, 0, lo, hi, &occluders());
@@ -303,14 +303,21 @@ fn degenerate_and_unfaceable_triangles_are_mixed() {
     assert_eq!(classify([a, a, a]), Visibility::Mixed, "a point");
     assert_eq!(classify([a, 2.0 * a, 3.0 * a]), Visibility::Mixed, "a line");
     assert_eq!(classify([a, Vec3::NAN, a]), Visibility::Mixed, "NaN");
-    // Across two cube faces (one corner below the light, one beside it).
+    // The light in the triangle's plane: which side a pixel lifts to may flip.
     assert_eq!(
-        classify([Vec3::new(0.0, 0.0, 0.0), Vec3::new(9.0, 4.0, 0.0), Vec3::new(9.0, 4.0, 1.0)]),
-        Visibility::Mixed
+        classify([Vec3::new(-3.0, 5.0, -3.0), Vec3::new(-4.0, 5.0, -3.0), Vec3::new(-3.0, 5.0, -4.0)]),
+        Visibility::Mixed,
+        "the light in its plane"
     );
-    // Under the light, far from any occluder's shadow: decided.
+    // Under the light, far from any occluder's shadow: decided, also across two cube faces
+    // (the ground below the light and beside it meet at |x| = 5).
     assert_eq!(
         classify([Vec3::new(-4.5, 0.0, -1.0), Vec3::new(-4.7, 0.0, -1.0), Vec3::new(-4.5, 0.0, -1.2)]),
         Visibility::Lit
+    );
+    assert_eq!(
+        classify([Vec3::new(-4.8, 0.0, -1.0), Vec3::new(-5.2, 0.0, -1.0), Vec3::new(-4.8, 0.0, -1.4)]),
+        Visibility::Lit,
+        "across two faces"
     );
 }
