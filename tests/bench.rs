@@ -159,6 +159,56 @@ fn bench_writes_complete_rows_plots_images_and_a_capture() {
     assert_capture(&capture, rows.len(), pre_passes_expected);
 }
 
+/// `--without-shadows` on the shadow scene: both twins measured against their own `pixel`, and
+/// `shadows.csv` with the shadow pass's time and every triangle in one class per light.
+#[test]
+fn bench_measures_a_shadowed_scene_with_and_without_its_shadows() {
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("bench_shadows");
+    let _ = std::fs::remove_dir_all(&out);
+    let scene = repo_path("scenes/shadows.toml");
+    let output = common::multirate_command()
+        .args(["--validate", "bench", "--scene", scene.to_str().unwrap(), "--without-shadows"])
+        .args(["--modes", "multirate", "--resolution", "160x120", "--frames", "1", "--warmup", "0"])
+        .args(["--out", out.to_str().unwrap()])
+        .env_remove("DISPLAY")
+        .output()
+        .expect("run multirate bench");
+    let (stdout, stderr) = (String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
+    assert!(output.status.success(), "bench failed:\n{stderr}");
+    assert!(!stderr.contains("vulkan:"), "validation messages:\n{stderr}");
+    let csv = std::fs::read_to_string(out.join("bench.csv")).expect("bench.csv");
+    let configurations: Vec<(&str, &str)> = csv
+        .lines()
+        .skip(1)
+        .map(|line| {
+            let fields: Vec<&str> = line.split(',').collect();
+            (fields[0], fields[2])
+        })
+        .collect();
+    assert_eq!(
+        configurations,
+        [
+            ("shadows", "pixel"),
+            ("shadows", "multirate"),
+            ("shadows_without_shadows", "pixel"),
+            ("shadows_without_shadows", "multirate")
+        ],
+        "{csv}"
+    );
+    let shadows = std::fs::read_to_string(out.join("shadows.csv")).expect("shadows.csv");
+    let rows: Vec<Vec<&str>> = shadows.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 2, "one row per shadow-casting light:\n{shadows}");
+    for row in &rows {
+        assert_eq!(row[0], "shadows", "{row:?}");
+        let ms: f64 = row[2].parse().expect("the shadow pass's milliseconds");
+        assert!(ms > 0.0 && ms.is_finite(), "{row:?}");
+        let classes: usize = row[3..6].iter().map(|n| n.parse::<usize>().expect("a count")).sum();
+        // The bunny's 3,674 triangles and the ground's 8,192, each in one class.
+        assert_eq!(classes, 3674 + 8192, "{row:?}");
+    }
+    assert!(stdout.contains("shadow pass"), "{stdout}");
+}
+
 #[test]
 fn calibrate_stores_every_cost_under_the_device_and_its_compiler_setting() {
     use multirate::render::cost_model::{calibration_key, CostModel, LavapipeCompiler};

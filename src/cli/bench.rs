@@ -7,11 +7,13 @@ use super::shading::{check_eye_ball, parse_discontinuity, parse_split, Estimated
 use anyhow::{Context as _, Result};
 use clap::Args;
 use multirate::bench::{self, BenchConfig, BenchScene};
-use multirate::render::{DrawPart, Mode, Placement, EYE_BALL_SHARE};
+use multirate::render::{DrawPart, Mode, Placement, Renderer, EYE_BALL_SHARE};
 use multirate::scene::settings::{check_epsilon, check_n_max};
+use multirate::scene::Scene;
 use multirate::shading::estimator::{Discontinuity, Split};
 use multirate::vk::Context;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 #[derive(Args)]
 pub struct BenchArgs {
@@ -74,6 +76,10 @@ pub struct BenchArgs {
     /// compare its time with a run without.
     #[arg(long)]
     pub draw_parts: bool,
+    /// Also measure each scene whose lights cast shadows without its shadows, every mode
+    /// against its own `pixel` (as `<scene>_without_shadows`).
+    #[arg(long)]
+    pub without_shadows: bool,
     /// Time each step of the pre-pass apart (culling, range, estimate, refine, patches: the
     /// `<step>_ms_median` columns). lavapipe flushes its work at each step's timestamps, which
     /// slows the pre-pass: compare its time with a run without.
@@ -97,6 +103,7 @@ pub fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
     anyhow::ensure!(args.orbit.is_finite(), "--orbit must be a number of degrees (got {})", args.orbit);
     check_eye_ball(args.eye_ball)?;
     let scenes = args.scene.iter().map(|path| BenchScene::load(path)).collect::<Result<Vec<_>, _>>()?;
+    let scenes = with_shadowless_twins(scenes, args.without_shadows);
     scenes.iter().for_each(|s| print_warnings(&s.scene));
     let context = Context::headless(&options(gpu))?;
     let config = BenchConfig {
@@ -130,6 +137,7 @@ pub fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
     };
     write("bench.csv", bench::to_csv(&result.rows))?;
     write("bench.json", bench::to_json(&result.rows))?;
+    report_shadows(&context, &scenes, &args.out)?;
     bench::plot::time_against_error(
         &result.rows,
         "L∞ error",
@@ -220,6 +228,51 @@ pub fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
     let messages = context.validation().count();
     anyhow::ensure!(messages == 0, "the validation layer reported {messages} message(s)");
     Ok(())
+}
+
+/// `scenes`, each whose lights cast shadows followed, where `twins`, by itself without them.
+fn with_shadowless_twins(scenes: Vec<BenchScene>, twins: bool) -> Vec<BenchScene> {
+    scenes
+        .into_iter()
+        .flat_map(|bench_scene| {
+            let twin = (twins && !bench_scene.scene.shadow_casters.is_empty()).then(|| BenchScene {
+                name: format!("{}_without_shadows", bench_scene.name),
+                scene: Scene { shadow_casters: Vec::new(), ..bench_scene.scene.clone() },
+            });
+            std::iter::once(bench_scene).chain(twin)
+        })
+        .collect()
+}
+
+/// Per scene whose lights cast shadows: the GPU time of its shadow maps' draw (once, when the
+/// renderer is made: lights and meshes do not move) and each light's visibility classes
+/// (`docs/estimator.md` section 18); printed and written to `shadows.csv`.
+fn report_shadows(context: &Arc<Context>, scenes: &[BenchScene], out: &Path) -> Result<()> {
+    let shadowed: Vec<&BenchScene> = scenes.iter().filter(|s| !s.scene.shadow_casters.is_empty()).collect();
+    if shadowed.is_empty() {
+        return Ok(());
+    }
+    println!("shadows (the maps drawn once, when the renderer is made; the triangles by class):");
+    let mut csv = String::from("scene,light,shadow_pass_ms,lit,shadowed,mixed\n");
+    for bench_scene in shadowed {
+        let renderer = Renderer::new(context, &bench_scene.scene)?;
+        let ms = renderer.shadow_pass_ms().unwrap_or(0.0);
+        let classes = renderer.shadow_classes();
+        for (slot, [lit, shadowed, mixed]) in classes.counts().into_iter().enumerate() {
+            let light = classes.light(slot);
+            csv += &format!("{},{light},{ms:.3},{lit},{shadowed},{mixed}\n", bench_scene.name);
+            let share = |n: usize| 100.0 * n as f64 / (lit + shadowed + mixed).max(1) as f64;
+            println!(
+                "  {}: shadow pass {ms:.3} ms; light {light}: {:.1} % lit, {:.1} % shadowed, {:.1} % mixed",
+                bench_scene.name,
+                share(lit),
+                share(shadowed),
+                share(mixed)
+            );
+        }
+    }
+    let path = out.join("shadows.csv");
+    std::fs::write(&path, csv).with_context(|| format!("{}: cannot write", path.display()))
 }
 
 /// `--draw-parts`: per row, the median milliseconds of each part of the draws and of the

@@ -111,6 +111,8 @@ pub struct Renderer {
     /// Every triangle's visibility class per shadow-casting light, from the maps as rendered
     /// (in `triangle_corners` for the shaders).
     shadow_classes: ShadowClasses,
+    /// The shadow maps' draw, GPU ms (none without a map).
+    shadow_pass_ms: Option<f64>,
     /// What is shaded per pixel, at the scales the frame does not decide itself.
     per_pixel: PerPixelChoice,
     /// The frame guards of the configurations drawn so far (`guarded`, `report_frame_time`).
@@ -147,13 +149,13 @@ impl Renderer {
         )?;
         let pipelines = Pipelines::new(context, scene, &descriptors.layout, &geometry)?;
         let shadow_pass = (&descriptors.layout, pipelines.forward_vert());
-        let depths =
+        let shadows =
             shadow_atlas.render(context, shadow_pass, &buffers, &geometry.shadows, &geometry.draws)?;
         let shadow_classes = if scene.shadow_casters.is_empty() {
             ShadowClasses::default()
         } else {
-            let classes =
-                ShadowClasses::of(scene, &geometry.shadows, &ShadowDepths::new(&geometry.shadows, &depths));
+            let depths = ShadowDepths::new(&geometry.shadows, &shadows.depths);
+            let classes = ShadowClasses::of(scene, &geometry.shadows, &depths);
             let corners = with_classes(&geometry.triangle_corners, &classes);
             pre_pass.buffers.triangle_corners.upload(&corners)?;
             classes
@@ -168,6 +170,7 @@ impl Renderer {
             pre_pass,
             _shadow_atlas: shadow_atlas,
             shadow_classes,
+            shadow_pass_ms: shadows.milliseconds,
             per_pixel: PerPixelChoice::new(&context.info.name, scene),
             guards: Mutex::new(Guards::default()),
             measured_table: Mutex::new(None),
@@ -180,6 +183,12 @@ impl Renderer {
     /// shadows).
     pub fn shadow_classes(&self) -> &ShadowClasses {
         &self.shadow_classes
+    }
+
+    /// The GPU time the shadow maps took to draw, once, when the renderer was made (none where
+    /// no light casts shadows).
+    pub fn shadow_pass_ms(&self) -> Option<f64> {
+        self.shadow_pass_ms
     }
 
     /// The device's cost model (a stored calibration or the built-in figures).

@@ -14,10 +14,18 @@ use crate::vk::memory::{transition, Buffer, Image};
 use crate::vk::pipeline::{DepthUse, Optimization, Pipeline, PipelineLayout, ShaderModule, Stage};
 use crate::vk::target::{begin_rendering, DEPTH_FORMAT};
 use crate::vk::texture::Sampler;
+use crate::vk::timing::GpuTimer;
 use crate::vk::Context;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
+
+/// What [`ShadowAtlas::render`] gives back: the atlas's depths, read back row by row, and the
+/// GPU time its maps took to draw (both none without a map).
+pub(super) struct ShadowPass {
+    pub depths: Vec<f32>,
+    pub milliseconds: Option<f64>,
+}
 
 /// The atlas image, in `SHADER_READ_ONLY_OPTIMAL` once [`ShadowAtlas::render`] ran, and the
 /// sampler set 1 reads it with.
@@ -46,8 +54,8 @@ impl ShadowAtlas {
 
     /// Clears the atlas to the far plane and draws every mesh of `draws` into each square of
     /// `layout`'s maps with `vertex` (`forward.vert`), depth only, both faces; leaves the atlas
-    /// ready for the shaders to read and returns its depths row by row. Without a map it only
-    /// clears (no pipeline is built) and returns none.
+    /// ready for the shaders to read and returns its depths row by row and the time the maps
+    /// took. Without a map it only clears (no pipeline is built) and returns neither.
     pub(super) fn render(
         &self,
         context: &Arc<Context>,
@@ -55,7 +63,7 @@ impl ShadowAtlas {
         buffers: &SceneBuffers,
         layout: &ShadowLayout,
         draws: &[DrawCall],
-    ) -> Result<Vec<f32>> {
+    ) -> Result<ShadowPass> {
         let pipeline = if layout.maps.is_empty() {
             None
         } else {
@@ -83,8 +91,16 @@ impl ShadowAtlas {
             )?),
             None => None,
         };
+        let timer = match pipeline {
+            Some(_) => Some(GpuTimer::new(context, 1, 1)?),
+            None => None,
+        };
         context.run_once(|cmd| {
             let depth = vk::ImageAspectFlags::DEPTH;
+            if let Some(timer) = &timer {
+                timer.reset(cmd, 0);
+                timer.timestamp(cmd, 0, 0, false);
+            }
             transition(
                 device,
                 cmd,
@@ -152,6 +168,9 @@ impl ShadowAtlas {
                 }
                 device.cmd_end_rendering(cmd);
             }
+            if let Some(timer) = &timer {
+                timer.timestamp(cmd, 0, 0, true);
+            }
             let attachment_written = (
                 vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
                 vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
@@ -182,10 +201,15 @@ impl ShadowAtlas {
                 ),
             );
         })?;
-        Ok(readback.map_or_else(Vec::new, |readback| {
+        let milliseconds = match &timer {
+            Some(timer) => Some(timer.pass_intervals(0, 1)?[0].milliseconds()),
+            None => None,
+        };
+        let depths = readback.map_or_else(Vec::new, |readback| {
             let bytes = readback.mapped().expect("GpuToCpu memory is mapped");
             bytemuck::pod_collect_to_vec::<u8, f32>(&bytes[..4 * texels])
-        }))
+        });
+        Ok(ShadowPass { depths, milliseconds })
     }
 }
 

@@ -162,7 +162,20 @@ fn check_sound(
     receivers: &[[Vec3; 3]],
     rng: &mut Rng,
 ) -> [usize; 3] {
-    let (lo, hi) = (Vec3::new(-10.0, -0.5, -10.0), Vec3::new(10.0, 6.0, 10.0));
+    check_sound_scaled(light, size, radius, casters, receivers, 1.0, rng)
+}
+
+/// [`check_sound`] in a scene `scale` times as large (its maps' box too).
+fn check_sound_scaled(
+    light: Light,
+    size: u32,
+    radius: u32,
+    casters: &[[Vec3; 3]],
+    receivers: &[[Vec3; 3]],
+    scale: f32,
+    rng: &mut Rng,
+) -> [usize; 3] {
+    let (lo, hi) = (Vec3::new(-10.0, -0.5, -10.0) * scale, Vec3::new(10.0, 6.0, 10.0) * scale);
     let (layout, atlas) = rendered(&light, size, radius, lo, hi, casters);
     let depths = ShadowDepths::new(&layout, &atlas);
     let shadow = layout.lights[0].expect("one map");
@@ -268,6 +281,58 @@ fn a_surface_that_shadows_itself_is_classed_soundly_and_mostly_decided() {
     // Its own texels in the map must not leave the ball's lit side mixed: the terminator, the
     // bumps' shadows and the cube faces' edges cross a share of its triangles.
     assert!(10 * mixed_in_all < 3 * 4 * ball.len(), "{mixed_in_all} of 4 × {} triangles mixed", ball.len());
+}
+
+/// The extremes the class must survive: a light inside a closed caster, light grazing the
+/// ground, a caster touching its receiver, and a scene 10⁴ units wide.
+#[test]
+fn the_class_is_sound_at_the_extremes() {
+    let mut rng = Rng(0x5eed_0c1e);
+    let centre = Vec3::new(-5.0, 2.5, -5.0);
+    let ball = bumpy_ball(centre, 1.8, 24);
+    let ground = ground_triangles(16, 10.0);
+    let with_ball = |extra: &[[Vec3; 3]]| -> Vec<[Vec3; 3]> {
+        occluders().into_iter().chain(extra.iter().copied()).collect()
+    };
+    // A point light inside the ball: the ball's inside is lit, the whole ground shadowed.
+    let [lit, shadowed, _] = check_sound(point(centre), 128, 1, &with_ball(&ball), &ground, &mut rng);
+    assert!(
+        lit == 0 && shadowed > ground.len() / 2,
+        "light inside: the ground {lit} lit, {shadowed} shadowed"
+    );
+    // Light grazing the ground at under 2°, hard and filtered.
+    for radius in [0, 2] {
+        let grazing = directional(Vec3::new(1.0, -0.03, 0.2));
+        let [lit, shadowed, mixed] = check_sound(grazing, 128, radius, &with_ball(&ball), &ground, &mut rng);
+        assert!(lit + shadowed > 0, "grazing r {radius}: {lit} lit, {shadowed} shadowed, {mixed} mixed");
+    }
+    // The ball resting on the ground (its lowest bumps dip into it), under either kind of light.
+    let resting = bumpy_ball(Vec3::new(-5.0, 1.8, -5.0), 1.8, 24);
+    let near_it: Vec<[Vec3; 3]> = ground_triangles(40, 10.0)
+        .into_iter()
+        .filter(|t| t.iter().any(|c| (*c - Vec3::new(-5.0, 0.0, -5.0)).length() < 3.0))
+        .chain(resting.iter().copied())
+        .collect();
+    for light in [point(Vec3::new(-2.0, 7.0, -3.0)), directional(Vec3::new(0.4, -1.0, 0.3))] {
+        let [lit, shadowed, mixed] = check_sound(light, 128, 1, &with_ball(&resting), &near_it, &mut rng);
+        assert!(
+            lit > 0 && shadowed > 0,
+            "touching, {light:?}: {lit} lit, {shadowed} shadowed, {mixed} mixed"
+        );
+    }
+    // The ground, the ball and the occluders 500 times as large: 10⁴ units wide.
+    let scale = 500.0;
+    let scaled = |triangles: &[[Vec3; 3]]| -> Vec<[Vec3; 3]> {
+        triangles.iter().map(|t| t.map(|c| c * scale)).collect()
+    };
+    let (casters, receivers) = (scaled(&with_ball(&ball)), scaled(&ground));
+    for light in [point(Vec3::new(1.0, 8.0, 2.0) * scale), directional(Vec3::new(-0.3, -1.0, -0.2))] {
+        let [lit, shadowed, mixed] = check_sound_scaled(light, 128, 1, &casters, &receivers, scale, &mut rng);
+        assert!(
+            lit + shadowed > 3 * mixed,
+            "10⁴ units wide, {light:?}: {lit} lit, {shadowed} shadowed, {mixed} mixed"
+        );
+    }
 }
 
 #[test]
