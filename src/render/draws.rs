@@ -291,16 +291,14 @@ impl ForwardDraws {
         if draw.shared_corners {
             shared_corners_draw(constants, lists.flat);
         } else {
-            flat_list_draw(constants, lists.flat);
-            if let Some(without_mixed) = lists.flat_without_mixed {
-                flat_list_draw(constants, without_mixed);
+            for pipeline in std::iter::once(lists.flat).chain(lists.flat_without_mixed) {
+                flat_list_draw(constants, pipeline);
             }
         }
         mesh.stamp_part(DrawPart::Flat, true);
         mesh.part(DrawPart::Tessellated, || {
-            tessellated_draw(constants, interpolated, INTERPOLATED_LIST, 0);
-            if let Some(without_mixed) = lists.interpolated_without_mixed {
-                tessellated_draw(constants, without_mixed, INTERPOLATED_LIST, 0);
+            for pipeline in std::iter::once(interpolated).chain(lists.interpolated_without_mixed) {
+                tessellated_draw(constants, pipeline, INTERPOLATED_LIST, 0);
             }
         });
         // The per-pixel patches' depth first, then their shading where they are the nearest

@@ -392,6 +392,22 @@ pub(super) struct MeshPipelines {
     pub back_faces: Option<vk::Pipeline>,
 }
 
+/// A list's pipeline, or with shadows its two by visibility class (`DRAWN_SHADOW_CLASSES`):
+/// those some light reaches in part, and those none does, without lookup code. `specs`: every
+/// class, with mixed lights, without.
+fn drawn_by_class(
+    shadows: bool,
+    name: &str,
+    [every, with_mixed, without_mixed]: [&Specialization; 3],
+    build: impl Fn(&str, &Specialization) -> Result<Pipeline>,
+) -> Result<(Pipeline, Option<Pipeline>)> {
+    if !shadows {
+        return Ok((build(name, every)?, None));
+    }
+    let with = build(&format!("{name} some light reaches in part"), with_mixed)?;
+    Ok((with, Some(build(&format!("{name} no light reaches in part"), without_mixed)?)))
+}
+
 /// The specialization constants of the scene's polygonal lights (`spec::POLYGON_LIGHTS`; only
 /// the variants with polygonal lights have them).
 fn polygon_specialization(specialization: Specialization, scene: &Scene, count: usize) -> Specialization {
@@ -668,25 +684,13 @@ impl Modules {
             }
         };
         let (with_mixed, without_mixed) = (by_class(WITH_MIXED_LIGHTS), by_class(WITHOUT_MIXED_LIGHTS));
-        let interpolated = format!("{name}, interpolated patches");
-        let (draw, interpolated_without_mixed) = if features.shadows {
-            (
-                graphics_with(
-                    &format!("{interpolated} some light reaches in part"),
-                    Some(&interpolated_frag),
-                    DepthUse::Nearest,
-                    &with_mixed,
-                )?,
-                Some(graphics_with(
-                    &format!("{interpolated} no light reaches in part"),
-                    Some(&interpolated_frag),
-                    DepthUse::Nearest,
-                    &without_mixed,
-                )?),
-            )
-        } else {
-            (graphics(&interpolated, Some(&interpolated_frag), DepthUse::Nearest)?, None)
-        };
+        let specs = [&specialization, &with_mixed, &without_mixed];
+        let (draw, interpolated_without_mixed) = drawn_by_class(
+            features.shadows,
+            &format!("{name}, interpolated patches"),
+            specs,
+            |name, spec| graphics_with(name, Some(&interpolated_frag), DepthUse::Nearest, spec),
+        )?;
         let fallback =
             graphics(&format!("{name}, fallback patches"), Some(&multirate_frag), DepthUse::Primed)?;
         let fallback_prime = graphics(&format!("{name}, fallback patches' depth"), None, DepthUse::Prime)?;
@@ -713,25 +717,10 @@ impl Modules {
             flat(&format!("{name}, flat patches shaded per pixel"), Some(&multirate_frag), DepthUse::Primed)?;
         let flat_fallback_prime =
             flat(&format!("{name}, flat patches shaded per pixel, their depth"), None, DepthUse::Prime)?;
-        let (flat, flat_without_mixed) = if features.shadows {
-            let name = format!("{name}, flat patches");
-            (
-                flat_with(
-                    &format!("{name} some light reaches in part"),
-                    Some(&interpolated_frag),
-                    DepthUse::Nearest,
-                    &with_mixed,
-                )?,
-                Some(flat_with(
-                    &format!("{name} no light reaches in part"),
-                    Some(&interpolated_frag),
-                    DepthUse::Nearest,
-                    &without_mixed,
-                )?),
-            )
-        } else {
-            (flat(&format!("{name}, flat patches"), Some(&interpolated_frag), DepthUse::Nearest)?, None)
-        };
+        let (flat, flat_without_mixed) =
+            drawn_by_class(features.shadows, &format!("{name}, flat patches"), specs, |name, spec| {
+                flat_with(name, Some(&interpolated_frag), DepthUse::Nearest, spec)
+            })?;
         let lists = ListPipelines {
             fallback,
             fallback_prime,

@@ -91,10 +91,7 @@ impl ShadowAtlas {
             )?),
             None => None,
         };
-        let timer = match pipeline {
-            Some(_) => Some(GpuTimer::new(context, 1, 1)?),
-            None => None,
-        };
+        let timer = pipeline.as_ref().map(|_| GpuTimer::new(context, 1, 1)).transpose()?;
         context.run_once(|cmd| {
             let depth = vk::ImageAspectFlags::DEPTH;
             if let Some(timer) = &timer {
@@ -201,10 +198,7 @@ impl ShadowAtlas {
                 ),
             );
         })?;
-        let milliseconds = match &timer {
-            Some(timer) => Some(timer.pass_intervals(0, 1)?[0].milliseconds()),
-            None => None,
-        };
+        let milliseconds = timer.map(|t| t.pass_intervals(0, 1).map(|i| i[0].milliseconds())).transpose()?;
         let depths = readback.map_or_else(Vec::new, |readback| {
             let bytes = readback.mapped().expect("GpuToCpu memory is mapped");
             bytemuck::pod_collect_to_vec::<u8, f32>(&bytes[..4 * texels])
