@@ -72,25 +72,16 @@ pub fn gpu_lights(lights: &[Light], shadows: &[Option<LightShadow>]) -> ShaderLi
         };
         // Shadow-casting lights first, by slot; the others in the scene's order.
         let key = (shadow.map_or(u32::MAX, |s| s.slot), index);
-        match *light {
-            Light::Point { position, color, intensity } => points.push((
-                key,
-                GpuLight {
-                    position: position.extend(1.0),
-                    radiance: (color * intensity).extend(0.0),
-                    shadow: gpu_shadow,
-                },
-            )),
-            Light::Directional { direction, color, intensity } => directionals.push((
-                key,
-                GpuLight {
-                    position: direction.extend(0.0),
-                    radiance: (color * intensity).extend(0.0),
-                    shadow: gpu_shadow,
-                },
-            )),
-            Light::Polygon(_) => {}
-        }
+        let (group, position, radiance) = match *light {
+            Light::Point { position, color, intensity } => {
+                (&mut points, position.extend(1.0), color * intensity)
+            }
+            Light::Directional { direction, color, intensity } => {
+                (&mut directionals, direction.extend(0.0), color * intensity)
+            }
+            Light::Polygon(_) => continue,
+        };
+        group.push((key, GpuLight { position, radiance: radiance.extend(0.0), shadow: gpu_shadow }));
     }
     points.sort_by_key(|(key, _)| *key);
     directionals.sort_by_key(|(key, _)| *key);
