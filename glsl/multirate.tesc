@@ -67,9 +67,16 @@ void main() {
     out_normal[gl_InvocationID] = in_normal[t];
     out_uv[gl_InvocationID] = in_uv[t];
     int first = 3 * t;
+    uint triangle = draw.patch_base + uint(gl_PrimitiveID);
+    // The estimate of a neighbour leaves out the lights that reach none of the neighbour, as the
+    // neighbour's own patch does: both sides of a shared edge then take the same level.
+    if (SHADOWS && t > 0) {
+        triangle = texelFetch(triangle_neighbours, int(triangle))[t - 1];
+    }
     neighbourhood_level[gl_InvocationID] = triangle_level(in_position[first], in_position[first + 1], in_position[first + 2],
                                         in_normal[first], in_normal[first + 1], in_normal[first + 2],
-                                        in_uv[first], in_uv[first + 1], in_uv[first + 2]);
+                                        in_uv[first], in_uv[first + 1], in_uv[first + 2],
+                                        estimated_classes(triangle));
     barrier();
     if (t == 0) {
         float own = neighbourhood_level[0];

@@ -31,7 +31,7 @@ void main() {
     vec3 p2 = scene_position(c);
     bool capped;
     if (settled_triangle(p0, p1, p2, scene_normal(a), scene_normal(b), scene_normal(c), scene_uv(a),
-                         scene_uv(b), scene_uv(c), capped)) {
+                         scene_uv(b), scene_uv(c), estimated_classes(triangle), capped)) {
         triangle_levels[triangle] = 1.0;
         return;
     }

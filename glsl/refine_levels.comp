@@ -120,10 +120,11 @@ void main() {
             // The range class again, for whether every light's specular part is capped (it did not
             // settle the triangle, which the estimator step listed here).
             bool capped;
-            settled_triangle(p0, p1, p2, n0, n1, n2, scene_uv(a), scene_uv(b), scene_uv(c), capped);
+            uint classes = estimated_classes(triangle);
+            settled_triangle(p0, p1, p2, n0, n1, n2, scene_uv(a), scene_uv(b), scene_uv(c), classes, capped);
             bool again;
             triangle_levels[triangle] = estimated_level_pass(p0, p1, p2, n0, n1, n2, scene_uv(a), scene_uv(b),
-                                                             scene_uv(c), capped, true, again);
+                                                             scene_uv(c), classes, capped, true, again);
         }
     }
 }

@@ -39,8 +39,8 @@ void main() {
     bool again;
     triangle_levels[triangle] = estimated_level_pass(scene_position(a), scene_position(b), scene_position(c),
                                                      scene_normal(a), scene_normal(b), scene_normal(c),
-                                                     scene_uv(a), scene_uv(b), scene_uv(c), SPECULAR_ALL_CAPPED,
-                                                     false, again);
+                                                     scene_uv(a), scene_uv(b), scene_uv(c),
+                                                     estimated_classes(triangle), SPECULAR_ALL_CAPPED, false, again);
     if (again) {
         uint slot = atomicAdd(level_dispatches[level_dispatch(REFINE_DISPATCH)].w, 1u);
         refine_triangles[draw.patch_base + slot] = triangle;

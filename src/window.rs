@@ -4,7 +4,8 @@
 //! pixel, D pixel-deferred, V vertex, F fixed:N, M multirate, + and - change N; E moves
 //! multirate's estimator between the control stage and the compute pre-pass; [ and ] halve
 //! and double ε, < and > halve and double n_max; H toggles the tessellation-level heat map, W
-//! the wireframe. The title shows the mode (with ε and n_max in multirate), the GPU time of
+//! the wireframe, S the shadows (in a scene whose lights cast them; the renderer is made
+//! again without them, or with them, in a second or so). The title shows the mode (with ε and n_max in multirate), the GPU time of
 //! the render from timestamps, its speed against `pixel` mode timed in the same window
 //! (`speed`; T times `pixel` again), and the shading evaluations as a share of `pixel`
 //! mode's (counted at most every `RECOUNT_EVERY`, and when the mode or ε changes). A
@@ -16,6 +17,7 @@
 //!
 //! Files, bottom to top: each imports through `super::` only from those listed before it.
 //! 1. [`speed`]: the viewer's speed against `pixel` mode, timed in the same window.
+//! 2. [`script`]: scripted key presses, resizes and memory samples; the soak's script.
 
 use crate::error::{Error, Result, VkContext as _};
 use crate::geometry::camera::Orbit;
@@ -29,6 +31,7 @@ use crate::vk::target::{AfterPass, RenderTarget};
 use crate::vk::timing::GpuTimer;
 use crate::vk::{Context, ContextOptions};
 use ash::vk;
+pub use script::{ScriptEvent, ViewScript, SOAK_STEP};
 use speed::PixelReference;
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::Arc;
@@ -39,137 +42,6 @@ use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{Key, NamedKey};
 use winit::window::{Window, WindowId};
-
-/// One scripted action.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ScriptEvent {
-    /// A key press, by the text it types ("p", "+", "[", "<", ...).
-    Key(&'static str),
-    /// Asks the window system for this inner size (X servers refuse a zero side: minimise
-    /// instead).
-    Resize(u32, u32),
-    /// Minimises the window (where a window manager does so) and hands the viewer the
-    /// zero-sized `Resized` event a minimised window gets on other systems: X servers keep an
-    /// iconified window's size and refuse a zero-sized one, and Xvfb has no window manager.
-    Minimise,
-    /// Restores the window, and hands the viewer `Resized` with the window's size.
-    Restore,
-    /// Takes the memory figures ([`MemoryUse`]) into [`ViewReport::memory`].
-    SampleMemory,
-}
-
-impl ScriptEvent {
-    /// A short name for counting: "key p", "resize", "minimise", "restore", "sample memory".
-    fn kind(&self) -> String {
-        match self {
-            ScriptEvent::Key(key) => format!("key {key}"),
-            ScriptEvent::Resize(..) => "resize".into(),
-            ScriptEvent::Minimise => "minimise".into(),
-            ScriptEvent::Restore => "restore".into(),
-            ScriptEvent::SampleMemory => "sample memory".into(),
-        }
-    }
-}
-
-/// Scripted actions for automated runs, at turns of the loop (one per redraw, whether it
-/// presents a frame or not, so that a minimised window's turns count too), and the frame to
-/// close at.
-#[derive(Clone, Debug, Default)]
-pub struct ViewScript {
-    /// (turn, event), in turn order; events of one turn run in list order after its redraw.
-    pub events: Vec<(u32, ScriptEvent)>,
-    /// The window closes once this many frames were presented.
-    pub close_at_frame: u32,
-}
-
-/// The keys one soak cycle presses, in order, one every [`SOAK_STEP`] turns, with the window
-/// events between them: every mode, N up and down, ε and n_max halved and doubled, the
-/// estimator both ways, the heat map and the wireframe on and off, three sizes and a
-/// minimised spell. A cycle ends in the state it started in (once n_max is off its clamp).
-const SOAK_CYCLE: &[SoakStep] = &[
-    SoakStep::Key("p"),
-    SoakStep::Key("d"),
-    SoakStep::Key("v"),
-    SoakStep::Key("f"),
-    SoakStep::Key("+"),
-    SoakStep::Key("-"),
-    SoakStep::Key("-"),
-    SoakStep::Key("+"),
-    SoakStep::Key("m"),
-    SoakStep::Key("["),
-    SoakStep::Key("]"),
-    SoakStep::Key("]"),
-    SoakStep::Key("["),
-    SoakStep::Key("<"),
-    SoakStep::Key(">"),
-    SoakStep::Key(">"),
-    SoakStep::Key("<"),
-    SoakStep::Key("e"),
-    SoakStep::Key("h"),
-    SoakStep::Key("w"),
-    SoakStep::Key("t"),
-    SoakStep::Larger,
-    SoakStep::Key("d"),
-    SoakStep::Key("m"),
-    SoakStep::Key("h"),
-    SoakStep::Key("w"),
-    SoakStep::Key("e"),
-    SoakStep::Smallest,
-    SoakStep::Key("f"),
-    SoakStep::Key("m"),
-    SoakStep::Initial,
-    SoakStep::Minimise,
-    SoakStep::Restore,
-];
-
-/// Turns between two steps of a soak cycle.
-pub const SOAK_STEP: u32 = 4;
-
-/// A step of [`SOAK_CYCLE`].
-#[derive(Clone, Copy)]
-enum SoakStep {
-    Key(&'static str),
-    /// The initial size × 3/2.
-    Larger,
-    /// 1 × 1.
-    Smallest,
-    Initial,
-    Minimise,
-    Restore,
-}
-
-impl ViewScript {
-    /// A soak of at least `frames` presented frames in a window of `size`: `SOAK_CYCLE`
-    /// repeated. The first cycle warms up (it builds every pipeline on first use and fills the
-    /// caches); memory is sampled at the end of each cycle, so that the first sample follows
-    /// a visit to every mode and all samples are taken in the same state.
-    pub fn soak(frames: u32, size: (u32, u32)) -> ViewScript {
-        let cycle_turns = SOAK_CYCLE.len() as u32 * SOAK_STEP;
-        let minimised_turns = SOAK_STEP; // from Minimise to Restore
-        let presented_per_cycle = cycle_turns - minimised_turns;
-        // One cycle to warm up, and one more than needed for the turns a resize may cost (an
-        // out-of-date swapchain skips a frame).
-        let cycles = 2 + frames.div_ceil(presented_per_cycle);
-        let larger = (size.0 + size.0 / 2, size.1 + size.1 / 2);
-        let mut events = Vec::new();
-        for cycle in 0..cycles {
-            let base = cycle * cycle_turns;
-            for (index, step) in SOAK_CYCLE.iter().enumerate() {
-                let event = match *step {
-                    SoakStep::Key(key) => ScriptEvent::Key(key),
-                    SoakStep::Larger => ScriptEvent::Resize(larger.0, larger.1),
-                    SoakStep::Smallest => ScriptEvent::Resize(1, 1),
-                    SoakStep::Initial => ScriptEvent::Resize(size.0, size.1),
-                    SoakStep::Minimise => ScriptEvent::Minimise,
-                    SoakStep::Restore => ScriptEvent::Restore,
-                };
-                events.push((base + index as u32 * SOAK_STEP, event));
-            }
-            events.push((base + cycle_turns - 1, ScriptEvent::SampleMemory));
-        }
-        ViewScript { events, close_at_frame: frames }
-    }
-}
 
 /// Memory figures taken during a run.
 #[derive(Clone, Copy, Debug)]
@@ -199,6 +71,8 @@ pub struct ViewReport {
     /// Presented frames with the heat map, and with the wireframe, on.
     pub heat_map_frames: u32,
     pub wireframe_frames: u32,
+    /// Presented frames of a scene whose lights cast shadows, drawn without them (S).
+    pub frames_without_shadows: u32,
     /// The n_max values multirate frames were presented with.
     pub n_max_values: BTreeSet<u32>,
     /// The smallest and largest ε multirate frames were presented with.
@@ -238,6 +112,8 @@ pub fn view(
         error: None,
         drag: None,
         fixed_level: if let Mode::Fixed(level) = mode { level } else { 4 },
+        shadows: true,
+        remake_renderer: false,
         gpu_ms: None,
         pixel_reference: None,
         retime: false,
@@ -347,6 +223,10 @@ struct App {
     drag: Option<(f64, f64)>,
     /// The level `F` returns to after visiting other modes.
     fixed_level: u32,
+    /// Whether the scene's shadow-casting lights cast them (S toggles).
+    shadows: bool,
+    /// The renderer is to be made again (for `shadows`) before the next frame.
+    remake_renderer: bool,
     /// GPU milliseconds of the render (pre-pass included, tone mapping not), smoothed over
     /// the frames since the shading settings last changed.
     gpu_ms: Option<f64>,
@@ -386,7 +266,7 @@ impl App {
         let (context, surface) = Context::windowed(&self.options, window.as_ref())?;
         let size = extent_of(window.inner_size());
         let swapchain = Swapchain::new(&context, surface, size)?;
-        let renderer = Renderer::new(&context, &self.scene)?;
+        let renderer = Renderer::new(&context, &shown_scene(&self.scene, self.shadows))?;
         let target = RenderTarget::new(&context, swapchain.extent.max_one())?;
         let present = PresentPass::new(&context, swapchain.format.format, !swapchain.is_srgb())?;
         present.bind_target(&target);
@@ -436,6 +316,15 @@ impl App {
             let ms = state.timer.pass_intervals(0, 1)?[0].milliseconds();
             state.renderer.report_frame_time(&drawn, extent, ms);
             self.gpu_ms = Some(self.gpu_ms.map_or(ms, |smoothed| 0.9 * smoothed + 0.1 * ms));
+        }
+        if std::mem::take(&mut self.remake_renderer) {
+            // The last frame has finished (fence above): the old renderer's resources are free.
+            state.renderer = Renderer::new(&state.context, &shown_scene(&self.scene, self.shadows))?;
+            if self.view.wireframe {
+                state.renderer.enable_wireframe()?;
+            }
+            // Another scene to time and count: `pixel` mode's reference too.
+            (self.gpu_ms, self.pixel_reference, self.share) = (None, None, None);
         }
         let view = self.view.seen_from(self.orbit.apply(&self.scene.camera));
         let settings_changed = self.share.as_ref().is_none_or(|s| {
@@ -530,6 +419,9 @@ impl App {
         if let Some(percent) = self.share.as_ref().and_then(|s| s.percent) {
             title += &format!(" — evaluations {percent:.1} % of pixel");
         }
+        if !self.shadows {
+            title += " — shadows off";
+        }
         if title != self.report.final_title {
             state.window.set_title(&title);
             self.report.final_title = title;
@@ -612,6 +504,7 @@ impl App {
         *report.frames_by_mode.entry(mode).or_default() += 1;
         report.heat_map_frames += u32::from(view.heat_map);
         report.wireframe_frames += u32::from(view.wireframe);
+        report.frames_without_shadows += u32::from(!self.shadows);
         if view.mode == Mode::Multirate {
             let epsilon = view.estimator.epsilon;
             report.n_max_values.insert(view.estimator.n_max);
@@ -624,7 +517,7 @@ impl App {
     /// (and switch to fixed:N); [ / ] halve / double multirate's ε (within 10⁻⁴ to 10); < / >
     /// (or , / .) halve / double its n_max (within 1 to `MAX_LEVEL`); E moves multirate's
     /// estimator between the control stage and the compute pre-pass; T times `pixel` mode
-    /// again for the title's speed.
+    /// again for the title's speed; S turns the shadows off and on.
     fn on_key(&mut self, text: &str) {
         let level = match self.view.mode {
             Mode::Fixed(level) => level,
@@ -642,6 +535,15 @@ impl App {
             }
             "t" => {
                 self.retime = true;
+                return;
+            }
+            "s" => {
+                if self.scene.shadow_casters.is_empty() {
+                    eprintln!("no light of this scene casts shadows");
+                } else {
+                    self.shadows = !self.shadows;
+                    self.remake_renderer = true;
+                }
                 return;
             }
             "[" | "]" => {
@@ -780,6 +682,15 @@ impl ExtentExt for vk::Extent2D {
     }
 }
 
+/// `scene`, or a copy of it whose lights cast no shadows.
+fn shown_scene(scene: &Scene, shadows: bool) -> std::borrow::Cow<'_, Scene> {
+    if shadows || scene.shadow_casters.is_empty() {
+        std::borrow::Cow::Borrowed(scene)
+    } else {
+        std::borrow::Cow::Owned(scene.without_shadows())
+    }
+}
+
 /// `view`'s shading evaluations as a percentage of `pixel` mode's at the same camera; None
 /// where the device cannot count them.
 fn evaluation_percent(renderer: &Renderer, target: &RenderTarget, view: &View) -> Result<Option<f64>> {
@@ -795,6 +706,5 @@ fn evaluation_percent(renderer: &Renderer, target: &RenderTarget, view: &View) -
     Ok(Some(100.0 * counts.total() as f64 / reference.total().max(1) as f64))
 }
 
+mod script;
 mod speed;
-#[cfg(test)]
-mod tests;

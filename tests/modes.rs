@@ -244,6 +244,7 @@ fn the_cost_model_shades_small_images_per_pixel_and_small_meshes_as_pixel_does()
         multirate::analysis::report::Triangles::Visible,
         false,
         multirate::analysis::report::TextureBounds::Pyramid,
+        None,
     );
     let small = report.iter().filter(|t| t.small_image).count();
     assert!(small > 0 && small < report.len(), "{small} of {} visible triangles are small", report.len());

@@ -295,3 +295,40 @@ fn triangles_classed_lit_or_shadowed_show_that_visibility_at_every_pixel() {
     }
     assert_validation_clean(&context);
 }
+
+/// The room with shadows (scenes/room_shadows.toml: a hard and a filtered point light, and an
+/// unshadowed polygonal panel) at its done-when ε: multirate within ε of `pixel` with the same
+/// maps in both placements, and every triangle that each light's class decides showing that
+/// visibility wherever `pixel` shades it.
+#[test]
+fn the_room_with_shadows_keeps_the_bound_and_its_classes_are_sound() {
+    let scene = Scene::load(&repo_path("scenes/room_shadows.toml")).expect("scenes/room_shadows.toml loads");
+    let filters: Vec<u32> = scene.shadow_casters.iter().map(|c| c.filter).collect();
+    assert_eq!(filters, [1, 3], "a hard and a filtered shadow");
+    let context = validated_context();
+    let target = RenderTarget::new(&context, vk::Extent2D { width: WIDTH, height: HEIGHT }).expect("target");
+    let renderer = Renderer::new(&context, &scene).expect("renderer");
+    let reference = renderer.analyze(&target, &View::of_scene(&scene)).expect("pixel");
+    for placement in [Placement::Compute, Placement::Tcs] {
+        let base = View::of_scene(&scene);
+        let estimator = EstimatorSettings { epsilon: 0.075, ..base.estimator };
+        let view = View { mode: Mode::Multirate, placement, estimator, ..base };
+        let analysis = renderer.analyze(&target, &view).expect("multirate");
+        let over = metrics::pixels_over(reference.frame(), analysis.frame(), 0.075);
+        let error = metrics::image_error(reference.frame(), analysis.frame(), scene.settings.exposure);
+        eprintln!("room, {placement:?}: L∞ {:.4} on pixels of the same triangle", error.l_inf_same_triangle);
+        assert_eq!(over, 0, "room, {placement:?}: {over} pixels of the same triangle over ε ({error:?})");
+    }
+    drop(renderer);
+    for caster in &scene.shadow_casters {
+        let [lit, dark, wrong] = class_against_pixel(&context, &one_light(&scene, caster.light, true));
+        eprintln!("room, light {}: {lit} pixels lit, {dark} shadowed, {wrong} wrong", caster.light);
+        assert_eq!(
+            wrong, 0,
+            "room, light {}: {wrong} pixels of decided triangles show another",
+            caster.light
+        );
+        assert!(lit > 1000 && dark > 100, "room, light {}: the class decides little", caster.light);
+    }
+    assert_validation_clean(&context);
+}

@@ -1,5 +1,5 @@
-//! The viewer opens a window (in a tessellated mode), switches modes, heat map, wireframe, ε
-//! and n_max by key, renders, survives a resize (swapchain recreation) and closes cleanly with
+//! The viewer opens a window (in a tessellated mode), switches modes, heat map, wireframe, ε,
+//! n_max and shadows by key, renders, survives a resize (swapchain recreation) and closes cleanly with
 //! the validation layer on; its title shows the GPU time, the speed against `pixel` and the
 //! evaluations. Then the soak:
 //! `multirate soak` runs the window for 10,000 frames through every mode, key and size,
@@ -13,7 +13,7 @@ mod common;
 
 use common::VirtualDisplay;
 use multirate::render::{Mode, View};
-use multirate::scene::Scene;
+use multirate::scene::{Scene, ShadowCaster};
 use multirate::vk::ContextOptions;
 use multirate::window::{view, ScriptEvent, ViewScript};
 use std::ffi::OsString;
@@ -35,7 +35,8 @@ fn window_opens_resizes_and_closes_cleanly() {
     let _display = VirtualDisplay::ensure();
     let scene = common::repo_path("scenes/test/lambert_directional.toml");
     // Heat map, wireframe, vertex mode, then back to fixed:4 (F, then +); ε halved twice and
-    // doubled once, n_max the same.
+    // doubled once, n_max the same; the shadows off for the last frames (the renderer made
+    // again, with the wireframe still on).
     let keys = [
         (2, "h"),
         (4, "w"),
@@ -49,12 +50,14 @@ fn window_opens_resizes_and_closes_cleanly() {
         (9, "+"),
         (10, "]"),
         (10, ">"),
+        (10, "s"),
     ];
     let mut events: Vec<(u32, ScriptEvent)> =
         keys.iter().map(|&(at, key)| (at, ScriptEvent::Key(key))).collect();
     events.insert(2, (3, ScriptEvent::Resize(200, 150)));
     let script = ViewScript { events, close_at_frame: 12 };
-    let scene = Scene::load(&scene).expect("scene loads");
+    let mut scene = Scene::load(&scene).expect("scene loads");
+    scene.shadow_casters.push(ShadowCaster { light: 0, resolution: 64, filter: 3 });
     let start = View { mode: Mode::Fixed(3), ..View::of_scene(&scene) };
     let (epsilon, n_max) = (start.estimator.epsilon, start.estimator.n_max);
     let report = view(scene, start, &ContextOptions { validate: true, device_name: None }, Some(script))
@@ -69,10 +72,14 @@ fn window_opens_resizes_and_closes_cleanly() {
     assert!(last.wireframe, "W toggled the wireframe on (lavapipe has fillModeNonSolid)");
     assert_eq!(last.estimator.epsilon, epsilon * 0.5, "[ halves ε twice, ] doubles it once");
     assert_eq!(last.estimator.n_max, (n_max / 4).max(1) * 2, "< halves n_max twice, > doubles it once");
+    assert!(
+        report.frames_without_shadows >= 1 && report.frames_without_shadows < report.frames_presented,
+        "S turned the shadows off for the last frames: {report:?}"
+    );
     // The title: mode, GPU time from timestamps, speed and evaluations against `pixel` (fixed:4
     // shades sub-vertices only, a fraction of the covered pixels here).
     let title = &report.final_title;
-    assert!(title.contains("fixed:4"), "{title}");
+    assert!(title.contains("fixed:4") && title.contains("shadows off"), "{title}");
     let number_before = |unit: &str| -> f64 {
         let head = &title[..title.find(unit).unwrap_or_else(|| panic!("no `{unit}` in {title}"))];
         head.split_whitespace().last().and_then(|w| w.parse().ok()).unwrap_or_else(|| panic!("{title}"))

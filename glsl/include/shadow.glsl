@@ -45,6 +45,25 @@ int slot_light(int slot) {
     return slot < SHADOWED_POINT_LIGHTS ? slot : POINT_LIGHT_COUNT + slot - SHADOWED_POINT_LIGHTS;
 }
 
+// A triangle's visibility classes as its estimate reads them (docs/estimator.md section 18):
+// those of scene triangle `triangle` (triangle_shadow_classes), none without shadows (nothing
+// read then).
+uint estimated_classes(uint triangle) {
+    return SHADOWS ? triangle_shadow_classes(triangle) : 0u;
+}
+
+// Whether light `i` of `lights` reaches none of a triangle of visibility classes `classes`: its
+// shading there is zero, drawn as the class says, so its interpolation error is zero too, and the
+// estimate leaves it out.
+bool shadowed_in(int i, uint classes) {
+    return casts_shadows(i) && (classes & (SHADOWED_CLASS_BIT << uint(shadow_slot(i)))) != 0u;
+}
+
+// How many lights reach none of a triangle of visibility classes `classes`.
+int shadowed_count(uint classes) {
+    return bitCount(classes & (MIXED_CLASS_BIT - 1u));
+}
+
 // The kernel's texels reach this far (in texels) beyond the point's own texel, plus rounding;
 // the lookup point is pushed off the surface by as much, times the sine of the angle between
 // the normal and the light, so that a plane never shadows itself (acne), while the offset

@@ -168,28 +168,30 @@ vec4 estimator_eye() {
 
 // Whether the range class settles the draw's triangle (estimator/range.glsl): level 1 without
 // an estimate; `every_capped`: whether its estimate bounds every light's specular part by its cap.
+// `classes`, here and below: the triangle's visibility classes (shadow.glsl, estimated_classes),
+// by which the lights that reach none of it are left out.
 bool settled_triangle(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2,
-                      out bool every_capped) {
+                      uint classes, out bool every_capped) {
     return settled_by_range(p0, p1, p2, n0, n1, n2, estimator_eye(), draw.material_index,
-                            draw_parameter_range(t0, t1, t2), draw.epsilon, every_capped);
+                            draw_parameter_range(t0, t1, t2), draw.epsilon, classes, every_capped);
 }
 
 // The estimator's level of the draw's triangle (positions p, normals n, texture coordinates t),
 // not culled and not settled by the range class: >= 1, or FALLBACK_LEVEL for per-pixel shading.
 // `every_capped`: settled_triangle's.
 float estimated_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2,
-                      bool every_capped) {
+                      uint classes, bool every_capped) {
     return required_level(p0, p1, p2, n0, n1, n2, estimator_eye(), draw.material_index,
-                          draw_parameter_range(t0, t1, t2), draw.epsilon, float(draw.n_max), every_capped);
+                          draw_parameter_range(t0, t1, t2), draw.epsilon, float(draw.n_max), every_capped, classes);
 }
 
 // One of the two passes of estimated_level (estimate_pass): the compute pre-pass runs the
 // second, with `refine`, as a step of its own over the triangles the first lists.
 float estimated_level_pass(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2,
-                           bool every_capped, bool refine, out bool refine_next) {
+                           uint classes, bool every_capped, bool refine, out bool refine_next) {
     return estimate_pass(p0, p1, p2, n0, n1, n2, estimator_eye(), draw.material_index,
                          draw_parameter_range(t0, t1, t2), draw.epsilon, float(draw.n_max), every_capped, refine,
-                         refine_next);
+                         classes, refine_next);
 }
 
 // Whether the image of the triangle at clip positions a, b, c, all in front of the eye, covers
@@ -229,26 +231,28 @@ bool small_per_pixel(vec3 p0, vec3 p1, vec3 p2) {
 // back_face_per_pixel, 1 where the range class settles it, FALLBACK_LEVEL for a small_per_pixel,
 // else its estimated_level (`analysis::report`'s `level_of` in Rust). The compute pre-pass takes
 // the same steps apart: cull_triangles.comp, range_levels.comp, triangle_levels.comp.
-float visible_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2) {
+float visible_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2,
+                    uint classes) {
     if (back_face_per_pixel(p0, p1, p2)) {
         return FALLBACK_LEVEL;
     }
     bool every_capped;
-    if (settled_triangle(p0, p1, p2, n0, n1, n2, t0, t1, t2, every_capped)) {
+    if (settled_triangle(p0, p1, p2, n0, n1, n2, t0, t1, t2, classes, every_capped)) {
         return 1.0;
     }
     if (small_per_pixel(p0, p1, p2)) {
         return FALLBACK_LEVEL;
     }
-    return estimated_level(p0, p1, p2, n0, n1, n2, t0, t1, t2, every_capped);
+    return estimated_level(p0, p1, p2, n0, n1, n2, t0, t1, t2, classes, every_capped);
 }
 
 // The level of the draw's triangle: CULLED_LEVEL, or its visible_level.
-float triangle_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2) {
+float triangle_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec2 t0, vec2 t1, vec2 t2,
+                     uint classes) {
     if (patch_culled(p0, p1, p2)) {
         return CULLED_LEVEL;
     }
-    return visible_level(p0, p1, p2, n0, n1, n2, t0, t1, t2);
+    return visible_level(p0, p1, p2, n0, n1, n2, t0, t1, t2, classes);
 }
 
 #endif

@@ -3,6 +3,8 @@
 //! writes for its patch (`patch_levels` of its own and its three neighbours' levels: the
 //! twin the GPU agreement test compares with), and optionally the oracle's truth on the
 //! pattern the driver really emits for those levels (`triangle_pattern(inner, outer)`).
+//! Where the scene's lights cast shadows, each triangle's estimate sums the lights its
+//! visibility classes let reach it, in the shaders' order (`ShadowClasses::lights_reaching`).
 
 use super::measured::Measured;
 use super::oracle::{oracle_level, true_error_textured, vertices_at_level, SAMPLES_PER_EDGE};
@@ -11,14 +13,16 @@ use crate::geometry::camera::view_projection;
 use crate::geometry::cull::{
     back_face_per_pixel, culled, faces_away, small_per_pixel, PerPixelRule, CULLED_LEVEL,
 };
-use crate::scene::adjacency::{adjacency_patches, PATCH_SIZE};
+use crate::geometry::shadow_class::ShadowClasses;
+use crate::scene::adjacency::{adjacency_patches, neighbours, PATCH_SIZE};
 use crate::scene::texture::PowerSat;
-use crate::scene::{with_parameter, ParameterRange, Scene};
+use crate::scene::{with_parameter, Light, ParameterRange, Scene};
 use crate::shading::estimator::{
     estimate_textured, patch_levels, settled_by_range, Estimate, EstimatorSettings, PatchLevels,
     TriangleInput, FALLBACK_LEVEL, TERM_NAMES,
 };
 use glam::Vec2;
+use std::borrow::Cow;
 use std::collections::HashMap;
 use std::fmt::Write as _;
 
@@ -112,18 +116,31 @@ impl std::str::FromStr for TextureBounds {
 }
 
 /// Analyses the `which` triangles of `scene`; with `with_oracle` also the brute-force truth.
-/// Textured parameters take their range over each triangle by `bounds`.
+/// Textured parameters take their range over each triangle by `bounds`. `shadows`: the
+/// visibility classes of the scene's triangles against its shadow maps (`Renderer::shadow_classes`),
+/// by which each triangle's estimate leaves out the lights that reach none of it; None: every
+/// light reaches every triangle.
 pub fn analyze(
     scene: &Scene,
     settings: &EstimatorSettings,
     which: Triangles,
     with_oracle: bool,
     bounds: TextureBounds,
+    shadows: Option<&ShadowClasses>,
 ) -> Vec<TriangleReport> {
     let view_proj = view_projection(&scene.camera, scene.settings.width, scene.settings.height);
     let n_max = settings.n_max.clamp(1, 64);
     let mut reports = Vec::new();
+    let mut first_triangle = 0;
     for (mesh_index, mesh) in scene.meshes.iter().enumerate() {
+        let mesh_first = first_triangle;
+        first_triangle += mesh.indices.len() / 3;
+        // The lights mesh triangle `t`'s estimate sums.
+        let lights_of = |t: usize| match shadows {
+            Some(classes) => Cow::Owned(classes.lights_reaching(&scene.lights, mesh_first + t)),
+            None => Cow::Borrowed(&scene.lights[..]),
+        };
+        let across = neighbours(mesh);
         let material = &scene.materials[mesh.material].kind;
         let input = |corners: &[u32]| TriangleInput::of(mesh, corners, scene.camera.eye);
         let map = scene.materials[mesh.material].maps.parameter.as_ref();
@@ -145,8 +162,8 @@ pub fn analyze(
                 (None, _) => ParameterRange::of(material),
             }
         };
-        let estimate_of = |corners: &[u32]| {
-            estimate_textured(&input(corners), material, range(corners), &scene.lights, settings)
+        let estimate_of = |corners: &[u32], lights: &[Light]| {
+            estimate_textured(&input(corners), material, range(corners), lights, settings)
         };
         let positions_of = |corners: &[u32]| [0, 1, 2].map(|k| mesh.positions[corners[k] as usize]);
         let culled_of =
@@ -160,28 +177,28 @@ pub fn analyze(
         // As triangle_level.glsl's visible_level: a back face of a two-sided mesh falls back
         // without an estimate; then the range class settles a triangle at level 1, or an image
         // too small to pay for an estimate falls back without one.
-        let settled_of = |corners: &[u32]| {
+        let settled_of = |corners: &[u32], lights: &[Light]| {
             settled_by_range(
                 &input(corners),
                 material,
                 range(corners),
-                &scene.lights,
+                lights,
                 (settings.epsilon, settings.eye_radius),
             )
         };
-        let per_pixel_of = |corners: &[u32]| {
+        let per_pixel_of = |corners: &[u32], lights: &[Light]| {
             let positions = positions_of(corners);
             // The range bound only where the area rule would apply: estimate_of runs it again.
             back_face_per_pixel(&rule, positions, !mesh.two_sided)
-                || (small_per_pixel(&rule, positions) && !settled_of(corners))
+                || (small_per_pixel(&rule, positions) && !settled_of(corners, lights))
         };
-        let level_of = |corners: &[u32]| {
+        let level_of = |corners: &[u32], lights: &[Light]| {
             if culled_of(corners) {
                 CULLED_LEVEL
-            } else if per_pixel_of(corners) {
+            } else if per_pixel_of(corners, lights) {
                 FALLBACK_LEVEL
             } else {
-                estimate_of(corners).level
+                estimate_of(corners, lights).level
             }
         };
         let patches = adjacency_patches(mesh);
@@ -191,17 +208,20 @@ pub fn analyze(
                 continue;
             }
             let own = input(&patch[0..3]);
-            let own_estimate = estimate_of(&patch[0..3]);
-            let per_pixel = per_pixel_of(&patch[0..3]);
+            let lights = lights_of(triangle);
+            let own_estimate = estimate_of(&patch[0..3], &lights);
+            let per_pixel = per_pixel_of(&patch[0..3], &lights);
             let back_face = mesh.two_sided && faces_away(scene.camera.eye, positions_of(&patch[0..3]));
-            let neighbours = [0, 1, 2].map(|edge| level_of(&patch[3 + 3 * edge..6 + 3 * edge]));
+            let neighbours = [0, 1, 2].map(|edge| {
+                let corners = &patch[3 + 3 * edge..6 + 3 * edge];
+                level_of(corners, &lights_of(across[triangle][edge] as usize))
+            });
             let own_level = if per_pixel { FALLBACK_LEVEL } else { own_estimate.level };
             let levels = patch_levels(own_level, neighbours, n_max);
             let (oracle_n, true_err) = if with_oracle {
-                let oracle =
-                    oracle_level(&own, material, &scene.lights, settings.epsilon as f64, n_max, |n| {
-                        triangle_pattern(n as f32, [n as f32; 3])
-                    });
+                let oracle = oracle_level(&own, material, &lights, settings.epsilon as f64, n_max, |n| {
+                    triangle_pattern(n as f32, [n as f32; 3])
+                });
                 let error = (!levels.fallback).then(|| {
                     let pattern = triangle_pattern(levels.inner, levels.outer);
                     // A textured parameter is sampled at the point's uv (finest level).
@@ -219,7 +239,7 @@ pub fn analyze(
                     true_error_textured(
                         &own,
                         &material_at,
-                        &scene.lights,
+                        &lights,
                         &pattern,
                         SAMPLES_PER_EDGE,
                         f64::INFINITY,

@@ -6,6 +6,7 @@ use super::shading::ShadingArgs;
 use anyhow::{Context as _, Result};
 use clap::Args;
 use multirate::analysis::report;
+use multirate::geometry::shadow_class::ShadowClasses;
 use multirate::render::cost_model::CostModel;
 use multirate::render::{Mode, View};
 use multirate::scene::Scene;
@@ -50,8 +51,15 @@ pub fn analyze(args: &AnalyzeArgs, gpu: &GpuArgs) -> Result<()> {
         view.cost_model = false;
     }
     let settings = &view.estimator;
-    let reports =
-        report::analyze(&scene, settings, report::Triangles::Visible, args.oracle, args.texture_bounds);
+    let classes = shadow_classes(&scene, gpu)?;
+    let reports = report::analyze(
+        &scene,
+        settings,
+        report::Triangles::Visible,
+        args.oracle,
+        args.texture_bounds,
+        classes.as_ref(),
+    );
     let measured = if args.measured { Some(measure_triangles(&scene, &view, gpu)?) } else { None };
     std::fs::write(&args.out, report::to_csv(&reports, args.oracle, measured.as_ref()))
         .with_context(|| format!("{}: cannot write the CSV", args.out.display()))?;
@@ -68,7 +76,9 @@ pub fn analyze(args: &AnalyzeArgs, gpu: &GpuArgs) -> Result<()> {
         summary.fallbacks, summary.back_faces, summary.small_images, settings.min_estimated_area
     );
     println!("  shading evaluations (tessellated vertices), estimator: {}", summary.estimator_evaluations);
-    report_shadow_classes(&scene, gpu)?;
+    if let Some(classes) = &classes {
+        report_shadow_classes(classes);
+    }
     if args.oracle {
         println!("  shading evaluations (tessellated vertices), oracle:    {}", summary.oracle_evaluations);
         println!("  tessellated triangles whose true error exceeds ε: {}", summary.violations);
@@ -100,15 +110,19 @@ pub fn analyze(args: &AnalyzeArgs, gpu: &GpuArgs) -> Result<()> {
     Ok(())
 }
 
-/// Each shadow-casting light's visibility classes over the scene's triangles (section 18 of
-/// docs/estimator.md), from the maps the renderer draws and reads back.
-fn report_shadow_classes(scene: &Scene, gpu: &GpuArgs) -> Result<()> {
+/// The visibility classes of the scene's triangles (section 18 of docs/estimator.md), from the
+/// maps the renderer draws and reads back; None where no light casts shadows.
+fn shadow_classes(scene: &Scene, gpu: &GpuArgs) -> Result<Option<ShadowClasses>> {
     if scene.shadow_casters.is_empty() {
-        return Ok(());
+        return Ok(None);
     }
     let context = Context::headless(&options(gpu))?;
     let renderer = multirate::render::Renderer::new(&context, scene)?;
-    let classes = renderer.shadow_classes();
+    Ok(Some(renderer.shadow_classes().clone()))
+}
+
+/// Each shadow-casting light's share of triangles lit, shadowed and mixed.
+fn report_shadow_classes(classes: &ShadowClasses) {
     for (slot, [lit, shadowed, mixed]) in classes.counts().into_iter().enumerate() {
         let share = |n: usize| 100.0 * n as f64 / (lit + shadowed + mixed).max(1) as f64;
         println!(
@@ -119,7 +133,6 @@ fn report_shadow_classes(scene: &Scene, gpu: &GpuArgs) -> Result<()> {
             share(mixed)
         );
     }
-    Ok(())
 }
 
 fn scene_name(path: &std::path::Path) -> String {

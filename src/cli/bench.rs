@@ -9,7 +9,6 @@ use clap::Args;
 use multirate::bench::{self, BenchConfig, BenchScene};
 use multirate::render::{DrawPart, Mode, Placement, Renderer, EYE_BALL_SHARE};
 use multirate::scene::settings::{check_epsilon, check_n_max};
-use multirate::scene::Scene;
 use multirate::shading::estimator::{Discontinuity, Split};
 use multirate::vk::Context;
 use std::path::{Path, PathBuf};
@@ -237,7 +236,7 @@ fn with_shadowless_twins(scenes: Vec<BenchScene>, twins: bool) -> Vec<BenchScene
         .flat_map(|bench_scene| {
             let twin = (twins && !bench_scene.scene.shadow_casters.is_empty()).then(|| BenchScene {
                 name: format!("{}_without_shadows", bench_scene.name),
-                scene: Scene { shadow_casters: Vec::new(), ..bench_scene.scene.clone() },
+                scene: bench_scene.scene.without_shadows(),
             });
             std::iter::once(bench_scene).chain(twin)
         })

@@ -13,7 +13,7 @@
 
 use super::shadow_footprint::{cube_images, directional_image};
 pub use super::shadow_footprint::{DepthSquare, Visibility};
-use super::shadow_view::{Projection, ShadowLayout};
+use super::shadow_view::{shader_order, Projection, ShadowLayout};
 use crate::scene::{Light, Scene};
 use glam::Vec3;
 
@@ -128,6 +128,18 @@ impl ShadowClasses {
     /// Every triangle's classes, by slot.
     pub fn per_triangle(&self) -> impl Iterator<Item = &[Visibility]> {
         self.classes.chunks_exact(self.lights.len().max(1))
+    }
+
+    /// Triangle `triangle`'s lights as its estimate sums them (docs/estimator.md section 18):
+    /// `lights` (the scene's) in the shaders' order ([`shader_order`]), without those that reach
+    /// none of it.
+    pub fn lights_reaching(&self, lights: &[Light], triangle: usize) -> Vec<Light> {
+        let slot = |i: usize| self.lights.iter().position(|&light| light == i);
+        shader_order(lights, |i| slot(i).is_some())
+            .into_iter()
+            .filter(|&i| slot(i).is_none_or(|s| self.visibility(triangle, s) != Visibility::Shadowed))
+            .map(|i| lights[i])
+            .collect()
     }
 
     /// Per slot, how many triangles are lit, shadowed and mixed.

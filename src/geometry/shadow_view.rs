@@ -117,6 +117,21 @@ impl ShadowLayout {
     }
 }
 
+/// The order the shaders number `lights` in (`render::ShaderLights`): the point lights, then the
+/// directional ones, then the polygonal ones; among the point and among the directional lights,
+/// those that cast shadows (`casts(i)` for light `i`) first; otherwise in `Scene::lights` order.
+/// The shadow casters' slots ([`ShadowLayout::of`]) follow it.
+pub fn shader_order(lights: &[Light], casts: impl Fn(usize) -> bool) -> Vec<usize> {
+    let kind = |i: usize| match lights[i] {
+        Light::Point { .. } => 0,
+        Light::Directional { .. } => 1,
+        Light::Polygon(_) => 2,
+    };
+    let mut order: Vec<usize> = (0..lights.len()).collect();
+    order.sort_by_key(|&i| (kind(i), !casts(i), i));
+    order
+}
+
 /// Places `maps` in rows, tallest first, in an atlas as wide as the smallest power of two that
 /// holds them all in about a square; returns its extent.
 fn pack(maps: &mut [ShadowMap]) -> [u32; 2] {

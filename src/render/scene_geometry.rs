@@ -4,7 +4,7 @@
 
 use super::textures::gpu_material;
 use crate::geometry::shadow_class::{ShadowClasses, Visibility};
-use crate::geometry::shadow_view::{LightShadow, Projection, ShadowLayout};
+use crate::geometry::shadow_view::{shader_order, LightShadow, Projection, ShadowLayout};
 use crate::gpu_interface::flags::{FLAG_ONE_SIDED, FLAG_SHARED_CORNERS};
 use crate::gpu_interface::slots::{MAX_SHADOWED_LIGHTS, MIXED_CLASS_BIT, SHADOWED_CLASS_BIT};
 use crate::gpu_types::{DrawConstants, GpuLight, GpuMaterial, GpuPolygonLight, GpuShadowMap, Vertex};
@@ -62,38 +62,31 @@ fn material_kind_id(kind: &MaterialKind) -> u32 {
 
 /// The scene's point and directional lights as the shaders read them ([`ShaderLights`]).
 pub fn gpu_lights(lights: &[Light], shadows: &[Option<LightShadow>]) -> ShaderLights {
-    let mut points = Vec::new();
-    let mut directionals = Vec::new();
-    for (index, light) in lights.iter().enumerate() {
-        let shadow = shadows.get(index).copied().flatten();
+    let shadow_of = |index: usize| shadows.get(index).copied().flatten();
+    let mut gpu = ShaderLights::default();
+    for index in shader_order(lights, |index| shadow_of(index).is_some()) {
+        let shadow = shadow_of(index);
         let gpu_shadow = match shadow {
             Some(s) => IVec4::new(s.map as i32, s.radius as i32, s.slot as i32, 0),
             None => IVec4::new(-1, 0, 0, 0),
         };
-        // Shadow-casting lights first, by slot; the others in the scene's order.
-        let key = (shadow.map_or(u32::MAX, |s| s.slot), index);
-        let (group, position, radiance) = match *light {
+        let (position, radiance, count, shadowed) = match lights[index] {
             Light::Point { position, color, intensity } => {
-                (&mut points, position.extend(1.0), color * intensity)
+                (position.extend(1.0), color * intensity, &mut gpu.point_count, &mut gpu.shadowed_point_count)
             }
-            Light::Directional { direction, color, intensity } => {
-                (&mut directionals, direction.extend(0.0), color * intensity)
-            }
+            Light::Directional { direction, color, intensity } => (
+                direction.extend(0.0),
+                color * intensity,
+                &mut gpu.directional_count,
+                &mut gpu.shadowed_directional_count,
+            ),
             Light::Polygon(_) => continue,
         };
-        group.push((key, GpuLight { position, radiance: radiance.extend(0.0), shadow: gpu_shadow }));
+        *count += 1;
+        *shadowed += i32::from(shadow.is_some());
+        gpu.lights.push(GpuLight { position, radiance: radiance.extend(0.0), shadow: gpu_shadow });
     }
-    points.sort_by_key(|(key, _)| *key);
-    directionals.sort_by_key(|(key, _)| *key);
-    let shadowed =
-        |group: &[((u32, usize), GpuLight)]| group.iter().filter(|(_, l)| l.shadow.x >= 0).count() as i32;
-    ShaderLights {
-        point_count: points.len() as i32,
-        directional_count: directionals.len() as i32,
-        shadowed_point_count: shadowed(&points),
-        shadowed_directional_count: shadowed(&directionals),
-        lights: points.into_iter().chain(directionals).map(|(_, light)| light).collect(),
-    }
+    gpu
 }
 
 /// The point and directional lights in the order the shaders number them: the point lights,

@@ -112,6 +112,11 @@ impl Scene {
         validate::build(path, file)
     }
 
+    /// This scene with no light casting shadows (the viewer's S, bench's `--without-shadows`).
+    pub fn without_shadows(&self) -> Scene {
+        Scene { shadow_casters: Vec::new(), ..self.clone() }
+    }
+
     /// The number of triangles in all meshes (degenerate ones included).
     pub fn triangle_count(&self) -> usize {
         self.meshes.iter().map(|m| m.indices.len() / 3).sum()

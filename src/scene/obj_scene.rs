@@ -18,7 +18,7 @@
 //! and above, framing it whole (from another side where that shows clearly more front-facing
 //! area: the open side of a room); three lights follow the camera: a warm key light above left, a
 //! cool fill light at the right (both points, giving about the same irradiance at the model for
-//! any model size) and a directional light from above and behind.
+//! any model size) and a directional light from above and behind; all three cast shadows.
 //!
 //! Faces without normals get smooth normals, per material. Neighbouring triangles of different
 //! materials are different meshes: their shared edges may be subdivided differently (a
@@ -27,7 +27,9 @@
 use super::adjacency;
 use super::error::SceneError;
 use super::mesh::{self, ObjProblem, Transform};
-use super::model::{Camera, Light, Material, MaterialKind, MaterialMaps, Mesh, RenderSettings, Scene};
+use super::model::{
+    Camera, Light, Material, MaterialKind, MaterialMaps, Mesh, RenderSettings, Scene, ShadowCaster,
+};
 use super::texture::{Texture, TextureUsage};
 
 use std::cell::RefCell;
@@ -165,11 +167,12 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
     }
 
     let (camera, lights) = frame(path, &meshes)?;
+    let shadow_casters = casters_of(&lights);
     let triangles: usize = meshes.iter().map(|m| m.indices.len() / 3).sum();
     Ok(Scene {
         path: path.to_path_buf(),
         description: format!(
-            "{} ({triangles} triangles, {} material{}): camera framed on its bounds, key, fill and directional lights",
+            "{} ({triangles} triangles, {} material{}): camera framed on its bounds, key, fill and directional lights casting shadows",
             path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default(),
             scene_materials.len(),
             if scene_materials.len() == 1 { "" } else { "s" }
@@ -178,11 +181,24 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
         settings: RenderSettings::default(),
         materials: scene_materials,
         lights,
-        shadow_casters: Vec::new(),
+        shadow_casters,
         meshes,
         origin,
         warnings,
     })
+}
+
+/// Every added light casts shadows, on maps of the default resolution: the key's hard (a sharp
+/// key shadow shows the model's shape), the fill's and the directional light's through a 3 × 3
+/// filter (softer, as light from wider sources).
+fn casters_of(lights: &[Light]) -> Vec<ShadowCaster> {
+    (0..lights.len())
+        .map(|light| ShadowCaster {
+            light,
+            resolution: ShadowCaster::DEFAULT_RESOLUTION,
+            filter: if light == 0 { 1 } else { 3 },
+        })
+        .collect()
 }
 
 /// An MTL file that was read, and how many materials it added (in the order `tobj` merges them).

@@ -13,9 +13,10 @@ int worse(int a, int b) {
 // Every light's bounds summed over the triangle in `frame` into `sums` (`light_sums` in Rust): the
 // reason to fall back (REASON_NONE if none); with `every_capped` (the range class's), each light's
 // specular part bounded by its cap; with `refine`, each point or directional light's ranges over
-// the patch's REFINE_CHILDREN children.
+// the patch's REFINE_CHILDREN children. The lights that reach none of the triangle by its
+// visibility `classes` (shadowed_in) add nothing.
 int light_sums(Frame frame, GpuMaterial material, vec2 param, float eps, uint n_max, float top, bool every_capped,
-               bool refine, out Sums sums) {
+               bool refine, uint classes, out Sums sums) {
     Guard gd = FRESH_GUARD;
     if (SPLIT == 0) {
         for (int t = 0; t < TERM_COUNT; ++t) {
@@ -61,6 +62,9 @@ int light_sums(Frame frame, GpuMaterial material, vec2 param, float eps, uint n_
         int r = refine ? turn % (REFINE_CHILDREN + 1) : REFINE_CHILDREN;
         GpuLight light = GpuLight(vec4(0.0), vec4(0.0), ivec4(-1, 0, 0, 0));
         if (polygon < 0) {
+            if (shadowed_in(i, classes)) {
+                continue;
+            }
             light = lights[i];
         }
         Frame at = frame;
@@ -124,9 +128,9 @@ bool refining_futile(Sums sums, float eps) {
 // `refine`) is one that Rust estimates again with it: its `Estimate::level` (FALLBACK_LEVEL above
 // n_max) exceeds REFINE_ABOVE (`!(<=)`: true for NaN, as Rust's fallback level). `every_capped`:
 // the range class's (settled_by_range). The level holds for every eye within eye_ball.w of
-// eye_ball.xyz.
+// eye_ball.xyz. `classes`: the triangle's visibility classes (estimated_classes).
 float estimate_pass(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec4 eye_ball, uint material_index,
-                    vec2 param, float epsilon, float n_max_value, bool every_capped, bool refine,
+                    vec2 param, float epsilon, float n_max_value, bool every_capped, bool refine, uint classes,
                     out bool refine_next) {
     uint n_max = uint(clamp(n_max_value, 1.0, 64.0));
     P float eps = epsilon > 0.0 ? epsilon : 0.0;
@@ -134,7 +138,7 @@ float estimate_pass(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec4 e
     GpuMaterial material = materials[material_index];
     Frame frame = make_frame(p0, p1, p2, n0, n1, n2, eye_ball);
     Sums sums;
-    int reason = light_sums(frame, material, param, eps, n_max, top, every_capped, refine, sums);
+    int reason = light_sums(frame, material, param, eps, n_max, top, every_capped, refine, classes, sums);
     P float level = reason == REASON_NONE ? decide(sums, eps, n_max) : FALLBACK_LEVEL;
     // Not where refining cannot keep the triangle from falling back.
     bool futile = refining_futile(sums, eps);
@@ -149,12 +153,13 @@ float estimate_pass(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec4 e
 // Estimate::level of the triangle: estimate_pass, and again with `refine` where it asks for it.
 // One call site in a loop: a second one would inline the whole estimator twice.
 float required_level(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec4 eye_ball,
-                     uint material_index, vec2 param, float epsilon, float n_max_value, bool every_capped) {
+                     uint material_index, vec2 param, float epsilon, float n_max_value, bool every_capped,
+                     uint classes) {
     P float level = 0.0;
     bool again = false;
     for (int pass = 0; pass < 2; ++pass) {
         level = estimate_pass(p0, p1, p2, n0, n1, n2, eye_ball, material_index, param, epsilon, n_max_value,
-                              every_capped, pass == 1, again);
+                              every_capped, pass == 1, classes, again);
         if (!again) {
             break;
         }

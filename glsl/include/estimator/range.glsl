@@ -247,9 +247,10 @@ bool range_within(vec3 range, float eps) {
 // Rust), returned as soon as the lights summed so far cannot prove level 1 for `eps` and a light's
 // specular part is not capped; ok false: none (a polygonal light, a varying GGX roughness, a
 // spread of 90° or more). `every_capped`: whether every light's specular part is within its cap
-// (`RangeClass::every_specular_capped`; specular_cap from the same quantities).
+// (`RangeClass::every_specular_capped`; specular_cap from the same quantities). The lights that
+// reach none of the triangle by its visibility `classes` (shadowed_in) are not among them.
 P vec3 range_bound(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec4 eye_ball, GpuMaterial material,
-                   vec2 param, float eps, out bool ok, out bool every_capped) {
+                   vec2 param, float eps, uint classes, out bool ok, out bool every_capped) {
     ok = false;
     every_capped = false;
     if (POLYGON_LIGHT_COUNT > 0) {
@@ -269,10 +270,13 @@ P vec3 range_bound(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec4 ey
     }
     bool capped = MATERIAL_KIND != MATERIAL_LAMBERT && v.ok;
     P float budget = eps * SPECULAR_CAP_SHARE;
-    P float count = float(POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT + POLYGON_LIGHT_COUNT);
+    P float count = float(POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT + POLYGON_LIGHT_COUNT - shadowed_count(classes));
     P vec3 kd = material.diffuse.rgb;
     P vec3 total = vec3(0.0);
     for (int i = 0; i < POINT_LIGHT_COUNT + DIRECTIONAL_LIGHT_COUNT; ++i) {
+        if (shadowed_in(i, classes)) {
+            continue;
+        }
         vec2 scale;
         Spread l = light_spread(lights[i].position.xyz, i < POINT_LIGHT_COUNT, p0, p1, p2, scale);
         if (!l.ok) {
@@ -310,11 +314,12 @@ bool range_proves(vec3 range, bool ok, float eps) {
 // Whether the triangle is settled by the range class (level 1, no estimate) for every eye within
 // eye_ball.w of eye_ball.xyz, as estimate_pass's callers decide it (`estimate_textured` in Rust);
 // `every_capped`: whether the estimate bounds every light's specular part by its cap (see
-// range_bound).
+// range_bound). `classes`: the triangle's visibility classes (estimated_classes).
 bool settled_by_range(vec3 p0, vec3 p1, vec3 p2, vec3 n0, vec3 n1, vec3 n2, vec4 eye_ball, uint material_index,
-                      vec2 param, float epsilon, out bool every_capped) {
+                      vec2 param, float epsilon, uint classes, out bool every_capped) {
     P float eps = epsilon > 0.0 ? epsilon : 0.0;
     bool ok;
-    P vec3 range = range_bound(p0, p1, p2, n0, n1, n2, eye_ball, materials[material_index], param, eps, ok, every_capped);
+    P vec3 range = range_bound(p0, p1, p2, n0, n1, n2, eye_ball, materials[material_index], param, eps, classes, ok,
+                                every_capped);
     return range_proves(range, ok, eps);
 }

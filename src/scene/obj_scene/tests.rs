@@ -138,6 +138,9 @@ fn an_obj_with_its_materials_is_a_scene() {
     assert_eq!(irradiances.len(), 2);
     assert!((irradiances[0] - 0.8).abs() < 1e-3 && (irradiances[1] - 0.25).abs() < 1e-3, "{irradiances:?}");
     assert!(scene.lights.iter().any(|l| matches!(l, Light::Directional { .. })));
+    // Each casts shadows, the key's hard.
+    let shadowed: Vec<(usize, u32)> = scene.shadow_casters.iter().map(|c| (c.light, c.filter)).collect();
+    assert_eq!(shadowed, [(0, 1), (1, 3), (2, 3)]);
 }
 
 #[test]

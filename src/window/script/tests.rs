@@ -1,4 +1,4 @@
-//! Tests of `window`: the soak script cycles every key, size and minimised spell.
+//! Tests of `window::script`: the soak script cycles every key, size and minimised spell.
 
 use super::*;
 
