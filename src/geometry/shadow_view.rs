@@ -193,11 +193,16 @@ pub fn directional_map(direction: Vec3, lo: Vec3, hi: Vec3) -> (Mat4, f32) {
     (projection * view, 2.0 * half)
 }
 
-/// A point light at `light`'s depth range: its faces reach every corner of `lo`..`hi`.
+/// A point light at `light`'s depth range: its faces reach every corner of `lo`..`hi`, and
+/// begin short of the box's nearest point. A point at distance `d` from the light lies at least
+/// `d/√3` from it along its face's axis, so a near plane at half that clips nothing, nor the
+/// lookups' lift towards the light (a few texels); a light outside the box gets the depth
+/// precision of its distance to it. Inside, or close to it, near is far·10⁻³.
 pub fn point_depth_range(light: Vec3, lo: Vec3, hi: Vec3) -> (f32, f32) {
     let reach = corners(lo, hi).iter().map(|c| (*c - light).length()).fold(0.0f32, f32::max);
     let far = (reach * 1.01).max(1e-3);
-    (far * 1e-3, far)
+    let nearest = (lo - light).max(light - hi).max(Vec3::ZERO).length();
+    ((0.5 * nearest / 3.0f32.sqrt()).max(far * 1e-3), far)
 }
 
 /// The basis of cube face `face` ([`CUBE_FACES`]): its axis, and the directions of its map's
