@@ -12,6 +12,21 @@ use std::path::Path;
 
 const FRAMES: usize = 3;
 
+/// Runs `multirate --validate <args>` without a display and checks that it succeeds without a
+/// validation message; returns what it printed.
+fn run_validated(args: &[&str]) -> String {
+    let output = common::multirate_command()
+        .arg("--validate")
+        .args(args)
+        .env_remove("DISPLAY")
+        .output()
+        .expect("run multirate");
+    let (stdout, stderr) = (String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
+    assert!(output.status.success(), "multirate {args:?} failed:\n{stdout}\n{stderr}");
+    assert!(!stderr.contains("vulkan:"), "validation messages:\n{stderr}");
+    stdout.into_owned()
+}
+
 #[test]
 fn bench_writes_complete_rows_plots_images_and_a_capture() {
     let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("bench");
@@ -19,19 +34,17 @@ fn bench_writes_complete_rows_plots_images_and_a_capture() {
     let capture = out.join("capture.json");
     let scene = repo_path("scenes/test/lambert_directional.toml");
     let frames = FRAMES.to_string();
-    let output = common::multirate_command()
-        .args(["--validate", "bench", "--scene", scene.to_str().unwrap()])
-        .args(["--modes", "pixel,vertex,fixed:2,multirate", "--epsilon", "0.05,0.2", "--nmax", "8"])
-        .args(["--min-estimated-area", "0,auto"])
-        .args(["--resolution", "256x192", "--frames", &frames, "--warmup", "1", "--images"])
-        .args(["--out", out.to_str().unwrap(), "--capture", capture.to_str().unwrap(), "--draw-parts"])
-        .arg("--pre-pass-steps")
-        .env_remove("DISPLAY")
-        .output()
-        .expect("run multirate bench");
-    let (stdout, stderr) = (String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
-    assert!(output.status.success(), "bench failed:\n{stderr}");
-    assert!(!stderr.contains("vulkan:"), "validation messages:\n{stderr}");
+    let stdout = run_validated(
+        &[
+            &["bench", "--scene", scene.to_str().unwrap()][..],
+            &["--modes", "pixel,vertex,fixed:2,multirate", "--epsilon", "0.05,0.2", "--nmax", "8"],
+            &["--min-estimated-area", "0,auto"],
+            &["--resolution", "256x192", "--frames", &frames, "--warmup", "1", "--images"],
+            &["--out", out.to_str().unwrap(), "--capture", capture.to_str().unwrap(), "--draw-parts"],
+            &["--pre-pass-steps"],
+        ]
+        .concat(),
+    );
     assert!(stdout.contains("the frame's parts"), "{stdout}");
 
     // CSV: pixel, vertex, fixed:2 and multirate at two ε: five rows, every field filled.
@@ -166,16 +179,14 @@ fn bench_measures_a_shadowed_scene_with_and_without_its_shadows() {
     let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("bench_shadows");
     let _ = std::fs::remove_dir_all(&out);
     let scene = repo_path("scenes/shadows.toml");
-    let output = common::multirate_command()
-        .args(["--validate", "bench", "--scene", scene.to_str().unwrap(), "--without-shadows"])
-        .args(["--modes", "multirate", "--resolution", "160x120", "--frames", "1", "--warmup", "0"])
-        .args(["--out", out.to_str().unwrap()])
-        .env_remove("DISPLAY")
-        .output()
-        .expect("run multirate bench");
-    let (stdout, stderr) = (String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
-    assert!(output.status.success(), "bench failed:\n{stderr}");
-    assert!(!stderr.contains("vulkan:"), "validation messages:\n{stderr}");
+    let stdout = run_validated(
+        &[
+            &["bench", "--scene", scene.to_str().unwrap(), "--without-shadows"][..],
+            &["--modes", "multirate", "--resolution", "160x120", "--frames", "1", "--warmup", "0"],
+            &["--out", out.to_str().unwrap()],
+        ]
+        .concat(),
+    );
     let csv = std::fs::read_to_string(out.join("bench.csv")).expect("bench.csv");
     let configurations: Vec<(&str, &str)> = csv
         .lines()
@@ -216,16 +227,13 @@ fn calibrate_stores_every_cost_under_the_device_and_its_compiler_setting() {
     let _ = std::fs::remove_dir_all(&out);
     let store = out.join("cost_model.toml");
     let scene = repo_path("scenes/test/lambert_directional.toml");
-    let output = common::multirate_command()
-        .args(["--validate", "calibrate", "--scene", scene.to_str().unwrap(), "--frames", "1"])
-        .args(["--store", store.to_str().unwrap()])
-        .env_remove("DISPLAY")
-        .output()
-        .expect("run multirate calibrate");
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(output.status.success(), "calibrate failed:\n{stdout}\n{stderr}");
-    assert!(!stderr.contains("vulkan:"), "validation messages:\n{stderr}");
+    let stdout = run_validated(
+        &[
+            &["calibrate", "--scene", scene.to_str().unwrap(), "--frames", "1"][..],
+            &["--store", store.to_str().unwrap()],
+        ]
+        .concat(),
+    );
     // The key it stored under: the device's name, and on lavapipe with `nopt` that setting.
     let key = stdout
         .lines()

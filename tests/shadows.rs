@@ -36,6 +36,13 @@ fn one_light(scene: &Scene, index: usize, shadowed: bool) -> Scene {
     }
 }
 
+/// `scene`'s view in multirate mode with the estimator in `placement`, at `epsilon`.
+fn multirate_view(scene: &Scene, placement: Placement, epsilon: f32) -> View {
+    let base = View::of_scene(scene);
+    let estimator = EstimatorSettings { epsilon, ..base.estimator };
+    View { mode: Mode::Multirate, placement, estimator, ..base }
+}
+
 fn render(scene: &Scene, views: &[View]) -> Vec<FloatImage> {
     let context = validated_context();
     let renderer = Renderer::new(&context, scene).expect("renderer");
@@ -200,9 +207,7 @@ fn multirate_and_pixel_read_the_same_visibility() {
         let renderer = Renderer::new(&context, &scene).expect("renderer");
         let reference = renderer.analyze(&target, &View::of_scene(&scene)).expect("pixel");
         for placement in [Placement::Compute, Placement::Tcs] {
-            let base = View::of_scene(&scene);
-            let estimator = EstimatorSettings { epsilon: 0.02, ..base.estimator };
-            let view = View { mode: Mode::Multirate, placement, estimator, ..base };
+            let view = multirate_view(&scene, placement, 0.02);
             let analysis = renderer.analyze(&target, &view).expect("multirate");
             let (mut ground, mut differing) = (0, 0);
             for (i, (&id, p)) in reference.triangles.iter().zip(&reference.image.pixels).enumerate() {
@@ -310,9 +315,7 @@ fn the_room_with_shadows_keeps_the_bound_and_its_classes_are_sound() {
     let renderer = Renderer::new(&context, &scene).expect("renderer");
     let reference = renderer.analyze(&target, &View::of_scene(&scene)).expect("pixel");
     for placement in [Placement::Compute, Placement::Tcs] {
-        let base = View::of_scene(&scene);
-        let estimator = EstimatorSettings { epsilon: 0.075, ..base.estimator };
-        let view = View { mode: Mode::Multirate, placement, estimator, ..base };
+        let view = multirate_view(&scene, placement, 0.075);
         let analysis = renderer.analyze(&target, &view).expect("multirate");
         let over = metrics::pixels_over(reference.frame(), analysis.frame(), 0.075);
         let error = metrics::image_error(reference.frame(), analysis.frame(), scene.settings.exposure);
