@@ -201,7 +201,7 @@ fn twin_reports(scene: &Scene, view: &View, renderer: &Renderer) -> Vec<report::
         report::Triangles::All,
         false,
         report::TextureBounds::Pyramid,
-        classes,
+        classes.as_ref(),
     )
 }
 

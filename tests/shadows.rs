@@ -11,9 +11,10 @@ use common::{assert_validation_clean, ray_cast, repo_path, validated_context, Sp
 use glam::Vec3;
 use multirate::analysis::metrics;
 use multirate::geometry::camera::pixel_ray;
-use multirate::geometry::shadow_class::Visibility;
+use multirate::geometry::shadow_class::{ShadowClasses, Visibility};
+use multirate::geometry::shadow_view::ShadowLayout;
 use multirate::render::{Mode, Placement, Renderer, View};
-use multirate::scene::{Light, Scene, ShadowCaster};
+use multirate::scene::{Camera, Light, Scene, ShadowCaster};
 use multirate::shading::estimator::EstimatorSettings;
 use multirate::vk::target::{FloatImage, RenderTarget};
 
@@ -239,8 +240,9 @@ fn class_against_pixel(context: &std::sync::Arc<multirate::vk::Context>, scene: 
     let target =
         RenderTarget::new(context, vk::Extent2D { width: 2 * WIDTH, height: 2 * HEIGHT }).expect("target");
     let shadowed = Renderer::new(context, scene).expect("renderer");
-    let classes = shadowed.shadow_classes().clone();
     let with = shadowed.analyze(&target, &View::of_scene(scene)).expect("pixel");
+    // The classes of the maps that frame was drawn with (a directional map follows the view).
+    let classes = shadowed.shadow_classes();
     drop(shadowed);
     let unshadowed = Scene { shadow_casters: Vec::new(), ..scene.clone() };
     let without =
@@ -298,6 +300,63 @@ fn triangles_classed_lit_or_shadowed_show_that_visibility_at_every_pixel() {
         assert!(lit > 2000, "{name}: the class decides few lit pixels ({lit})");
         assert!(dark > 100, "{name}: the class decides few shadowed pixels ({dark})");
     }
+    assert_validation_clean(&context);
+}
+
+/// A directional light's map follows the view: a close view of the bunny's shadow draws the map
+/// again for what it sees (its texels finer), whose classes are sound and which multirate reads
+/// within ε of `pixel` in both placements without drawing it again; back at the scene's own
+/// camera, which sees the whole ground, it is drawn again for the whole box. (The camera of
+/// docs/notebook/scenes/shadows_close.toml.)
+#[test]
+fn a_directional_map_follows_the_view() {
+    let loaded = shadow_scene();
+    let mut scene = one_light(&loaded, 1, true);
+    assert!(matches!(scene.lights[0], Light::Directional { .. }));
+    scene.camera =
+        Camera { eye: Vec3::new(-10.0, 12.0, 5.0), target: Vec3::new(-6.0, 0.0, -1.0), ..scene.camera };
+    let context = validated_context();
+    let target =
+        RenderTarget::new(&context, vk::Extent2D { width: 2 * WIDTH, height: 2 * HEIGHT }).expect("target");
+    let renderer = Renderer::new(&context, &scene).expect("renderer");
+    let (whole, whole_layout) = (renderer.shadow_classes(), renderer.shadow_layout());
+    assert_eq!(renderer.shadow_refits().count, 0, "no view yet");
+    let reference = renderer.analyze(&target, &View::of_scene(&scene)).expect("pixel");
+    assert_eq!(renderer.shadow_refits().count, 1, "the close view draws the map again");
+    let fitted = renderer.shadow_classes();
+    let shown: std::collections::BTreeSet<usize> =
+        reference.triangles.iter().filter(|&&id| id > 0).map(|&id| id as usize - 1).collect();
+    let mixed = |classes: &ShadowClasses| {
+        shown.iter().filter(|&&t| classes.visibility(t, 0) == Visibility::Mixed).count()
+    };
+    let texel = |layout: &ShadowLayout| layout.maps[0].texel_width;
+    let (whole_texel, fitted_texel) = (texel(&whole_layout), texel(&renderer.shadow_layout()));
+    eprintln!(
+        "close view: texels {whole_texel:.4} → {fitted_texel:.4} wide; of {} triangles shown, {} → {} mixed",
+        shown.len(),
+        mixed(&whole),
+        mixed(&fitted)
+    );
+    assert!(
+        fitted_texel < 0.7 * whole_texel,
+        "the close view's map is not finer: {fitted_texel} against {whole_texel}"
+    );
+    for placement in [Placement::Compute, Placement::Tcs] {
+        let analysis =
+            renderer.analyze(&target, &multirate_view(&scene, placement, 0.075)).expect("multirate");
+        let over = metrics::pixels_over(reference.frame(), analysis.frame(), 0.075);
+        assert_eq!(over, 0, "{placement:?}: {over} pixels of the same triangle over ε");
+    }
+    assert_eq!(renderer.shadow_refits().count, 1, "the same view serves the map it was drawn for");
+    let [lit, dark, wrong] = class_against_pixel(&context, &scene);
+    eprintln!("close view: {lit} pixels of lit triangles, {dark} of shadowed ones, {wrong} wrong");
+    assert_eq!(wrong, 0, "{wrong} pixels of decided triangles show another visibility");
+    assert!(lit > 2000 && dark > 100, "the class decides few pixels ({lit} lit, {dark} shadowed)");
+    let far = View { camera: loaded.camera, ..View::of_scene(&scene) };
+    renderer.render(&target, &far).expect("render");
+    assert_eq!(renderer.shadow_refits().count, 2, "the scene's camera draws the map again");
+    assert_eq!(renderer.shadow_classes(), whole, "for the whole box, as when the renderer was made");
+    assert_eq!(renderer.shadow_layout(), whole_layout);
     assert_validation_clean(&context);
 }
 

@@ -5,9 +5,10 @@
 use super::row::{Row, Timing, Trade};
 use crate::analysis::metrics::{self, fallback_mask, fallback_pixels, scaled_difference, ImageError};
 use crate::error::Result;
+use crate::geometry::shadow_class::ShadowClasses;
 use crate::render::{
     output, Analysis, CameraTurn, DrawPart, EvaluationCounts, MeasureOptions, Measurement, Mode, Placement,
-    PrePassStep, Renderer, View,
+    PrePassStep, Renderer, ShadowRefits, View,
 };
 use crate::scene::Scene;
 use crate::shading::estimator::{Discontinuity, EstimatorSettings, Split};
@@ -88,6 +89,22 @@ pub struct BenchResult {
     pub rows: Vec<Row>,
     /// Parallel to `rows`.
     pub measurements: Vec<Measurement>,
+    /// Per scene whose lights cast shadows, in the order measured.
+    pub shadows: Vec<ShadowReport>,
+}
+
+/// A shadowed scene's maps as the run drew them.
+pub struct ShadowReport {
+    /// The scene's name (`BenchScene::name`).
+    pub scene: String,
+    /// The GPU time every map took to draw when the renderer was made, ms.
+    pub shadow_pass_ms: f64,
+    /// The triangles' classes at the scene's camera and the first resolution measured (a
+    /// directional map follows the view).
+    pub classes: ShadowClasses,
+    /// The directional maps drawn again for the views over the whole run (analysis, warm-up
+    /// and measured frames of every mode), and what that took.
+    pub refits: ShadowRefits,
 }
 
 /// One configuration to run, before it is measured.
@@ -206,7 +223,7 @@ pub fn run(
         jobs.chunk_by(|a, b| a.scene == b.scene && a.resolution == b.resolution).collect();
     let total = jobs.len() + groups.len() * turns;
     let mut done = 0;
-    let mut result = BenchResult { rows: Vec::new(), measurements: Vec::new() };
+    let mut result = BenchResult { rows: Vec::new(), measurements: Vec::new(), shadows: Vec::new() };
     let mut renderer: Option<(usize, Renderer)> = None;
     let mut target: Option<RenderTarget> = None;
     for group in groups {
@@ -279,6 +296,15 @@ pub fn run(
             });
         }
         drop(reference_frame);
+        let name = &bench_scene.name;
+        if !scene.shadow_casters.is_empty() && result.shadows.last().is_none_or(|r| &r.scene != name) {
+            result.shadows.push(ShadowReport {
+                scene: name.clone(),
+                shadow_pass_ms: renderer.shadow_pass_ms().unwrap_or(0.0),
+                classes: renderer.shadow_classes(),
+                refits: ShadowRefits::default(),
+            });
+        }
         let label = format!("{} {}x{}: timing in turns", bench_scene.name, extent.width, extent.height);
         // The empty frame takes its turns with the others.
         let mut timed = views.clone();
@@ -287,6 +313,9 @@ pub fn run(
             progress(Progress { done: done + turn, total, label: &label, turns_done: turn })
         })?;
         done += turns;
+        if let Some(report) = result.shadows.last_mut().filter(|r| &r.scene == name) {
+            report.refits = renderer.shadow_refits();
+        }
         let median = |measurement: &Measurement| Timing::of(&measurement.gpu_ms()).median;
         let empty = measurements.pop().expect("the empty frame was timed last");
         let reference = Reference {

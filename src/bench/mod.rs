@@ -28,6 +28,7 @@ pub mod trace;
 pub mod twin;
 
 pub use measure::{
-    measure_in_turns, run, BenchConfig, BenchResult, BenchScene, Progress, Schedule, FRAMES_PER_TURN,
+    measure_in_turns, run, BenchConfig, BenchResult, BenchScene, Progress, Schedule, ShadowReport,
+    FRAMES_PER_TURN,
 };
 pub use row::{csv_line, percentile, to_csv, to_json, Row, Timing, Trade, CSV_HEADER};

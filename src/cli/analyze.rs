@@ -51,7 +51,7 @@ pub fn analyze(args: &AnalyzeArgs, gpu: &GpuArgs) -> Result<()> {
         view.cost_model = false;
     }
     let settings = &view.estimator;
-    let classes = shadow_classes(&scene, gpu)?;
+    let classes = shadow_classes(&scene, &view, gpu)?;
     let reports = report::analyze(
         &scene,
         settings,
@@ -111,14 +111,17 @@ pub fn analyze(args: &AnalyzeArgs, gpu: &GpuArgs) -> Result<()> {
 }
 
 /// The visibility classes of the scene's triangles (section 18 of docs/estimator.md), from the
-/// maps the renderer draws and reads back; None where no light casts shadows.
-fn shadow_classes(scene: &Scene, gpu: &GpuArgs) -> Result<Option<ShadowClasses>> {
+/// maps the renderer draws for `view` at the scene's size and reads back; None where no light
+/// casts shadows.
+fn shadow_classes(scene: &Scene, view: &View, gpu: &GpuArgs) -> Result<Option<ShadowClasses>> {
     if scene.shadow_casters.is_empty() {
         return Ok(None);
     }
     let context = Context::headless(&options(gpu))?;
     let renderer = multirate::render::Renderer::new(&context, scene)?;
-    Ok(Some(renderer.shadow_classes().clone()))
+    let extent = ash::vk::Extent2D { width: scene.settings.width, height: scene.settings.height };
+    renderer.fit_shadows(view, extent)?;
+    Ok(Some(renderer.shadow_classes()))
 }
 
 /// Each shadow-casting light's share of triangles lit, shadowed and mixed.

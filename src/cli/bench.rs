@@ -7,12 +7,11 @@ use super::shading::{check_eye_ball, parse_discontinuity, parse_split, Estimated
 use anyhow::{Context as _, Result};
 use clap::Args;
 use multirate::bench::{self, BenchConfig, BenchScene};
-use multirate::render::{DrawPart, Mode, Placement, Renderer, EYE_BALL_SHARE};
+use multirate::render::{DrawPart, Mode, Placement, EYE_BALL_SHARE};
 use multirate::scene::settings::{check_epsilon, check_n_max};
 use multirate::shading::estimator::{Discontinuity, Split};
 use multirate::vk::Context;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
 #[derive(Args)]
 pub struct BenchArgs {
@@ -136,7 +135,7 @@ pub fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
     };
     write("bench.csv", bench::to_csv(&result.rows))?;
     write("bench.json", bench::to_json(&result.rows))?;
-    report_shadows(&context, &scenes, &args.out)?;
+    report_shadows(&result.shadows, &args.out)?;
     bench::plot::time_against_error(
         &result.rows,
         "L∞ error",
@@ -243,30 +242,42 @@ fn with_shadowless_twins(scenes: Vec<BenchScene>, twins: bool) -> Vec<BenchScene
         .collect()
 }
 
-/// Per scene whose lights cast shadows: the GPU time of its shadow maps' draw (once, when the
-/// renderer is made: lights and meshes do not move) and each light's visibility classes
-/// (`docs/estimator.md` section 18); printed and written to `shadows.csv`.
-fn report_shadows(context: &Arc<Context>, scenes: &[BenchScene], out: &Path) -> Result<()> {
-    let shadowed: Vec<&BenchScene> = scenes.iter().filter(|s| !s.scene.shadow_casters.is_empty()).collect();
-    if shadowed.is_empty() {
+/// Per scene whose lights cast shadows: the GPU time of its shadow maps' first draw (when the
+/// renderer is made), each light's visibility classes at the scene's camera
+/// (`docs/estimator.md` section 18), and how often the directional maps were drawn again as the
+/// view moved (in the run's analysis, warm-up and measured frames; their time is not in any
+/// frame's); printed and written to `shadows.csv`.
+fn report_shadows(shadows: &[bench::ShadowReport], out: &Path) -> Result<()> {
+    if shadows.is_empty() {
         return Ok(());
     }
-    println!("shadows (the maps drawn once, when the renderer is made; the triangles by class):");
-    let mut csv = String::from("scene,light,shadow_pass_ms,lit,shadowed,mixed\n");
-    for bench_scene in shadowed {
-        let renderer = Renderer::new(context, &bench_scene.scene)?;
-        let ms = renderer.shadow_pass_ms().unwrap_or(0.0);
-        let classes = renderer.shadow_classes();
+    println!(
+        "shadows (the maps drawn when the renderer is made; the triangles by class at the scene's camera):"
+    );
+    let mut csv =
+        String::from("scene,light,shadow_pass_ms,lit,shadowed,mixed,refits,refit_gpu_ms,refit_wall_ms\n");
+    for report in shadows {
+        let (ms, refits) = (report.shadow_pass_ms, report.refits);
+        let classes = &report.classes;
         for (slot, [lit, shadowed, mixed]) in classes.counts().into_iter().enumerate() {
             let light = classes.light(slot);
-            csv += &format!("{},{light},{ms:.3},{lit},{shadowed},{mixed}\n", bench_scene.name);
+            csv += &format!(
+                "{},{light},{ms:.3},{lit},{shadowed},{mixed},{},{:.3},{:.3}\n",
+                report.scene, refits.count, refits.gpu_ms, refits.wall_ms
+            );
             let share = |n: usize| 100.0 * n as f64 / (lit + shadowed + mixed).max(1) as f64;
             println!(
                 "  {}: shadow pass {ms:.3} ms; light {light}: {:.1} % lit, {:.1} % shadowed, {:.1} % mixed",
-                bench_scene.name,
+                report.scene,
                 share(lit),
                 share(shadowed),
                 share(mixed)
+            );
+        }
+        if refits.count > 0 {
+            println!(
+                "  {}: directional maps drawn again {} times for the moving view: {:.3} ms GPU, {:.1} ms in all",
+                report.scene, refits.count, refits.gpu_ms, refits.wall_ms
             );
         }
     }

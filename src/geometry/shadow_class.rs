@@ -45,6 +45,32 @@ impl ShadowDepths {
         ShadowDepths { maps }
     }
 
+    /// The squares of the maps `maps` of `layout`, each given as its index and its footprint's
+    /// depths read back row by row; the other maps have none (a light of theirs is not
+    /// classified).
+    pub fn of_maps(layout: &ShadowLayout, maps: &[(usize, Vec<f32>)]) -> ShadowDepths {
+        let mut squares: Vec<Vec<DepthSquare>> = layout.maps.iter().map(|_| Vec::new()).collect();
+        for (m, texels) in maps {
+            let record = &layout.maps[*m];
+            let faces = match record.projection {
+                Projection::Orthographic(_) => 1,
+                Projection::Cube { .. } => 6,
+            };
+            let width = record.footprint()[0];
+            squares[*m] = (0..faces)
+                .map(|f| {
+                    DepthSquare::new(
+                        texels,
+                        width,
+                        [(f % 3) * record.size, (f / 3) * record.size],
+                        record.size,
+                    )
+                })
+                .collect();
+        }
+        ShadowDepths { maps: squares }
+    }
+
     /// Light `light`'s visibility over the triangle `corners`, where it casts shadows through
     /// map `map` of `layout` with a kernel of `radius` texels.
     pub fn classify(
@@ -87,6 +113,18 @@ impl ShadowDepths {
     }
 }
 
+/// Light `light` (of `lights`)'s class over the triangle `corners`, through its map of `layout`.
+fn classify_one(
+    lights: &[Light],
+    layout: &ShadowLayout,
+    depths: &ShadowDepths,
+    light: usize,
+    corners: [Vec3; 3],
+) -> Visibility {
+    let shadow = layout.lights[light].expect("a slot's light has a map");
+    depths.classify(layout, shadow.map, shadow.radius, &lights[light], corners)
+}
+
 /// Every shadow-casting light's visibility over every triangle of a scene's meshes (in the
 /// order the renderer numbers them: mesh by mesh, each mesh's triangles in order), by slot
 /// (`LightShadow::slot`).
@@ -102,17 +140,46 @@ impl ShadowClasses {
     /// The classes of every triangle of `scene` against its maps, laid out by `layout` and
     /// rendered into `depths`.
     pub fn of(scene: &Scene, layout: &ShadowLayout, depths: &ShadowDepths) -> ShadowClasses {
+        let triangles = scene.meshes.iter().flat_map(|mesh| {
+            mesh.indices.chunks_exact(3).map(|t| [0, 1, 2].map(|k| mesh.positions[t[k] as usize]))
+        });
+        ShadowClasses::of_triangles(&scene.lights, layout, depths, triangles)
+    }
+
+    /// The classes of `triangles` (their corners, in the renderer's order) lit by `lights`
+    /// (the scene's) against the maps laid out by `layout` and rendered into `depths`.
+    pub fn of_triangles(
+        lights: &[Light],
+        layout: &ShadowLayout,
+        depths: &ShadowDepths,
+        triangles: impl Iterator<Item = [Vec3; 3]>,
+    ) -> ShadowClasses {
         let mut classes = Vec::new();
-        for mesh in &scene.meshes {
-            for triangle in mesh.indices.chunks_exact(3) {
-                let corners = [0, 1, 2].map(|k| mesh.positions[triangle[k] as usize]);
-                classes.extend(layout.by_slot.iter().map(|&light| {
-                    let shadow = layout.lights[light].expect("a slot's light has a map");
-                    depths.classify(layout, shadow.map, shadow.radius, &scene.lights[light], corners)
-                }));
-            }
+        for corners in triangles {
+            classes.extend(
+                layout.by_slot.iter().map(|&light| classify_one(lights, layout, depths, light, corners)),
+            );
         }
         ShadowClasses { lights: layout.by_slot.clone(), classes }
+    }
+
+    /// The classes of the lights in `slots` anew, their maps drawn again into `depths`; the
+    /// other slots' are kept. `triangles` are those the classes were first made of.
+    pub fn reclassify(
+        &mut self,
+        lights: &[Light],
+        layout: &ShadowLayout,
+        depths: &ShadowDepths,
+        triangles: impl Iterator<Item = [Vec3; 3]>,
+        slots: &[usize],
+    ) {
+        let stride = self.lights.len();
+        for (triangle, corners) in triangles.enumerate() {
+            for &slot in slots {
+                let class = classify_one(lights, layout, depths, self.lights[slot], corners);
+                self.classes[triangle * stride + slot] = class;
+            }
+        }
     }
 
     /// The light in slot `slot` (its index in `Scene::lights`).

@@ -1,9 +1,11 @@
 //! Where each shadow map looks from, and where it lies in the atlas: a directional light's
-//! orthographic map fitted to the scene's bounds, a point light's six cube faces in a block of
-//! 3 × 2, all in one depth image ([`ShadowLayout`]). Lights and meshes do not move, so the maps are
-//! rendered once; the shaders' lookup is `glsl/include/shadow.glsl`.
+//! orthographic map (fitted to the scene's bounds here; a renderer fits it to what its camera
+//! sees, `shadow_fit`), a point light's six cube faces in a block of 3 × 2, all in one depth
+//! image ([`ShadowLayout`]). Lights and meshes do not move, so a point light's maps are drawn
+//! once; the shaders' lookup is `glsl/include/shadow.glsl`.
 
-use super::camera::{look_at, perspective};
+use super::camera::perspective;
+use super::shadow_fit::{box_corners, DirectionalFrame};
 use crate::scene::{bounds_of, Light, Scene, ShadowCaster};
 use glam::{Mat4, Vec3, Vec4};
 
@@ -156,41 +158,12 @@ fn pack(maps: &mut [ShadowMap]) -> [u32; 2] {
     [width, y + row_height]
 }
 
-/// The bounds' eight corners.
-fn corners(lo: Vec3, hi: Vec3) -> [Vec3; 8] {
-    std::array::from_fn(|i| {
-        Vec3::new(
-            if i & 1 == 0 { lo.x } else { hi.x },
-            if i & 2 == 0 { lo.y } else { hi.y },
-            if i & 4 == 0 { lo.z } else { hi.z },
-        )
-    })
-}
-
 /// A directional light travelling along `direction`: the orthographic map holding every point
 /// of the box `lo`..`hi` (a 1 % margin around its image), and the map's width in world units.
+/// A renderer fits it to what its camera sees (`shadow_fit`).
 pub fn directional_map(direction: Vec3, lo: Vec3, hi: Vec3) -> (Mat4, f32) {
-    let centre = 0.5 * (lo + hi);
-    let radius = (0.5 * (hi - lo).length()).max(1e-6);
-    let up = if direction.y.abs() < 0.9 { Vec3::Y } else { Vec3::X };
-    let view = look_at(centre - 2.0 * radius * direction, centre, up);
-    let (mut min, mut max) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-    for corner in corners(lo, hi) {
-        let p = view.transform_point3(corner);
-        (min, max) = (min.min(p), max.max(p));
-    }
-    let half = (0.5 * (max - min).truncate().max_element() * 1.01).max(1e-6);
-    let mid = 0.5 * (min + max);
-    let depth = (max.z - min.z).max(1e-6);
-    // The view looks along -z: the nearest point has the largest z.
-    let (near, far) = (-max.z - 0.01 * depth, -min.z + 0.01 * depth);
-    let projection = Mat4::from_cols(
-        Vec4::new(1.0 / half, 0.0, 0.0, 0.0),
-        Vec4::new(0.0, 1.0 / half, 0.0, 0.0),
-        Vec4::new(0.0, 0.0, -1.0 / (far - near), 0.0),
-        Vec4::new(-mid.x / half, -mid.y / half, -near / (far - near), 1.0),
-    );
-    (projection * view, 2.0 * half)
+    let frame = DirectionalFrame::new(direction, lo, hi);
+    frame.map(frame.whole)
 }
 
 /// A point light at `light`'s depth range: its faces reach every corner of `lo`..`hi`, and
@@ -199,7 +172,7 @@ pub fn directional_map(direction: Vec3, lo: Vec3, hi: Vec3) -> (Mat4, f32) {
 /// lookups' lift towards the light (a few texels); a light outside the box gets the depth
 /// precision of its distance to it. Inside, or close to it, near is far·10⁻³.
 pub fn point_depth_range(light: Vec3, lo: Vec3, hi: Vec3) -> (f32, f32) {
-    let reach = corners(lo, hi).iter().map(|c| (*c - light).length()).fold(0.0f32, f32::max);
+    let reach = box_corners(lo, hi).iter().map(|c| (*c - light).length()).fold(0.0f32, f32::max);
     let far = (reach * 1.01).max(1e-3);
     let nearest = (lo - light).max(light - hi).max(Vec3::ZERO).length();
     ((0.5 * nearest / 3.0f32.sqrt()).max(far * 1e-3), far)

@@ -157,6 +157,8 @@ pub(super) trait TimedFrames {
     fn guarded(&self, view: &View, extent: vk::Extent2D) -> View;
     /// A frame drawn as `view` took `gpu_ms`.
     fn report_frame_time(&self, view: &View, extent: vk::Extent2D, gpu_ms: f64);
+    /// Fits the directional lights' shadow maps to `view` (`Renderer::fit_shadows`).
+    fn fit_shadows(&self, view: &View, extent: vk::Extent2D) -> Result<()>;
     /// Records a timed frame of `view`, calling `stamp` around the pre-pass and its steps.
     fn record_timed(
         &self,
@@ -253,6 +255,7 @@ pub(super) fn measure(
         let turned =
             if measured { i64::from(measured_frames) } else { i64::from(frame) - i64::from(planned_warmup) };
         let frame_view = renderer.guarded(&turn.view_at(view, turned), extent);
+        renderer.fit_shadows(&frame_view, extent)?;
         let mut recorded = None;
         let mut stamped_passes = Vec::new();
         ring.submit(slot, |cmd| {

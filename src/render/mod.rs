@@ -22,12 +22,14 @@
 //! 14. [`scene_buffers`]: the scene uploaded.
 //! 15. [`descriptors`]: the forward layout, its sets, and the recorder that binds them.
 //! 16. [`pipelines`]: the pipeline variants of the draws, built on first use.
-//! 17. [`shadows`]: the shadow atlas, rendered once.
-//! 18. [`pre_pass`]: the triangle-level pre-pass of the compute placement.
-//! 19. [`limits`]: the scene's limits against the device's.
-//! 20. [`draws`]: the forward draws (and lavapipe's limits on them).
-//! 21. [`deferred`]: the `pixel-deferred` passes.
-//! 22. [`instrumentation`]: timings, evaluation counts and what is read back.
+//! 17. [`shadows`]: the shadow atlas and the pass that draws its maps.
+//! 18. [`shadow_state`]: the maps as drawn, the directional ones fitted to the view, and the
+//!     triangles' visibility classes.
+//! 19. [`pre_pass`]: the triangle-level pre-pass of the compute placement.
+//! 20. [`limits`]: the scene's limits against the device's.
+//! 21. [`draws`]: the forward draws (and lavapipe's limits on them).
+//! 22. [`deferred`]: the `pixel-deferred` passes.
+//! 23. [`instrumentation`]: timings, evaluation counts and what is read back.
 
 pub mod capture;
 pub mod cost_model;
@@ -48,6 +50,7 @@ mod pre_pass;
 pub mod present;
 mod scene_buffers;
 mod scene_geometry;
+mod shadow_state;
 mod shadows;
 pub mod textures;
 mod view;
@@ -64,7 +67,8 @@ pub use scene_geometry::{gpu_lights, gpu_polygon_lights, gpu_shadow_maps, Shader
 pub use view::{View, EYE_BALL_SHARE};
 
 use crate::error::Result;
-use crate::geometry::shadow_class::{ShadowClasses, ShadowDepths};
+use crate::geometry::shadow_class::ShadowClasses;
+use crate::geometry::shadow_view::ShadowLayout;
 use crate::gpu_interface::bindings::in_binding_order;
 use crate::gpu_interface::slots::{FALLBACK_LIST, INTERPOLATED_LIST};
 use crate::scene::Scene;
@@ -86,8 +90,9 @@ use pre_pass::buffers::PrePassBuffers;
 use pre_pass::steps::{FrameStamps, Timed};
 use pre_pass::PrePass;
 use scene_buffers::SceneBuffers;
-use scene_geometry::{with_classes, SceneGeometry};
-use shadows::ShadowAtlas;
+use scene_geometry::SceneGeometry;
+pub use shadow_state::ShadowRefits;
+use shadow_state::Shadows;
 use std::cell::OnceCell;
 use std::sync::{Arc, Mutex};
 
@@ -106,13 +111,9 @@ pub struct Renderer {
     pipelines: Pipelines,
     /// The compute placement's pre-pass: its pipelines, its buffers and its ball of eyes.
     pre_pass: PrePass,
-    /// Every shadow map, rendered once; read through the materials' sets.
-    _shadow_atlas: ShadowAtlas,
-    /// Every triangle's visibility class per shadow-casting light, from the maps as rendered
-    /// (in `triangle_corners` for the shaders).
-    shadow_classes: ShadowClasses,
-    /// The shadow maps' draw, GPU ms (none without a map).
-    shadow_pass_ms: Option<f64>,
+    /// Every shadow map, read through the materials' sets, the directional ones fitted to the
+    /// view; every triangle's visibility classes (in `triangle_corners` for the shaders).
+    shadows: Shadows,
     /// What is shaded per pixel, at the scales the frame does not decide itself.
     per_pixel: PerPixelChoice,
     /// The frame guards of the configurations drawn so far (`guarded`, `report_frame_time`).
@@ -140,7 +141,7 @@ impl Renderer {
         let geometry = SceneGeometry::of(scene);
         let buffers = SceneBuffers::upload(context, &geometry)?;
         let pre_pass = PrePass::new(context, &geometry, geometry.kinds.len())?;
-        let shadow_atlas = ShadowAtlas::new(context, &geometry.shadows)?;
+        let shadow_atlas = Shadows::atlas(context, &geometry)?;
         let descriptors = ForwardDescriptors::new(
             context,
             scene,
@@ -148,18 +149,13 @@ impl Renderer {
             (shadow_atlas.image.view, shadow_atlas.sampler.raw),
         )?;
         let pipelines = Pipelines::new(context, scene, &descriptors.layout, &geometry)?;
-        let shadow_pass = (&descriptors.layout, pipelines.forward_vert());
-        let shadows =
-            shadow_atlas.render(context, shadow_pass, &buffers, &geometry.shadows, &geometry.draws)?;
-        let shadow_classes = if scene.shadow_casters.is_empty() {
-            ShadowClasses::default()
-        } else {
-            let depths = ShadowDepths::new(&geometry.shadows, &shadows.depths);
-            let classes = ShadowClasses::of(scene, &geometry.shadows, &depths);
-            let corners = with_classes(&geometry.triangle_corners, &classes);
-            pre_pass.buffers.triangle_corners.upload(&corners)?;
-            classes
-        };
+        let shadows = Shadows::draw_all(
+            context,
+            (scene, &geometry),
+            shadow_atlas,
+            (&descriptors.layout, pipelines.forward_vert()),
+            (&buffers, &pre_pass.buffers.triangle_corners),
+        )?;
         let clear = scene.settings.clear_color;
         Ok(Renderer {
             context: context.clone(),
@@ -168,9 +164,7 @@ impl Renderer {
             draws: ForwardDraws::new(geometry.draws, geometry.emitters, &context.info),
             pipelines,
             pre_pass,
-            _shadow_atlas: shadow_atlas,
-            shadow_classes,
-            shadow_pass_ms: shadows.milliseconds,
+            shadows,
             per_pixel: PerPixelChoice::new(&context.info.name, scene),
             guards: Mutex::new(Guards::default()),
             measured_table: Mutex::new(None),
@@ -180,15 +174,45 @@ impl Renderer {
     }
 
     /// Every triangle's visibility class per shadow-casting light (none where no light casts
-    /// shadows).
-    pub fn shadow_classes(&self) -> &ShadowClasses {
-        &self.shadow_classes
+    /// shadows), from the maps as the last frame prepared left them: a directional light's map
+    /// follows the view.
+    pub fn shadow_classes(&self) -> ShadowClasses {
+        self.shadows.classes()
     }
 
-    /// The GPU time the shadow maps took to draw, once, when the renderer was made (none where
-    /// no light casts shadows).
+    /// Where each shadow map lies in the atlas and looks from, as the last frame prepared left
+    /// them (a directional light's map follows the view).
+    pub fn shadow_layout(&self) -> ShadowLayout {
+        self.shadows.layout()
+    }
+
+    /// The GPU time every shadow map took to draw when the renderer was made (none where no
+    /// light casts shadows).
     pub fn shadow_pass_ms(&self) -> Option<f64> {
-        self.shadow_pass_ms
+        self.shadows.first_pass_ms
+    }
+
+    /// How often the directional lights' maps were drawn again for the views, and what it took.
+    pub fn shadow_refits(&self) -> ShadowRefits {
+        self.shadows.refits()
+    }
+
+    /// Fits the directional lights' maps to `view`'s camera on a target of `extent` (drawn
+    /// again where they no longer serve it); a refit begins a new ball of eyes, since the kept
+    /// levels hold for the classes they were estimated with.
+    pub fn fit_shadows(&self, view: &View, extent: vk::Extent2D) -> Result<()> {
+        let corners = &self.pre_pass.buffers.triangle_corners;
+        let refitted = self.shadows.fit(
+            &self.context,
+            (&view.camera, extent),
+            &self.descriptors.layout,
+            (&self.buffers, corners),
+            &self.draws.meshes,
+        )?;
+        if refitted {
+            self.pre_pass.commit(None);
+        }
+        Ok(())
     }
 
     /// The device's cost model (a stored calibration or the built-in figures).
@@ -404,6 +428,7 @@ impl Renderer {
     /// effective-level table. The analysis and recording frames prepare only their own
     /// variants' multirate pipelines: the timed ones are as slow to build and would go unused.
     fn prepare_frame(&self, view: &View, target: &RenderTarget) -> Result<()> {
+        self.fit_shadows(view, target.extent())?;
         if view.mode == Mode::PixelDeferred {
             self.deferred()?.prepare(target.extent())?;
         }
@@ -631,6 +656,10 @@ impl TimedFrames for Renderer {
 
     fn guarded(&self, view: &View, extent: vk::Extent2D) -> View {
         Renderer::guarded(self, view, extent)
+    }
+
+    fn fit_shadows(&self, view: &View, extent: vk::Extent2D) -> Result<()> {
+        Renderer::fit_shadows(self, view, extent)
     }
 
     fn report_frame_time(&self, view: &View, extent: vk::Extent2D, gpu_ms: f64) {

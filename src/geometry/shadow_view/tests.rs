@@ -30,7 +30,7 @@ fn a_directional_map_holds_every_point_of_the_box() {
             assert!(inside(v), "{p} of {lo}..{hi} lies at {v} of the map along {direction}");
             widest = widest.max(v.x.abs()).max(v.y.abs());
         }
-        for corner in corners(lo, hi) {
+        for corner in box_corners(lo, hi) {
             assert!(inside(ndc(view_proj, corner)));
         }
         // Fitted: the box is not lost in a map far larger than it.
