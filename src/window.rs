@@ -11,6 +11,9 @@
 //! mode's (counted at most every `RECOUNT_EVERY`, and when the mode or ε changes). A
 //! zero-sized (minimised) window draws nothing and keeps its swapchain until it is restored.
 //!
+//! A scene with a camera path (`[[path]]`) plays it from the start, looped; Space pauses and
+//! resumes it, and a drag or a scroll takes the camera over from where it is.
+//!
 //! A [`ViewScript`] drives the same loop without a person: key presses, resizes, minimising
 //! and memory samples at given turns of the loop. [`ViewScript::soak`] builds the long one
 //! that `multirate soak` runs and tests/window.rs checks.
@@ -18,6 +21,7 @@
 //! Files, bottom to top: each imports through `super::` only from those listed before it.
 //! 1. [`speed`]: the viewer's speed against `pixel` mode, timed in the same window.
 //! 2. [`script`]: scripted key presses, resizes and memory samples; the soak's script.
+//! 3. [`path_player`]: the camera path as the viewer plays it.
 
 use crate::error::{Error, Result, VkContext as _};
 use crate::geometry::camera::Orbit;
@@ -31,6 +35,7 @@ use crate::vk::target::{AfterPass, RenderTarget};
 use crate::vk::timing::GpuTimer;
 use crate::vk::{Context, ContextOptions};
 use ash::vk;
+use path_player::PathPlayer;
 pub use script::{ScriptEvent, ViewScript, SOAK_STEP};
 use speed::PixelReference;
 use std::collections::{BTreeMap, BTreeSet};
@@ -73,6 +78,8 @@ pub struct ViewReport {
     pub wireframe_frames: u32,
     /// Presented frames of a scene whose lights cast shadows, drawn without them (S).
     pub frames_without_shadows: u32,
+    /// Presented frames whose camera the scene's path moved (it played, not paused).
+    pub frames_on_path: u32,
     /// The n_max values multirate frames were presented with.
     pub n_max_values: BTreeSet<u32>,
     /// The smallest and largest ε multirate frames were presented with.
@@ -102,6 +109,7 @@ pub fn view(
     event_loop.set_control_flow(ControlFlow::Poll);
     let mut app = App {
         orbit: Orbit::from_camera(&scene.camera),
+        path: scene.camera_path.clone().map(|path| PathPlayer::new(path, scene.bounds())),
         view,
         scene,
         options: options.clone(),
@@ -213,6 +221,8 @@ struct App {
     scene: Scene,
     view: View,
     orbit: Orbit,
+    /// The scene's camera path, where it has one.
+    path: Option<PathPlayer>,
     options: ContextOptions,
     script: Option<ViewScript>,
     /// The first event of `script` not run yet.
@@ -326,7 +336,11 @@ impl App {
             // Another scene to time and count: `pixel` mode's reference too.
             (self.gpu_ms, self.pixel_reference, self.share) = (None, None, None);
         }
-        let view = self.view.seen_from(self.orbit.apply(&self.scene.camera));
+        let camera = match &self.path {
+            Some(path) if path.following => path.camera(&self.scene.camera),
+            _ => self.orbit.apply(&self.scene.camera),
+        };
+        let view = self.view.seen_from(camera);
         let settings_changed = self.share.as_ref().is_none_or(|s| {
             (s.view.mode, s.view.estimator.epsilon, s.view.estimator.n_max, s.view.placement)
                 != (view.mode, view.estimator.epsilon, view.estimator.n_max, view.placement)
@@ -422,6 +436,10 @@ impl App {
         if !self.shadows {
             title += " — shadows off";
         }
+        if let Some(path) = &self.path {
+            let state = if path.playing() { "" } else { ", paused (Space)" };
+            title += &format!(" — path {:.1} s{state}", path.time());
+        }
         if title != self.report.final_title {
             state.window.set_title(&title);
             self.report.final_title = title;
@@ -505,6 +523,7 @@ impl App {
         report.heat_map_frames += u32::from(view.heat_map);
         report.wireframe_frames += u32::from(view.wireframe);
         report.frames_without_shadows += u32::from(!self.shadows);
+        report.frames_on_path += u32::from(self.path.as_ref().is_some_and(PathPlayer::playing));
         if view.mode == Mode::Multirate {
             let epsilon = view.estimator.epsilon;
             report.n_max_values.insert(view.estimator.n_max);
@@ -513,11 +532,21 @@ impl App {
         }
     }
 
+    /// A drag or a scroll moves the camera from where the path has it (paused there).
+    fn take_over_from_path(&mut self) {
+        if let Some(path) = self.path.as_mut().filter(|path| path.following) {
+            self.orbit = Orbit::from_camera(&path.camera(&self.scene.camera));
+            path.pause();
+            path.following = false;
+        }
+    }
+
     /// Mode keys: P pixel, D pixel-deferred, V vertex, F fixed:N, M multirate, + / - change N
     /// (and switch to fixed:N); [ / ] halve / double multirate's ε (within 10⁻⁴ to 10); < / >
     /// (or , / .) halve / double its n_max (within 1 to `MAX_LEVEL`); E moves multirate's
     /// estimator between the control stage and the compute pre-pass; T times `pixel` mode
-    /// again for the title's speed; S turns the shadows off and on.
+    /// again for the title's speed; S turns the shadows off and on; Space pauses and
+    /// resumes the camera path.
     fn on_key(&mut self, text: &str) {
         let level = match self.view.mode {
             Mode::Fixed(level) => level,
@@ -535,6 +564,12 @@ impl App {
             }
             "t" => {
                 self.retime = true;
+                return;
+            }
+            " " => {
+                if let Some(path) = &mut self.path {
+                    path.toggle();
+                }
                 return;
             }
             "s" => {
@@ -614,6 +649,7 @@ impl ApplicationHandler for App {
             WindowEvent::KeyboardInput { event, .. } if event.state == ElementState::Pressed => {
                 match event.logical_key.as_ref() {
                     Key::Named(NamedKey::Escape) => event_loop.exit(),
+                    Key::Named(NamedKey::Space) => self.on_key(" "),
                     Key::Character(text) => self.on_key(text),
                     _ => {}
                 }
@@ -625,6 +661,7 @@ impl ApplicationHandler for App {
             WindowEvent::CursorMoved { position, .. } => {
                 if let Some((x, y)) = self.drag {
                     if x.is_finite() {
+                        self.take_over_from_path();
                         self.orbit.rotate((position.x - x) as f32, (position.y - y) as f32);
                     }
                     self.drag = Some((position.x, position.y));
@@ -635,6 +672,7 @@ impl ApplicationHandler for App {
                     MouseScrollDelta::LineDelta(_, y) => y,
                     MouseScrollDelta::PixelDelta(p) => (p.y / 40.0) as f32,
                 };
+                self.take_over_from_path();
                 self.orbit.zoom(steps);
             }
             WindowEvent::RedrawRequested => {
@@ -706,5 +744,6 @@ fn evaluation_percent(renderer: &Renderer, target: &RenderTarget, view: &View) -
     Ok(Some(100.0 * counts.total() as f64 / reference.total().max(1) as f64))
 }
 
+mod path_player;
 mod script;
 mod speed;

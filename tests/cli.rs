@@ -140,6 +140,58 @@ fn renders_png_and_exr_with_coverage() {
     assert!(exr.pixels().filter(|p| p.0[3] == 1.0).any(|p| p.0[0] > 0.0), "lit surface");
 }
 
+/// `render --path`: an orbit's frames, numbered, each a turn of the camera (the frames differ,
+/// the first and the last, a whole turn apart, agree); a scene without a path is refused by name.
+#[test]
+fn renders_a_camera_path_into_numbered_frames() {
+    let scene = repo_path("scenes/bunny.toml");
+    let dir = scratch("path");
+    let out = dir.join("shot.png");
+    let (ok, stdout, stderr) = multirate(&[
+        "--validate",
+        "render",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--path",
+        "orbit:0.3",
+        "--fps",
+        "10",
+    ]);
+    assert!(ok, "render --path failed:\n{stderr}");
+    assert!(stdout.contains("(4 frames)"), "{stdout}");
+    assert!(!stderr.contains("vulkan:"), "validation messages:\n{stderr}");
+    let frame =
+        |k: usize| image::open(dir.join(format!("shot_{k:04}.png"))).expect("frame decodes").to_rgba8();
+    assert!(!dir.join("shot_0004.png").exists(), "no frame past the path");
+    // Pixels that differ by more than rounding between two frames.
+    let differ = |a: usize, b: usize| {
+        let (a, b) = (frame(a), frame(b));
+        a.pixels()
+            .zip(b.pixels())
+            .filter(|(p, q)| p.0.iter().zip(q.0).any(|(x, y)| x.abs_diff(y) > 2))
+            .count()
+    };
+    let (turned, round) = (differ(0, 1), differ(0, 3));
+    assert!(turned > 100, "the camera turns between frames: {turned} pixels differ");
+    assert!(round * 20 < turned, "a whole turn comes back to the first frame: {round} pixels differ");
+    let (ok, _, stderr) = multirate(&[
+        "render",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--path",
+        "scene",
+    ]);
+    assert!(!ok && stderr.contains("bunny.toml") && stderr.contains("no camera path"), "{stderr}");
+}
+
 #[test]
 fn missing_scene_names_the_file() {
     let missing = scratch("missing").join("no-such-scene.toml");

@@ -13,6 +13,7 @@ mod common;
 
 use common::VirtualDisplay;
 use multirate::render::{Mode, View};
+use multirate::scene::path::CameraPath;
 use multirate::scene::{Scene, ShadowCaster};
 use multirate::vk::ContextOptions;
 use multirate::window::{view, ScriptEvent, ViewScript};
@@ -51,6 +52,7 @@ fn window_opens_resizes_and_closes_cleanly() {
         (10, "]"),
         (10, ">"),
         (10, "s"),
+        (11, " "),
     ];
     let mut events: Vec<(u32, ScriptEvent)> =
         keys.iter().map(|&(at, key)| (at, ScriptEvent::Key(key))).collect();
@@ -58,6 +60,8 @@ fn window_opens_resizes_and_closes_cleanly() {
     let script = ViewScript { events, close_at_frame: 12 };
     let mut scene = Scene::load(&scene).expect("scene loads");
     scene.shadow_casters.push(ShadowCaster { light: 0, resolution: 64, filter: 3 });
+    // A camera path, played from the start and paused by Space for the last frame.
+    scene.camera_path = Some(CameraPath::Orbit { seconds: 2.0 });
     let start = View { mode: Mode::Fixed(3), ..View::of_scene(&scene) };
     let (epsilon, n_max) = (start.estimator.epsilon, start.estimator.n_max);
     let report = view(scene, start, &ContextOptions { validate: true, device_name: None }, Some(script))
@@ -76,10 +80,17 @@ fn window_opens_resizes_and_closes_cleanly() {
         report.frames_without_shadows >= 1 && report.frames_without_shadows < report.frames_presented,
         "S turned the shadows off for the last frames: {report:?}"
     );
+    assert!(
+        report.frames_on_path >= 1 && report.frames_on_path < report.frames_presented,
+        "the path played, then Space paused it: {report:?}"
+    );
     // The title: mode, GPU time from timestamps, speed and evaluations against `pixel` (fixed:4
     // shades sub-vertices only, a fraction of the covered pixels here).
     let title = &report.final_title;
-    assert!(title.contains("fixed:4") && title.contains("shadows off"), "{title}");
+    assert!(
+        title.contains("fixed:4") && title.contains("shadows off") && title.contains("paused"),
+        "{title}"
+    );
     let number_before = |unit: &str| -> f64 {
         let head = &title[..title.find(unit).unwrap_or_else(|| panic!("no `{unit}` in {title}"))];
         head.split_whitespace().last().and_then(|w| w.parse().ok()).unwrap_or_else(|| panic!("{title}"))

@@ -5,14 +5,15 @@
 //! 1. [`common`]: the GPU options, the default scene, scene loading, the progress bar, `--frames`
 //!    and resolutions.
 //! 2. [`shading`]: the SHADING options `render`, `view` and `analyze` share, and their checks.
-//! 3. [`render`]: `render`, one frame headless into an image file.
-//! 4. [`view`]: `view`, the interactive window.
-//! 5. [`first_run`]: no subcommand: the window, or headless the default scene and its trade.
-//! 6. [`analyze`]: `analyze`, the estimator per visible triangle as CSV.
-//! 7. [`bench`]: `bench`, modes timed and measured against the pixel reference.
-//! 8. [`experiments`]: `experiments`, the paper's experiments as documentation pages.
-//! 9. [`calibrate`]: `calibrate`, this device's costs for the cost model.
-//! 10. [`soak`]: `soak`, a long run with memory sampled.
+//! 3. [`path`]: `--path`, the camera path a command follows, and the frames it numbers.
+//! 4. [`render`]: `render`, one frame (or a path's frames) headless into image files.
+//! 5. [`view`]: `view`, the interactive window.
+//! 6. [`first_run`]: no subcommand: the window, or headless the default scene and its trade.
+//! 7. [`analyze`]: `analyze`, the estimator per visible triangle as CSV.
+//! 8. [`bench`]: `bench`, modes timed and measured against the pixel reference.
+//! 9. [`experiments`]: `experiments`, the paper's experiments as documentation pages.
+//! 10. [`calibrate`]: `calibrate`, this device's costs for the cost model.
+//! 11. [`soak`]: `soak`, a long run with memory sampled.
 
 pub mod analyze;
 pub mod bench;
@@ -20,6 +21,7 @@ pub mod calibrate;
 pub mod common;
 pub mod experiments;
 pub mod first_run;
+pub mod path;
 pub mod render;
 pub mod shading;
 pub mod soak;

@@ -1,25 +1,35 @@
-//! `render`: one frame of a scene headless into a PNG or EXR file, and the line saying what
-//! multirate's cost model chose.
+//! `render`: one frame of a scene headless into a PNG or EXR file (or, along a camera path, a
+//! numbered sequence of them), and the line saying what multirate's cost model chose.
 
 use super::common::{load_scene, options, GpuArgs};
+use super::path::{camera_path, check_fps, numbered, parse_path_choice, PathChoice};
 use super::shading::ShadingArgs;
 use anyhow::Result;
 use clap::Args;
 use multirate::render::cost_model::CostModel;
-use multirate::render::{output, render_headless, Mode, View};
+use multirate::render::{output, render_headless, Mode, Renderer, View};
 use multirate::scene::settings::check_image_size;
 use multirate::scene::Scene;
+use multirate::vk::target::RenderTarget;
 use multirate::vk::Context;
 use std::path::PathBuf;
+use std::sync::Arc;
 
 #[derive(Args)]
 pub struct RenderArgs {
     /// Scene file (TOML), or an OBJ model with its MTL materials (camera and lights added).
     #[arg(long)]
     pub scene: PathBuf,
-    /// Output image: .png or .exr.
+    /// Output image: .png or .exr (with --path, the frames' name: shot.png → shot_0000.png, …).
     #[arg(long)]
     pub out: PathBuf,
+    /// Renders a camera path's frames, in order, with one renderer (as a viewer would): `scene`
+    /// (the scene file's [[path]]) or `orbit:SECONDS` (one turn about the target).
+    #[arg(long, value_parser = parse_path_choice)]
+    pub path: Option<PathChoice>,
+    /// Frames a second along --path.
+    #[arg(long, default_value_t = 30.0, requires = "path")]
+    pub fps: f32,
     /// Width in pixels (default: the scene's).
     #[arg(long)]
     pub width: Option<u32>,
@@ -37,13 +47,25 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> Result<()> {
     check_image_size(width, height).map_err(|e| anyhow::anyhow!("--width and --height {e}"))?;
     let context = Context::headless(&options(gpu))?;
     let view = args.shading.view(&scene)?;
-    let image = render_headless(&context, &scene, &view, width, height)?;
-    output::write_image(&image, &args.out, scene.settings.exposure)?;
-    let non_finite = image.pixels.iter().flatten().filter(|v| !v.is_finite()).count();
-    anyhow::ensure!(non_finite == 0, "the rendered image holds {non_finite} non-finite values");
+    let written = match args.path {
+        None => {
+            let image = render_headless(&context, &scene, &view, width, height)?;
+            write_checked(&image, &args.out, scene.settings.exposure)?;
+            args.out.display().to_string()
+        }
+        Some(choice) => {
+            check_fps(args.fps)?;
+            let frames =
+                render_path(&context, &scene, &view, (choice, args.fps), (width, height), &args.out)?;
+            format!(
+                "{} to {} ({frames} frames)",
+                numbered(&args.out, 0).display(),
+                numbered(&args.out, frames - 1).display()
+            )
+        }
+    };
     println!(
-        "{}: {width}x{height}, {} triangles, mode {} on {}",
-        args.out.display(),
+        "{written}: {width}x{height}, {} triangles, mode {} on {}",
         scene.triangle_count(),
         view.mode,
         context.info.name
@@ -59,6 +81,44 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> Result<()> {
     let messages = context.validation().count();
     anyhow::ensure!(messages == 0, "the validation layer reported {messages} message(s)");
     Ok(())
+}
+
+/// Writes `image` to `out` once it holds only finite values.
+fn write_checked(
+    image: &multirate::vk::target::FloatImage,
+    out: &std::path::Path,
+    exposure: f32,
+) -> Result<()> {
+    let non_finite = image.pixels.iter().flatten().filter(|v| !v.is_finite()).count();
+    anyhow::ensure!(
+        non_finite == 0,
+        "{}: the rendered image holds {non_finite} non-finite values",
+        out.display()
+    );
+    Ok(output::write_image(image, out, exposure)?)
+}
+
+/// Renders `scene`'s frames along the path `choice` asks for at `fps`, one renderer for all (its
+/// ball of eyes and its shadow maps carried from frame to frame, as in the viewer), each into
+/// `out` numbered; returns how many.
+fn render_path(
+    context: &Arc<Context>,
+    scene: &Scene,
+    view: &View,
+    (choice, fps): (PathChoice, f32),
+    (width, height): (u32, u32),
+    out: &std::path::Path,
+) -> Result<usize> {
+    let path = camera_path(choice, scene)?;
+    let renderer = Renderer::new(context, scene)?;
+    let target = RenderTarget::new(context, ash::vk::Extent2D { width, height })?;
+    let times = path.frame_times(fps);
+    for (index, &time) in times.iter().enumerate() {
+        let camera = scene.camera.on_path(&path, time, scene.bounds());
+        let image = renderer.render(&target, &view.seen_from(camera))?;
+        write_checked(&image, &numbered(out, index), scene.settings.exposure)?;
+    }
+    Ok(times.len())
 }
 
 /// What multirate's pass estimated with: the cost model's break-even area for the device and the

@@ -66,12 +66,13 @@
 //! 2. [`file`]: reading a scene's files.
 //! 3. [`texture`]: the textures and the bounds of a parameter texture over a region.
 //! 4. [`error`]: why a scene could not be loaded.
-//! 5. [`model`]: the scene as the renderer sees it, and a parameter's range over a triangle.
-//! 6. [`schema`]: the scene file as written (serde).
-//! 7. [`mesh`]: the OBJ reader.
-//! 8. [`adjacency`]: the triangle neighbourhoods.
-//! 9. [`obj_scene`]: an OBJ file as a scene.
-//! 10. [`validate`]: the checks from the file as written to the scene.
+//! 5. [`path`]: a camera path, and the eye and target at any time of it.
+//! 6. [`model`]: the scene as the renderer sees it, and a parameter's range over a triangle.
+//! 7. [`schema`]: the scene file as written (serde).
+//! 8. [`mesh`]: the OBJ reader.
+//! 9. [`adjacency`]: the triangle neighbourhoods.
+//! 10. [`obj_scene`]: an OBJ file as a scene.
+//! 11. [`validate`]: the checks from the file as written to the scene.
 
 pub mod adjacency;
 mod error;
@@ -79,6 +80,7 @@ mod file;
 mod mesh;
 mod model;
 pub mod obj_scene;
+pub mod path;
 mod schema;
 pub mod settings;
 pub mod texture;

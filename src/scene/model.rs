@@ -6,6 +6,7 @@
 //! `glsl/include/triangle_level.glsl` returns. Proof that the twins are equal: `tests/multirate.rs`
 //! `control_stage_levels_equal_the_twin` (its textured scenes' levels hang on the range).
 
+use super::path::CameraPath;
 use super::settings;
 use super::texture::{MinMaxPyramid, Texture};
 use std::path::PathBuf;
@@ -23,6 +24,8 @@ pub struct Scene {
     /// names it.
     pub description: String,
     pub camera: Camera,
+    /// The scene file's camera path (`[[path]]`), none without one.
+    pub camera_path: Option<CameraPath>,
     pub settings: RenderSettings,
     pub materials: Vec<Material>,
     pub lights: Vec<Light>,
@@ -53,6 +56,21 @@ pub struct Camera {
     /// `0 < near < far`.
     pub near: f32,
     pub far: f32,
+}
+
+impl Camera {
+    /// This camera moved to where `path` is `time` seconds in (an orbit turns from this one);
+    /// its far plane pushed out where the scene's box `lo`..`hi` reaches farther from that eye
+    /// (its near plane with it, in the same ratio), so that no frame of the path clips the scene.
+    pub fn on_path(&self, path: &CameraPath, time: f32, (lo, hi): (Vec3, Vec3)) -> Camera {
+        let (eye, target) = path.eye_and_target((self.eye, self.target, self.up), time);
+        let reach = (0..8)
+            .map(|i| Vec3::select(glam::BVec3::new(i & 1 == 0, i & 2 == 0, i & 4 == 0), lo, hi).distance(eye))
+            .fold(eye.distance(target), f32::max)
+            * 1.01;
+        let scale = if reach > self.far { reach / self.far } else { 1.0 };
+        Camera { eye, target, near: self.near * scale, far: self.far * scale, ..*self }
+    }
 }
 
 /// How the scene is to be rendered.

@@ -178,6 +178,7 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
             if scene_materials.len() == 1 { "" } else { "s" }
         ),
         camera,
+        camera_path: None,
         settings: RenderSettings::default(),
         materials: scene_materials,
         lights,

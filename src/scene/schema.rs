@@ -29,6 +29,19 @@ pub(super) struct SceneFile {
     pub(super) meshes: Vec<MeshFile>,
     #[serde(default)]
     pub(super) lights: Vec<LightFile>,
+    /// Optional: a camera path, its keyframes in increasing time.
+    #[serde(default)]
+    pub(super) path: Vec<PathKeyFile>,
+}
+
+/// One `[[path]]` keyframe: the camera's eye and target `time` seconds in (its `up` and field of
+/// view are `[camera]`'s).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct PathKeyFile {
+    pub(super) time: f32,
+    pub(super) eye: [f64; 3],
+    pub(super) target: [f64; 3],
 }
 
 #[derive(Debug, Deserialize)]

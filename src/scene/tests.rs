@@ -711,3 +711,35 @@ fn bad_shadow_tables_are_named() {
         &["[[lights]] #2 `shadow`", "polygonal lights cast no shadows"],
     );
 }
+
+const PATH: &str = "\n[[path]]\ntime = 0\neye = [0, 1, 3]\ntarget = [0, 0, 0]\n[[path]]\ntime = 2.5\neye = [3, 1, 0]\ntarget = [0, 0.5, 0]\n";
+
+#[test]
+fn a_camera_path_loads_through_its_keys() {
+    let dir = TempDir::new("path");
+    assert_eq!(load_text(&dir, MINIMAL).1.unwrap().camera_path, None);
+    let scene = load_text(&dir, &format!("{MINIMAL}{PATH}")).1.unwrap();
+    let path = scene.camera_path.expect("the path");
+    assert_eq!(path.duration(), 2.5);
+    let (eye, target) = path.eye_and_target((scene.camera.eye, scene.camera.target, scene.camera.up), 2.5);
+    assert_eq!((eye, target), (Vec3::new(3.0, 1.0, 0.0), Vec3::new(0.0, 0.5, 0.0)));
+}
+
+#[test]
+fn bad_camera_paths_are_named() {
+    let one_key = PATH.split("[[path]]").take(2).collect::<Vec<_>>().join("[[path]]");
+    expect_error(&format!("{MINIMAL}{one_key}"), &["[[path]] #1", "at least two keys"]);
+    let backwards = PATH.replace("time = 2.5", "time = 0");
+    expect_error(&format!("{MINIMAL}{backwards}"), &["[[path]] #2", "`time` = 0", "not after"]);
+    let meets = PATH.replace("eye = [3, 1, 0]", "eye = [0, 0.5, 0]");
+    expect_error(&format!("{MINIMAL}{meets}"), &["[[path]] #1", "the eye meets the target"]);
+    let upwards = PATH
+        .replace("eye = [3, 1, 0]", "eye = [0, 5, 0]")
+        .replace("target = [0, 0.5, 0]", "target = [0, 0, 0]");
+    expect_error(&format!("{MINIMAL}{upwards}"), &["[[path]] #1", "looks along `up`"]);
+    expect_error(&format!("{MINIMAL}{}", PATH.replace("time = 0\n", "")), &["missing field `time`"]);
+    expect_error(
+        &format!("{MINIMAL}{}", PATH.replace("target = [0, 0, 0]", "target = [0, nan, 0]")),
+        &["[[path]] #1", "`target`"],
+    );
+}

@@ -8,8 +8,10 @@ use super::model::{
     bounds_of, Camera, Light, LightSampling, Material, MaterialKind, MaterialMaps, Mesh, ParameterMap,
     ParameterMapping, PolygonLight, RenderSettings, Scene, ShadowCaster,
 };
+use super::path::{CameraPath, PathKey, CHECK_SAMPLES};
 use super::schema::{
-    CameraFile, LightFile, LightType, MaterialFile, MaterialType, MeshFile, RenderFile, Scale, SceneFile,
+    CameraFile, LightFile, LightType, MaterialFile, MaterialType, MeshFile, PathKeyFile, RenderFile, Scale,
+    SceneFile,
 };
 use super::settings::{check_n_max, range_text, IMAGE_SIZE_RANGE, N_MAX_RANGE};
 use super::texture::{MinMaxPyramid, Texture, TextureUsage};
@@ -234,11 +236,13 @@ pub(super) fn build(path: &Path, file: SceneFile) -> Result<Scene, SceneError> {
     });
     let (lo, hi) = bounds_of(meshes.iter().flat_map(|m: &Mesh| m.positions.iter().copied()).chain(emitters));
     let camera = finish_camera(&camera_item, camera, &file.camera, lo, hi)?;
+    let camera_path = check_path(path, &file.path, origin, &camera)?;
 
     Ok(Scene {
         path: path.to_path_buf(),
         description: file.description.unwrap_or_default(),
         camera,
+        camera_path,
         settings,
         materials,
         lights,
@@ -537,6 +541,56 @@ fn check_camera(item: &Item, c: &CameraFile, origin: DVec3) -> Result<Camera, Sc
         item.range("far", far, Open(0.0), Bound::None)?;
     }
     Ok(Camera { eye, target, up, fov_y_degrees, near: 0.0, far: 0.0 })
+}
+
+/// The scene file's camera path, placed relative to `origin`: at least two keys, in increasing
+/// time, and at every key and along the path (at [`CHECK_SAMPLES`] points a segment) an eye
+/// apart from its target that does not look along `camera.up`.
+fn check_path(
+    path: &Path,
+    keys: &[PathKeyFile],
+    origin: DVec3,
+    camera: &Camera,
+) -> Result<Option<CameraPath>, SceneError> {
+    if keys.is_empty() {
+        return Ok(None);
+    }
+    let item = |i: usize| Item { path, item: format!("[[path]] #{}", i + 1) };
+    if keys.len() < 2 {
+        return Err(item(0).error("a path needs at least two keys"));
+    }
+    let mut checked: Vec<PathKey> = Vec::with_capacity(keys.len());
+    for (i, key) in keys.iter().enumerate() {
+        let time = item(i).finite("time", key.time)?;
+        if let Some(before) = checked.last().filter(|before| time <= before.time) {
+            return Err(
+                item(i).error(format!("`time` = {time} is not after the key before's ({})", before.time))
+            );
+        }
+        let (eye, target) =
+            (item(i).point("eye", key.eye, origin)?, item(i).point("target", key.target, origin)?);
+        checked.push(PathKey { time, eye, target });
+    }
+    let camera_path = CameraPath::Keys(checked.clone());
+    for (i, pair) in checked.windows(2).enumerate() {
+        for k in 0..=CHECK_SAMPLES {
+            let time = pair[0].time + (pair[1].time - pair[0].time) * k as f32 / CHECK_SAMPLES as f32;
+            let (eye, target) =
+                camera_path.eye_and_target((camera.eye, camera.target, camera.up), time - checked[0].time);
+            let view = (target - eye).normalize_or_zero();
+            let problem = if view == Vec3::ZERO {
+                "the eye meets the target"
+            } else if view.cross(camera.up).length() < 1e-4 {
+                "the camera looks along `up` ([camera])"
+            } else {
+                continue;
+            };
+            return Err(
+                item(i).error(format!("between this key and the next, at `time` = {time}, {problem}"))
+            );
+        }
+    }
+    Ok(Some(camera_path))
 }
 
 /// Fills in `near` and `far`: a missing `far` lies just past the bounds corner farthest from
