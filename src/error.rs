@@ -45,6 +45,8 @@ pub enum Error {
     Output { path: PathBuf, message: String },
     #[error("window system: {0}")]
     Window(String),
+    #[error("{}: the scene has no camera path ([[path]]); give --path orbit:SECONDS", scene.display())]
+    NoCameraPath { scene: PathBuf },
     #[error("the device {device} cannot {what}: it lacks {missing}")]
     Unsupported { device: String, what: &'static str, missing: &'static str },
     #[error(

@@ -220,6 +220,46 @@ fn bench_measures_a_shadowed_scene_with_and_without_its_shadows() {
     assert!(stdout.contains("shadow pass"), "{stdout}");
 }
 
+/// `bench --path`: every configuration timed along the camera path, frame by frame: the rows
+/// hold the path's frames, `path.csv` each frame's time and pre-pass time (the estimator runs
+/// in every multirate frame, the camera a quarter turn on each time), `path.svg` the plot.
+#[test]
+fn bench_times_every_configuration_along_a_camera_path() {
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("bench_path");
+    let _ = std::fs::remove_dir_all(&out);
+    let scene = repo_path("scenes/test/lambert_directional.toml");
+    let stdout = run_validated(
+        &[
+            &["bench", "--scene", scene.to_str().unwrap(), "--modes", "pixel,multirate"][..],
+            &["--min-estimated-area", "0", "--resolution", "96x64", "--warmup", "1"],
+            &["--path", "orbit:0.25", "--fps", "12", "--out", out.to_str().unwrap()],
+        ]
+        .concat(),
+    );
+    assert!(stdout.contains("lambert_directional"), "{stdout}");
+    let csv = std::fs::read_to_string(out.join("path.csv")).expect("path.csv");
+    let rows: Vec<Vec<&str>> = csv.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    // A quarter of a second at 12 frames a second: frames at 0, 1/12, 2/12 and 3/12 s.
+    assert_eq!(rows.len(), 2 * 4, "four frames of pixel and of multirate:\n{csv}");
+    for (k, row) in rows.iter().enumerate() {
+        assert_eq!(row[2], (k % 4).to_string(), "{row:?}");
+        let time: f32 = row[3].parse().expect("seconds");
+        assert!((time - (k % 4) as f32 / 12.0).abs() < 1e-3, "{row:?}");
+        let (gpu_ms, pre_pass_ms): (f64, f64) = (row[4].parse().expect("ms"), row[5].parse().expect("ms"));
+        assert!(gpu_ms > 0.0 && gpu_ms.is_finite(), "{row:?}");
+        let multirate = row[1].starts_with("multirate") || row[1].contains("ε");
+        assert_eq!(pre_pass_ms > 0.0, multirate, "the pre-pass runs in multirate frames only: {row:?}");
+    }
+    let svg = std::fs::read_to_string(out.join("path.svg")).expect("path.svg");
+    assert!(svg.contains("<svg") && svg.contains("GPU time per frame"), "the plot");
+    let bench = std::fs::read_to_string(out.join("bench.csv")).expect("bench.csv");
+    let header: Vec<&str> = bench.lines().next().expect("header").split(',').collect();
+    let frames = header.iter().position(|&c| c == "frames").expect("a frames column");
+    for line in bench.lines().skip(1) {
+        assert_eq!(line.split(',').nth(frames), Some("4"), "{line}");
+    }
+}
+
 #[test]
 fn calibrate_stores_every_cost_under_the_device_and_its_compiler_setting() {
     use multirate::render::cost_model::{calibration_key, CostModel, LavapipeCompiler};

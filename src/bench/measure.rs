@@ -7,9 +7,10 @@ use crate::analysis::metrics::{self, fallback_mask, fallback_pixels, scaled_diff
 use crate::error::Result;
 use crate::geometry::shadow_class::ShadowClasses;
 use crate::render::{
-    output, Analysis, CameraTurn, DrawPart, EvaluationCounts, MeasureOptions, Measurement, Mode, Placement,
-    PrePassStep, Renderer, ShadowRefits, View,
+    output, Analysis, CameraTurn, DrawPart, EvaluationCounts, MeasureOptions, Measurement, Mode, PathFrames,
+    Placement, PrePassStep, Renderer, ShadowRefits, View,
 };
+use crate::scene::path::{CameraPath, PathChoice};
 use crate::scene::Scene;
 use crate::shading::estimator::{Discontinuity, EstimatorSettings, Split};
 use crate::vk::target::{FloatImage, RenderTarget};
@@ -69,6 +70,9 @@ pub struct BenchConfig {
     /// of the camera's distance to its target (`View`'s `EYE_BALL_SHARE`; 0: every frame
     /// estimates for its own eye).
     pub eye_ball_share: f32,
+    /// Along a camera path at this many frames a second instead of `frames` and
+    /// `orbit_degrees`: each scene's measured frames are its path's frames.
+    pub path: Option<(PathChoice, f32)>,
 }
 
 impl BenchConfig {
@@ -80,7 +84,18 @@ impl BenchConfig {
             orbit_degrees: self.orbit_degrees,
             draw_parts: self.draw_parts,
             pre_pass_steps: self.pre_pass_steps,
+            path: None,
         }
+    }
+
+    /// How the configurations of `scene` are timed: along its path where one is asked for.
+    fn schedule_of(&self, scene: &Scene) -> Result<Schedule> {
+        let Some((choice, fps)) = self.path else { return Ok(self.schedule()) };
+        let path = CameraPath::chosen(choice, scene.camera_path.as_ref())
+            .ok_or_else(|| crate::Error::NoCameraPath { scene: scene.path.clone() })?;
+        let frames = path.frame_times(fps).len() as u32;
+        let along = PathFrames { path: Arc::new(path), fps, start: scene.camera, bounds: scene.bounds() };
+        Ok(Schedule { frames, orbit_degrees: 0.0, path: Some(along), ..self.schedule() })
     }
 }
 
@@ -218,10 +233,11 @@ pub fn run(
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<BenchResult> {
     let jobs = jobs(scenes, config);
-    let turns = config.frames.div_ceil(FRAMES_PER_TURN) as usize;
+    let schedules = scenes.iter().map(|s| config.schedule_of(&s.scene)).collect::<Result<Vec<_>>>()?;
+    let turns = |scene: usize| schedules[scene].frames.div_ceil(FRAMES_PER_TURN) as usize;
     let groups: Vec<&[Job]> =
         jobs.chunk_by(|a, b| a.scene == b.scene && a.resolution == b.resolution).collect();
-    let total = jobs.len() + groups.len() * turns;
+    let total = jobs.len() + groups.iter().map(|group| turns(group[0].scene)).sum::<usize>();
     let mut done = 0;
     let mut result = BenchResult { rows: Vec::new(), measurements: Vec::new(), shadows: Vec::new() };
     let mut renderer: Option<(usize, Renderer)> = None;
@@ -309,10 +325,11 @@ pub fn run(
         // The empty frame takes its turns with the others.
         let mut timed = views.clone();
         timed.push(empty_view(&views[0], scene));
-        let mut measurements = measure_in_turns(renderer, target, &timed, config.schedule(), &mut |turn| {
+        let schedule = schedules[group[0].scene].clone();
+        let mut measurements = measure_in_turns(renderer, target, &timed, schedule, &mut |turn| {
             progress(Progress { done: done + turn, total, label: &label, turns_done: turn })
         })?;
-        done += turns;
+        done += turns(group[0].scene);
         if let Some(report) = result.shadows.last_mut().filter(|r| &r.scene == name) {
             report.refits = renderer.shadow_refits();
         }
@@ -333,7 +350,6 @@ pub fn run(
                 context,
                 bench_scene,
                 job,
-                config,
                 Timing::of(&measurement.gpu_ms()),
                 &reference,
                 untimed,
@@ -393,7 +409,7 @@ fn analyze_with_heat(
 }
 
 /// How configurations are timed in turns ([`measure_in_turns`]).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Schedule {
     /// Warm-up frames of the first turn.
     pub warmup: u32,
@@ -405,6 +421,8 @@ pub struct Schedule {
     pub draw_parts: bool,
     /// Whether each step of the pre-pass is timed apart (`MeasureOptions::pre_pass_steps`).
     pub pre_pass_steps: bool,
+    /// Along a camera path instead of `orbit_degrees` (`CameraTurn::path`).
+    pub path: Option<PathFrames>,
 }
 
 /// Times `views` (one scene at one resolution) in turns: each configuration in order renders
@@ -431,7 +449,11 @@ pub fn measure_in_turns(
         let frames = FRAMES_PER_TURN.min(schedule.frames - measured);
         let warmup = if turn == 0 { schedule.warmup } else { schedule.warmup.min(1) };
         for (view, measurement) in views.iter().zip(&mut measurements) {
-            let turn = CameraTurn { degrees_per_frame: schedule.orbit_degrees, first_measured: measured };
+            let turn = CameraTurn {
+                degrees_per_frame: schedule.orbit_degrees,
+                first_measured: measured,
+                path: schedule.path.clone(),
+            };
             let options = MeasureOptions {
                 turn,
                 draw_parts: schedule.draw_parts,
@@ -442,6 +464,7 @@ pub fn measure_in_turns(
             measurement.pre_pass.extend(part.pre_pass);
             measurement.pre_pass_steps.extend(part.pre_pass_steps);
             measurement.draw_parts_ms.extend(part.draw_parts_ms);
+            measurement.frame_pre_pass_ms.extend(part.frame_pre_pass_ms);
             measurement.statistics = part.statistics.or(measurement.statistics);
             measurement.drawn_as_pixel = match (measurement.drawn_as_pixel, part.drawn_as_pixel) {
                 (Some(sum), Some(part)) => Some(sum + part),
@@ -460,7 +483,6 @@ fn row(
     context: &Context,
     bench_scene: &BenchScene,
     job: &Job,
-    config: &BenchConfig,
     gpu_ms: Timing,
     reference: &Reference,
     untimed: Untimed,
@@ -478,7 +500,7 @@ fn row(
         estimator: multirate.then(|| job.placement.to_string()),
         width: job.resolution.0,
         height: job.resolution.1,
-        frames: config.frames,
+        frames: measurement.frames.len() as u32,
         gpu_ms,
         pre_pass_ms: (!measurement.pre_pass.is_empty()).then(|| Timing::of(&measurement.pre_pass_ms())),
         pre_pass_steps_ms: (!measurement.pre_pass_steps.is_empty())

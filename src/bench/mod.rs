@@ -15,13 +15,15 @@
 //! 2. [`plot`]: SVG plots of time against error, with the Pareto front.
 //! 3. [`trace`]: a Chrome trace of every measured frame.
 //! 4. [`measure`]: running every configuration: images, counts and time in turns.
-//! 5. [`twin`]: the estimator's Rust twin, timed without a frame.
-//! 6. [`calibrate`]: the cost model's calibration from measured frames.
-//! 7. [`experiments`]: the paper's experiments and the trade's page.
+//! 5. [`per_frame`]: a run along a camera path, frame by frame (CSV and plot).
+//! 6. [`twin`]: the estimator's Rust twin, timed without a frame.
+//! 7. [`calibrate`]: the cost model's calibration from measured frames.
+//! 8. [`experiments`]: the paper's experiments and the trade's page.
 
 pub mod calibrate;
 pub mod experiments;
 mod measure;
+pub mod per_frame;
 pub mod plot;
 mod row;
 pub mod trace;

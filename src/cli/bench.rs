@@ -3,6 +3,7 @@
 //! trade's floor and ceiling.
 
 use super::common::{check_frames, options, parse_resolution, print_warnings, progress_bar, GpuArgs};
+use super::path::{check_fps, parse_path_choice, PathChoice};
 use super::shading::{check_eye_ball, parse_discontinuity, parse_split, EstimatedArea};
 use anyhow::{Context as _, Result};
 use clap::Args;
@@ -68,6 +69,14 @@ pub struct BenchArgs {
     /// (0: still, where multirate reuses its levels from frame to frame).
     #[arg(long, value_name = "DEGREES", default_value_t = 0.0)]
     pub orbit: f32,
+    /// Times every configuration along a camera path, frame by frame, in place of --frames and
+    /// --orbit: `scene` (each scene file's [[path]]) or `orbit:SECONDS` (one turn about the
+    /// target); writes `path.csv` and `path.svg` (GPU time per frame) beside the tables.
+    #[arg(long, value_parser = parse_path_choice, conflicts_with = "orbit")]
+    pub path: Option<PathChoice>,
+    /// Frames a second along --path.
+    #[arg(long, default_value_t = 30.0, requires = "path")]
+    pub fps: f32,
     /// Time each part of the draws apart (the whole meshes, the flat and tessellated lists, the
     /// fallback's depth and shading, the back faces, the emitters: the `draw_*_ms_median`
     /// columns). The frame's rendering is split at every part, which slows the frame itself:
@@ -100,6 +109,7 @@ pub fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
     check_frames(args.frames)?;
     anyhow::ensure!(args.orbit.is_finite(), "--orbit must be a number of degrees (got {})", args.orbit);
     check_eye_ball(args.eye_ball)?;
+    check_fps(args.fps)?;
     let scenes = args.scene.iter().map(|path| BenchScene::load(path)).collect::<Result<Vec<_>, _>>()?;
     let scenes = with_shadowless_twins(scenes, args.without_shadows);
     scenes.iter().for_each(|s| print_warnings(&s.scene));
@@ -120,6 +130,7 @@ pub fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
         draw_parts: args.draw_parts,
         pre_pass_steps: args.pre_pass_steps,
         eye_ball_share: args.eye_ball,
+        path: args.path.map(|choice| (choice, args.fps)),
     };
     std::fs::create_dir_all(&args.out).with_context(|| format!("{}: cannot create", args.out.display()))?;
     let bar = progress_bar();
@@ -148,6 +159,10 @@ pub fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
         |r| r.flip,
         &args.out.join("time_vs_flip.svg"),
     )?;
+    if args.path.is_some() {
+        write("path.csv", bench::per_frame::to_csv(&result.rows, &result.measurements, args.fps))?;
+        bench::per_frame::plot(&result.rows, &result.measurements, args.fps, &args.out.join("path.svg"))?;
+    }
     if let Some(path) = &args.capture {
         std::fs::write(path, bench::trace::chrome_trace(&result.rows, &result.measurements))
             .with_context(|| format!("{}: cannot write the capture", path.display()))?;

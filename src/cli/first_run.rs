@@ -61,6 +61,7 @@ fn first_run(gpu: &GpuArgs) -> Result<()> {
             orbit_degrees,
             draw_parts: false,
             pre_pass_steps: false,
+            path: None,
         };
         let measurements = bench::measure_in_turns(&renderer, &target, &views, schedule, &mut |_| {})?;
         let [multirate_ms, pixel_ms] = [0, 1].map(|k| bench::Timing::of(&measurements[k].gpu_ms()).median);

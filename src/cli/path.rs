@@ -1,19 +1,11 @@
 //! `--path`: the camera path a command follows (the scene file's `[[path]]`, or an orbit), and
 //! the frames it numbers.
 
-use anyhow::{anyhow, Result};
+use anyhow::Result;
 use multirate::scene::path::CameraPath;
+pub use multirate::scene::path::PathChoice;
 use multirate::scene::Scene;
 use std::path::{Path, PathBuf};
-
-/// Which camera path `--path` asks for.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum PathChoice {
-    /// The scene file's `[[path]]`.
-    Scene,
-    /// One turn about the camera's target in this many seconds.
-    Orbit(f32),
-}
 
 /// Parses `scene` or `orbit:SECONDS`.
 pub fn parse_path_choice(text: &str) -> Result<PathChoice, String> {
@@ -29,15 +21,8 @@ pub fn parse_path_choice(text: &str) -> Result<PathChoice, String> {
 
 /// The path `choice` asks for of `scene`.
 pub fn camera_path(choice: PathChoice, scene: &Scene) -> Result<CameraPath> {
-    match choice {
-        PathChoice::Scene => scene.camera_path.clone().ok_or_else(|| {
-            anyhow!(
-                "{}: the scene has no camera path ([[path]]); give --path orbit:SECONDS",
-                scene.path.display()
-            )
-        }),
-        PathChoice::Orbit(seconds) => Ok(CameraPath::Orbit { seconds }),
-    }
+    CameraPath::chosen(choice, scene.camera_path.as_ref())
+        .ok_or_else(|| multirate::Error::NoCameraPath { scene: scene.path.clone() }.into())
 }
 
 /// Checks `--fps`.

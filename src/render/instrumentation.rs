@@ -38,12 +38,14 @@ pub struct Measurement {
     /// Where the frame guard applies (`guard::key_of`): how many measured frames it drew
     /// as `pixel` does (`View::drawn_as_pixel`). None where it does not apply.
     pub drawn_as_pixel: Option<u32>,
+    /// Per measured frame, its pre-pass's milliseconds (0 where it ran none).
+    pub frame_pre_pass_ms: Vec<f64>,
 }
 
 /// How frames are measured besides their number: the camera's turn, and whether the pre-pass's
 /// steps and each part of the draws are timed apart. By default a frame is timed as a user's
 /// frame runs: a timestamp at its start and end, and the pre-pass's two.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct MeasureOptions {
     pub turn: CameraTurn,
     /// Time each part of every mesh's draws (`DrawPart`) apart. The frame's rendering is then
@@ -63,17 +65,35 @@ pub struct MeasureOptions {
 /// longer, `GUARD_START_FRAMES`); the warm-up frames lead up to the first measured one. A camera
 /// that stays still measures the frames a still view gives, where the pre-pass reuses its levels
 /// (`render::level_ball`); a turning one, what a moving view costs.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct CameraTurn {
     pub degrees_per_frame: f32,
     /// Frames measured before along this turn (by earlier measurements).
     pub first_measured: u32,
+    /// Along a camera path instead of a turn: frame `k` shows the path at `k / fps` seconds
+    /// (the warm-up frames its start).
+    pub path: Option<PathFrames>,
+}
+
+/// A camera path that measured frames follow, at `fps` frames a second, from the camera
+/// `start` (an orbit turns from it) in a scene of box `bounds` (`Camera::on_path`). Views
+/// from another camera (the empty frame's) stay where they are.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PathFrames {
+    pub path: std::sync::Arc<crate::scene::path::CameraPath>,
+    pub fps: f32,
+    pub start: crate::scene::Camera,
+    pub bounds: (glam::Vec3, glam::Vec3),
 }
 
 impl CameraTurn {
     /// `view` with its camera turned by `frames` frames' worth from where the turn starts
     /// (negative: before it).
-    fn view_at(self, view: &View, frames: i64) -> View {
+    fn view_at(&self, view: &View, frames: i64) -> View {
+        if let Some(along) = self.path.as_ref().filter(|along| along.start == view.camera) {
+            let frame = (i64::from(self.first_measured) + frames).max(0);
+            return view.seen_from(along.start.on_path(&along.path, frame as f32 / along.fps, along.bounds));
+        }
         if self.degrees_per_frame == 0.0 {
             return view.clone();
         }
@@ -183,7 +203,7 @@ pub(super) fn measure(
     (warmup, frames): (u32, u32),
     options: MeasureOptions,
 ) -> Result<Measurement> {
-    let turn = options.turn;
+    let turn = &options.turn;
     // Pass 0: the whole frame; pass 1: the pre-pass, within it; then its steps, where it
     // has them, and the draws' parts, where they are timed (every query read must have been
     // written).
@@ -203,44 +223,47 @@ pub(super) fn measure(
     }
     // Per slot, the frame it last drew.
     let mut in_slot: [Option<SlotFrame>; FRAMES_IN_FLIGHT] = Default::default();
-    let collect =
-        |ring: &mut FrameRing, slot: usize, drawn: Option<SlotFrame>, measurement: &mut Measurement| {
-            let Some(SlotFrame { measured, view: frame_view, ran_pre_pass, stamped }) = drawn else {
-                return Ok(());
-            };
-            if !ring.wait(slot)? {
-                return Ok(());
-            }
-            let read = if ran_pre_pass || options.draw_parts { passes } else { 2 };
-            let intervals = timer.pass_intervals(slot as u32, read)?;
-            renderer.report_frame_time(&frame_view, extent, intervals[0].milliseconds());
-            if measured {
-                measurement.frames.push(intervals[0]);
-                // The pre-pass's times are those of the frames that ran it.
-                if ran_pre_pass {
-                    measurement.pre_pass.push(intervals[1]);
-                    if options.pre_pass_steps {
-                        let steps = PrePassStep::ALL.map(|step| intervals[Timed::Step(step).pass() as usize]);
-                        measurement.pre_pass_steps.push(steps);
-                    }
-                }
-                if options.draw_parts {
-                    let mut parts = [0.0; DRAW_PARTS];
-                    // A part the frame did not draw took no time: its empty interval is left out
-                    // (two timestamps back to back may read a tenth of a microsecond apart).
-                    let drawn_parts = intervals.iter().zip(&stamped).skip(FIRST_DRAW_PASS as usize);
-                    for (k, (interval, _)) in drawn_parts.enumerate().filter(|(_, (_, stamped))| **stamped) {
-                        parts[k % DRAW_PARTS] += interval.milliseconds();
-                    }
-                    measurement.draw_parts_ms.push(parts);
-                }
-                if let Some(count) = &mut measurement.drawn_as_pixel {
-                    *count += u32::from(frame_view.drawn_as_pixel);
-                }
-                measurement.statistics = timer.read_statistics(slot as u32)?;
-            }
-            Ok::<_, crate::Error>(())
+    let collect = |ring: &mut FrameRing,
+                   slot: usize,
+                   drawn: Option<SlotFrame>,
+                   measurement: &mut Measurement| {
+        let Some(SlotFrame { measured, view: frame_view, ran_pre_pass, stamped }) = drawn else {
+            return Ok(());
         };
+        if !ring.wait(slot)? {
+            return Ok(());
+        }
+        let read = if ran_pre_pass || options.draw_parts { passes } else { 2 };
+        let intervals = timer.pass_intervals(slot as u32, read)?;
+        renderer.report_frame_time(&frame_view, extent, intervals[0].milliseconds());
+        if measured {
+            measurement.frames.push(intervals[0]);
+            // The pre-pass's times are those of the frames that ran it.
+            measurement.frame_pre_pass_ms.push(if ran_pre_pass { intervals[1].milliseconds() } else { 0.0 });
+            if ran_pre_pass {
+                measurement.pre_pass.push(intervals[1]);
+                if options.pre_pass_steps {
+                    let steps = PrePassStep::ALL.map(|step| intervals[Timed::Step(step).pass() as usize]);
+                    measurement.pre_pass_steps.push(steps);
+                }
+            }
+            if options.draw_parts {
+                let mut parts = [0.0; DRAW_PARTS];
+                // A part the frame did not draw took no time: its empty interval is left out
+                // (two timestamps back to back may read a tenth of a microsecond apart).
+                let drawn_parts = intervals.iter().zip(&stamped).skip(FIRST_DRAW_PASS as usize);
+                for (k, (interval, _)) in drawn_parts.enumerate().filter(|(_, (_, stamped))| **stamped) {
+                    parts[k % DRAW_PARTS] += interval.milliseconds();
+                }
+                measurement.draw_parts_ms.push(parts);
+            }
+            if let Some(count) = &mut measurement.drawn_as_pixel {
+                *count += u32::from(frame_view.drawn_as_pixel);
+            }
+            measurement.statistics = timer.read_statistics(slot as u32)?;
+        }
+        Ok::<_, crate::Error>(())
+    };
     // A guarded configuration warms up until its guard has first decided (its first probe's
     // times are in): what a user sees after the first frames, not the guard's start-up.
     let longest_warmup = warmup + GUARD_START_FRAMES;

@@ -59,7 +59,7 @@ pub use draw_part::{DrawPart, DRAW_PARTS};
 pub use draws::draw_splitting_note;
 pub use frame_config::RecordedFrame;
 pub use instrumentation::{
-    Analysis, CameraTurn, EvaluationCounts, MeasureOptions, Measurement, GUARD_START_FRAMES,
+    Analysis, CameraTurn, EvaluationCounts, MeasureOptions, Measurement, PathFrames, GUARD_START_FRAMES,
 };
 pub use mode::{Mode, Placement, MAX_LEVEL};
 pub use pre_pass::steps::{PrePassStep, PRE_PASS_GROUP, PRE_PASS_STEPS, REFINE_BLOCK};

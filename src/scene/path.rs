@@ -24,10 +24,28 @@ pub enum CameraPath {
     Orbit { seconds: f32 },
 }
 
+/// Which path a command follows (`--path`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PathChoice {
+    /// The scene file's `[[path]]`.
+    Scene,
+    /// One turn about the camera's target in this many seconds.
+    Orbit(f32),
+}
+
 /// Samples per keyframe segment at which a scene file's path is checked (`validate`).
 pub const CHECK_SAMPLES: usize = 32;
 
 impl CameraPath {
+    /// The path `choice` asks for, where the scene's own is `scene_path` (none: the scene has
+    /// none to give).
+    pub fn chosen(choice: PathChoice, scene_path: Option<&CameraPath>) -> Option<CameraPath> {
+        match choice {
+            PathChoice::Scene => scene_path.cloned(),
+            PathChoice::Orbit(seconds) => Some(CameraPath::Orbit { seconds }),
+        }
+    }
+
     /// The path's length in seconds.
     pub fn duration(&self) -> f32 {
         match self {
