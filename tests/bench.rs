@@ -220,23 +220,34 @@ fn bench_measures_a_shadowed_scene_with_and_without_its_shadows() {
     assert!(stdout.contains("shadow pass"), "{stdout}");
 }
 
-/// `bench --path`: every configuration timed along the camera path, frame by frame: the rows
-/// hold the path's frames, `path.csv` each frame's time and pre-pass time (the estimator runs
-/// in every multirate frame, the camera a quarter turn on each time), `path.svg` the plot.
+/// `bench --path`: every configuration timed along the scene's camera path, frame by frame: the
+/// rows hold the path's frames, `path.csv` each frame's time and pre-pass time (the estimator
+/// runs in every multirate frame: the eye leaves its ball each time), `path.svg` the plot, and
+/// `stability.csv` multirate's error from frame to frame.
 #[test]
 fn bench_times_every_configuration_along_a_camera_path() {
     let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("bench_path");
     let _ = std::fs::remove_dir_all(&out);
-    let scene = repo_path("scenes/test/lambert_directional.toml");
+    std::fs::create_dir_all(&out).expect("the output folder");
+    // The test sphere with a path of a quarter of a second: the eye swings 0.3 to the side.
+    let sphere = repo_path("scenes/test/lambert_directional.toml");
+    let icosphere = repo_path("scenes/test/icosphere.obj").display().to_string().replace('\\', "/");
+    let text = std::fs::read_to_string(&sphere)
+        .expect("the test scene")
+        .replace("obj = \"icosphere.obj\"", &format!("obj = {icosphere:?}"))
+        + "[[path]]\ntime = 0\neye = [0.0, 0.5, 4.0]\ntarget = [0, 0, 0]\n"
+        + "[[path]]\ntime = 0.25\neye = [0.3, 0.55, 3.9]\ntarget = [0, 0, 0]\n";
+    let scene = out.join("sphere_path.toml");
+    std::fs::write(&scene, text).expect("the scene with a path");
     let stdout = run_validated(
         &[
             &["bench", "--scene", scene.to_str().unwrap(), "--modes", "pixel,multirate"][..],
             &["--min-estimated-area", "0", "--resolution", "96x64", "--warmup", "1"],
-            &["--path", "orbit:0.25", "--fps", "12", "--out", out.to_str().unwrap()],
+            &["--path", "scene", "--fps", "12", "--out", out.to_str().unwrap()],
         ]
         .concat(),
     );
-    assert!(stdout.contains("lambert_directional"), "{stdout}");
+    assert!(stdout.contains("sphere_path"), "{stdout}");
     let csv = std::fs::read_to_string(out.join("path.csv")).expect("path.csv");
     let rows: Vec<Vec<&str>> = csv.lines().skip(1).map(|l| l.split(',').collect()).collect();
     // A quarter of a second at 12 frames a second: frames at 0, 1/12, 2/12 and 3/12 s.
@@ -257,6 +268,25 @@ fn bench_times_every_configuration_along_a_camera_path() {
     let frames = header.iter().position(|&c| c == "frames").expect("a frames column");
     for line in bench.lines().skip(1) {
         assert_eq!(line.split(',').nth(frames), Some("4"), "{line}");
+    }
+    // Multirate's stability, frame against frame: three steps, each comparing pixels carried
+    // back through their surface, with the share of visible triangles whose level changed.
+    assert!(stdout.contains("temporal stability along the path"), "{stdout}");
+    let stability = std::fs::read_to_string(out.join("stability.csv")).expect("stability.csv");
+    let steps: Vec<Vec<&str>> = stability.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(steps.len(), 3, "{stability}");
+    for (k, step) in steps.iter().enumerate() {
+        assert!(step[0].contains("multirate"), "{step:?}");
+        assert_eq!(step[1], (k + 1).to_string(), "{step:?}");
+        let compared: usize = step[2].parse().expect("a count");
+        assert!(compared > 100, "pixels carried back: {step:?}");
+        let (largest, p99): (f32, f32) = (step[5].parse().expect("largest"), step[6].parse().expect("p99"));
+        assert!(largest.is_finite() && p99 <= largest, "{step:?}");
+        let levels: f64 = step[10].parse().expect("multirate's level changes");
+        // Every pixel compared is of the same triangle in both frames, within ε of the
+        // reference in each: it cannot change by more than 2ε.
+        assert!(largest <= 2.0 * 0.075, "{step:?}");
+        assert!((0.0..=1.0).contains(&levels), "{step:?}");
     }
 }
 

@@ -105,6 +105,13 @@ fn write_scene(name: &str, toml: &str, obj: Option<&str>) -> PathBuf {
 
 const TRIANGLE: &str = "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n";
 
+/// `multirate --validate render` of `scene` into `out` at 64 × 48, with `extra` arguments.
+fn render_64x48(scene: &Path, out: &Path, extra: &[&str]) -> (bool, String, String) {
+    let (scene, out) = (scene.to_str().unwrap(), out.to_str().unwrap());
+    let size = ["--width", "64", "--height", "48"];
+    multirate(&[&["--validate", "render", "--scene", scene, "--out", out][..], &size, extra].concat())
+}
+
 #[test]
 fn renders_png_and_exr_with_coverage() {
     let scene = repo_path("scenes/test/lambert_directional.toml");
@@ -112,18 +119,7 @@ fn renders_png_and_exr_with_coverage() {
     let png = dir.join("out.png");
     let exr = dir.join("out.exr");
     for out in [&png, &exr] {
-        let (ok, stdout, stderr) = multirate(&[
-            "--validate",
-            "render",
-            "--scene",
-            scene.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "--width",
-            "64",
-            "--height",
-            "48",
-        ]);
+        let (ok, stdout, stderr) = render_64x48(&scene, out, &[]);
         assert!(ok, "render failed:\n{stderr}");
         assert!(stdout.contains(out.to_str().unwrap()), "prints where the image went: {stdout}");
         assert!(stdout.contains("mode multirate"), "multirate without --mode: {stdout}");
@@ -147,22 +143,7 @@ fn renders_a_camera_path_into_numbered_frames() {
     let scene = repo_path("scenes/bunny.toml");
     let dir = scratch("path");
     let out = dir.join("shot.png");
-    let (ok, stdout, stderr) = multirate(&[
-        "--validate",
-        "render",
-        "--scene",
-        scene.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--width",
-        "64",
-        "--height",
-        "48",
-        "--path",
-        "orbit:0.3",
-        "--fps",
-        "10",
-    ]);
+    let (ok, stdout, stderr) = render_64x48(&scene, &out, &["--path", "orbit:0.3", "--fps", "10"]);
     assert!(ok, "render --path failed:\n{stderr}");
     assert!(stdout.contains("(4 frames)"), "{stdout}");
     assert!(!stderr.contains("vulkan:"), "validation messages:\n{stderr}");

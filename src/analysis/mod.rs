@@ -8,10 +8,13 @@
 //! 4. [`measured`]: per-triangle measured error beside the error the estimator predicted.
 //! 5. [`metrics`]: image error against the per-pixel reference (L∞, mean L2, FLIP, fallback masks).
 //! 6. [`report`]: `multirate analyze`: per visible triangle, the estimator's levels against the oracle's.
+//! 7. [`temporal`]: temporal stability along a camera path: each frame's error against the one
+//!    before at the same surface point.
 
 pub mod measured;
 pub mod metrics;
 pub mod oracle;
 pub mod pattern_level;
 pub mod report;
+pub mod temporal;
 pub mod tessellator;

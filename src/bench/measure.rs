@@ -3,6 +3,7 @@
 //! in turns with the other configurations of the same scene and resolution.
 
 use super::row::{Row, Timing, Trade};
+use super::stability::{self, StabilityRun};
 use crate::analysis::metrics::{self, fallback_mask, fallback_pixels, scaled_difference, ImageError};
 use crate::error::Result;
 use crate::geometry::shadow_class::ShadowClasses;
@@ -106,6 +107,8 @@ pub struct BenchResult {
     pub measurements: Vec<Measurement>,
     /// Per scene whose lights cast shadows, in the order measured.
     pub shadows: Vec<ShadowReport>,
+    /// Along a camera path: every configuration but `pixel`, its stability frame by frame.
+    pub stability: Vec<StabilityRun>,
 }
 
 /// A shadowed scene's maps as the run drew them.
@@ -239,7 +242,12 @@ pub fn run(
         jobs.chunk_by(|a, b| a.scene == b.scene && a.resolution == b.resolution).collect();
     let total = jobs.len() + groups.iter().map(|group| turns(group[0].scene)).sum::<usize>();
     let mut done = 0;
-    let mut result = BenchResult { rows: Vec::new(), measurements: Vec::new(), shadows: Vec::new() };
+    let mut result = BenchResult {
+        rows: Vec::new(),
+        measurements: Vec::new(),
+        shadows: Vec::new(),
+        stability: Vec::new(),
+    };
     let mut renderer: Option<(usize, Renderer)> = None;
     let mut target: Option<RenderTarget> = None;
     for group in groups {
@@ -330,6 +338,15 @@ pub fn run(
             progress(Progress { done: done + turn, total, label: &label, turns_done: turn })
         })?;
         done += turns(group[0].scene);
+        if let Some(along) = &schedules[group[0].scene].path {
+            let corners = stability::triangle_corners(scene);
+            for (job, view) in group.iter().zip(&views).filter(|(job, _)| job.mode != Mode::Pixel) {
+                let label = job.label(scenes);
+                progress(Progress { done, total, label: &format!("{label}: stability"), turns_done: 0 });
+                let run = stability::along_path(renderer, target, (scene, &corners), view, along, label)?;
+                result.stability.push(run);
+            }
+        }
         if let Some(report) = result.shadows.last_mut().filter(|r| &r.scene == name) {
             report.refits = renderer.shadow_refits();
         }

@@ -1,10 +1,11 @@
 //! A run along a camera path, frame by frame (the paper's Fig. 5, last column): every row's GPU
-//! time and pre-pass time per frame as CSV, and the GPU time per frame as an SVG plot, one line
-//! per configuration. The rows' measured frames are the path's frames in order
+//! time and pre-pass time per frame as CSV, the GPU time per frame as an SVG plot, one line per
+//! configuration, and every configuration's temporal stability per frame as CSV. The rows' measured frames are the path's frames in order
 //! (`measure::measure_in_turns` takes them in turns along the same cameras).
 
 use super::plot::{self, Chart, Point, Series};
 use super::row::Row;
+use super::stability::StabilityRun;
 use crate::error::Result;
 use crate::render::Measurement;
 use std::path::Path;
@@ -48,4 +49,32 @@ pub fn plot(rows: &[Row], measurements: &[Measurement], fps: f32, path: &Path) -
         x_log: false,
     };
     plot::draw(&chart, path)
+}
+
+/// Per step of every configuration's stability run: `configuration,frame,compared,masked,
+/// other_triangle,largest,p99,jump_share,test_change,reference_change,level_change_share` (frame `k` against
+/// frame `k − 1`; the level share empty but for multirate).
+pub fn stability_csv(runs: &[StabilityRun]) -> String {
+    let mut csv = String::from(
+        "configuration,frame,compared,masked,other_triangle,largest,p99,jump_share,test_change,reference_change,level_change_share\n",
+    );
+    for run in runs {
+        for (k, step) in run.steps.steps.iter().enumerate() {
+            let levels = run.level_changes.get(k).map_or_else(String::new, |share| format!("{share:.6}"));
+            csv += &format!(
+                "{},{},{},{},{},{:.6},{:.6},{:.6},{:.4},{:.4},{levels}\n",
+                run.label,
+                k + 1,
+                step.compared,
+                step.masked,
+                step.other_triangle,
+                step.largest,
+                step.p99,
+                step.jump_share(),
+                step.test_change,
+                step.reference_change
+            );
+        }
+    }
+    csv
 }

@@ -162,6 +162,7 @@ pub fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
     if args.path.is_some() {
         write("path.csv", bench::per_frame::to_csv(&result.rows, &result.measurements, args.fps))?;
         bench::per_frame::plot(&result.rows, &result.measurements, args.fps, &args.out.join("path.svg"))?;
+        write("stability.csv", bench::per_frame::stability_csv(&result.stability))?;
     }
     if let Some(path) = &args.capture {
         std::fs::write(path, bench::trace::chrome_trace(&result.rows, &result.measurements))
@@ -199,6 +200,7 @@ pub fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
             row.flip
         );
     }
+    print_stability(&result.stability);
     print_draw_parts(&result.rows);
     for row in result.rows.iter().filter(|row| row.frames_drawn_as_pixel.is_some_and(|n| n > 0)) {
         println!(
@@ -320,5 +322,30 @@ fn print_draw_parts(rows: &[bench::Row]) {
             .map(|(part, name)| format!("{:>w$.3}", parts[*part as usize], w = name.len()))
             .collect();
         println!("{name:<44} {:>9.3} {pre_pass:>9} {}", row.gpu_ms.median, parts.join(" "));
+    }
+}
+
+/// `--path`: per configuration, how its error moved from frame to frame along the path.
+fn print_stability(runs: &[bench::stability::StabilityRun]) {
+    if runs.is_empty() {
+        return;
+    }
+    println!("temporal stability along the path (|e_t − e_t−1| at the same surface point; jumps over ε/2; flicker Σ|ΔT| / Σ|ΔR|):");
+    for run in runs {
+        let steps = &run.steps;
+        let levels = if run.level_changes.is_empty() {
+            String::new()
+        } else {
+            let mean = run.level_changes.iter().sum::<f64>() / run.level_changes.len() as f64;
+            format!(", levels changed {:.2} % of visible triangles a frame", 100.0 * mean)
+        };
+        println!(
+            "  {}: largest {:.4}, worst p99 {:.4}, jumps {:.3} %, flicker {:.3}{levels}",
+            run.label,
+            steps.largest(),
+            steps.worst_p99(),
+            100.0 * steps.jump_share(),
+            steps.flicker_ratio()
+        );
     }
 }
