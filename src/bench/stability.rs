@@ -5,6 +5,7 @@
 //! reference of the same camera; for multirate also the share of visible triangles whose level
 //! changed since the frame before.
 
+use crate::analysis::metrics::pixels_over;
 use crate::analysis::temporal::{step, PathFrame, PathStability};
 use crate::error::Result;
 use crate::render::{Analysis, Mode, PathFrames, Renderer, View};
@@ -21,6 +22,9 @@ pub struct StabilityRun {
     pub steps: PathStability,
     /// multirate: per step, the share of triangles visible in both frames whose level changed.
     pub level_changes: Vec<f64>,
+    /// multirate: per frame, its pixels of the same triangle as the reference's farther than ε
+    /// from it (`metrics::pixels_over`; the bound says 0).
+    pub pixels_over_epsilon: Vec<usize>,
 }
 
 /// Every triangle of `scene`'s meshes by its corners, in the renderer's order (id − 1).
@@ -62,6 +66,11 @@ pub fn along_path(
                 _ => None,
             },
         };
+        if view.mode == Mode::Multirate {
+            let over =
+                pixels_over(shown.reference.frame(), shown.test.frame(), f64::from(view.estimator.epsilon));
+            run.pixels_over_epsilon.push(over);
+        }
         if let Some(before) = &previous {
             run.steps.steps.push(step(&before.frame(), &shown.frame(), corners, view.estimator.epsilon));
             if let (Some(then), Some(now)) = (&before.levels, &shown.levels) {

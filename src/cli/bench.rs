@@ -337,7 +337,11 @@ fn print_stability(runs: &[bench::stability::StabilityRun]) {
             String::new()
         } else {
             let mean = run.level_changes.iter().sum::<f64>() / run.level_changes.len() as f64;
-            format!(", levels changed {:.2} % of visible triangles a frame", 100.0 * mean)
+            let over = run.pixels_over_epsilon.iter().max().copied().unwrap_or(0);
+            format!(
+                ", levels changed {:.2} % of visible triangles a frame, at most {over} pixels of the same triangle over ε in a frame",
+                100.0 * mean
+            )
         };
         println!(
             "  {}: largest {:.4}, worst p99 {:.4}, jumps {:.3} %, flicker {:.3}{levels}",
