@@ -339,7 +339,7 @@ pub fn run(
         })?;
         done += turns(group[0].scene);
         if let Some(along) = &schedules[group[0].scene].path {
-            let corners = stability::triangle_corners(scene);
+            let corners: Vec<_> = scene.triangles().collect();
             for (job, view) in group.iter().zip(&views).filter(|(job, _)| job.mode != Mode::Pixel) {
                 let label = job.label(scenes);
                 progress(Progress { done, total, label: &format!("{label}: stability"), turns_done: 0 });

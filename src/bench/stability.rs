@@ -27,17 +27,6 @@ pub struct StabilityRun {
     pub pixels_over_epsilon: Vec<usize>,
 }
 
-/// Every triangle of `scene`'s meshes by its corners, in the renderer's order (id − 1).
-pub fn triangle_corners(scene: &Scene) -> Vec<[Vec3; 3]> {
-    scene
-        .meshes
-        .iter()
-        .flat_map(|mesh| {
-            mesh.indices.chunks_exact(3).map(|t| [0, 1, 2].map(|k| mesh.positions[t[k] as usize]))
-        })
-        .collect()
-}
-
 /// `view` (of `scene`) rendered frame by frame along `along` into `target` beside `pixel`'s
 /// reference, at a bound of `view.estimator.epsilon`.
 pub fn along_path(

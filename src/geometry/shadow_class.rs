@@ -140,10 +140,7 @@ impl ShadowClasses {
     /// The classes of every triangle of `scene` against its maps, laid out by `layout` and
     /// rendered into `depths`.
     pub fn of(scene: &Scene, layout: &ShadowLayout, depths: &ShadowDepths) -> ShadowClasses {
-        let triangles = scene.meshes.iter().flat_map(|mesh| {
-            mesh.indices.chunks_exact(3).map(|t| [0, 1, 2].map(|k| mesh.positions[t[k] as usize]))
-        });
-        ShadowClasses::of_triangles(&scene.lights, layout, depths, triangles)
+        ShadowClasses::of_triangles(&scene.lights, layout, depths, scene.triangles())
     }
 
     /// The classes of `triangles` (their corners, in the renderer's order) lit by `lights`

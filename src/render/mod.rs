@@ -93,6 +93,7 @@ use scene_buffers::SceneBuffers;
 use scene_geometry::SceneGeometry;
 pub use shadow_state::ShadowRefits;
 use shadow_state::Shadows;
+use shadows::ShadowAtlas;
 use std::cell::OnceCell;
 use std::sync::{Arc, Mutex};
 
@@ -141,7 +142,7 @@ impl Renderer {
         let geometry = SceneGeometry::of(scene);
         let buffers = SceneBuffers::upload(context, &geometry)?;
         let pre_pass = PrePass::new(context, &geometry, geometry.kinds.len())?;
-        let shadow_atlas = Shadows::atlas(context, &geometry)?;
+        let shadow_atlas = ShadowAtlas::new(context, &geometry.shadows)?;
         let descriptors = ForwardDescriptors::new(
             context,
             scene,

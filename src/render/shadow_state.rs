@@ -66,12 +66,6 @@ pub(super) struct Shadows {
 }
 
 impl Shadows {
-    /// The atlas of `geometry`'s maps, empty; the shaders may bind it, [`Shadows::draw_all`]
-    /// draws it.
-    pub(super) fn atlas(context: &Arc<Context>, geometry: &SceneGeometry) -> Result<ShadowAtlas> {
-        ShadowAtlas::new(context, &geometry.shadows)
-    }
-
     /// Draws every map of `scene` into `atlas` (directional ones fitted to the whole box until a
     /// view says otherwise) with the pipeline built from `pass`, classifies every triangle and
     /// uploads the classes into `triangle_corners`.

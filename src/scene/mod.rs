@@ -124,6 +124,14 @@ impl Scene {
         self.meshes.iter().map(|m| m.indices.len() / 3).sum()
     }
 
+    /// Every triangle of the meshes by its corners, mesh by mesh, in the order the renderer
+    /// numbers them (a triangle id is its index here + 1).
+    pub fn triangles(&self) -> impl Iterator<Item = [Vec3; 3]> + '_ {
+        self.meshes.iter().flat_map(|mesh| {
+            mesh.indices.chunks_exact(3).map(|t| [0, 1, 2].map(|k| mesh.positions[t[k] as usize]))
+        })
+    }
+
     /// The world-space axis-aligned bounds `(min, max)` of every mesh vertex, or
     /// `(Vec3::ZERO, Vec3::ZERO)` for a scene without vertices (which `load` never returns).
     pub fn bounds(&self) -> (Vec3, Vec3) {

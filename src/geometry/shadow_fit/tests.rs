@@ -25,15 +25,20 @@ fn random_camera(rng: &mut Rng, lo: Vec3, hi: Vec3) -> Camera {
     Camera { fov_y_degrees: rng.range(20.0, 90.0), ..camera(eye, target) }
 }
 
+/// A random box (flat ones too) and a directional light from above it.
+fn random_box_and_light(rng: &mut Rng) -> (Vec3, Vec3, DirectionalFrame) {
+    let lo = rng.point(Vec3::splat(-50.0), Vec3::ZERO);
+    let hi = lo + rng.point(Vec3::new(1.0, 0.0, 1.0), Vec3::splat(40.0));
+    let direction = rng.point(Vec3::splat(-1.0), Vec3::new(1.0, -0.2, 1.0)).normalize();
+    (lo, hi, DirectionalFrame::new(direction, lo, hi))
+}
+
 #[test]
 fn every_point_the_camera_sees_lies_in_the_seen_rectangle() {
     let mut rng = Rng(0x5eed_0f17);
     let mut checked = 0;
     for _ in 0..200 {
-        let lo = rng.point(Vec3::splat(-50.0), Vec3::ZERO);
-        let hi = lo + rng.point(Vec3::new(1.0, 0.0, 1.0), Vec3::splat(40.0));
-        let direction = rng.point(Vec3::splat(-1.0), Vec3::new(1.0, -0.2, 1.0)).normalize();
-        let frame = DirectionalFrame::new(direction, lo, hi);
+        let (lo, hi, frame) = random_box_and_light(&mut rng);
         let camera = random_camera(&mut rng, lo, hi);
         let size = (320, 180);
         let seen = frame.seen(&camera, 320.0 / 180.0, lo, hi);
@@ -70,10 +75,7 @@ fn a_refitted_map_holds_the_view_with_its_kernel_and_serves_it() {
     let mut rng = Rng(0x5eed_0f18);
     let mut finer = 0;
     for _ in 0..200 {
-        let lo = rng.point(Vec3::splat(-50.0), Vec3::ZERO);
-        let hi = lo + rng.point(Vec3::new(1.0, 0.0, 1.0), Vec3::splat(40.0));
-        let direction = rng.point(Vec3::splat(-1.0), Vec3::new(1.0, -0.2, 1.0)).normalize();
-        let frame = DirectionalFrame::new(direction, lo, hi);
+        let (lo, hi, frame) = random_box_and_light(&mut rng);
         let (size, radius) = (512, rng.below(3));
         let camera = random_camera(&mut rng, lo, hi);
         let seen = frame.seen(&camera, 16.0 / 9.0, lo, hi);
