@@ -32,13 +32,13 @@ void main() {
     bool capped;
     if (settled_triangle(p0, p1, p2, scene_normal(a), scene_normal(b), scene_normal(c), scene_uv(a),
                          scene_uv(b), scene_uv(c), estimated_classes(triangle), capped)) {
-        triangle_levels[triangle] = 1.0;
+        triangle_levels[triangle] = held_level(triangle, 1.0);
         return;
     }
     // An image too small to pay for the estimate: shaded per pixel. It stays in the culling
     // step's list, which the patch step covers.
     if (small_per_pixel(p0, p1, p2)) {
-        triangle_levels[triangle] = FALLBACK_LEVEL;
+        triangle_levels[triangle] = held_level(triangle, FALLBACK_LEVEL);
         return;
     }
     uint list = capped ? CAPPED_ESTIMATE_DISPATCH : FULL_ESTIMATE_DISPATCH;

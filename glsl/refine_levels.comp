@@ -123,8 +123,9 @@ void main() {
             uint classes = estimated_classes(triangle);
             settled_triangle(p0, p1, p2, n0, n1, n2, scene_uv(a), scene_uv(b), scene_uv(c), classes, capped);
             bool again;
-            triangle_levels[triangle] = estimated_level_pass(p0, p1, p2, n0, n1, n2, scene_uv(a), scene_uv(b),
-                                                             scene_uv(c), classes, capped, true, again);
+            float level = estimated_level_pass(p0, p1, p2, n0, n1, n2, scene_uv(a), scene_uv(b), scene_uv(c),
+                                               classes, capped, true, again);
+            triangle_levels[triangle] = held_level(triangle, level);
         }
     }
 }

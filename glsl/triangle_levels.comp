@@ -37,10 +37,11 @@ void main() {
     // The culling step gave back faces shaded per pixel their level, and the range step the
     // triangles it settles; neither is listed here.
     bool again;
-    triangle_levels[triangle] = estimated_level_pass(scene_position(a), scene_position(b), scene_position(c),
-                                                     scene_normal(a), scene_normal(b), scene_normal(c),
-                                                     scene_uv(a), scene_uv(b), scene_uv(c),
-                                                     estimated_classes(triangle), SPECULAR_ALL_CAPPED, false, again);
+    float level = estimated_level_pass(scene_position(a), scene_position(b), scene_position(c), scene_normal(a),
+                                       scene_normal(b), scene_normal(c), scene_uv(a), scene_uv(b), scene_uv(c),
+                                       estimated_classes(triangle), SPECULAR_ALL_CAPPED, false, again);
+    // A triangle to refine is held once, at the level the refining step finds for it.
+    triangle_levels[triangle] = again ? level : held_level(triangle, level);
     if (again) {
         uint slot = atomicAdd(level_dispatches[level_dispatch(REFINE_DISPATCH)].w, 1u);
         refine_triangles[draw.patch_base + slot] = triangle;

@@ -17,6 +17,17 @@ pub struct GpuLight {
     pub shadow: IVec4,
 }
 
+/// A triangle's hold state in the multirate pre-pass (std430; `render::level_hold`): the level
+/// it is held at, the highest of the lower estimates since, and how many of those came in a row.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct LevelHold {
+    pub held: f32,
+    pub lower: f32,
+    pub estimates: u32,
+    pub unused: u32,
+}
+
 /// One shadow map in the atlas: a directional light's square, or a point light's six square
 /// faces in a block of 3 × 2 (std430).
 #[repr(C)]

@@ -11,7 +11,8 @@
 use multirate::gpu_interface::bindings::{self, Binding, DescriptorKind, TexelFormat};
 use multirate::gpu_interface::specialization::{self, SpecId};
 use multirate::gpu_interface::{flags, slots};
-use multirate::gpu_types::{DrawConstants, GpuLight, GpuMaterial, GpuPolygonLight};
+use multirate::gpu_types::{DrawConstants, GpuLight, GpuMaterial, GpuPolygonLight, LevelHold};
+use multirate::render::level_hold;
 use multirate::shaders::{self, Features};
 use std::collections::{HashMap, HashSet};
 use std::mem::{offset_of, size_of};
@@ -168,6 +169,21 @@ fn gpu_material_matches_glsl() {
         size_of::<GpuMaterial>(),
     );
     assert!(checked > 0, "no shader declares GpuMaterial");
+}
+
+#[test]
+fn level_hold_matches_glsl() {
+    let checked = check_struct(
+        "LevelHold",
+        &[
+            ("held", offset_of!(LevelHold, held)),
+            ("lower", offset_of!(LevelHold, lower)),
+            ("estimates", offset_of!(LevelHold, estimates)),
+            ("unused", offset_of!(LevelHold, unused)),
+        ],
+        size_of::<LevelHold>(),
+    );
+    assert!(checked > 0, "no shader declares LevelHold");
 }
 
 #[test]
@@ -680,6 +696,12 @@ fn check_glsl_twins(rust: &[(&str, u32)], file: &str, prefixes: &[&str]) {
 #[test]
 fn the_flags_are_declared_once_in_glsl_with_their_rust_values() {
     check_glsl_twins(flags::ALL, "include/types.glsl", &["FLAG_"]);
+}
+
+#[test]
+fn the_hold_rule_has_the_constants_of_its_rust_twin() {
+    let rust = [("HOLD_ESTIMATES", level_hold::HOLD_ESTIMATES), ("HOLD_STAGGER", level_hold::HOLD_STAGGER)];
+    check_glsl_twins(&rust, "include/level_hold.glsl", &["HOLD_"]);
 }
 
 #[test]

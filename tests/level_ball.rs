@@ -164,3 +164,96 @@ fn only_submitted_frames_move_the_ball() {
     assert_eq!(estimated(&renderer, &target, &view, meshes), 0, "the kept levels still hold");
     assert_validation_clean(&context);
 }
+
+/// Levels held between the balls (`render::level_hold`): along eyes that each leave the last
+/// ball, so that every frame estimates every visible triangle, a renderer that holds its levels
+/// uses exactly the levels the Rust twin holds from the estimates of one that does not, each at
+/// least its estimate, so within ε; levels of two eyes taken in turns stop changing; and levels
+/// a later eye finds coarser fall after a few estimates, not all in the same frame.
+#[test]
+fn levels_are_held_between_the_balls_as_the_twin_holds_them() {
+    use multirate::gpu_types::LevelHold;
+    use multirate::render::level_hold::held_level;
+    use multirate::shading::estimator::uniform_level;
+
+    let context = validated_context();
+    let target = RenderTarget::new(&context, vk::Extent2D { width: WIDTH, height: HEIGHT }).expect("target");
+    let mut scene = Scene::load(&repo_path("scenes/bunny.toml")).expect("scene");
+    (scene.settings.width, scene.settings.height) = (WIDTH, HEIGHT);
+    let holding = Renderer::new(&context, &scene).expect("renderer");
+    let unheld = Renderer::new(&context, &scene).expect("renderer");
+    let view = View { mode: Mode::Multirate, ..View::of_scene(&scene) };
+    assert!(view.hold_levels, "levels are held by default");
+    // Eyes 8 radii apart along a turn: farther than the widest ball (`level_ball::MOST_WIDENED`
+    // radii) from the one before. Two eyes in turns, then two others in turns. The first frame's
+    // ball has the configured radius, the others the widest (the eye moved): from the fourth
+    // frame on, the first two eyes' estimates repeat.
+    let step = 8.0 * view.estimator.eye_radius;
+    let stops = [0, 1, 0, 1, 0, 1, 3, 4, 3, 4, 3, 4, 3, 4];
+    let n_max = view.estimator.n_max;
+    let mut twin = vec![LevelHold::default(); scene.triangle_count()];
+    let (mut previous, mut fell): (Option<Vec<f32>>, Vec<usize>) = (None, Vec::new());
+    for (frame, &stop) in stops.iter().enumerate() {
+        let at = View { camera: turned(view.camera, stop as f32 * step), ..view.clone() };
+        let levels = holding.pre_pass_levels(&target, &at).expect("held levels");
+        let estimates =
+            unheld.pre_pass_levels(&target, &View { hold_levels: false, ..at.clone() }).expect("levels");
+        let mut visible = 0;
+        for (t, (&level, &estimate)) in levels.iter().zip(&estimates).enumerate() {
+            if estimate < 0.0 {
+                assert_eq!(level, estimate, "frame {frame}: triangle {t} culled in one renderer only");
+                continue;
+            }
+            visible += 1;
+            let (expected, after) = held_level(t as u32, estimate, twin[t]);
+            twin[t] = after;
+            assert_eq!(level, expected, "frame {frame}, triangle {t}: the pre-pass against the twin");
+            assert!(level >= estimate, "frame {frame}, triangle {t}: {level} under its estimate {estimate}");
+        }
+        assert!(visible > 1000, "frame {frame}: {visible} visible triangles");
+        if let Some(before) = &previous {
+            let pattern = |level: f32| uniform_level(level, n_max);
+            let changed = |a: &[f32], b: &[f32]| {
+                a.iter()
+                    .zip(b)
+                    .filter(|(x, y)| **x >= 0.0 && **y >= 0.0 && pattern(**x) != pattern(**y))
+                    .count()
+            };
+            if (3..6).contains(&frame) {
+                assert_eq!(
+                    changed(before, &levels),
+                    0,
+                    "frame {frame}: two eyes in turns change nothing held"
+                );
+            }
+            fell.push(
+                levels
+                    .iter()
+                    .zip(before)
+                    .filter(|(now, was)| **now >= 0.0 && pattern(**now) < pattern(**was))
+                    .count(),
+            );
+        }
+        previous = Some(levels);
+        let last = frame + 1 == stops.len();
+        if frame == 6 || last {
+            let reference =
+                holding.analyze(&target, &View { mode: Mode::Pixel, ..at.clone() }).expect("pixel");
+            let analysis = holding.analyze(&target, &at).expect("multirate");
+            let over =
+                metrics::pixels_over(reference.frame(), analysis.frame(), f64::from(view.estimator.epsilon));
+            assert_eq!(over, 0, "frame {frame}: {over} pixels of the same triangle over ε with held levels");
+        }
+    }
+    // No level falls while the first two eyes take turns, nor at the first estimate of the
+    // second pair; the levels it finds coarser fall after three to five lower estimates in a row
+    // (by the triangle's index), spread over several frames.
+    let falling: Vec<usize> = (1..stops.len()).filter(|&frame| fell[frame - 1] > 0).collect();
+    assert!(
+        falling.first().is_some_and(|&first| first > 6),
+        "levels that fell per frame (from frame 1): {fell:?}"
+    );
+    assert!(falling.len() >= 3, "levels that fell per frame (from frame 1): {fell:?}");
+    eprintln!("levels that fell per frame: {fell:?}");
+    assert_validation_clean(&context);
+}

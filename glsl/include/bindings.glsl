@@ -140,6 +140,7 @@ layout(set = 0, binding = 22, std430) writeonly buffer FlatIndices { uint flat_i
 // Per triangle of the scene, the level the pre-pass found for it while the eye stays in the
 // current ball (the patch step keeps each estimated triangle's), 0 where none yet: the culling
 // step reuses it where draw.flags has FLAG_REUSE_LEVELS. The host zeroes it when a ball begins.
+// Where levels are held (FLAG_HOLD_LEVELS), the level kept is the one held (level_hold.glsl).
 layout(set = 0, binding = 23, std430) buffer EstimatedLevels { float estimated_levels[]; };
 // Every mesh's flat patches shaded per pixel, compacted: the patch step appends each one's three
 // vertices from the mesh's first index on, and lists the triangle in fallback_patches from the
@@ -161,6 +162,10 @@ layout(set = 0, binding = 25) uniform samplerBuffer triangle_corners;
 // GpuShadowMap.rect, GpuShadowMap.depth (types.glsl); one unread entry where no light casts
 // shadows. Texels, not a storage buffer: see shadow_map_rect.
 layout(set = 0, binding = 26) uniform samplerBuffer shadow_maps;
+// Per triangle of the scene, the multirate pre-pass's hold state (level_hold.glsl, held_level):
+// written where a frame holds levels (FLAG_HOLD_LEVELS) and estimates the triangle; the host
+// zeroes it when a ball of eyes begins in another configuration than the last.
+layout(set = 0, binding = 27, std430) buffer LevelHolds { LevelHold level_holds[]; };
 // The index of no vertex, 2^24 - 1 (`SKIPPED_VERTEX` in Rust, Vulkan's least
 // maxDrawIndexedIndexValue; render::limits refuses scenes with more vertices):
 // multirate_flat.vert shades nothing for it.

@@ -13,6 +13,7 @@
 #ifndef TRIANGLE_LEVEL_GLSL
 #define TRIANGLE_LEVEL_GLSL
 #include "estimator.glsl"
+#include "level_hold.glsl"
 #if VARIANT_TEXTURED
 #include "texture_bounds.glsl"
 #endif

@@ -34,6 +34,15 @@ struct GpuMaterial {
     vec4 parameter_range; // x, y: the parameter map's lo and hi
 };
 
+// A triangle's hold state in the multirate pre-pass (level_hold.glsl): the level it is held at,
+// the highest of the lower estimates since, and how many of those came in a row.
+struct LevelHold {
+    float held;
+    float lower;
+    uint estimates;
+    uint unused;
+};
+
 // Per-draw constants, pushed for every mesh.
 struct DrawConstants {
     mat4 view_proj;      // world to Vulkan clip space
@@ -68,5 +77,8 @@ const uint FLAG_FALLBACK_PATCHES = 16u;
 const uint FLAG_SHARED_CORNERS = 32u;
 // The multirate pre-pass reuses the levels of estimated_levels and keeps those it finds.
 const uint FLAG_REUSE_LEVELS = 64u;
+// The multirate pre-pass holds levels: a lower estimate is used only once it has come several
+// times in a row (level_hold.glsl).
+const uint FLAG_HOLD_LEVELS = 128u;
 
 #endif

@@ -11,7 +11,9 @@
 //! shading. [`step`] measures one frame against the one before: the largest and the 99th
 //! percentile `|e_t − e_{t−1}|` (the largest channel), the pixels that jump by more than ε/2,
 //! and `Σ|T_t − T_{t−1}|` against `Σ|R_t − R_{t−1}|`, whose ratio over a path is the flicker
-//! ratio (1: no flicker beyond the reference's own). [`PathStability`] gathers the steps.
+//! ratio (1: no flicker beyond the reference's own). Of the jumps, those on a triangle whose
+//! tessellation pattern changed since the frame before are counted apart: the ones a level
+//! change made. [`PathStability`] gathers the steps.
 
 use crate::geometry::camera::{pixel_ray, view_projection};
 use crate::scene::Camera;
@@ -27,6 +29,10 @@ pub struct PathFrame<'a> {
     pub triangles: &'a [u32],
     pub test_triangles: &'a [u32],
     pub camera: Camera,
+    /// Per scene triangle (id − 1), whether its tessellation pattern (level or outer levels)
+    /// changed since the frame before; empty where that is not known (modes other than
+    /// multirate, a path's first frame).
+    pub pattern_changed: &'a [bool],
 }
 
 /// One frame against the one before.
@@ -43,6 +49,8 @@ pub struct StepStability {
     pub p99: f32,
     /// Compared pixels whose error changed by more than ε/2.
     pub jumps: usize,
+    /// Of those, the pixels of a triangle whose pattern changed (`PathFrame::pattern_changed`).
+    pub pattern_jumps: usize,
     /// `Σ|T_t − T_{t−1}|` and `Σ|R_t − R_{t−1}|` over the compared pixels and channels.
     pub test_change: f64,
     pub reference_change: f64,
@@ -74,8 +82,19 @@ impl PathStability {
 
     /// Over the path: the compared pixels that jumped by more than ε/2, as a share.
     pub fn jump_share(&self) -> f64 {
-        let compared: usize = self.steps.iter().map(|s| s.compared).sum();
-        self.steps.iter().map(|s| s.jumps).sum::<usize>() as f64 / compared.max(1) as f64
+        self.jumps() as f64 / self.compared().max(1) as f64
+    }
+
+    /// Over the path: the pixels compared, those that jumped by more than ε/2, and those of the
+    /// jumps on a triangle whose pattern changed.
+    pub fn compared(&self) -> usize {
+        self.steps.iter().map(|s| s.compared).sum()
+    }
+    pub fn jumps(&self) -> usize {
+        self.steps.iter().map(|s| s.jumps).sum()
+    }
+    pub fn pattern_jumps(&self) -> usize {
+        self.steps.iter().map(|s| s.pattern_jumps).sum()
     }
 
     /// `Σ|T_t − T_{t−1}| / Σ|R_t − R_{t−1}|` over the path (1 where the reference never changes).
@@ -125,7 +144,10 @@ pub fn step(
             let (now, then) = (error(current, at), error(previous, q));
             let change = (0..3).map(|c| (now[c] - then[c]).abs()).fold(0.0f32, f32::max);
             changes.push(change);
-            out.jumps += usize::from(change > 0.5 * epsilon);
+            let jump = change > 0.5 * epsilon;
+            out.jumps += usize::from(jump);
+            let pattern_changed = current.pattern_changed.get(id as usize - 1) == Some(&true);
+            out.pattern_jumps += usize::from(jump && pattern_changed);
             let (t, t0) = (current.test.pixels[at], previous.test.pixels[q]);
             let (r, r0) = (current.reference.pixels[at], previous.reference.pixels[q]);
             out.test_change += (0..3).map(|c| f64::from((t[c] - t0[c]).abs())).sum::<f64>();

@@ -89,6 +89,7 @@ pub fn calibrate(
         // The estimator step's time is the estimate's cost.
         pre_pass_steps: true,
         eye_ball_share: 0.0,
+        level_holds: Vec::new(),
         path: None,
     };
     // Every triangle per pixel: ε 0, which the range class never settles, and an area floor

@@ -71,6 +71,9 @@ pub struct BenchConfig {
     /// of the camera's distance to its target (`View`'s `EYE_BALL_SHARE`; 0: every frame
     /// estimates for its own eye).
     pub eye_ball_share: f32,
+    /// multirate: whether the pre-pass holds its levels between the balls of eyes
+    /// (`View::hold_levels`), each measured. Empty: held.
+    pub level_holds: Vec<bool>,
     /// Along a camera path at this many frames a second instead of `frames` and
     /// `orbit_degrees`: each scene's measured frames are its path's frames.
     pub path: Option<(PathChoice, f32)>,
@@ -135,9 +138,32 @@ struct Job {
     placement: Placement,
     /// multirate: `None` for the cost model's area.
     min_estimated_area: Option<f32>,
+    /// multirate: whether the pre-pass holds its levels (`View::hold_levels`).
+    hold_levels: bool,
 }
 
 impl Job {
+    /// The view of `scene` the job renders with `config`'s estimator settings.
+    fn view(&self, scene: &Scene, config: &BenchConfig) -> View {
+        let scene_view = View::of_scene(scene);
+        View {
+            mode: self.mode,
+            estimator: EstimatorSettings {
+                epsilon: self.epsilon,
+                n_max: self.n_max,
+                split: config.split,
+                discontinuity: config.discontinuity,
+                min_estimated_area: self.min_estimated_area.unwrap_or(0.0),
+                ..scene_view.estimator
+            },
+            placement: self.placement,
+            cost_model: self.min_estimated_area.is_none(),
+            hold_levels: self.hold_levels,
+            ..scene_view
+        }
+        .with_eye_ball(config.eye_ball_share)
+    }
+
     fn label(&self, scenes: &[BenchScene]) -> String {
         let (width, height) = self.resolution;
         let name = &scenes[self.scene].name;
@@ -145,8 +171,9 @@ impl Job {
             Mode::Multirate => {
                 let (epsilon, n_max, placement) = (self.epsilon, self.n_max, self.placement);
                 let area = self.min_estimated_area.map_or_else(|| "auto".to_string(), |a| a.to_string());
+                let held = if self.hold_levels { "" } else { " levels unheld" };
                 format!(
-                    "{name} {width}x{height} multirate ε={epsilon} n_max={n_max} estimator {placement} area {area}"
+                    "{name} {width}x{height} multirate ε={epsilon} n_max={n_max} estimator {placement} area {area}{held}"
                 )
             }
             mode => format!("{name} {width}x{height} {mode}"),
@@ -173,8 +200,9 @@ fn jobs(scenes: &[BenchScene], config: &BenchConfig) -> Vec<Job> {
         } else {
             config.min_estimated_areas.clone()
         };
+        let holds = if config.level_holds.is_empty() { vec![true] } else { config.level_holds.clone() };
         for &resolution in &resolutions {
-            let job = |mode, epsilon, n_max, placement, min_estimated_area| Job {
+            let job = |mode, epsilon, n_max, placement, (min_estimated_area, hold_levels)| Job {
                 scene: index,
                 resolution,
                 mode,
@@ -182,22 +210,25 @@ fn jobs(scenes: &[BenchScene], config: &BenchConfig) -> Vec<Job> {
                 n_max,
                 placement,
                 min_estimated_area,
+                hold_levels,
             };
             let default = Placement::default();
-            jobs.push(job(Mode::Pixel, settings.epsilon, settings.n_max, default, None));
+            jobs.push(job(Mode::Pixel, settings.epsilon, settings.n_max, default, (None, true)));
             for &mode in config.modes.iter().filter(|&&m| m != Mode::Pixel) {
                 if mode == Mode::Multirate {
                     for &epsilon in &epsilons {
                         for &n_max in &n_maxes {
                             for &placement in &placements {
                                 for &area in &areas {
-                                    jobs.push(job(mode, epsilon, n_max, placement, area));
+                                    for &hold in &holds {
+                                        jobs.push(job(mode, epsilon, n_max, placement, (area, hold)));
+                                    }
                                 }
                             }
                         }
                     }
                 } else {
-                    jobs.push(job(mode, settings.epsilon, settings.n_max, default, None));
+                    jobs.push(job(mode, settings.epsilon, settings.n_max, default, (None, true)));
                 }
             }
         }
@@ -264,27 +295,7 @@ pub fn run(
             target = Some(RenderTarget::new(context, extent)?);
         }
         let target = target.as_ref().expect("created above");
-        let views: Vec<View> = group
-            .iter()
-            .map(|job| {
-                let scene_view = View::of_scene(scene);
-                View {
-                    mode: job.mode,
-                    estimator: EstimatorSettings {
-                        epsilon: job.epsilon,
-                        n_max: job.n_max,
-                        split: config.split,
-                        discontinuity: config.discontinuity,
-                        min_estimated_area: job.min_estimated_area.unwrap_or(0.0),
-                        ..scene_view.estimator
-                    },
-                    placement: job.placement,
-                    cost_model: job.min_estimated_area.is_none(),
-                    ..scene_view
-                }
-                .with_eye_ball(config.eye_ball_share)
-            })
-            .collect();
+        let views: Vec<View> = group.iter().map(|job| job.view(scene, config)).collect();
         // Images are compared with the reference as they come (it is the group's first), so
         // that only its image is held, whatever the number of configurations.
         assert!(group[0].mode == Mode::Pixel, "each scene and resolution starts with pixel mode");
@@ -515,6 +526,7 @@ fn row(
         epsilon: multirate.then_some(job.epsilon),
         n_max: multirate.then_some(job.n_max),
         estimator: multirate.then(|| job.placement.to_string()),
+        levels_held: multirate.then_some(job.hold_levels),
         width: job.resolution.0,
         height: job.resolution.1,
         frames: measurement.frames.len() as u32,
@@ -564,6 +576,9 @@ fn file_stem(bench_scene: &BenchScene, job: &Job) -> String {
             }
             if let Some(area) = job.min_estimated_area {
                 stem.push_str(&format!("_area{area}"));
+            }
+            if !job.hold_levels {
+                stem.push_str("_unheld");
             }
             stem
         }

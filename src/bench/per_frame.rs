@@ -52,19 +52,20 @@ pub fn plot(rows: &[Row], measurements: &[Measurement], fps: f32, path: &Path) -
 }
 
 /// Per step of every configuration's stability run: `configuration,frame,compared,masked,
-/// other_triangle,largest,p99,jump_share,test_change,reference_change,level_change_share,
-/// pixels_over_epsilon` (frame `k` against
-/// frame `k − 1`; the level share and the pixels over ε, of frame `k`, empty but for multirate).
+/// other_triangle,largest,p99,jump_share,jumps,pattern_jumps,test_change,reference_change,
+/// level_change_share,pixels_over_epsilon` (frame `k` against frame `k − 1`; `pattern_jumps`:
+/// the jumps on a triangle whose pattern changed; the level share and the pixels over ε, of
+/// frame `k`, empty but for multirate).
 pub fn stability_csv(runs: &[StabilityRun]) -> String {
     let mut csv = String::from(
-        "configuration,frame,compared,masked,other_triangle,largest,p99,jump_share,test_change,reference_change,level_change_share,pixels_over_epsilon\n",
+        "configuration,frame,compared,masked,other_triangle,largest,p99,jump_share,jumps,pattern_jumps,test_change,reference_change,level_change_share,pixels_over_epsilon\n",
     );
     for run in runs {
         for (k, step) in run.steps.steps.iter().enumerate() {
             let levels = run.level_changes.get(k).map_or_else(String::new, |share| format!("{share:.6}"));
             let over = run.pixels_over_epsilon.get(k + 1).map_or_else(String::new, usize::to_string);
             csv += &format!(
-                "{},{},{},{},{},{:.6},{:.6},{:.6},{:.4},{:.4},{levels},{over}\n",
+                "{},{},{},{},{},{:.6},{:.6},{:.6},{},{},{:.4},{:.4},{levels},{over}\n",
                 run.label,
                 k + 1,
                 step.compared,
@@ -73,6 +74,8 @@ pub fn stability_csv(runs: &[StabilityRun]) -> String {
                 step.largest,
                 step.p99,
                 step.jump_share(),
+                step.jumps,
+                step.pattern_jumps,
                 step.test_change,
                 step.reference_change
             );

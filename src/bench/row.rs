@@ -50,6 +50,9 @@ pub struct Row {
     pub n_max: Option<u32>,
     /// multirate only: where the estimator ran (`tcs` or `compute`).
     pub estimator: Option<String>,
+    /// multirate only: whether the pre-pass held its levels between the balls of eyes
+    /// (`View::hold_levels`).
+    pub levels_held: Option<bool>,
     pub width: u32,
     pub height: u32,
     pub frames: u32,
@@ -123,7 +126,7 @@ impl Trade {
 }
 
 /// The CSV header; `csv_line` writes the fields in this order.
-pub const CSV_HEADER: &str = "scene,triangles,mode,epsilon,n_max,estimator,width,height,frames,\
+pub const CSV_HEADER: &str = "scene,triangles,mode,epsilon,n_max,estimator,levels_held,width,height,frames,\
 gpu_ms_median,gpu_ms_p10,gpu_ms_p90,pre_pass_ms_median,cull_ms_median,range_ms_median,estimate_ms_median,refine_ms_median,\
 patches_ms_median,draw_whole_ms_median,draw_flat_ms_median,draw_tessellated_ms_median,draw_fallback_depth_ms_median,\
 draw_fallback_shading_ms_median,draw_back_faces_ms_median,draw_emitters_ms_median,min_estimated_area,frames_drawn_as_pixel,speedup,floor_ms,ceiling,saving_share,empty_ms,evaluations,vertex_evaluations,subvertex_evaluations,\
@@ -156,6 +159,7 @@ pub fn csv_line(row: &Row) -> String {
         optional(row.epsilon),
         optional(row.n_max),
         optional(row.estimator.as_ref()),
+        optional(row.levels_held),
         row.width.to_string(),
         row.height.to_string(),
         row.frames.to_string(),

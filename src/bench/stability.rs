@@ -46,14 +46,20 @@ pub fn along_path(
         // The frame a user sees commits its ball of eyes; the analysis frame after it draws the
         // same levels and gives the triangle ids.
         renderer.render(target, &frame_view)?;
+        let levels = match view.mode {
+            Mode::Multirate => Some(renderer.record_levels(target, &frame_view)?),
+            _ => None,
+        };
+        let pattern_changed = match (previous.as_ref().and_then(|before| before.levels.as_ref()), &levels) {
+            (Some(then), Some(now)) => then.iter().zip(now).map(|(a, b)| a != b).collect(),
+            _ => Vec::new(),
+        };
         let shown = Shown {
             camera,
             test: renderer.analyze(target, &frame_view)?,
             reference: renderer.analyze(target, &View { mode: Mode::Pixel, ..frame_view.clone() })?,
-            levels: match view.mode {
-                Mode::Multirate => Some(renderer.record_levels(target, &frame_view)?),
-                _ => None,
-            },
+            levels,
+            pattern_changed,
         };
         if view.mode == Mode::Multirate {
             let over =
@@ -79,6 +85,9 @@ struct Shown {
     reference: Analysis,
     /// multirate: every triangle's recorded level.
     levels: Option<Vec<[f32; 4]>>,
+    /// multirate: per triangle, whether its recorded level or outer levels differ from the
+    /// frame before's (empty for the first frame and other modes).
+    pattern_changed: Vec<bool>,
 }
 
 impl Shown {
@@ -89,6 +98,7 @@ impl Shown {
             triangles: &self.reference.triangles,
             test_triangles: &self.test.triangles,
             camera: self.camera,
+            pattern_changed: &self.pattern_changed,
         }
     }
 }

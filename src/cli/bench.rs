@@ -97,6 +97,19 @@ pub struct BenchArgs {
     /// estimates for its own eye).
     #[arg(long, value_name = "SHARE", default_value_t = EYE_BALL_SHARE)]
     pub eye_ball: f32,
+    /// multirate: whether its levels are held between the balls of eyes (a lower estimate used
+    /// only once it has come several times in a row): on, off, or on,off to measure both.
+    #[arg(long, value_name = "on|off", value_delimiter = ',', value_parser = parse_on_off, default_value = "on")]
+    pub level_hold: Vec<bool>,
+}
+
+/// `on` or `off`.
+fn parse_on_off(text: &str) -> Result<bool, String> {
+    match text {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        _ => Err(format!("expected on or off, got {text:?}")),
+    }
 }
 
 pub fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
@@ -130,6 +143,7 @@ pub fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
         draw_parts: args.draw_parts,
         pre_pass_steps: args.pre_pass_steps,
         eye_ball_share: args.eye_ball,
+        level_holds: args.level_hold.clone(),
         path: args.path.map(|choice| (choice, args.fps)),
     };
     std::fs::create_dir_all(&args.out).with_context(|| format!("{}: cannot create", args.out.display()))?;
@@ -343,12 +357,19 @@ fn print_stability(runs: &[bench::stability::StabilityRun]) {
                 100.0 * mean
             )
         };
+        let patterns = if run.level_changes.is_empty() {
+            String::new()
+        } else {
+            format!(", {} of them where the triangle's pattern changed", steps.pattern_jumps())
+        };
         println!(
-            "  {}: largest {:.4}, worst p99 {:.4}, jumps {:.3} %, flicker {:.3}{levels}",
+            "  {}: largest {:.4}, worst p99 {:.4}, jumps {} of {} compared pixels ({:.2} per million){patterns}, flicker {:.3}{levels}",
             run.label,
             steps.largest(),
             steps.worst_p99(),
-            100.0 * steps.jump_share(),
+            steps.jumps(),
+            steps.compared(),
+            1e6 * steps.jump_share(),
             steps.flicker_ratio()
         );
     }

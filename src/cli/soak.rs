@@ -241,6 +241,7 @@ fn soak_bench(args: &SoakArgs, options: &ContextOptions) -> Result<Soak> {
         draw_parts: false,
         pre_pass_steps: false,
         eye_ball_share: EYE_BALL_SHARE,
+        level_holds: Vec::new(),
         path: None,
     };
     let bar = progress_bar();

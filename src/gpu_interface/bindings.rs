@@ -152,6 +152,8 @@ pub mod forward {
     };
     /// Texels of one shadow map in `shadow_maps`.
     pub const SHADOW_MAP_TEXELS: usize = 6;
+    /// Per triangle, the pre-pass's hold state (`gpu_types::LevelHold`, `render::level_hold`).
+    pub const LEVEL_HOLDS: Binding = storage(0, 27, "LevelHolds");
 
     pub const ALBEDO_MAP: Binding = sampler(1, 0, "albedo_map");
     pub const PARAMETER_MAP: Binding = sampler(1, 1, "parameter_map");
@@ -164,7 +166,7 @@ pub mod forward {
     pub const VISIBILITY: Binding = sampler(2, 0, "visibility");
 
     /// Set 0: the scene's storage and texel buffers, bound once.
-    pub const SCENE_BUFFERS: [Binding; 27] = [
+    pub const SCENE_BUFFERS: [Binding; 28] = [
         LIGHTS,
         MATERIALS,
         LEVEL_RECORDS,
@@ -192,6 +194,7 @@ pub mod forward {
         FALLBACK_INDICES,
         TRIANGLE_CORNERS,
         SHADOW_MAPS,
+        LEVEL_HOLDS,
     ];
     /// Set 1: the draw's material textures, bound per draw.
     pub const MATERIAL_TEXTURES: [Binding; 4] = [ALBEDO_MAP, PARAMETER_MAP, PARAMETER_PYRAMID, SHADOW_ATLAS];

@@ -23,4 +23,7 @@ named_constants! {
     /// The multirate pre-pass (`--estimator compute`) reuses the levels it found earlier in the
     /// current ball of eyes (`estimated_levels`) and keeps those it finds now.
     FLAG_REUSE_LEVELS = 64;
+    /// Where the pre-pass keeps levels (`FLAG_REUSE_LEVELS`), it also holds them: a lower
+    /// estimate is used only once it has come several times in a row (`render::level_hold`).
+    FLAG_HOLD_LEVELS = 128;
 }

@@ -15,7 +15,9 @@ use super::mode::{Mode, Placement, MAX_LEVEL};
 use super::multirate_config::MultirateConfig;
 use super::view::View;
 use crate::geometry::camera;
-use crate::gpu_interface::flags::{FLAG_DERIVATIVE_CHECK, FLAG_HEAT_MAP, FLAG_REUSE_LEVELS};
+use crate::gpu_interface::flags::{
+    FLAG_DERIVATIVE_CHECK, FLAG_HEAT_MAP, FLAG_HOLD_LEVELS, FLAG_REUSE_LEVELS,
+};
 use crate::gpu_types::DrawConstants;
 use crate::scene::{Light, Scene};
 use crate::shading::estimator::EstimatorSettings;
@@ -101,6 +103,7 @@ impl PerPixelChoice {
                 ..view.estimator
             },
             extent: (extent.width, extent.height),
+            hold_levels: view.hold_levels,
         }
     }
 }
@@ -176,7 +179,7 @@ impl FrameConfig {
             match (commit, ball) {
                 (Commit::OnSubmit, _) => (ball, Some(after)),
                 // The levels kept for the committed ball stay as they are.
-                (Commit::Never, BallUse::Begin { radius }) => (BallUse::Detached { radius }, None),
+                (Commit::Never, BallUse::Begin { radius, .. }) => (BallUse::Detached { radius }, None),
                 (Commit::Never, _) => (ball, None),
             }
         } else {
@@ -235,6 +238,9 @@ impl FrameConfig {
         constants.eye_radius = self.ball.radius();
         if self.ball.keeps_levels() {
             constants.flags |= FLAG_REUSE_LEVELS;
+            if self.multirate.hold_levels {
+                constants.flags |= FLAG_HOLD_LEVELS;
+            }
         }
         constants
     }

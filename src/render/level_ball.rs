@@ -47,8 +47,9 @@ pub(super) enum BallUse {
     /// No ball (a radius of 0): every visible triangle is estimated for the frame's eye alone.
     Off,
     /// A ball begins at the frame's eye: the kept levels are cleared, and every visible triangle
-    /// is estimated for the ball.
-    Begin { radius: f32 },
+    /// is estimated for the ball. `fresh`: no ball of the same configuration came before (the
+    /// first ball, or the settings changed), so the levels held (`level_hold`) are cleared too.
+    Begin { radius: f32, fresh: bool },
     /// The eye is still in the ball: the kept levels are reused, and the triangles without one
     /// are estimated for every eye within `radius` of the frame's, which holds the whole ball.
     Continue { radius: f32 },
@@ -70,7 +71,9 @@ impl BallUse {
     pub(super) fn radius(self) -> f32 {
         match self {
             BallUse::Off => 0.0,
-            BallUse::Begin { radius } | BallUse::Continue { radius } | BallUse::Detached { radius } => radius,
+            BallUse::Begin { radius, .. } | BallUse::Continue { radius } | BallUse::Detached { radius } => {
+                radius
+            }
         }
     }
 
@@ -95,7 +98,9 @@ pub(super) fn next(ball: Option<LevelBall>, eye: Vec3, key: MultirateConfig) -> 
     // The configured radius is left out of the comparison: the camera's distance to its target,
     // which it is a share of, moves by a rounding error as the camera turns about the target. A
     // ball narrower than it, though, does not serve.
-    let ball = ball.filter(|ball| ball.key.without_eye() == key.without_eye() && ball.radius >= least);
+    let same_settings = ball.filter(|ball| ball.key.without_eye() == key.without_eye());
+    let fresh = same_settings.is_none();
+    let ball = same_settings.filter(|ball| ball.radius >= least);
     // The eye's latest step (0 where it begins the configuration's first ball).
     let step = ball.map_or(0.0, |ball| ball.latest_eye.distance(eye));
     if let Some(ball) = ball {
@@ -111,7 +116,7 @@ pub(super) fn next(ball: Option<LevelBall>, eye: Vec3, key: MultirateConfig) -> 
     let ahead = FRAMES_AHEAD * step;
     let radius = if ahead.is_finite() { ahead.clamp(least, MOST_WIDENED * least) } else { least };
     (
-        BallUse::Begin { radius },
+        BallUse::Begin { radius, fresh },
         Some(LevelBall { centre: eye, radius, latest_eye: eye, still_frames: 0, key }),
     )
 }

@@ -206,6 +206,7 @@ impl SceneSizes {
             ),
             per_triangle("triangle levels", 1),
             per_triangle("levels of the ball of eyes", 1),
+            per_triangle("levels held", 4),
             buffer(
                 "triangle neighbours",
                 data(triangles.max(1), size_of::<[u32; 4]>()),

@@ -17,19 +17,20 @@
 //! 9. [`multirate_config`]: the multirate configuration, resolved once per frame.
 //! 10. [`guard`]: whether a frame is drawn the multirate way or as `pixel` draws it.
 //! 11. [`level_ball`]: the ball of eyes the kept levels hold for.
-//! 12. [`frame_config`]: everything a frame is drawn with, and the per-pixel choice.
-//! 13. [`scene_geometry`]: the scene gathered for upload, one draw per mesh and emitter.
-//! 14. [`scene_buffers`]: the scene uploaded.
-//! 15. [`descriptors`]: the forward layout, its sets, and the recorder that binds them.
-//! 16. [`pipelines`]: the pipeline variants of the draws, built on first use.
-//! 17. [`shadows`]: the shadow atlas and the pass that draws its maps.
-//! 18. [`shadow_state`]: the maps as drawn, the directional ones fitted to the view, and the
+//! 12. [`level_hold`]: the rule by which levels are held between the balls.
+//! 13. [`frame_config`]: everything a frame is drawn with, and the per-pixel choice.
+//! 14. [`scene_geometry`]: the scene gathered for upload, one draw per mesh and emitter.
+//! 15. [`scene_buffers`]: the scene uploaded.
+//! 16. [`descriptors`]: the forward layout, its sets, and the recorder that binds them.
+//! 17. [`pipelines`]: the pipeline variants of the draws, built on first use.
+//! 18. [`shadows`]: the shadow atlas and the pass that draws its maps.
+//! 19. [`shadow_state`]: the maps as drawn, the directional ones fitted to the view, and the
 //!     triangles' visibility classes.
-//! 19. [`pre_pass`]: the triangle-level pre-pass of the compute placement.
-//! 20. [`limits`]: the scene's limits against the device's.
-//! 21. [`draws`]: the forward draws (and lavapipe's limits on them).
-//! 22. [`deferred`]: the `pixel-deferred` passes.
-//! 23. [`instrumentation`]: timings, evaluation counts and what is read back.
+//! 20. [`pre_pass`]: the triangle-level pre-pass of the compute placement.
+//! 21. [`limits`]: the scene's limits against the device's.
+//! 22. [`draws`]: the forward draws (and lavapipe's limits on them).
+//! 23. [`deferred`]: the `pixel-deferred` passes.
+//! 24. [`instrumentation`]: timings, evaluation counts and what is read back.
 
 pub mod capture;
 pub mod cost_model;
@@ -41,6 +42,7 @@ mod frame_config;
 pub mod guard;
 mod instrumentation;
 mod level_ball;
+pub mod level_hold;
 pub mod limits;
 mod mode;
 mod multirate_config;
@@ -500,12 +502,26 @@ impl Renderer {
     /// compare each step's list with the twin's. The frame is drawn as `render` draws it, and
     /// commits what it learns as `render` does.
     pub fn pre_pass_dispatches(&self, target: &RenderTarget, view: &View) -> Result<Vec<[u32; 4]>> {
+        let bytes = self.pre_pass_read_back(target, view, &self.pre_pass.buffers.level_dispatches)?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+
+    /// As [`Renderer::pre_pass_dispatches`], the level of every triangle of the scene (meshes in
+    /// order) as the frame's pre-pass left it for the patch step: estimated, kept or held
+    /// (`level_hold`); -1 where culled, 10⁶ where shaded per pixel.
+    pub fn pre_pass_levels(&self, target: &RenderTarget, view: &View) -> Result<Vec<f32>> {
+        let bytes = self.pre_pass_read_back(target, view, &self.pre_pass.buffers.triangle_levels)?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+
+    /// Renders and commits one frame of `view` as `pre_pass_dispatches` says, and reads `source`
+    /// back after it.
+    fn pre_pass_read_back(&self, target: &RenderTarget, view: &View, source: &Buffer) -> Result<Vec<u8>> {
         let view = View { mode: Mode::Multirate, placement: Placement::Compute, ..view.clone() };
         self.prepare(&view, target)?;
-        let source = &self.pre_pass.buffers.level_dispatches;
-        let readback = crate::vk::memory::Buffer::new(
+        let readback = Buffer::new(
             &self.context,
-            "pre-pass dispatches read back",
+            "pre-pass buffer read back",
             source.size,
             vk::BufferUsageFlags::TRANSFER_DST,
             gpu_allocator::MemoryLocation::GpuToCpu,
@@ -517,7 +533,7 @@ impl Renderer {
         })?;
         self.submitted(recorded.expect("the frame was recorded"));
         let bytes = readback.mapped().expect("GpuToCpu memory is mapped");
-        Ok(bytemuck::pod_collect_to_vec::<u8, [u32; 4]>(&bytes[..source.size as usize]))
+        Ok(bytes[..source.size as usize].to_vec())
     }
 
     /// Renders `warmup` frames (more for a guarded view whose guard has not decided yet: at most
@@ -720,6 +736,7 @@ fn binding_table<'a>(scene: &'a SceneBuffers, pre_pass: &'a PrePassBuffers) -> [
             (set_0::ESTIMATE_TRIANGLES, &pre_pass.estimate_triangles),
             (set_0::FLAT_INDICES, &pre_pass.flat_indices),
             (set_0::ESTIMATED_LEVELS, &pre_pass.estimated_levels),
+            (set_0::LEVEL_HOLDS, &pre_pass.level_holds),
             (set_0::FALLBACK_INDICES, &pre_pass.fallback_indices),
             (set_0::SHADOW_MAPS, &scene.shadow_maps),
             (set_0::TRIANGLE_CORNERS, &pre_pass.triangle_corners),

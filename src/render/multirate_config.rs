@@ -8,12 +8,14 @@ use crate::shading::estimator::{Discontinuity, EstimatorSettings, Split};
 
 /// Where the estimator runs, its settings with the image area below which a triangle is shaded
 /// per pixel without an estimate resolved (`EstimatorSettings::min_estimated_area`: the cost
-/// model's where the view asks for it), and the target's size.
+/// model's where the view asks for it), the target's size, and whether the pre-pass holds
+/// levels (`View::hold_levels`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MultirateConfig {
     pub placement: Placement,
     pub estimator: EstimatorSettings,
     pub extent: (u32, u32),
+    pub hold_levels: bool,
 }
 
 impl MultirateConfig {

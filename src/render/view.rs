@@ -31,6 +31,10 @@ pub struct View {
     /// analytic `‖∂uv/∂x‖ + ‖∂uv/∂y‖` in green, and in blue 1 where the pixel's 2×2 quad
     /// spans several triangles; seed 002's comparison).
     pub derivative_check: bool,
+    /// `multirate` only: levels do not flip back and forth as the eye moves
+    /// (`render::level_hold`): a lower estimate is used only once it has come several times in
+    /// a row. On by default; off, every estimate is used as it comes.
+    pub hold_levels: bool,
 }
 
 /// The least radius of the ball of eyes that multirate's levels are estimated for, as a share of
@@ -60,6 +64,7 @@ impl View {
             heat_map: false,
             wireframe: false,
             derivative_check: false,
+            hold_levels: true,
         };
         view.with_eye_ball(EYE_BALL_SHARE)
     }

@@ -72,13 +72,27 @@ fn stepped(
     corners: &[[Vec3; 3]],
     reference: impl Fn(Vec3) -> f32 + Copy,
     errors: [&dyn Fn(Vec3) -> f32; 2],
+    pattern_changed: &[bool],
 ) -> StepStability {
     let (t0, r0, ids0) = frame(cameras[0], corners, reference, errors[0]);
     let (t1, r1, ids1) = frame(cameras[1], corners, reference, errors[1]);
-    let previous =
-        PathFrame { test: &t0, reference: &r0, triangles: &ids0, test_triangles: &ids0, camera: cameras[0] };
-    let current =
-        PathFrame { test: &t1, reference: &r1, triangles: &ids1, test_triangles: &ids1, camera: cameras[1] };
+    let (previous_camera, camera) = (cameras[0], cameras[1]);
+    let previous = PathFrame {
+        test: &t0,
+        reference: &r0,
+        triangles: &ids0,
+        test_triangles: &ids0,
+        camera: previous_camera,
+        pattern_changed: &[],
+    };
+    let current = PathFrame {
+        test: &t1,
+        reference: &r1,
+        triangles: &ids1,
+        test_triangles: &ids1,
+        camera,
+        pattern_changed,
+    };
     step(&previous, &current, corners, 0.1)
 }
 
@@ -87,10 +101,10 @@ fn an_error_that_stays_on_its_surface_does_not_change_as_the_camera_moves() {
     let corners = square(3.0, 0.0).to_vec();
     let shading = |p: Vec3| 0.5 + 0.1 * p.x;
     let error = |p: Vec3| 0.02 * (p.y * 0.5).sin();
-    let still = stepped([camera(Vec3::new(0.0, 0.0, 8.0)); 2], &corners, shading, [&error, &error]);
+    let still = stepped([camera(Vec3::new(0.0, 0.0, 8.0)); 2], &corners, shading, [&error, &error], &[]);
     assert!(still.compared > 2000 && still.largest == 0.0 && still.jumps == 0, "{still:?}");
     let moved = [camera(Vec3::new(0.0, 0.0, 8.0)), camera(Vec3::new(0.3, 0.1, 8.0))];
-    let step = stepped(moved, &corners, shading, [&error, &error]);
+    let step = stepped(moved, &corners, shading, [&error, &error], &[]);
     // Nearest-pixel reprojection: at most a pixel's worth of the error's and the shading's slope.
     assert!(step.compared > 2000, "{step:?}");
     assert!(step.largest < 0.002 && step.jumps == 0, "{step:?}");
@@ -105,12 +119,19 @@ fn an_error_that_appears_is_counted_as_jumps_and_flicker() {
     let none = |_: Vec3| 0.0;
     let patch = |p: Vec3| if p.x.abs() < 1.0 && p.y.abs() < 1.0 { 0.08 } else { 0.0 };
     let moved = [camera(Vec3::new(0.0, 0.0, 8.0)), camera(Vec3::new(0.2, 0.0, 8.0))];
-    let step = stepped(moved, &corners, shading, [&none, &patch]);
+    let step = stepped(moved, &corners, shading, [&none, &patch], &[]);
     assert!((step.largest - 0.08).abs() < 1e-5, "{step:?}");
     // The patch covers about a ninth of the square: its pixels jump by 0.08 > ε/2 = 0.05.
     let share = step.jump_share();
     assert!(share > 0.05 && share < 0.2, "{share}: {step:?}");
     assert!((step.p99 - 0.08).abs() < 1e-5, "{step:?}");
+    assert_eq!(step.pattern_jumps, 0, "no pattern changed: {step:?}");
+    // The same step where the square's first triangle changed its pattern: its jumps, and only
+    // its, are counted apart.
+    let first_changed = stepped(moved, &corners, shading, [&none, &patch], &[true, false]);
+    assert!(first_changed.pattern_jumps > 0 && first_changed.pattern_jumps < step.jumps, "{first_changed:?}");
+    let both_changed = stepped(moved, &corners, shading, [&none, &patch], &[true, true]);
+    assert_eq!(both_changed.pattern_jumps, step.jumps, "{both_changed:?}");
     let ratio = PathStability { steps: vec![step] }.flicker_ratio();
     assert!(ratio > 1.5, "flicker beyond the reference's own: {ratio}");
 }
@@ -123,7 +144,7 @@ fn what_a_moving_camera_uncovers_is_masked() {
     let shading = |p: Vec3| 0.3 + 0.05 * p.z;
     let error = |p: Vec3| if p.z > 1.0 { 0.04 } else { -0.04 };
     let moved = [camera(Vec3::new(0.0, 0.0, 8.0)), camera(Vec3::new(0.6, 0.0, 8.0))];
-    let step = stepped(moved, &corners, shading, [&error, &error]);
+    let step = stepped(moved, &corners, shading, [&error, &error], &[]);
     // Uncovered pixels of the back square would read the front square's error (a change of
     // 0.08) were they not masked; the front square's silhouette is masked too.
     assert!(step.masked > 20, "{step:?}");

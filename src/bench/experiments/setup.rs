@@ -81,6 +81,7 @@ pub(super) fn config(
         draw_parts: false,
         pre_pass_steps: false,
         eye_ball_share: EYE_BALL_SHARE,
+        level_holds: Vec::new(),
         path: None,
     }
 }

@@ -48,6 +48,7 @@ fn row(mode: &str, gpu_ms: f64, area: Option<f32>) -> Row {
         epsilon: None,
         n_max: None,
         estimator: None,
+        levels_held: None,
         width: 1920,
         height: 1080,
         frames: 7,

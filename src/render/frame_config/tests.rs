@@ -2,7 +2,7 @@
 //! state without changing it, and a frame that commits nothing neither begins nor keeps a ball.
 
 use super::*;
-use crate::gpu_interface::flags::FLAG_REUSE_LEVELS;
+use crate::gpu_interface::flags::{FLAG_HOLD_LEVELS, FLAG_REUSE_LEVELS};
 
 fn bunny() -> (PerPixelChoice, View) {
     let path = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/bunny.toml"));
@@ -20,13 +20,18 @@ fn resolving_a_frame_twice_gives_the_same_frame() {
     let first = FrameConfig::resolve(&choice, &view, EXTENT, None, Commit::OnSubmit, 1);
     let again = FrameConfig::resolve(&choice, &view, EXTENT, None, Commit::OnSubmit, 1);
     assert!(first.runs_pre_pass);
-    assert_eq!(first.ball, BallUse::Begin { radius });
+    assert_eq!(first.ball, BallUse::Begin { radius, fresh: true });
     assert_eq!(again.ball, first.ball, "nothing was submitted in between");
     let Some(Some(ball)) = first.ball_after else { panic!("a frame for the image commits its ball") };
     assert_eq!(ball.centre(), view.camera.eye);
     let next = FrameConfig::resolve(&choice, &view, EXTENT, Some(ball), Commit::OnSubmit, 1);
     assert!(matches!(next.ball, BallUse::Continue { .. }), "{:?}", next.ball);
-    assert_ne!(next.pre_pass_constants().flags & FLAG_REUSE_LEVELS, 0);
+    let flags = next.pre_pass_constants().flags;
+    assert_ne!(flags & FLAG_REUSE_LEVELS, 0);
+    assert_ne!(flags & FLAG_HOLD_LEVELS, 0, "levels are held by default");
+    let unheld = View { hold_levels: false, ..view.clone() };
+    let frame = FrameConfig::resolve(&choice, &unheld, EXTENT, Some(ball), Commit::OnSubmit, 1);
+    assert_eq!(frame.pre_pass_constants().flags & FLAG_HOLD_LEVELS, 0, "{:?}", frame.ball);
 }
 
 #[test]
@@ -38,6 +43,7 @@ fn a_frame_that_commits_nothing_keeps_no_levels_of_its_own() {
     assert_eq!(detached.ball_after, None);
     let constants = detached.pre_pass_constants();
     assert_eq!(constants.flags & FLAG_REUSE_LEVELS, 0, "it neither reads nor replaces the kept levels");
+    assert_eq!(constants.flags & FLAG_HOLD_LEVELS, 0, "nor the levels held");
     assert_eq!(
         constants.eye_radius, radius,
         "its estimates hold for the ball a frame for the image would begin"

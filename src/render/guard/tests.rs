@@ -164,6 +164,7 @@ fn guards_are_kept_per_configuration_and_not_per_camera() {
         placement: view.placement,
         estimator: view.estimator,
         extent: (width, 48),
+        hold_levels: view.hold_levels,
     };
     let key = key_of(&view, &config(&view, 64)).expect("a multirate view with the cost model is guarded");
     let mut moved = view.clone();

@@ -9,6 +9,7 @@ fn key(eye_radius: f32) -> MultirateConfig {
         placement: Placement::Compute,
         estimator: EstimatorSettings { eye_radius, min_estimated_area: 20.0, ..EstimatorSettings::default() },
         extent: (640, 480),
+        hold_levels: true,
     }
 }
 
@@ -23,7 +24,7 @@ fn without_a_radius_no_ball_is_kept() {
 #[test]
 fn a_ball_lasts_while_the_eye_stays_in_it() {
     let (first, ball) = next(None, Vec3::ZERO, key(1.0));
-    assert_eq!(first, BallUse::Begin { radius: 1.0 });
+    assert_eq!(first, BallUse::Begin { radius: 1.0, fresh: true });
     let (second, same) = next(ball, Vec3::new(0.6, 0.0, 0.0), key(1.0));
     assert_eq!(same.map(|b| b.centre()), ball.map(|b| b.centre()));
     let BallUse::Continue { radius } = second else { panic!("{second:?}: the eye is in the ball") };
@@ -31,7 +32,7 @@ fn a_ball_lasts_while_the_eye_stays_in_it() {
     // From the first eye, a step of 1.2 leaves the ball: the new one is wide enough for three
     // more such steps.
     let (third, moved) = next(ball, Vec3::new(0.0, 1.2, 0.0), key(1.0));
-    assert_eq!(third, BallUse::Begin { radius: 3.0 * 1.2 }, "the eye left the ball");
+    assert_eq!(third, BallUse::Begin { radius: 3.0 * 1.2, fresh: false }, "the eye left the ball");
     assert_ne!(moved, ball);
 }
 
@@ -39,7 +40,7 @@ fn a_ball_lasts_while_the_eye_stays_in_it() {
 fn a_moving_eye_begins_a_wider_ball_and_a_still_one_the_configured_one() {
     let step = Vec3::new(0.0, 0.0, 1.5);
     let (first, mut ball) = next(None, Vec3::ZERO, key(1.0));
-    assert_eq!(first, BallUse::Begin { radius: 1.0 }, "no step seen yet");
+    assert_eq!(first, BallUse::Begin { radius: 1.0, fresh: true }, "no step seen yet");
     // Steps of 1.5 each frame: each ball that begins holds three of them, so the eye moves on
     // within it for three frames and begins the next one at the fourth.
     let mut uses = Vec::new();
@@ -56,22 +57,22 @@ fn a_moving_eye_begins_a_wider_ball_and_a_still_one_the_configured_one() {
         .collect();
     assert_eq!(begins, [1, 5], "{uses:?}");
     assert!(uses.iter().all(|u| u.radius() <= 2.0 * 3.0 * 1.5 * 1.001), "{uses:?}");
-    assert_eq!(uses[4], BallUse::Begin { radius: 4.5 });
+    assert_eq!(uses[4], BallUse::Begin { radius: 4.5, fresh: false });
     // One frame again at the same eye keeps the widened ball; a second begins one of the
     // configured radius, which then lasts.
     let stopped = step * 7.0;
     let (repeat, ball) = next(ball, stopped, key(1.0));
     assert!(matches!(repeat, BallUse::Continue { .. }), "{repeat:?}");
     let (halt, after) = next(ball, stopped, key(1.0));
-    assert_eq!(halt, BallUse::Begin { radius: 1.0 });
+    assert_eq!(halt, BallUse::Begin { radius: 1.0, fresh: false });
     for _ in 0..3 {
         assert!(matches!(next(after, stopped, key(1.0)).0, BallUse::Continue { .. }));
     }
     // A jump widens it at most MOST_WIDENED times; a NaN eye gives the configured radius.
     let (jump, _) = next(after, stopped + Vec3::splat(1.0e6), key(1.0));
-    assert_eq!(jump, BallUse::Begin { radius: super::MOST_WIDENED });
+    assert_eq!(jump, BallUse::Begin { radius: super::MOST_WIDENED, fresh: false });
     let (nan, _) = next(after, Vec3::NAN, key(1.0));
-    assert_eq!(nan, BallUse::Begin { radius: 1.0 });
+    assert_eq!(nan, BallUse::Begin { radius: 1.0, fresh: false });
 }
 
 #[test]
@@ -81,10 +82,13 @@ fn other_settings_begin_a_ball() {
         estimator: EstimatorSettings { min_estimated_area: 0.0, ..key(1.0).estimator },
         ..key(1.0)
     };
-    assert_eq!(next(ball, Vec3::ZERO, other).0, BallUse::Begin { radius: 1.0 });
+    // The levels held for other settings say nothing of these: they are cleared.
+    assert_eq!(next(ball, Vec3::ZERO, other).0, BallUse::Begin { radius: 1.0, fresh: true });
     let finer =
         MultirateConfig { estimator: EstimatorSettings { epsilon: 0.01, ..key(1.0).estimator }, ..key(1.0) };
-    assert_eq!(next(ball, Vec3::ZERO, finer).0, BallUse::Begin { radius: 1.0 });
+    assert_eq!(next(ball, Vec3::ZERO, finer).0, BallUse::Begin { radius: 1.0, fresh: true });
+    let unheld = MultirateConfig { hold_levels: false, ..key(1.0) };
+    assert_eq!(next(ball, Vec3::ZERO, unheld).0, BallUse::Begin { radius: 1.0, fresh: true });
     assert_eq!(next(ball, Vec3::ZERO, key(0.0)), (BallUse::Off, None));
 }
 
@@ -113,5 +117,9 @@ fn the_configured_radius_may_round_but_not_outgrow_the_ball() {
     let rounded = key(f32::from_bits(1.0f32.to_bits() - 1));
     assert!(matches!(next(ball, Vec3::new(0.5, 0.0, 0.0), rounded).0, BallUse::Continue { .. }));
     // A configured radius wider than the ball's begins a ball of its own.
-    assert_eq!(next(ball, Vec3::new(0.5, 0.0, 0.0), key(2.0)).0, BallUse::Begin { radius: 2.0 });
+    // Its levels are still held: the settings are the same.
+    assert_eq!(
+        next(ball, Vec3::new(0.5, 0.0, 0.0), key(2.0)).0,
+        BallUse::Begin { radius: 2.0, fresh: false }
+    );
 }

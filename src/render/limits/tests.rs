@@ -128,7 +128,7 @@ fn buffers_beyond_the_storage_range_are_refused_naming_the_buffer() {
     let limits = DeviceLimits { max_storage_buffer_range: MIB, ..limits() };
     check(scene(), &sizes(65536), &limits).expect("65536 triangles: exactly 1 MiB");
     let message = refused(&sizes(65537), &limits, "maxStorageBufferRange (1.0 MiB)");
-    assert!(message.contains("\"interpolated patch draws\" of its 65537 triangles"), "{message}");
+    assert!(message.contains("\"levels held\" of its 65537 triangles"), "{message}");
 }
 
 #[test]

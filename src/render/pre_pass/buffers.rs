@@ -16,6 +16,9 @@ pub(crate) struct PrePassBuffers {
     /// Per triangle: the level found for it in the current ball of eyes, 0 where none yet
     /// (`ESTIMATED_LEVELS`; zeroed when a ball begins, `PrePass::record`).
     pub estimated_levels: Buffer,
+    /// Per triangle, its hold state (`gpu_types::LevelHold`, `LEVEL_HOLDS`; zeroed when a ball
+    /// of another configuration begins, `PrePass::record`).
+    pub level_holds: Buffer,
     /// Per triangle: the triangles across its edges (`uvec4`, scene indices).
     pub triangle_neighbours: Buffer,
     /// Per triangle: its corners' positions (9 floats).
@@ -70,13 +73,17 @@ impl PrePassBuffers {
     pub(crate) fn new(context: &Arc<Context>, geometry: &SceneGeometry) -> Result<PrePassBuffers> {
         let (triangle_count, meshes) = (geometry.triangle_count, geometry.draws.len());
         let per_triangle = |name| device_words(context, name, triangle_count, vk::BufferUsageFlags::empty());
-        let triangle_levels = per_triangle("triangle levels")?;
+        // TRANSFER_SRC: `Renderer::pre_pass_levels` reads it back.
+        let triangle_levels =
+            device_words(context, "triangle levels", triangle_count, vk::BufferUsageFlags::TRANSFER_SRC)?;
         let estimated_levels = device_words(
             context,
             "levels of the ball of eyes",
             triangle_count,
             vk::BufferUsageFlags::TRANSFER_DST,
         )?;
+        let level_holds =
+            device_words(context, "levels held", 4 * triangle_count, vk::BufferUsageFlags::TRANSFER_DST)?;
         let no_neighbours = [[0; 4]];
         let neighbours: &[[u32; 4]] = if geometry.triangle_neighbours.is_empty() {
             &no_neighbours
@@ -144,6 +151,7 @@ impl PrePassBuffers {
         Ok(PrePassBuffers {
             triangle_levels,
             estimated_levels,
+            level_holds,
             triangle_neighbours,
             triangle_corners,
             visible_triangles,

@@ -104,7 +104,7 @@ impl PrePass {
         // step's start before the resets (its interval holds them), each end and the next
         // step's start before the end's barrier.
         stamp(Timed::Step(PrePassStep::ALL[0]), false);
-        self.reset(rec, matches!(frame.ball, BallUse::Begin { .. }));
+        self.reset(rec, frame.ball);
         let mut constants = frame.pre_pass_constants();
         rec.bind_set_at(vk::PipelineBindPoint::COMPUTE, 0, rec.descriptors.set);
         for (k, step) in PrePassStep::ALL.into_iter().enumerate() {
@@ -130,8 +130,9 @@ impl PrePass {
 
     /// Once the previous frame has read the lists and levels: zeroes the list lengths and
     /// indirect draws and resets the indirect dispatches, before the first step; where a ball of
-    /// eyes begins (`begin_ball`), also the levels kept for the last one.
-    fn reset(&self, rec: &Recorder<'_>, begin_ball: bool) {
+    /// eyes begins, also the levels kept for the last one, and the levels held where the ball is
+    /// the first of its configuration.
+    fn reset(&self, rec: &Recorder<'_>, ball: BallUse) {
         let (device, cmd) = (rec.device, rec.cmd);
         let buffers = &self.buffers;
         let storage = A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE;
@@ -143,9 +144,13 @@ impl PrePass {
             S::COMPUTE_SHADER | S::CLEAR | S::COPY,
             storage | A::TRANSFER_WRITE,
         ));
-        if begin_ball {
+        if let BallUse::Begin { fresh, .. } = ball {
             // SAFETY: recording outside a render pass; the buffer has TRANSFER_DST usage.
             unsafe { device.cmd_fill_buffer(cmd, buffers.estimated_levels.raw, 0, vk::WHOLE_SIZE, 0) };
+            if fresh {
+                // SAFETY: as above.
+                unsafe { device.cmd_fill_buffer(cmd, buffers.level_holds.raw, 0, vk::WHOLE_SIZE, 0) };
+            }
         }
         for buffer in [&buffers.patch_counts, &buffers.flat_draws].into_iter().chain(&buffers.patch_draws) {
             // SAFETY: recording outside a render pass; the buffers have TRANSFER_DST usage.
