@@ -3,13 +3,17 @@
 //! - `pixel-deferred` (visibility buffer, analytic attributes) against the forward `pixel`
 //!   reference;
 //! - extreme texturing (one texel, strongly magnified and minified, degenerate uvs, the seam
-//!   of a cylindrical projection): multirate stays within ε of `pixel` mode.
+//!   of a cylindrical projection): multirate stays within ε of `pixel` mode;
+//! - an interior with its OBJ file's own MTL materials (`scenes/chapel.toml`: textures repeating
+//!   far outside [0, 1]), from inside, renders in every mode, and multirate (both placements)
+//!   stays within ε of `pixel` mode on the pixels that show the same triangle.
 
 mod common;
 
 use ash::vk;
 use common::{assert_validation_clean, interior_tessellated, repo_path, validated_context};
-use multirate::render::{Mode, Renderer, View};
+use multirate::analysis::metrics;
+use multirate::render::{Mode, Placement, Renderer, View};
 use multirate::scene::Scene;
 use multirate::shading::estimator::EstimatorSettings;
 use multirate::vk::target::{FloatImage, RenderTarget};
@@ -165,6 +169,73 @@ fn extreme_texturing_stays_within_epsilon() {
             "extreme texturing, ε {epsilon}: {checked} interior tessellated pixels, worst {worst:.3} ε"
         );
         assert!(checked > 500, "ε {epsilon}: only {checked} tessellated pixels were checked");
+    }
+    assert_validation_clean(&context);
+}
+
+/// Share of the pixels of `image` that are covered and not black, and how many distinct colours
+/// (at 6 bits a channel of the displayed value) they have.
+fn lit_share_and_colours(image: &FloatImage) -> (f64, usize) {
+    let lit: Vec<&[f32; 4]> =
+        image.pixels.iter().filter(|p| p[3] > 0.0 && (p[0] + p[1] + p[2]) > 0.03).collect();
+    let mut colours: Vec<[u8; 3]> =
+        lit.iter().map(|p| [0, 1, 2].map(|c| (p[c].clamp(0.0, 1.0).sqrt() * 63.0) as u8)).collect();
+    colours.sort_unstable();
+    colours.dedup();
+    (lit.len() as f64 / image.pixels.len() as f64, colours.len())
+}
+
+#[test]
+fn an_interior_with_its_own_materials_renders_in_every_mode() {
+    let relative = "scenes/chapel.toml";
+    let scene = Scene::load(&repo_path(relative)).expect("scene");
+    assert!(scene.materials.len() >= 3 && scene.materials.iter().any(|m| m.maps.albedo.is_some()));
+    let context = validated_context();
+    let target = RenderTarget::new(&context, vk::Extent2D { width: 160, height: 120 }).expect("target");
+    let renderer = Renderer::new(&context, &scene).expect("renderer");
+    let path = scene.camera_path.as_ref().expect("the chapel has a path");
+    let middle = scene.camera.on_path(path, 0.5 * path.duration(), scene.bounds());
+    let multirate = |placement| View { mode: Mode::Multirate, placement, ..View::of_scene(&scene) };
+    let modes = [
+        View::of_scene(&scene),
+        View { mode: Mode::PixelDeferred, ..View::of_scene(&scene) },
+        View { mode: Mode::Vertex, ..View::of_scene(&scene) },
+        View { mode: Mode::Fixed(4), ..View::of_scene(&scene) },
+        multirate(Placement::Compute),
+        multirate(Placement::Tcs),
+    ];
+    for camera in [scene.camera, middle] {
+        for view in modes.iter().map(|v| v.seen_from(camera)) {
+            let image = render(&renderer, &target, &view);
+            let (lit, colours) = lit_share_and_colours(&image);
+            eprintln!(
+                "{relative} {} ({}): {:.1} % lit, {colours} colours",
+                view.mode,
+                view.placement,
+                100.0 * lit
+            );
+            // Inside the hall every pixel shows a wall, the floor, the vault or what stands in it.
+            assert!(lit > 0.95, "{relative} {}: only {:.1} % of the pixels are lit", view.mode, 100.0 * lit);
+            assert!(colours > 100, "{relative} {}: only {colours} colours", view.mode);
+        }
+        let reference = renderer.analyze(&target, &modes[0].seen_from(camera)).expect("pixel");
+        for placement in [Placement::Compute, Placement::Tcs] {
+            let analysis =
+                renderer.analyze(&target, &multirate(placement).seen_from(camera)).expect("multirate");
+            let epsilon = f64::from(scene.settings.epsilon);
+            let same =
+                reference.triangles.iter().zip(&analysis.triangles).filter(|(a, b)| a == b && **a != 0);
+            let same = same.count();
+            assert!(
+                10 * same > 9 * reference.triangles.len(),
+                "{relative} ({placement}): {same} same-triangle pixels"
+            );
+            let over = metrics::pixels_over(reference.frame(), analysis.frame(), epsilon);
+            assert_eq!(
+                over, 0,
+                "{relative} ({placement}): {over} of {same} pixels of the same triangle over ε"
+            );
+        }
     }
     assert_validation_clean(&context);
 }

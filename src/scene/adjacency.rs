@@ -41,6 +41,27 @@ pub fn is_closed(mesh: &Mesh) -> bool {
     !edges.is_empty() && edges.values().all(|sharing| sharing.len() == 2)
 }
 
+/// Whether `meshes` taken together are closed (each alone may be open: the parts of one model
+/// split by material).
+pub fn is_closed_together(meshes: &[Mesh]) -> bool {
+    let mut all = Mesh {
+        name: String::new(),
+        source: std::path::PathBuf::new(),
+        material: 0,
+        positions: Vec::new(),
+        normals: Vec::new(),
+        indices: Vec::new(),
+        uvs: Vec::new(),
+        two_sided: true,
+    };
+    for mesh in meshes {
+        let base = all.positions.len() as u32;
+        all.positions.extend_from_slice(&mesh.positions);
+        all.indices.extend(mesh.indices.iter().map(|i| base + i));
+    }
+    is_closed(&all)
+}
+
 type EdgeKey = (u32, u32);
 
 /// The mesh's triangles, the triangles sharing each welded edge, and the key of edge k of a

@@ -79,6 +79,11 @@ impl TransformedMesh {
         (self.anchor + lo.as_dvec3(), self.anchor + hi.as_dvec3())
     }
 
+    /// Whether every vertex has texture coordinates.
+    pub fn has_uvs(&self) -> bool {
+        !self.uvs.is_empty()
+    }
+
     /// The geometry with positions relative to `origin` (world, f64), in f32, and a unit normal
     /// per position: the file's where it gives one, else smooth normals of the placed positions.
     pub fn place(self, origin: DVec3) -> Result<LoadedMesh, ObjProblem> {

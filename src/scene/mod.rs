@@ -35,7 +35,7 @@
 //! kd = [0.8, 0.8, 0.8]
 //! [[meshes]]
 //! obj = "bunny.obj"
-//! material = "clay"
+//! material = "clay"            # or materials = "mtl": the OBJ file's own MTL materials
 //! name = "bunny"               # optional, default the OBJ file's stem
 //! translate = [0, 0, 0]        # optional
 //! rotate_degrees = [0, 0, 0]   # optional: about X, then Y, then Z
@@ -70,15 +70,17 @@
 //! 6. [`model`]: the scene as the renderer sees it, and a parameter's range over a triangle.
 //! 7. [`schema`]: the scene file as written (serde).
 //! 8. [`mesh`]: the OBJ reader.
-//! 9. [`adjacency`]: the triangle neighbourhoods.
-//! 10. [`obj_scene`]: an OBJ file as a scene.
-//! 11. [`validate`]: the checks from the file as written to the scene.
+//! 9. [`mtl`]: an OBJ file's own MTL materials, and its faces split by material.
+//! 10. [`adjacency`]: the triangle neighbourhoods.
+//! 11. [`obj_scene`]: an OBJ file as a scene.
+//! 12. [`validate`]: the checks from the file as written to the scene.
 
 pub mod adjacency;
 mod error;
 mod file;
 mod mesh;
 mod model;
+mod mtl;
 pub mod obj_scene;
 pub mod path;
 mod schema;

@@ -38,8 +38,9 @@ pub struct Scene {
     /// origin: meshes, camera and lights move together), so that its f32 coordinates keep
     /// their precision; zero for a scene around the origin, which stays as written.
     pub origin: DVec3,
-    /// What loading could not use and how it stood in for it (an OBJ file given as the scene
-    /// whose texture is missing, say), for the user to read; empty for a TOML scene.
+    /// What loading could not use and how it stood in for it (an OBJ file whose texture is
+    /// missing, say, given as the scene or with `materials = "mtl"`), for the user to read;
+    /// empty for a TOML scene whose meshes name their materials.
     pub warnings: Vec<String>,
 }
 

@@ -160,7 +160,10 @@ pub(super) struct ShadowFile {
 #[serde(deny_unknown_fields)]
 pub(super) struct MeshFile {
     pub(super) obj: PathBuf,
-    pub(super) material: String,
+    /// The name of a `[[materials]]` entry; exactly one of this and `materials` is given.
+    pub(super) material: Option<String>,
+    /// `materials = "mtl"`: the OBJ file's own MTL materials, one mesh per material used.
+    pub(super) materials: Option<MeshMaterials>,
     pub(super) name: Option<String>,
     pub(super) translate: Option<[f64; 3]>,
     pub(super) rotate_degrees: Option<[f32; 3]>,
@@ -168,6 +171,14 @@ pub(super) struct MeshFile {
     pub(super) uv_projection: Option<UvProjection>,
     pub(super) uv_scale: Option<[f32; 2]>,
     pub(super) two_sided: Option<bool>,
+}
+
+/// Where a `[[meshes]]` entry's materials come from other than a `[[materials]]` entry.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum MeshMaterials {
+    /// The OBJ file's own MTL libraries (`mtllib`, `usemtl`).
+    Mtl,
 }
 
 /// Texture coordinates computed from world-space positions, about the centre of the mesh's

@@ -10,12 +10,12 @@ use super::model::{
 };
 use super::path::{CameraPath, PathKey, CHECK_SAMPLES};
 use super::schema::{
-    CameraFile, LightFile, LightType, MaterialFile, MaterialType, MeshFile, PathKeyFile, RenderFile, Scale,
-    SceneFile,
+    CameraFile, LightFile, LightType, MaterialFile, MaterialType, MeshFile, MeshMaterials, PathKeyFile,
+    RenderFile, Scale, SceneFile,
 };
 use super::settings::{check_n_max, range_text, IMAGE_SIZE_RANGE, N_MAX_RANGE};
 use super::texture::{MinMaxPyramid, Texture, TextureUsage};
-use super::{adjacency, mesh};
+use super::{adjacency, mesh, mtl};
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -210,24 +210,27 @@ pub(super) fn build(path: &Path, file: SceneFile) -> Result<Scene, SceneError> {
         return Err(top("meshes").error("the scene has no meshes; add at least one [[meshes]] table"));
     }
     let mut geometry = Vec::with_capacity(file.meshes.len());
+    let mut warnings = Vec::new();
     for (i, m) in file.meshes.iter().enumerate() {
-        geometry.push(read_mesh(path, folder, i, m, &materials)?);
+        geometry.extend(read_mesh(path, folder, i, m, &mut materials, &mut warnings)?);
     }
     // The floating origin: lights and camera were checked at the world origin above, so that
     // their mistakes are reported before any OBJ file is read; far from it they are placed again.
     let (lo, hi) = geometry
         .iter()
-        .map(|g| g.2.bounds())
+        .map(|g| g.geometry.bounds())
         .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), (l, h)| (lo.min(l), hi.max(h)));
     let origin = mesh::recentring_origin(lo, hi);
     if origin != DVec3::ZERO {
         lights = check_lights(origin)?;
         camera = check_camera(&camera_item, &file.camera, origin)?;
     }
+    let entries: Vec<usize> = geometry.iter().map(|g| g.entry).collect();
     let mut meshes = Vec::with_capacity(geometry.len());
-    for (i, (name, source, transformed)) in geometry.into_iter().enumerate() {
-        meshes.push(finish_mesh(path, i, &file.meshes[i], &materials, name, source, transformed, origin)?);
+    for unplaced in geometry {
+        meshes.push(finish_mesh(path, &file.meshes[unplaced.entry], &materials, unplaced, origin)?);
     }
+    close_split_entries(&file.meshes, &entries, &mut meshes);
 
     // Emitters are drawn too, so the default far plane must reach them.
     let emitters = lights.iter().flat_map(|l| match l {
@@ -249,7 +252,7 @@ pub(super) fn build(path: &Path, file: SceneFile) -> Result<Scene, SceneError> {
         shadow_casters,
         meshes,
         origin,
-        warnings: Vec::new(),
+        warnings,
     })
 }
 
@@ -630,19 +633,47 @@ fn finish_camera(
     Ok(camera)
 }
 
-/// Reads the OBJ file of `[[meshes]]` entry `index` and applies its transform: its name, its
-/// path and its geometry, not yet placed relative to the scene's origin.
+/// One mesh of the scene before it is placed relative to the scene's origin: its `[[meshes]]`
+/// entry, name, OBJ file, material and geometry (with the entry's transform).
+struct Unplaced {
+    entry: usize,
+    name: String,
+    source: PathBuf,
+    material: usize,
+    geometry: mesh::TransformedMesh,
+}
+
+/// Reads the OBJ file of `[[meshes]]` entry `index` and applies its transform: one mesh, or with
+/// `materials = "mtl"` one per MTL material used (those materials added to `materials`).
 fn read_mesh(
     path: &Path,
     folder: &Path,
     index: usize,
     m: &MeshFile,
-    materials: &[Material],
-) -> Result<(String, PathBuf, mesh::TransformedMesh), SceneError> {
+    materials: &mut Vec<Material>,
+    warnings: &mut Vec<String>,
+) -> Result<Vec<Unplaced>, SceneError> {
     let item = mesh_item(path, index, m);
-    if !materials.iter().any(|mat| mat.name == m.material) {
-        return Err(item.error(format!("material \"{}\" is not defined", m.material)));
-    }
+    let material = match (&m.material, m.materials) {
+        (Some(_), Some(_)) => {
+            return Err(item.error("`material` and `materials` exclude each other: give one"));
+        }
+        (None, None) => {
+            return Err(item.error(
+                "missing `material` (a [[materials]] name) or `materials = \"mtl\"` (the OBJ file's own)",
+            ));
+        }
+        (Some(name), None) => match materials.iter().position(|mat| mat.name == *name) {
+            Some(material) => Some(material),
+            None => return Err(item.error(format!("material \"{name}\" is not defined"))),
+        },
+        (None, Some(MeshMaterials::Mtl)) => {
+            let why = "with `materials = \"mtl\"` (its textures take the OBJ file's `vt`)";
+            item.forbidden("uv_projection", &m.uv_projection, why)?;
+            item.forbidden("uv_scale", &m.uv_scale, why)?;
+            None
+        }
+    };
     let scale = item.vec3("scale", m.scale.unwrap_or(Scale([1.0; 3])).0)?;
     if scale.to_array().contains(&0.0) {
         return Err(item.error(format!("`scale` = {} has a zero component", fmt_array(scale.to_array()))));
@@ -657,8 +688,45 @@ fn read_mesh(
         Some(name) => name.clone(),
         None => m.obj.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(),
     };
-    let transformed = mesh::load_obj(&source, &transform).map_err(|p| obj_error(path, &source, index, p))?;
-    Ok((name, source, transformed))
+    let Some(material) = material else {
+        let bytes = super::file::read_file(&source).map_err(|e| {
+            obj_error(path, &source, index, mesh::ObjProblem::new(format!("cannot read file: {e}")))
+        })?;
+        let error = |file: &Path, problem| obj_error(path, file, index, problem);
+        let parts = mtl::load_parts(&source, &bytes, &transform, &error, warnings)?;
+        let mut split = Vec::with_capacity(parts.len());
+        for mtl::Part { mut material, geometry } in parts {
+            let part = format!("{name}/{}", material.name);
+            material.name = part.clone();
+            for k in 2.. {
+                if !materials.iter().any(|other| other.name == material.name) {
+                    break;
+                }
+                material.name = format!("{part} ({k})");
+            }
+            materials.push(material);
+            let material = materials.len() - 1;
+            split.push(Unplaced { entry: index, name: part, source: source.clone(), material, geometry });
+        }
+        return Ok(split);
+    };
+    let geometry = mesh::load_obj(&source, &transform).map_err(|p| obj_error(path, &source, index, p))?;
+    Ok(vec![Unplaced { entry: index, name, source, material, geometry }])
+}
+
+/// Without `two_sided`, the meshes of a `[[meshes]]` entry split by its MTL materials (`entries`:
+/// each mesh's entry) are one-sided where they are closed together, as one model.
+fn close_split_entries(files: &[MeshFile], entries: &[usize], meshes: &mut [Mesh]) {
+    let mut start = 0;
+    while start < meshes.len() {
+        let entry = entries[start];
+        let end = start + entries[start..].iter().take_while(|&&e| e == entry).count();
+        if files[entry].materials.is_some() && files[entry].two_sided.is_none() {
+            let closed = adjacency::is_closed_together(&meshes[start..end]);
+            meshes[start..end].iter_mut().for_each(|mesh| mesh.two_sided = !closed);
+        }
+        start = end;
+    }
 }
 
 /// `problem` with the OBJ file `source` of `[[meshes]]` entry `index` of the scene at `path`.
@@ -676,21 +744,17 @@ fn mesh_item<'a>(path: &'a Path, index: usize, m: &MeshFile) -> Item<'a> {
     Item { path, item: format!("[[meshes]] #{} (\"{}\")", index + 1, m.obj.display()) }
 }
 
-/// The [`Mesh`] of `[[meshes]]` entry `index`, its geometry placed relative to `origin`.
-#[allow(clippy::too_many_arguments)]
+/// The [`Mesh`] of `unplaced` (of `[[meshes]]` entry `m`), placed relative to `origin`.
 fn finish_mesh(
     path: &Path,
-    index: usize,
     m: &MeshFile,
     materials: &[Material],
-    name: String,
-    source: PathBuf,
-    transformed: mesh::TransformedMesh,
+    unplaced: Unplaced,
     origin: DVec3,
 ) -> Result<Mesh, SceneError> {
+    let Unplaced { entry: index, name, source, material, geometry } = unplaced;
     let item = mesh_item(path, index, m);
-    let material = materials.iter().position(|mat| mat.name == m.material).unwrap_or_default();
-    let loaded = transformed.place(origin).map_err(|p| obj_error(path, &source, index, p))?;
+    let loaded = geometry.place(origin).map_err(|p| obj_error(path, &source, index, p))?;
     let mut mesh = Mesh {
         name,
         source,
@@ -718,7 +782,7 @@ fn finish_mesh(
     if (maps.albedo.is_some() || maps.parameter.is_some()) && mesh.uvs.is_empty() {
         return Err(item.error(format!(
             "material \"{}\" is textured but {} has no texture coordinates (add `vt` lines or `uv_projection`)",
-            m.material,
+            materials[material].name,
             mesh.source.display()
         )));
     }

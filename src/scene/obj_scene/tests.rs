@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::scene::tests::TempDir;
+use crate::scene::MaterialKind;
 
 /// A closed octahedron of radius 1 around (10, 0, 0) whose eight faces use five materials:
 /// the two `shiny` faces give normals, the others do not; only the `painted` faces have
