@@ -18,14 +18,15 @@ pub struct GpuLight {
 }
 
 /// A triangle's hold state in the multirate pre-pass (std430; `render::level_hold`): the level
-/// it is held at, the highest of the lower estimates since, and how many of those came in a row.
+/// it is held at, the highest of the coarser estimates since, how many of those came in a row,
+/// and whether no hold is open (1) or one is (0, as in a zeroed state).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct LevelHold {
     pub held: f32,
     pub lower: f32,
     pub estimates: u32,
-    pub unused: u32,
+    pub closed: u32,
 }
 
 /// One shadow map in the atlas: a directional light's square, or a point light's six square

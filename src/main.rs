@@ -11,7 +11,8 @@ fn main() -> Result<()> {
     match &cli.command {
         Some(Command::Render(args)) => cli::render::render(args, &cli.gpu),
         Some(Command::Analyze(args)) => cli::analyze::analyze(args, &cli.gpu),
-        Some(Command::Bench(args)) => cli::bench::run_bench(args, &cli.gpu),
+        Some(Command::Bench(args)) => cli::bench::run_bench(args, &cli.gpu).map(|_| ()),
+        Some(Command::Demo(args)) => cli::demo::run_demo(args, &cli.gpu),
         Some(Command::Experiments(args)) => cli::experiments::run_experiments(args, &cli.gpu),
         Some(Command::Soak(args)) => {
             cli::soak::soak(args, &cli.gpu).with_context(|| format!("soaking {}", args.scene.display()))

@@ -179,7 +179,7 @@ fn level_hold_matches_glsl() {
             ("held", offset_of!(LevelHold, held)),
             ("lower", offset_of!(LevelHold, lower)),
             ("estimates", offset_of!(LevelHold, estimates)),
-            ("unused", offset_of!(LevelHold, unused)),
+            ("closed", offset_of!(LevelHold, closed)),
         ],
         size_of::<LevelHold>(),
     );

@@ -205,7 +205,7 @@ fn levels_are_held_between_the_balls_as_the_twin_holds_them() {
                 continue;
             }
             visible += 1;
-            let (expected, after) = held_level(t as u32, estimate, twin[t]);
+            let (expected, after) = held_level(t as u32, estimate, twin[t], n_max);
             twin[t] = after;
             assert_eq!(level, expected, "frame {frame}, triangle {t}: the pre-pass against the twin");
             assert!(level >= estimate, "frame {frame}, triangle {t}: {level} under its estimate {estimate}");
@@ -246,8 +246,8 @@ fn levels_are_held_between_the_balls_as_the_twin_holds_them() {
         }
     }
     // No level falls while the first two eyes take turns, nor at the first estimate of the
-    // second pair; the levels it finds coarser fall after three to five lower estimates in a row
-    // (by the triangle's index), spread over several frames.
+    // second pair: a level that rose holds; the levels it finds coarser fall after three to five
+    // coarser estimates in a row (by the triangle's index), spread over several frames.
     let falling: Vec<usize> = (1..stops.len()).filter(|&frame| fell[frame - 1] > 0).collect();
     assert!(
         falling.first().is_some_and(|&first| first > 6),

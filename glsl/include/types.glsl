@@ -35,12 +35,13 @@ struct GpuMaterial {
 };
 
 // A triangle's hold state in the multirate pre-pass (level_hold.glsl): the level it is held at,
-// the highest of the lower estimates since, and how many of those came in a row.
+// the highest of the coarser estimates since, how many of those came in a row, and whether no
+// hold is open (1) or one is (0).
 struct LevelHold {
     float held;
     float lower;
     uint estimates;
-    uint unused;
+    uint closed;
 };
 
 // Per-draw constants, pushed for every mesh.

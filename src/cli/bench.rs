@@ -97,8 +97,9 @@ pub struct BenchArgs {
     /// estimates for its own eye).
     #[arg(long, value_name = "SHARE", default_value_t = EYE_BALL_SHARE)]
     pub eye_ball: f32,
-    /// multirate: whether its levels are held between the balls of eyes (a lower estimate used
-    /// only once it has come several times in a row): on, off, or on,off to measure both.
+    /// multirate: whether its levels are held between the balls of eyes (after a level rose,
+    /// a coarser estimate used only once coarser ones have come several times in a row): on,
+    /// off, or on,off to measure both.
     #[arg(long, value_name = "on|off", value_delimiter = ',', value_parser = parse_on_off, default_value = "on")]
     pub level_hold: Vec<bool>,
 }
@@ -112,7 +113,8 @@ fn parse_on_off(text: &str) -> Result<bool, String> {
     }
 }
 
-pub fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
+/// Runs `bench` as `args` ask, writes its files, prints its tables, and returns what it measured.
+pub fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<bench::BenchResult> {
     for &epsilon in &args.epsilon {
         check_epsilon(epsilon).map_err(|e| anyhow::anyhow!("--epsilon {e}"))?;
     }
@@ -256,7 +258,7 @@ pub fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<()> {
     }
     let messages = context.validation().count();
     anyhow::ensure!(messages == 0, "the validation layer reported {messages} message(s)");
-    Ok(())
+    Ok(result)
 }
 
 /// `scenes`, each whose lights cast shadows followed, where `twins`, by itself without them.

@@ -21,7 +21,13 @@ pub struct GpuArgs {
 
 /// `scenes/bunny.toml` from the working directory, or from the source tree.
 pub fn default_scene() -> PathBuf {
-    let relative = Path::new("scenes").join("bunny.toml");
+    shipped_scene("bunny.toml")
+}
+
+/// The shipped scene file `name` (`scenes/NAME`) from the working directory, or from the source
+/// tree.
+pub fn shipped_scene(name: &str) -> PathBuf {
+    let relative = Path::new("scenes").join(name);
     if relative.exists() {
         relative
     } else {

@@ -14,11 +14,13 @@
 //! 9. [`experiments`]: `experiments`, the paper's experiments as documentation pages.
 //! 10. [`calibrate`]: `calibrate`, this device's costs for the cost model.
 //! 11. [`soak`]: `soak`, a long run with memory sampled.
+//! 12. [`demo`]: `demo`, the room along its path: timed, its stability measured, its frames.
 
 pub mod analyze;
 pub mod bench;
 pub mod calibrate;
 pub mod common;
+pub mod demo;
 pub mod experiments;
 pub mod first_run;
 pub mod path;
@@ -32,6 +34,7 @@ use bench::BenchArgs;
 use calibrate::CalibrateArgs;
 use clap::{Parser, Subcommand};
 use common::GpuArgs;
+use demo::DemoArgs;
 use experiments::ExperimentArgs;
 use render::RenderArgs;
 use soak::SoakArgs;
@@ -76,4 +79,8 @@ pub enum Command {
     /// per-pixel shading per fragment, at two light counts) and store them; the renderer then
     /// estimates only triangles whose image is large enough for an estimate to pay.
     Calibrate(CalibrateArgs),
+    /// The paper's demo: the room with its shadows along its camera path, every mode timed
+    /// frame by frame against the pixel reference, multirate's stability from frame to frame,
+    /// and frames of the path; writes them with a page (OUT/README.md) into --out.
+    Demo(DemoArgs),
 }

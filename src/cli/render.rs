@@ -55,8 +55,14 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> Result<()> {
         }
         Some(choice) => {
             check_fps(args.fps)?;
-            let frames =
-                render_path(&context, &scene, &view, (choice, args.fps), (width, height), &args.out)?;
+            let frames = render_path(
+                &context,
+                &scene,
+                &view,
+                (choice, args.fps),
+                (width, height),
+                (&args.out, &|_| true),
+            )?;
             format!(
                 "{} to {} ({frames} frames)",
                 numbered(&args.out, 0).display(),
@@ -99,15 +105,15 @@ fn write_checked(
 }
 
 /// Renders `scene`'s frames along the path `choice` asks for at `fps`, one renderer for all (its
-/// ball of eyes and its shadow maps carried from frame to frame, as in the viewer), each into
-/// `out` numbered; returns how many.
-fn render_path(
+/// ball of eyes and its shadow maps carried from frame to frame, as in the viewer), each frame
+/// `kept` says into `out` numbered; returns how many were rendered.
+pub fn render_path(
     context: &Arc<Context>,
     scene: &Scene,
     view: &View,
     (choice, fps): (PathChoice, f32),
     (width, height): (u32, u32),
-    out: &std::path::Path,
+    (out, kept): (&std::path::Path, &dyn Fn(usize) -> bool),
 ) -> Result<usize> {
     let path = camera_path(choice, scene)?;
     let renderer = Renderer::new(context, scene)?;
@@ -116,7 +122,9 @@ fn render_path(
     for (index, &time) in times.iter().enumerate() {
         let camera = scene.camera.on_path(&path, time, scene.bounds());
         let image = renderer.render(&target, &view.seen_from(camera))?;
-        write_checked(&image, &numbered(out, index), scene.settings.exposure)?;
+        if kept(index) {
+            write_checked(&image, &numbered(out, index), scene.settings.exposure)?;
+        }
     }
     Ok(times.len())
 }

@@ -32,8 +32,9 @@ pub struct View {
     /// spans several triangles; seed 002's comparison).
     pub derivative_check: bool,
     /// `multirate` only: levels do not flip back and forth as the eye moves
-    /// (`render::level_hold`): a lower estimate is used only once it has come several times in
-    /// a row. On by default; off, every estimate is used as it comes.
+    /// (`render::level_hold`): after a triangle's level rose, a coarser estimate is used only
+    /// once coarser ones have come several times in a row. On by default; off, every estimate is
+    /// used as it comes.
     pub hold_levels: bool,
 }
 
