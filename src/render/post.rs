@@ -485,15 +485,5 @@ fn fullscreen_pipeline(
     )
 }
 
-/// The display image's 8-bit RGBA (alpha opaque), as PNG output writes it.
-pub fn display_bytes(image: &FloatImage) -> image::RgbaImage {
-    let mut out = image::RgbaImage::new(image.width, image.height);
-    for (pixel, value) in out.pixels_mut().zip(&image.pixels) {
-        let byte = |v: f32| (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
-        *pixel = image::Rgba([byte(value[0]), byte(value[1]), byte(value[2]), 255]);
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests;
