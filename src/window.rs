@@ -1,11 +1,13 @@
 //! The interactive viewer: a winit window whose frames are rendered into the float target by
-//! the same passes as headless rendering, then tone mapped into the swapchain.
+//! the same passes as headless rendering, then run through the post chain (eye adaptation,
+//! bloom, tone mapping; `render::post`) into the swapchain, or with O only tone mapped at the
+//! scene's exposure (`render::present`).
 //! Drag with the left button to orbit, scroll to zoom, Esc to quit. Keys pick the mode: P
 //! pixel, D pixel-deferred, V vertex, F fixed:N, M multirate, + and - change N; E moves
 //! multirate's estimator between the control stage and the compute pre-pass; [ and ] halve
 //! and double ε, < and > halve and double n_max; H toggles the tessellation-level heat map, W
 //! the wireframe, S the shadows (in a scene whose lights cast them; the renderer is made
-//! again without them, or with them, in a second or so). The title shows the mode (with ε and n_max in multirate), the GPU time of
+//! again without them, or with them, in a second or so), O the post chain. The title shows the mode (with ε and n_max in multirate), the GPU time of
 //! the render from timestamps, its speed against `pixel` mode timed in the same window
 //! (`speed`; T times `pixel` again), and the shading evaluations as a share of `pixel`
 //! mode's (counted at most every `RECOUNT_EVERY`, and when the mode or ε changes). A
@@ -25,6 +27,7 @@
 
 use crate::error::{Error, Result, VkContext as _};
 use crate::geometry::camera::Orbit;
+use crate::render::post::{Adapt, Output, PostChain, PostSettings};
 use crate::render::present::PresentPass;
 use crate::render::{Mode, Placement, Renderer, View, MAX_LEVEL};
 use crate::scene::settings::{check_epsilon, EPSILON_KEYS, N_MAX_RANGE};
@@ -78,6 +81,8 @@ pub struct ViewReport {
     pub wireframe_frames: u32,
     /// Presented frames of a scene whose lights cast shadows, drawn without them (S).
     pub frames_without_shadows: u32,
+    /// Presented frames only tone mapped, the post chain off (O).
+    pub frames_without_post: u32,
     /// Presented frames whose camera the scene's path moved (it played, not paused).
     pub frames_on_path: u32,
     /// The n_max values multirate frames were presented with.
@@ -121,6 +126,8 @@ pub fn view(
         drag: None,
         fixed_level: if let Mode::Fixed(level) = mode { level } else { 4 },
         shadows: true,
+        post: true,
+        last_post: None,
         remake_renderer: false,
         gpu_ms: None,
         pixel_reference: None,
@@ -158,6 +165,7 @@ struct WindowState {
     /// which extent, where it wrote them.
     timed: Option<(View, vk::Extent2D)>,
     present: PresentPass,
+    post: PostChain,
     target: RenderTarget,
     renderer: Renderer,
     swapchain: Swapchain,
@@ -235,6 +243,10 @@ struct App {
     fixed_level: u32,
     /// Whether the scene's shadow-casting lights cast them (S toggles).
     shadows: bool,
+    /// Whether frames go through the post chain (O toggles).
+    post: bool,
+    /// When the last frame through the post chain was recorded (None: adapt the next at once).
+    last_post: Option<Instant>,
     /// The renderer is to be made again (for `shadows`) before the next frame.
     remake_renderer: bool,
     /// GPU milliseconds of the render (pre-pass included, tone mapping not), smoothed over
@@ -280,6 +292,10 @@ impl App {
         let target = RenderTarget::new(&context, swapchain.extent.max_one())?;
         let present = PresentPass::new(&context, swapchain.format.format, !swapchain.is_srgb())?;
         present.bind_target(&target);
+        let encode_srgb = !swapchain.is_srgb();
+        let mut post =
+            PostChain::new(&context, swapchain.format.format, encode_srgb, PostSettings::default())?;
+        post.bind_input(&target.color)?;
         let frame = FrameSync::new(&context)?;
         let timer = GpuTimer::new(&context, 1, 1)?;
         Ok(WindowState {
@@ -287,6 +303,7 @@ impl App {
             timer,
             timed: None,
             present,
+            post,
             target,
             renderer,
             swapchain,
@@ -313,6 +330,7 @@ impl App {
             }
             state.target = RenderTarget::new(&state.context, state.swapchain.extent)?;
             state.present.bind_target(&state.target);
+            state.post.bind_input(&state.target.color)?;
             state.needs_recreate = false;
             self.report.swapchain_recreations += 1;
         }
@@ -387,13 +405,19 @@ impl App {
         let recorded = state.renderer.record(frame.cmd, &state.target, &drawn, AfterPass::Sampled);
         state.timer.timestamp(frame.cmd, 0, 0, true);
         state.timed = Some((drawn, state.target.extent()));
-        state.present.record(
-            frame.cmd,
-            state.swapchain.images[index as usize],
-            state.swapchain.views[index as usize],
-            state.swapchain.extent,
-            self.scene.settings.exposure,
-        );
+        let (image, view) = (state.swapchain.images[index as usize], state.swapchain.views[index as usize]);
+        let exposure = self.scene.settings.exposure;
+        if self.post {
+            let now = Instant::now();
+            let adapt = self.last_post.map_or(Adapt::AtOnce, |last| Adapt::After((now - last).as_secs_f32()));
+            self.last_post = Some(now);
+            let presentable =
+                (vk::ImageLayout::PRESENT_SRC_KHR, vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE);
+            state.post.record(frame.cmd, Output { image, view, after: presentable }, exposure, adapt);
+        } else {
+            self.last_post = None;
+            state.present.record(frame.cmd, image, view, state.swapchain.extent, exposure);
+        }
         // SAFETY: recording began above.
         unsafe { device.end_command_buffer(frame.cmd) }.while_("ending the frame commands")?;
         let wait = [vk::SemaphoreSubmitInfo::default()
@@ -432,6 +456,9 @@ impl App {
         }
         if let Some(percent) = self.share.as_ref().and_then(|s| s.percent) {
             title += &format!(" — evaluations {percent:.1} % of pixel");
+        }
+        if !self.post {
+            title += " — post off";
         }
         if !self.shadows {
             title += " — shadows off";
@@ -523,6 +550,7 @@ impl App {
         report.heat_map_frames += u32::from(view.heat_map);
         report.wireframe_frames += u32::from(view.wireframe);
         report.frames_without_shadows += u32::from(!self.shadows);
+        report.frames_without_post += u32::from(!self.post);
         report.frames_on_path += u32::from(self.path.as_ref().is_some_and(PathPlayer::playing));
         if view.mode == Mode::Multirate {
             let epsilon = view.estimator.epsilon;
@@ -545,8 +573,8 @@ impl App {
     /// (and switch to fixed:N); [ / ] halve / double multirate's ε (within 10⁻⁴ to 10); < / >
     /// (or , / .) halve / double its n_max (within 1 to `MAX_LEVEL`); E moves multirate's
     /// estimator between the control stage and the compute pre-pass; T times `pixel` mode
-    /// again for the title's speed; S turns the shadows off and on; Space pauses and
-    /// resumes the camera path.
+    /// again for the title's speed; S turns the shadows off and on; O the post chain; Space
+    /// pauses and resumes the camera path.
     fn on_key(&mut self, text: &str) {
         let level = match self.view.mode {
             Mode::Fixed(level) => level,
@@ -564,6 +592,10 @@ impl App {
             }
             "t" => {
                 self.retime = true;
+                return;
+            }
+            "o" => {
+                self.post = !self.post;
                 return;
             }
             " " => {

@@ -136,6 +136,30 @@ fn renders_png_and_exr_with_coverage() {
     assert!(exr.pixels().filter(|p| p.0[3] == 1.0).any(|p| p.0[0] > 0.0), "lit surface");
 }
 
+/// `render --post`: the PNG through the post chain differs from the plain tone map of the same
+/// frame; along a path every frame is written; an EXR is refused by name.
+#[test]
+fn renders_through_the_post_chain() {
+    let scene = repo_path("scenes/test/lambert_directional.toml");
+    let dir = scratch("post");
+    let (plain, post) = (dir.join("plain.png"), dir.join("post.png"));
+    for (out, extra) in [(&plain, &[][..]), (&post, &["--post"][..])] {
+        let (ok, _, stderr) = render_64x48(&scene, out, extra);
+        assert!(ok && !stderr.contains("vulkan:"), "render {extra:?} failed:\n{stderr}");
+    }
+    let (plain, post) = (image::open(&plain).unwrap().to_rgba8(), image::open(&post).unwrap().to_rgba8());
+    assert_eq!(post.dimensions(), (64, 48));
+    let differ = plain.pixels().zip(post.pixels()).filter(|(p, q)| p.0 != q.0).count();
+    assert!(differ > 100, "the post chain changed only {differ} pixels");
+    let frames = dir.join("shot.png");
+    let (ok, stdout, stderr) =
+        render_64x48(&scene, &frames, &["--post", "--path", "orbit:0.2", "--fps", "10"]);
+    assert!(ok && stdout.contains("(3 frames)"), "render --post --path failed:\n{stdout}\n{stderr}");
+    assert!(dir.join("shot_0002.png").exists());
+    let (ok, _, stderr) = render_64x48(&scene, &dir.join("post.exr"), &["--post"]);
+    assert!(!ok && stderr.contains("--post writes PNG"), "{stderr}");
+}
+
 /// `render --path`: an orbit's frames, numbered, each a turn of the camera (the frames differ,
 /// the first and the last, a whole turn apart, agree); a scene without a path is refused by name.
 #[test]

@@ -36,8 +36,8 @@ fn window_opens_resizes_and_closes_cleanly() {
     let _display = VirtualDisplay::ensure();
     let scene = common::repo_path("scenes/test/lambert_directional.toml");
     // Heat map, wireframe, vertex mode, then back to fixed:4 (F, then +); ε halved twice and
-    // doubled once, n_max the same; the shadows off for the last frames (the renderer made
-    // again, with the wireframe still on).
+    // doubled once, n_max the same; the shadows and the post chain off for the last frames (the
+    // renderer made again, with the wireframe still on).
     let keys = [
         (2, "h"),
         (4, "w"),
@@ -52,6 +52,7 @@ fn window_opens_resizes_and_closes_cleanly() {
         (10, "]"),
         (10, ">"),
         (10, "s"),
+        (10, "o"),
         (11, " "),
     ];
     let mut events: Vec<(u32, ScriptEvent)> =
@@ -81,6 +82,10 @@ fn window_opens_resizes_and_closes_cleanly() {
         "S turned the shadows off for the last frames: {report:?}"
     );
     assert!(
+        report.frames_without_post >= 1 && report.frames_without_post < report.frames_presented,
+        "O turned the post chain off for the last frames: {report:?}"
+    );
+    assert!(
         report.frames_on_path >= 1 && report.frames_on_path < report.frames_presented,
         "the path played, then Space paused it: {report:?}"
     );
@@ -88,7 +93,10 @@ fn window_opens_resizes_and_closes_cleanly() {
     // shades sub-vertices only, a fraction of the covered pixels here).
     let title = &report.final_title;
     assert!(
-        title.contains("fixed:4") && title.contains("shadows off") && title.contains("paused"),
+        title.contains("fixed:4")
+            && title.contains("shadows off")
+            && title.contains("post off")
+            && title.contains("paused"),
         "{title}"
     );
     let number_before = |unit: &str| -> f64 {

@@ -1,9 +1,10 @@
 //! `demo`: the paper's demo in one command. The room with its shadows walks along its camera
 //! path: `bench --path scene` times pixel, vertex, fixed:4 and multirate on the same frames and
 //! measures their stability against the per-pixel reference (`path.csv`, `path.svg`,
-//! `stability.csv`, `bench.csv`); the path is then rendered as a viewer draws it, one renderer
-//! for every frame, and a frame a second is kept as an image; `README.md` shows it all with the
-//! command that wrote it. `multirate demo` regenerates `docs/demo/`.
+//! `stability.csv`, `bench.csv`: every figure of the linear frame, before any post effect); the
+//! path is then rendered as a viewer draws it, one renderer for every frame, and a frame a second
+//! is kept as an image through the post chain (eye adaptation, bloom, tone mapping); `README.md`
+//! shows it all with the command that wrote it. `multirate demo` regenerates `docs/demo/`.
 
 use super::bench::{run_bench, BenchArgs};
 use super::common::{options, parse_resolution, shipped_scene, GpuArgs};
@@ -88,7 +89,7 @@ pub fn run_demo(args: &DemoArgs, gpu: &GpuArgs) -> Result<()> {
         &view,
         (PathChoice::Scene, args.fps),
         args.still_size,
-        (&first, &|index| index % every == 0),
+        (&first, true, &|index| index % every == 0),
     )?;
     let kept: Vec<usize> = (0..frames).filter(|index| index % every == 0).collect();
     let page = page(args, &scene_path, (&context, &measured), &kept)?;

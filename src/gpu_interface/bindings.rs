@@ -215,6 +215,24 @@ pub mod present {
     pub const LAYOUT: Layout = Layout { name: "present", sets: &[&[HDR_IMAGE]] };
 }
 
+/// The post chain (`post_*.comp`, `post_*.frag` with `fullscreen.vert`): one set, bound by every
+/// stage (`glsl/include/post.glsl`).
+pub mod post {
+    use super::{sampler, storage, Binding, Layout};
+
+    /// The linear float frame, read only.
+    pub const HDR_IMAGE: Binding = sampler(0, 0, "hdr_image");
+    /// One of the chain's quarter-resolution images.
+    pub const BLOOM_IMAGE: Binding = sampler(0, 1, "bloom_image");
+    /// The adapted log luminance and exposure.
+    pub const ADAPTATION: Binding = storage(0, 2, "Adaptation");
+
+    /// Set 0.
+    pub const INPUTS: [Binding; 3] = [HDR_IMAGE, BLOOM_IMAGE, ADAPTATION];
+
+    pub const LAYOUT: Layout = Layout { name: "post", sets: &[&INPUTS] };
+}
+
 /// The tessellation capture (`capture.*`).
 pub mod capture {
     use super::{storage, Binding, Layout};
@@ -244,7 +262,8 @@ pub mod polygon_check {
 }
 
 /// Every layout.
-pub const LAYOUTS: [Layout; 4] = [forward::LAYOUT, present::LAYOUT, capture::LAYOUT, polygon_check::LAYOUT];
+pub const LAYOUTS: [Layout; 5] =
+    [forward::LAYOUT, present::LAYOUT, post::LAYOUT, capture::LAYOUT, polygon_check::LAYOUT];
 
 /// The layout `stage` (a file name under `glsl/`) is compiled against.
 pub fn layout_of(stage: &str) -> Layout {
@@ -252,6 +271,7 @@ pub fn layout_of(stage: &str) -> Layout {
         "fullscreen.vert" | "present.frag" => present::LAYOUT,
         "capture.vert" | "capture.tesc" | "capture.tese" | "capture.geom" => capture::LAYOUT,
         "polygon_check.comp" => polygon_check::LAYOUT,
+        stage if stage.starts_with("post_") => post::LAYOUT,
         _ => forward::LAYOUT,
     }
 }

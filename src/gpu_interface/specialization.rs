@@ -14,7 +14,7 @@ pub struct SpecId {
 /// The name [`SpecId::name`] gives a compute stage's `local_size_x_id`.
 pub const LOCAL_SIZE_X: &str = "local_size_x";
 
-/// present.frag: encode the tone-mapped image as sRGB.
+/// present.frag, post_composite.frag: encode the tone-mapped image as sRGB.
 pub const ENCODE_SRGB: SpecId = SpecId { name: "ENCODE_SRGB", id: 0 };
 /// brdf.glsl: the scene's point lights, first in the light buffer.
 pub const POINT_LIGHT_COUNT: SpecId = SpecId { name: "POINT_LIGHT_COUNT", id: 1 };

@@ -13,24 +13,25 @@
 //! 5. [`capture`]: the tessellation pattern check.
 //! 6. [`output`]: image files.
 //! 7. [`present`]: presentation to a swapchain image.
-//! 8. [`cost_model`]: where estimating a triangle's level pays, per device.
-//! 9. [`multirate_config`]: the multirate configuration, resolved once per frame.
-//! 10. [`guard`]: whether a frame is drawn the multirate way or as `pixel` draws it.
-//! 11. [`level_ball`]: the ball of eyes the kept levels hold for.
-//! 12. [`level_hold`]: the rule by which levels are held between the balls.
-//! 13. [`frame_config`]: everything a frame is drawn with, and the per-pixel choice.
-//! 14. [`scene_geometry`]: the scene gathered for upload, one draw per mesh and emitter.
-//! 15. [`scene_buffers`]: the scene uploaded.
-//! 16. [`descriptors`]: the forward layout, its sets, and the recorder that binds them.
-//! 17. [`pipelines`]: the pipeline variants of the draws, built on first use.
-//! 18. [`shadows`]: the shadow atlas and the pass that draws its maps.
-//! 19. [`shadow_state`]: the maps as drawn, the directional ones fitted to the view, and the
+//! 8. [`post`]: the post chain (eye adaptation, bloom, tone mapping) after the linear frame.
+//! 9. [`cost_model`]: where estimating a triangle's level pays, per device.
+//! 10. [`multirate_config`]: the multirate configuration, resolved once per frame.
+//! 11. [`guard`]: whether a frame is drawn the multirate way or as `pixel` draws it.
+//! 12. [`level_ball`]: the ball of eyes the kept levels hold for.
+//! 13. [`level_hold`]: the rule by which levels are held between the balls.
+//! 14. [`frame_config`]: everything a frame is drawn with, and the per-pixel choice.
+//! 15. [`scene_geometry`]: the scene gathered for upload, one draw per mesh and emitter.
+//! 16. [`scene_buffers`]: the scene uploaded.
+//! 17. [`descriptors`]: the forward layout, its sets, and the recorder that binds them.
+//! 18. [`pipelines`]: the pipeline variants of the draws, built on first use.
+//! 19. [`shadows`]: the shadow atlas and the pass that draws its maps.
+//! 20. [`shadow_state`]: the maps as drawn, the directional ones fitted to the view, and the
 //!     triangles' visibility classes.
-//! 20. [`pre_pass`]: the triangle-level pre-pass of the compute placement.
-//! 21. [`limits`]: the scene's limits against the device's.
-//! 22. [`draws`]: the forward draws (and lavapipe's limits on them).
-//! 23. [`deferred`]: the `pixel-deferred` passes.
-//! 24. [`instrumentation`]: timings, evaluation counts and what is read back.
+//! 21. [`pre_pass`]: the triangle-level pre-pass of the compute placement.
+//! 22. [`limits`]: the scene's limits against the device's.
+//! 23. [`draws`]: the forward draws (and lavapipe's limits on them).
+//! 24. [`deferred`]: the `pixel-deferred` passes.
+//! 25. [`instrumentation`]: timings, evaluation counts and what is read back.
 
 pub mod capture;
 pub mod cost_model;
@@ -48,6 +49,7 @@ mod mode;
 mod multirate_config;
 pub mod output;
 mod pipelines;
+pub mod post;
 mod pre_pass;
 pub mod present;
 mod scene_buffers;

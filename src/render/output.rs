@@ -1,5 +1,5 @@
-//! Writing rendered images: PNG (exposure, ACES filmic tone map, sRGB, 8 bits) and OpenEXR
-//! (linear float RGB, alpha = geometric coverage). The tone map lives in
+//! Writing rendered images: PNG (exposure, ACES filmic tone map, sRGB, 8 bits), OpenEXR
+//! (linear float RGB, alpha = geometric coverage) and the post chain's display images (PNG). The tone map lives in
 //! [`crate::shading::tonemap`].
 
 use crate::error::{Error, Result};
@@ -43,6 +43,18 @@ pub fn write_image(image: &FloatImage, path: &Path, exposure: f32) -> Result<()>
         }
         _ => Err(fail("unknown image format: use a .png or .exr file name".into())),
     }
+}
+
+/// Writes a display image, its values already tone mapped and encoded in [0, 1] (as the post
+/// chain, `render::post`, writes them), as an opaque 8-bit PNG.
+pub fn write_display_png(image: &FloatImage, path: &Path) -> Result<()> {
+    let mut rgb = image::RgbImage::new(image.width, image.height);
+    let byte = |v: f32| (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+    for (pixel, value) in rgb.pixels_mut().zip(&image.pixels) {
+        *pixel = image::Rgb([byte(value[0]), byte(value[1]), byte(value[2])]);
+    }
+    rgb.save_with_format(path, image::ImageFormat::Png)
+        .map_err(|e| Error::Output { path: path.to_path_buf(), message: format!("cannot write PNG: {e}") })
 }
 
 /// Writes a data image (error, level map, mask) as an 8-bit sRGB PNG without the tone curve:

@@ -128,6 +128,12 @@ impl Sampler {
         Sampler::new(context, name, nearest, vk::SamplerAddressMode::CLAMP_TO_EDGE, 0.0)
     }
 
+    /// Bilinear filtering, clamped to the edge, level 0 only: for upsampling a smaller image.
+    pub fn linear_clamp(context: &Arc<Context>, name: &str) -> Result<Sampler> {
+        let linear = (vk::Filter::LINEAR, vk::SamplerMipmapMode::NEAREST);
+        Sampler::new(context, name, linear, vk::SamplerAddressMode::CLAMP_TO_EDGE, 0.0)
+    }
+
     fn new(
         context: &Arc<Context>,
         name: &str,
