@@ -197,6 +197,56 @@ fn renders_a_camera_path_into_numbered_frames() {
     assert!(!ok && stderr.contains("bunny.toml") && stderr.contains("no camera path"), "{stderr}");
 }
 
+/// `demo` on the chapel's path (the room's takes minutes): every mode timed along the path,
+/// their stability, the frames kept through the post chain, and a page that shows them; a scene
+/// without a path is refused, naming it.
+#[test]
+fn the_demo_writes_its_page_plot_stability_and_frames() {
+    let dir = scratch("demo");
+    let scene = repo_path("scenes/chapel.toml");
+    let (ok, _, stderr) = multirate(&[
+        "--validate",
+        "demo",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--resolution",
+        "64x36",
+        "--still-size",
+        "64x36",
+        "--fps",
+        "0.5",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(ok, "demo failed:\n{stderr}");
+    assert!(!stderr.contains("vulkan:"), "validation messages:\n{stderr}");
+    let page = std::fs::read_to_string(dir.join("README.md")).expect("the page");
+    // The chapel's path lasts 8 s: 5 frames at one every 2 s, each kept.
+    for mode in ["| pixel | 5 |", "| vertex | 5 |", "| fixed:4 | 5 |", "| multirate ε=0.075"] {
+        assert!(page.contains(mode), "{mode} in the timing table:\n{page}");
+    }
+    for run in ["chapel 64x36 vertex |", "chapel 64x36 fixed:4 |", "chapel 64x36 multirate"] {
+        assert!(page.contains(run), "{run} in the stability table:\n{page}");
+    }
+    assert!(page.contains("![GPU time per frame along the path](path.svg)"), "{page}");
+    let svg = std::fs::read_to_string(dir.join("path.svg")).expect("the plot");
+    assert!(svg.contains("<svg"), "{svg}");
+    let stability = std::fs::read_to_string(dir.join("stability.csv")).expect("stability.csv");
+    assert_eq!(stability.lines().count(), 1 + 3 * 4, "three configurations, four steps each:\n{stability}");
+    for k in 0..5 {
+        let frame = dir.join("frames").join(format!("frame_{k:04}.png"));
+        assert!(page.contains(&format!("frames/frame_{k:04}.png")), "{page}");
+        let image = image::open(&frame).expect("a kept frame decodes").to_rgba8();
+        assert_eq!(image.dimensions(), (64, 36));
+        assert!(image.pixels().any(|p| p.0[..3].iter().any(|&c| c > 20)), "frame {k} is not black");
+    }
+    assert!(!dir.join("frames").join("frame_0005.png").exists(), "no frame past the path");
+    let without = repo_path("scenes/bunny.toml");
+    let (ok, _, stderr) =
+        multirate(&["demo", "--scene", without.to_str().unwrap(), "--out", dir.to_str().unwrap()]);
+    assert!(!ok && stderr.contains("bunny.toml") && stderr.contains("no [[path]]"), "{stderr}");
+}
+
 #[test]
 fn missing_scene_names_the_file() {
     let missing = scratch("missing").join("no-such-scene.toml");

@@ -25,8 +25,9 @@ pub struct DemoArgs {
     /// Scene file with a [[path]] (default: scenes/room_shadows.toml).
     #[arg(long)]
     pub scene: Option<PathBuf>,
-    /// Resolution the path is timed and measured at, as WxH.
-    #[arg(long, value_parser = parse_resolution, default_value = "1280x720")]
+    /// Resolution the path is timed and measured at, as WxH (the default keeps the run to
+    /// minutes on a CPU rasteriser: a frame of `pixel` of the room takes seconds at 1280x720).
+    #[arg(long, value_parser = parse_resolution, default_value = "640x360")]
     pub resolution: (u32, u32),
     /// Frames a second along the path.
     #[arg(long, default_value_t = 30.0)]
@@ -112,20 +113,20 @@ fn page(
     let (width, height) = args.resolution;
     let mut page = String::new();
     writeln!(page, "# The demo: {} along its camera path\n", scene.display())?;
+    let (still_width, still_height) = args.still_size;
     writeln!(
         page,
-        "Written by `multirate demo --out {}` ({} × {}, {} frames a second, frames kept at {} × {}) on {} ({}). \
-         Every mode is timed on the same frames of the path, the modes taking turns; the errors are those of \
-         the linear frame against the per-pixel reference of the same camera (docs/temporal.md says how each \
-         figure is measured).\n",
-        args.out.display(),
-        width,
-        height,
+        "Written by `multirate demo --scene {} --resolution {width}x{height} --fps {} --still-size \
+         {still_width}x{still_height} --out {}` on {} ({}), `GALLIVM_PERF` {}. Every mode is timed on the same \
+         frames of the path, the modes taking turns; every error is of the linear frame against the per-pixel \
+         reference of the same camera, before the post chain (docs/temporal.md says how each figure is \
+         measured). The frames below went through the post chain (eye adaptation, bloom, tone mapping).\n",
+        scene.display(),
         args.fps,
-        args.still_size.0,
-        args.still_size.1,
+        args.out.display(),
         context.info.name,
-        context.info.driver
+        context.info.driver,
+        std::env::var("GALLIVM_PERF").map_or_else(|_| "unset".to_string(), |v| format!("`{v}`"))
     )?;
     writeln!(page, "## GPU time per frame\n\n![GPU time per frame along the path](path.svg)\n")?;
     writeln!(
@@ -138,7 +139,11 @@ fn page(
         writeln!(
             page,
             "| {} | {} | {:.2} | {:.2} | {:.2} | {pre_pass} | {:.2}× |",
-            plot::row_label(row),
+            if row.mode == "multirate" {
+                format!("multirate {}", plot::row_label(row))
+            } else {
+                row.mode.clone()
+            },
             row.frames,
             row.gpu_ms.median,
             row.gpu_ms.p10,
