@@ -13,14 +13,15 @@
 //! 4. `post_composite.frag`: the frame at the adapted exposure plus the bloom, through the ACES
 //!    curve and sRGB (`tonemap.glsl`) into the output image.
 
+use super::present::fullscreen_pipeline;
 use crate::error::Result;
 use crate::gpu_interface::bindings::post::{ADAPTATION, BLOOM_IMAGE, HDR_IMAGE, INPUTS};
 use crate::gpu_interface::specialization::ENCODE_SRGB;
 use crate::shaders;
 use crate::vk::memory::{transition, Buffer, Image};
 use crate::vk::pipeline::{
-    bind_sampled_images, bind_storage_buffers, DepthUse, DescriptorPool, GraphicsPipelineDesc, Optimization,
-    Pipeline, PipelineLayout, ShaderModule, Specialization, Stage,
+    bind_sampled_images, bind_storage_buffers, DescriptorPool, Optimization, Pipeline, PipelineLayout,
+    ShaderModule, Specialization,
 };
 use crate::vk::target::{begin_rendering, FloatImage, COLOR_FORMAT};
 use crate::vk::texture::Sampler;
@@ -448,41 +449,6 @@ fn memory_barrier(
         .dst_access_mask(dst.1)];
     // SAFETY: `cmd` is recording outside rendering.
     unsafe { device.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&barrier)) };
-}
-
-/// A pipeline drawing `fullscreen.vert`'s triangle with `modules.1` into `format` images.
-fn fullscreen_pipeline(
-    context: &Arc<Context>,
-    name: &'static str,
-    layout: &PipelineLayout,
-    (vertex, fragment): (&ShaderModule, &ShaderModule),
-    format: vk::Format,
-    specialization: Option<&Specialization>,
-) -> Result<Pipeline> {
-    Pipeline::graphics(
-        context,
-        &GraphicsPipelineDesc {
-            name,
-            stages: vec![
-                Stage { stage: vk::ShaderStageFlags::VERTEX, module: vertex, specialization: None },
-                Stage { stage: vk::ShaderStageFlags::FRAGMENT, module: fragment, specialization },
-            ],
-            layout,
-            vertex_bindings: &[],
-            vertex_attributes: &[],
-            topology: vk::PrimitiveTopology::TRIANGLE_LIST,
-            patch_control_points: None,
-            polygon_mode: vk::PolygonMode::FILL,
-            cull_mode: vk::CullModeFlags::NONE,
-            front_face: vk::FrontFace::COUNTER_CLOCKWISE,
-            color_formats: &[format],
-            depth_format: None,
-            depth_use: DepthUse::Nearest,
-            rasterizer_discard: false,
-            dynamic_cull_mode: false,
-            optimization: Optimization::Optimized,
-        },
-    )
 }
 
 #[cfg(test)]

@@ -51,34 +51,9 @@ impl PresentPass {
         let vertex = ShaderModule::new(context, "fullscreen.vert", shaders::single("fullscreen.vert"))?;
         let fragment = ShaderModule::new(context, "present.frag", shaders::single("present.frag"))?;
         let specialization = Specialization::default().boolean(ENCODE_SRGB.id, encode_srgb);
-        let pipeline = Pipeline::graphics(
-            context,
-            &GraphicsPipelineDesc {
-                name: "present",
-                stages: vec![
-                    Stage { stage: vk::ShaderStageFlags::VERTEX, module: &vertex, specialization: None },
-                    Stage {
-                        stage: vk::ShaderStageFlags::FRAGMENT,
-                        module: &fragment,
-                        specialization: Some(&specialization),
-                    },
-                ],
-                layout: &layout,
-                vertex_bindings: &[],
-                vertex_attributes: &[],
-                topology: vk::PrimitiveTopology::TRIANGLE_LIST,
-                patch_control_points: None,
-                polygon_mode: vk::PolygonMode::FILL,
-                cull_mode: vk::CullModeFlags::NONE,
-                front_face: vk::FrontFace::COUNTER_CLOCKWISE,
-                color_formats: &[format],
-                depth_format: None,
-                depth_use: DepthUse::Nearest,
-                rasterizer_discard: false,
-                dynamic_cull_mode: false,
-                optimization: Optimization::Optimized,
-            },
-        )?;
+        let modules = (&vertex, &fragment);
+        let pipeline =
+            fullscreen_pipeline(context, "present", &layout, modules, format, Some(&specialization))?;
         // SAFETY: live sampler handle.
         context.name(sampler, "present sampler");
         Ok(PresentPass { context: context.clone(), sampler, layout, _pool: pool, set, pipeline })
@@ -174,4 +149,40 @@ impl Drop for PresentPass {
         // SAFETY: the owner waits for the device before dropping the pass.
         unsafe { self.context.device.destroy_sampler(self.sampler, None) };
     }
+}
+
+/// A pipeline drawing `fullscreen.vert`'s triangle with `modules.1` into `format` images: the
+/// display pass's, and each pass of the post chain's (`post`).
+pub(super) fn fullscreen_pipeline(
+    context: &Arc<Context>,
+    name: &'static str,
+    layout: &PipelineLayout,
+    (vertex, fragment): (&ShaderModule, &ShaderModule),
+    format: vk::Format,
+    specialization: Option<&Specialization>,
+) -> Result<Pipeline> {
+    Pipeline::graphics(
+        context,
+        &GraphicsPipelineDesc {
+            name,
+            stages: vec![
+                Stage { stage: vk::ShaderStageFlags::VERTEX, module: vertex, specialization: None },
+                Stage { stage: vk::ShaderStageFlags::FRAGMENT, module: fragment, specialization },
+            ],
+            layout,
+            vertex_bindings: &[],
+            vertex_attributes: &[],
+            topology: vk::PrimitiveTopology::TRIANGLE_LIST,
+            patch_control_points: None,
+            polygon_mode: vk::PolygonMode::FILL,
+            cull_mode: vk::CullModeFlags::NONE,
+            front_face: vk::FrontFace::COUNTER_CLOCKWISE,
+            color_formats: &[format],
+            depth_format: None,
+            depth_use: DepthUse::Nearest,
+            rasterizer_discard: false,
+            dynamic_cull_mode: false,
+            optimization: Optimization::Optimized,
+        },
+    )
 }
