@@ -6,7 +6,7 @@
 layout(location = 0) out vec4 out_color;
 
 void main() {
-    ivec2 size = textureSize(hdr_image, 0);
+    ivec2 size = textureSize(linear_frame, 0);
     ivec2 corner = ivec2(gl_FragCoord.xy) * POST_DOWNSAMPLE;
     vec3 colour = vec3(0.0);
     float log_sum = 0.0;
@@ -15,7 +15,7 @@ void main() {
         for (int x = 0; x < POST_DOWNSAMPLE; x++) {
             ivec2 at = corner + ivec2(x, y);
             if (all(lessThan(at, size))) {
-                vec3 linear = max(texelFetch(hdr_image, at, 0).rgb, vec3(0.0));
+                vec3 linear = max(texelFetch(linear_frame, at, 0).rgb, vec3(0.0));
                 colour += linear;
                 log_sum += log_luminance(linear);
                 count += 1.0;

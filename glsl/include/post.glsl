@@ -9,7 +9,7 @@
 #endif
 
 // The linear frame (read only).
-layout(set = 0, binding = 0) uniform sampler2D hdr_image;
+layout(set = 0, binding = 0) uniform sampler2D linear_frame;
 // A quarter-resolution image of the chain: the downsampled frame, then the bloom.
 layout(set = 0, binding = 1) uniform sampler2D bloom_image;
 // The adapted average log luminance and the exposure it gives.

@@ -221,14 +221,14 @@ pub mod post {
     use super::{sampler, storage, Binding, Layout};
 
     /// The linear float frame, read only.
-    pub const HDR_IMAGE: Binding = sampler(0, 0, "hdr_image");
+    pub const LINEAR_FRAME: Binding = sampler(0, 0, "linear_frame");
     /// One of the chain's quarter-resolution images.
     pub const BLOOM_IMAGE: Binding = sampler(0, 1, "bloom_image");
     /// The adapted log luminance and exposure.
     pub const ADAPTATION: Binding = storage(0, 2, "Adaptation");
 
     /// Set 0.
-    pub const INPUTS: [Binding; 3] = [HDR_IMAGE, BLOOM_IMAGE, ADAPTATION];
+    pub const INPUTS: [Binding; 3] = [LINEAR_FRAME, BLOOM_IMAGE, ADAPTATION];
 
     pub const LAYOUT: Layout = Layout { name: "post", sets: &[&INPUTS] };
 }

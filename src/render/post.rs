@@ -15,7 +15,7 @@
 
 use super::present::fullscreen_pipeline;
 use crate::error::Result;
-use crate::gpu_interface::bindings::post::{ADAPTATION, BLOOM_IMAGE, HDR_IMAGE, INPUTS};
+use crate::gpu_interface::bindings::post::{ADAPTATION, BLOOM_IMAGE, INPUTS, LINEAR_FRAME};
 use crate::gpu_interface::specialization::ENCODE_SRGB;
 use crate::shaders;
 use crate::vk::memory::{transition, Buffer, Image};
@@ -159,7 +159,7 @@ impl PostChain {
             "post descriptors",
             2,
             &[
-                vk::DescriptorPoolSize { ty: HDR_IMAGE.kind.descriptor_type(), descriptor_count: 4 },
+                vk::DescriptorPoolSize { ty: LINEAR_FRAME.kind.descriptor_type(), descriptor_count: 4 },
                 vk::DescriptorPoolSize { ty: ADAPTATION.kind.descriptor_type(), descriptor_count: 2 },
             ],
         )?;
@@ -228,7 +228,7 @@ impl PostChain {
             }
         })?;
         for (set, bloom) in self.sets.iter().zip([&first, &second]) {
-            bind_sampled_images(&self.context, *set, HDR_IMAGE.binding, self.nearest.raw, &[input.view]);
+            bind_sampled_images(&self.context, *set, LINEAR_FRAME.binding, self.nearest.raw, &[input.view]);
             bind_sampled_images(&self.context, *set, BLOOM_IMAGE.binding, self.linear.raw, &[bloom.view]);
         }
         self.images = Some(Images { input: input.raw, extent, first, second });
