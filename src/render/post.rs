@@ -13,7 +13,7 @@
 //! 4. `post_composite.frag`: the frame at the adapted exposure plus the bloom, through the ACES
 //!    curve and sRGB (`tonemap.glsl`) into the output image.
 
-use super::present::fullscreen_pipeline;
+use super::present::{draw_fullscreen, fullscreen_pipeline};
 use crate::error::Result;
 use crate::gpu_interface::bindings::post::{ADAPTATION, BLOOM_IMAGE, INPUTS, LINEAR_FRAME};
 use crate::gpu_interface::specialization::ENCODE_SRGB;
@@ -23,7 +23,7 @@ use crate::vk::pipeline::{
     bind_sampled_images, bind_storage_buffers, DescriptorPool, Optimization, Pipeline, PipelineLayout,
     ShaderModule, Specialization,
 };
-use crate::vk::target::{begin_rendering, FloatImage, COLOR_FORMAT};
+use crate::vk::target::{FloatImage, COLOR_FORMAT};
 use crate::vk::texture::Sampler;
 use crate::vk::Context;
 use ash::vk;
@@ -311,29 +311,9 @@ impl PostChain {
         let color = vk::ImageAspectFlags::COLOR;
         let before = (vk::ImageLayout::UNDEFINED, before.1, vk::AccessFlags2::NONE);
         transition(device, cmd, image, color, before, ATTACHMENT);
-        let attachment = [vk::RenderingAttachmentInfo::default()
-            .image_view(view)
-            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::DONT_CARE)
-            .store_op(vk::AttachmentStoreOp::STORE)];
-        begin_rendering(device, cmd, extent, vk::RenderingInfo::default().color_attachments(&attachment));
-        // SAFETY: `cmd` is recording inside the rendering begun above; the set's images are in
-        // the layouts it names (the image drawn into is not read by this pipeline).
-        unsafe {
-            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
-            device.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.layout.raw,
-                0,
-                &[set],
-                &[],
-            );
-            let stages = vk::ShaderStageFlags::FRAGMENT | vk::ShaderStageFlags::COMPUTE;
-            device.cmd_push_constants(cmd, self.layout.raw, stages, 0, bytemuck::bytes_of(&constants));
-            device.cmd_draw(cmd, 3, 1, 0, 0);
-            device.cmd_end_rendering(cmd);
-        }
+        let stages = vk::ShaderStageFlags::FRAGMENT | vk::ShaderStageFlags::COMPUTE;
+        let bound = (pipeline, &self.layout, set);
+        draw_fullscreen(device, cmd, (view, extent), bound, (stages, bytemuck::bytes_of(&constants)));
         transition(device, cmd, image, color, ATTACHMENT, after);
     }
 

@@ -101,34 +101,10 @@ impl PresentPass {
                 vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
             ),
         );
-        let attachment = [vk::RenderingAttachmentInfo::default()
-            .image_view(view)
-            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::DONT_CARE)
-            .store_op(vk::AttachmentStoreOp::STORE)];
-        begin_rendering(device, cmd, extent, vk::RenderingInfo::default().color_attachments(&attachment));
-        // SAFETY: `cmd` is recording; image and view belong to the live swapchain, and the
-        // render target was left in SHADER_READ_ONLY_OPTIMAL by the forward pass.
-        unsafe {
-            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw);
-            device.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.layout.raw,
-                0,
-                &[self.set],
-                &[],
-            );
-            device.cmd_push_constants(
-                cmd,
-                self.layout.raw,
-                vk::ShaderStageFlags::FRAGMENT,
-                0,
-                &exposure.to_ne_bytes(),
-            );
-            device.cmd_draw(cmd, 3, 1, 0, 0);
-            device.cmd_end_rendering(cmd);
-        }
+        // The render target was left in SHADER_READ_ONLY_OPTIMAL by the forward pass.
+        let push = exposure.to_ne_bytes();
+        let bound = (&self.pipeline, &self.layout, self.set);
+        draw_fullscreen(device, cmd, (view, extent), bound, (vk::ShaderStageFlags::FRAGMENT, &push));
         transition(
             device,
             cmd,
@@ -185,4 +161,32 @@ pub(super) fn fullscreen_pipeline(
             optimization: Optimization::Optimized,
         },
     )
+}
+
+/// Draws `fullscreen.vert`'s triangle into `view` (its contents before not kept) with `pipeline`,
+/// `layout`'s set 0 bound to `set` and `push` pushed to `stages`: the display pass's, and each
+/// pass of the post chain's (`post`). The image must be in COLOR_ATTACHMENT_OPTIMAL, and the
+/// set's images in the layouts it names.
+pub(super) fn draw_fullscreen(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    (view, extent): (vk::ImageView, vk::Extent2D),
+    (pipeline, layout, set): (&Pipeline, &PipelineLayout, vk::DescriptorSet),
+    (stages, push): (vk::ShaderStageFlags, &[u8]),
+) {
+    let attachment = [vk::RenderingAttachmentInfo::default()
+        .image_view(view)
+        .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+        .load_op(vk::AttachmentLoadOp::DONT_CARE)
+        .store_op(vk::AttachmentStoreOp::STORE)];
+    begin_rendering(device, cmd, extent, vk::RenderingInfo::default().color_attachments(&attachment));
+    // SAFETY: `cmd` is recording inside the rendering begun above; the caller keeps the view, the
+    // pipeline and the set alive until the commands ran, with the set's images in its layouts.
+    unsafe {
+        device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
+        device.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, layout.raw, 0, &[set], &[]);
+        device.cmd_push_constants(cmd, layout.raw, stages, 0, push);
+        device.cmd_draw(cmd, 3, 1, 0, 0);
+        device.cmd_end_rendering(cmd);
+    }
 }
