@@ -257,3 +257,52 @@ fn levels_are_held_between_the_balls_as_the_twin_holds_them() {
     eprintln!("levels that fell per frame: {fell:?}");
     assert_validation_clean(&context);
 }
+
+/// `bench::stability::along_path` walks every configuration along the path at once, one
+/// reference a frame for all: each configuration's figures are exactly those it has walking
+/// alone. The second multirate configuration has a renderer of its own, so neither restarts the
+/// other's ball of eyes or clears its held levels; `fixed:4` keeps nothing and shares the
+/// reference's renderer.
+#[test]
+fn a_configuration_walks_a_path_beside_others_as_it_walks_alone() {
+    use multirate::bench::stability::{along_path, Walker};
+    use multirate::render::PathFrames;
+    use multirate::scene::path::{CameraPath, PathKey};
+    use std::sync::Arc;
+
+    let context = validated_context();
+    let target = RenderTarget::new(&context, vk::Extent2D { width: WIDTH, height: HEIGHT }).expect("target");
+    let mut scene = Scene::load(&repo_path("scenes/bunny.toml")).expect("scene");
+    (scene.settings.width, scene.settings.height) = (WIDTH, HEIGHT);
+    let corners: Vec<_> = scene.triangles().collect();
+    let view = View { mode: Mode::Multirate, ..View::of_scene(&scene) };
+    // Four steps of a tenth of the eye's distance: each leaves the ball the step before began.
+    let distance = view.camera.eye.distance(view.camera.target);
+    let end = turned(view.camera, 0.4 * distance);
+    let key = |time: f32, camera: Camera| PathKey { time, eye: camera.eye, target: camera.target };
+    let path = CameraPath::Keys(vec![key(0.0, view.camera), key(1.0, end)]);
+    let along = PathFrames { path: Arc::new(path), fps: 4.0, start: scene.camera, bounds: scene.bounds() };
+    let walkers = [
+        Walker { view: view.clone(), label: "held".into() },
+        Walker { view: View { hold_levels: false, ..view.clone() }, label: "unheld".into() },
+        Walker { view: View { mode: Mode::Fixed(4), ..view.clone() }, label: "fixed:4".into() },
+    ];
+    let walk = |walkers: &[Walker]| {
+        let shared = Renderer::new(&context, &scene).expect("renderer");
+        along_path((&context, &shared), &target, (&scene, &corners), walkers, &along, &mut |_, _| {})
+            .expect("walk")
+    };
+    let together = walk(&walkers);
+    assert_eq!(together.len(), walkers.len());
+    for (walker, run) in walkers.iter().zip(&together) {
+        let alone = walk(std::slice::from_ref(walker));
+        assert_eq!(run, &alone[0], "{}: walked beside the others and alone", walker.label);
+        assert_eq!(run.steps.steps.len(), 4, "{}: a step a frame after the first", walker.label);
+        assert!(run.steps.compared() > 4 * 1000, "{}: pixels compared", walker.label);
+    }
+    for run in &together[..2] {
+        assert_eq!(run.pixels_over_epsilon, vec![0; 5], "{}: the bound on every frame", run.label);
+        assert!(run.level_changes.iter().any(|&share| share > 0.0), "{}: levels changed", run.label);
+    }
+    assert_validation_clean(&context);
+}

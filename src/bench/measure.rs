@@ -3,7 +3,7 @@
 //! in turns with the other configurations of the same scene and resolution.
 
 use super::row::{Row, Timing, Trade};
-use super::stability::{self, StabilityRun};
+use super::stability::{self, StabilityRun, Walker};
 use crate::analysis::metrics::{self, fallback_mask, fallback_pixels, scaled_difference, ImageError};
 use crate::error::Result;
 use crate::geometry::shadow_class::ShadowClasses;
@@ -351,12 +351,24 @@ pub fn run(
         done += turns(group[0].scene);
         if let Some(along) = &schedules[group[0].scene].path {
             let corners: Vec<_> = scene.triangles().collect();
-            for (job, view) in group.iter().zip(&views).filter(|(job, _)| job.mode != Mode::Pixel) {
-                let label = job.label(scenes);
-                progress(Progress { done, total, label: &format!("{label}: stability"), turns_done: 0 });
-                let run = stability::along_path(renderer, target, (scene, &corners), view, along, label)?;
-                result.stability.push(run);
-            }
+            let walkers: Vec<Walker> = group
+                .iter()
+                .zip(&views)
+                .filter(|(job, _)| job.mode != Mode::Pixel)
+                .map(|(job, view)| Walker { view: view.clone(), label: job.label(scenes) })
+                .collect();
+            let runs = stability::along_path(
+                (context, renderer),
+                target,
+                (scene, &corners),
+                &walkers,
+                along,
+                &mut |frame, frames| {
+                    let label = format!("{}: stability, frame {} of {frames}", bench_scene.name, frame + 1);
+                    progress(Progress { done, total, label: &label, turns_done: 0 })
+                },
+            )?;
+            result.stability.extend(runs);
         }
         if let Some(report) = result.shadows.last_mut().filter(|r| &r.scene == name) {
             report.refits = renderer.shadow_refits();

@@ -3,7 +3,11 @@
 //! of eyes from frame to frame), each then drawn again by the analysis variant for the triangle
 //! each pixel shows (the ball just committed, so the same levels), beside the per-pixel
 //! reference of the same camera; for multirate also the share of visible triangles whose level
-//! changed since the frame before.
+//! changed since the frame before. Every configuration walks the path at once, frame by frame,
+//! so that each frame's reference is drawn once for all of them: a multirate configuration
+//! after the first has a renderer of its own, whose ball of eyes and held levels no other
+//! configuration's frames restart; the others keep nothing from frame to frame and share the
+//! reference's renderer.
 
 use crate::analysis::metrics::pixels_over;
 use crate::analysis::temporal::{step, PathFrame, PathStability};
@@ -11,8 +15,11 @@ use crate::error::Result;
 use crate::render::{Analysis, Mode, PathFrames, Renderer, View};
 use crate::scene::{Camera, Scene};
 use crate::vk::target::RenderTarget;
+use crate::vk::Context;
 use glam::Vec3;
 use std::collections::HashSet;
+use std::rc::Rc;
+use std::sync::Arc;
 
 /// One configuration along a path.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -27,62 +34,117 @@ pub struct StabilityRun {
     pub pixels_over_epsilon: Vec<usize>,
 }
 
-/// `view` (of `scene`) rendered frame by frame along `along` into `target` beside `pixel`'s
-/// reference, at a bound of `view.estimator.epsilon`.
+/// One configuration to walk the path with: its view (of the path's first camera) and label.
+pub struct Walker {
+    pub view: View,
+    pub label: String,
+}
+
+/// Every configuration of `walkers` (of `scene`, whose triangles' corners are `corners`)
+/// rendered frame by frame along `along` into `target`, beside one per-pixel reference a frame
+/// drawn by `shared`, each at a bound of its `view.estimator.epsilon`. `progress` is told each
+/// frame before it is drawn.
 pub fn along_path(
-    renderer: &Renderer,
+    (context, shared): (&Arc<Context>, &Renderer),
     target: &RenderTarget,
     (scene, corners): (&Scene, &[[Vec3; 3]]),
-    view: &View,
+    walkers: &[Walker],
     along: &PathFrames,
-    label: String,
-) -> Result<StabilityRun> {
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Vec<StabilityRun>> {
+    let Some(first) = walkers.first() else { return Ok(Vec::new()) };
+    // A multirate configuration after the first gets a renderer of its own.
+    let mut multirate_before = false;
+    let mut own_renderers = Vec::with_capacity(walkers.len());
+    for walker in walkers {
+        let multirate = walker.view.mode == Mode::Multirate;
+        let own = multirate && std::mem::replace(&mut multirate_before, true);
+        own_renderers.push(if own { Some(Renderer::new(context, scene)?) } else { None });
+    }
+    let mut walks: Vec<Walk> = walkers
+        .iter()
+        .map(|walker| Walk {
+            walker,
+            run: StabilityRun { label: walker.label.clone(), ..StabilityRun::default() },
+            previous: None,
+        })
+        .collect();
     let frames = along.path.frame_times(along.fps).len();
-    let mut run = StabilityRun { label, ..StabilityRun::default() };
-    let mut previous: Option<Shown> = None;
     for frame in 0..frames {
+        progress(frame, frames);
         let camera = scene.camera.on_path(&along.path, frame as f32 / along.fps, along.bounds);
+        let reference_view = View { mode: Mode::Pixel, ..first.view.seen_from(camera) };
+        let reference = Rc::new(shared.analyze(target, &reference_view)?);
+        for (walk, own) in walks.iter_mut().zip(&own_renderers) {
+            walk.frame(own.as_ref().unwrap_or(shared), target, corners, camera, &reference)?;
+        }
+    }
+    Ok(walks.into_iter().map(|walk| walk.run).collect())
+}
+
+/// One configuration's walk so far.
+struct Walk<'a> {
+    walker: &'a Walker,
+    run: StabilityRun,
+    previous: Option<Shown>,
+}
+
+impl Walk<'_> {
+    /// The frame seen from `camera`, against the frame before.
+    fn frame(
+        &mut self,
+        renderer: &Renderer,
+        target: &RenderTarget,
+        corners: &[[Vec3; 3]],
+        camera: Camera,
+        reference: &Rc<Analysis>,
+    ) -> Result<()> {
+        let view = &self.walker.view;
         let frame_view = view.seen_from(camera);
-        // The frame a user sees commits its ball of eyes; the analysis frame after it draws the
-        // same levels and gives the triangle ids.
-        renderer.render(target, &frame_view)?;
-        let levels = match view.mode {
-            Mode::Multirate => Some(renderer.record_levels(target, &frame_view)?),
-            _ => None,
+        let multirate = view.mode == Mode::Multirate;
+        // The frame a user sees commits multirate's ball of eyes; the analysis frame after it
+        // draws the same levels and gives the triangle ids. The other modes keep nothing from
+        // frame to frame: their analysis frame is the frame.
+        let levels = if multirate {
+            renderer.render(target, &frame_view)?;
+            Some(renderer.record_levels(target, &frame_view)?)
+        } else {
+            None
         };
-        let pattern_changed = match (previous.as_ref().and_then(|before| before.levels.as_ref()), &levels) {
+        let pattern_changed = match (self.previous.as_ref().and_then(|before| before.levels.as_ref()), &levels) {
             (Some(then), Some(now)) => then.iter().zip(now).map(|(a, b)| a != b).collect(),
             _ => Vec::new(),
         };
         let shown = Shown {
             camera,
             test: renderer.analyze(target, &frame_view)?,
-            reference: renderer.analyze(target, &View { mode: Mode::Pixel, ..frame_view.clone() })?,
+            reference: Rc::clone(reference),
             levels,
             pattern_changed,
         };
-        if view.mode == Mode::Multirate {
-            let over =
-                pixels_over(shown.reference.frame(), shown.test.frame(), f64::from(view.estimator.epsilon));
-            run.pixels_over_epsilon.push(over);
+        let epsilon = view.estimator.epsilon;
+        if multirate {
+            let over = pixels_over(shown.reference.frame(), shown.test.frame(), f64::from(epsilon));
+            self.run.pixels_over_epsilon.push(over);
         }
-        if let Some(before) = &previous {
-            run.steps.steps.push(step(&before.frame(), &shown.frame(), corners, view.estimator.epsilon));
+        if let Some(before) = &self.previous {
+            self.run.steps.steps.push(step(&before.frame(), &shown.frame(), corners, epsilon));
             if let (Some(then), Some(now)) = (&before.levels, &shown.levels) {
                 let (ids_then, ids_now) = (&before.reference.triangles, &shown.reference.triangles);
-                run.level_changes.push(level_change_share((ids_then, then), (ids_now, now)));
+                self.run.level_changes.push(level_change_share((ids_then, then), (ids_now, now)));
             }
         }
-        previous = Some(shown);
+        self.previous = Some(shown);
+        Ok(())
     }
-    Ok(run)
 }
 
 /// One frame of the path as the mode and the reference showed it.
 struct Shown {
     camera: Camera,
     test: Analysis,
-    reference: Analysis,
+    /// The frame's reference, shared by every configuration.
+    reference: Rc<Analysis>,
     /// multirate: every triangle's recorded level.
     levels: Option<Vec<[f32; 4]>>,
     /// multirate: per triangle, whether its recorded level or outer levels differ from the
