@@ -306,3 +306,33 @@ fn a_configuration_walks_a_path_beside_others_as_it_walks_alone() {
     }
     assert_validation_clean(&context);
 }
+
+/// The analysis frame drawn as the image (`Renderer::analyze_as_shown`, the stability walk's)
+/// is the frame a user sees: on eyes that begin, continue and leave balls, its image, triangle
+/// ids and evaluations are those of the analysis frame drawn after `render`, and it commits the
+/// same ball (the next frame estimates as many triangles).
+#[test]
+fn the_analysis_frame_drawn_as_shown_commits_what_render_commits() {
+    let context = validated_context();
+    let target = RenderTarget::new(&context, vk::Extent2D { width: WIDTH, height: HEIGHT }).expect("target");
+    let mut scene = Scene::load(&repo_path("scenes/teapot.toml")).expect("scene");
+    (scene.settings.width, scene.settings.height) = (WIDTH, HEIGHT);
+    let meshes = scene.meshes.len();
+    let rendering = Renderer::new(&context, &scene).expect("renderer");
+    let analysing = Renderer::new(&context, &scene).expect("renderer");
+    let view = View { mode: Mode::Multirate, ..View::of_scene(&scene) };
+    let radius = view.estimator.eye_radius;
+    for (frame, distance) in [0.0, 0.5, 4.0, 4.2, 20.0].into_iter().enumerate() {
+        let at = View { camera: turned(view.camera, distance * radius), ..view.clone() };
+        rendering.render(&target, &at).expect("render");
+        let after_render = rendering.analyze(&target, &at).expect("analysis");
+        let as_shown = analysing.analyze_as_shown(&target, &at).expect("analysis as shown");
+        assert!(after_render.image.pixels == as_shown.image.pixels, "frame {frame}: the images differ");
+        assert_eq!(after_render.triangles, as_shown.triangles, "frame {frame}: triangle ids");
+        assert_eq!(after_render.evaluations, as_shown.evaluations, "frame {frame}: evaluations");
+        let next = View { camera: turned(view.camera, (distance + 0.3) * radius), ..view.clone() };
+        let (a, b) = (estimated(&rendering, &target, &next, meshes), estimated(&analysing, &target, &next, meshes));
+        assert_eq!(a, b, "frame {frame}: the next eye estimates alike after both");
+    }
+    assert_validation_clean(&context);
+}

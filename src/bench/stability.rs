@@ -1,13 +1,13 @@
 //! Temporal stability along a camera path (`analysis::temporal`), measured the way a user sees
-//! a mode: its frames rendered in order with one renderer (multirate keeps its levels for a ball
-//! of eyes from frame to frame), each then drawn again by the analysis variant for the triangle
-//! each pixel shows (the ball just committed, so the same levels), beside the per-pixel
-//! reference of the same camera; for multirate also the share of visible triangles whose level
-//! changed since the frame before. Every configuration walks the path at once, frame by frame,
-//! so that each frame's reference is drawn once for all of them: a multirate configuration
-//! after the first has a renderer of its own, whose ball of eyes and held levels no other
-//! configuration's frames restart; the others keep nothing from frame to frame and share the
-//! reference's renderer.
+//! a mode: its frames drawn in order with one renderer (multirate keeps its levels for a ball of
+//! eyes from frame to frame), by the analysis variant for the triangle each pixel shows
+//! (`Renderer::analyze_as_shown`, which commits the ball as the frame a user sees does), beside
+//! the per-pixel reference of the same camera; for multirate also the share of visible
+//! triangles whose level changed since the frame before. Every configuration walks the path at
+//! once, frame by frame, so that each frame's reference is drawn once for all of them: a
+//! multirate configuration after the first has a renderer of its own, whose ball of eyes and
+//! held levels no other configuration's frames restart; the others keep nothing from frame to
+//! frame and share the reference's renderer.
 
 use crate::analysis::metrics::pixels_over;
 use crate::analysis::temporal::{step, PathFrame, PathStability};
@@ -102,22 +102,22 @@ impl Walk<'_> {
         let view = &self.walker.view;
         let frame_view = view.seen_from(camera);
         let multirate = view.mode == Mode::Multirate;
-        // The frame a user sees commits multirate's ball of eyes; the analysis frame after it
-        // draws the same levels and gives the triangle ids. The other modes keep nothing from
-        // frame to frame: their analysis frame is the frame.
-        let levels = if multirate {
-            renderer.render(target, &frame_view)?;
-            Some(renderer.record_levels(target, &frame_view)?)
+        // The frame a user sees, drawn by the analysis variant for the triangle ids: multirate's
+        // commits its ball of eyes as the viewer's frame would, and the level record after it
+        // draws the same levels. The other modes keep nothing from frame to frame.
+        let test = if multirate {
+            renderer.analyze_as_shown(target, &frame_view)?
         } else {
-            None
+            renderer.analyze(target, &frame_view)?
         };
+        let levels = if multirate { Some(renderer.record_levels(target, &frame_view)?) } else { None };
         let pattern_changed = match (self.previous.as_ref().and_then(|before| before.levels.as_ref()), &levels) {
             (Some(then), Some(now)) => then.iter().zip(now).map(|(a, b)| a != b).collect(),
             _ => Vec::new(),
         };
         let shown = Shown {
             camera,
-            test: renderer.analyze(target, &frame_view)?,
+            test,
             reference: Rc::clone(reference),
             levels,
             pattern_changed,

@@ -124,8 +124,8 @@ pub(super) fn may_draw_per_pixel(view: &View, mut one_sided: impl Iterator<Item 
 }
 
 /// Whether a frame commits what it learns (the ball of eyes) once submitted: the frames drawn
-/// for the image do; the analysis, counting and level-recording frames leave the renderer as it
-/// was.
+/// for the image do (and the analysis frame drawn as the image, `Renderer::analyze_as_shown`);
+/// the other analysis, counting and level-recording frames leave the renderer as it was.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Commit {
     OnSubmit,

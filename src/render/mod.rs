@@ -575,7 +575,9 @@ impl Renderer {
     /// `fragmentStoresAndAtomics`) and primitive ids in the fragment stage (`geometryShader`).
     pub fn count_evaluations(&self, target: &RenderTarget, view: &View) -> Result<EvaluationCounts> {
         let analysis = self.analysis_variants(target, view)?;
-        self.context.run_once(|cmd| self.record_analysis(analysis, cmd, target, view, AfterPass::Sampled))?;
+        self.context.run_once(|cmd| {
+            let _ = self.record_analysis(analysis, cmd, target, view, (AfterPass::Sampled, Commit::Never));
+        })?;
         Ok(instrumentation::read_counters(&self.buffers.counters))
     }
 
@@ -583,11 +585,24 @@ impl Renderer {
     /// triangle each pixel shows, and how many times the full shading function ran. Its
     /// rasterisation and shading are the timed variant's (tests/counts.rs compares the two).
     pub fn analyze(&self, target: &RenderTarget, view: &View) -> Result<Analysis> {
+        self.analyze_committing(target, view, Commit::Never)
+    }
+
+    /// [`Renderer::analyze`] for the frame a user sees: like [`Renderer::render`], it commits
+    /// what it learnt (the ball of eyes its levels were kept for), so that a walk along a path
+    /// draws each frame once rather than rendering it and then analysing it.
+    pub fn analyze_as_shown(&self, target: &RenderTarget, view: &View) -> Result<Analysis> {
+        self.analyze_committing(target, view, Commit::OnSubmit)
+    }
+
+    fn analyze_committing(&self, target: &RenderTarget, view: &View, commit: Commit) -> Result<Analysis> {
         let analysis = self.analysis_variants(target, view)?;
+        let mut recorded = None;
         let (image, triangles) =
             target.render_and_read_with(&self.context, Attachments::ColorAndIds, |cmd| {
-                self.record_analysis(analysis, cmd, target, view, AfterPass::Readback)
+                recorded = Some(self.record_analysis(analysis, cmd, target, view, (AfterPass::Readback, commit)))
             })?;
+        self.submitted(recorded.expect("the frame was recorded"));
         let triangles = triangles.expect("ColorAndIds reads the ids back");
         Ok(Analysis { image, triangles, evaluations: instrumentation::read_counters(&self.buffers.counters) })
     }
@@ -612,22 +627,23 @@ impl Renderer {
         Ok(analysis)
     }
 
-    /// Records one analysis frame, which commits nothing: the counters zeroed, the frame, the
-    /// counters made visible to the host.
+    /// Records one analysis frame, which commits what it learnt only where `commit` says so
+    /// (`analyze_as_shown`): the counters zeroed, the frame, the counters made visible to the host.
     fn record_analysis(
         &self,
         analysis: &[Variant],
         cmd: vk::CommandBuffer,
         target: &RenderTarget,
         view: &View,
-        after: AfterPass,
-    ) {
+        (after, commit): (AfterPass, Commit),
+    ) -> RecordedFrame {
         let device = &self.context.device;
         instrumentation::zero_counters(device, cmd, &self.buffers.counters);
-        let frame = self.frame_config(view, target.extent(), Commit::Never);
+        let frame = self.frame_config(view, target.extent(), commit);
         let counting = Instrumentation::CountEvaluations;
-        let _ = self.record_frame(analysis, counting, cmd, target, &frame, after, &FrameStamps::NONE);
+        let recorded = self.record_frame(analysis, counting, cmd, target, &frame, after, &FrameStamps::NONE);
         instrumentation::storage_to_host(device, cmd, vk::PipelineStageFlags2::ALL_GRAPHICS);
+        recorded
     }
 
     /// The visibility buffer of `view` at `target`'s size: per pixel (rows from the top),
