@@ -288,9 +288,7 @@ fn a_configuration_walks_a_path_beside_others_as_it_walks_alone() {
         Walker { view: View { mode: Mode::Fixed(4), ..view.clone() }, label: "fixed:4".into() },
     ];
     let walk = |walkers: &[Walker]| {
-        let shared = Renderer::new(&context, &scene).expect("renderer");
-        along_path((&context, &shared), &target, (&scene, &corners), walkers, &along, &mut |_, _| {})
-            .expect("walk")
+        along_path(&context, &target, (&scene, &corners), walkers, &along, &mut |_, _| {}).expect("walk")
     };
     let together = walk(&walkers);
     assert_eq!(together.len(), walkers.len());
@@ -331,8 +329,54 @@ fn the_analysis_frame_drawn_as_shown_commits_what_render_commits() {
         assert_eq!(after_render.triangles, as_shown.triangles, "frame {frame}: triangle ids");
         assert_eq!(after_render.evaluations, as_shown.evaluations, "frame {frame}: evaluations");
         let next = View { camera: turned(view.camera, (distance + 0.3) * radius), ..view.clone() };
-        let (a, b) = (estimated(&rendering, &target, &next, meshes), estimated(&analysing, &target, &next, meshes));
+        let (a, b) =
+            (estimated(&rendering, &target, &next, meshes), estimated(&analysing, &target, &next, meshes));
         assert_eq!(a, b, "frame {frame}: the next eye estimates alike after both");
     }
+    assert_validation_clean(&context);
+}
+
+/// Two multirate configurations timed in turns (`bench::measure_in_turns`, levels held and not)
+/// each on its own renderer (`OwnRenderers`) draw their timed frames as each does timed alone:
+/// the last frame's pipeline statistics (how many sub-vertices and fragments it shaded) are the
+/// same, so neither restarted the other's ball or cleared its held levels at each turn.
+#[test]
+fn configurations_timed_in_turns_keep_their_own_balls() {
+    use multirate::bench::renderers::OwnRenderers;
+    use multirate::bench::{measure_in_turns, Schedule};
+    use multirate::render::PathFrames;
+    use multirate::scene::path::{CameraPath, PathKey};
+    use std::sync::Arc;
+
+    let context = validated_context();
+    let target = RenderTarget::new(&context, vk::Extent2D { width: WIDTH, height: HEIGHT }).expect("target");
+    let mut scene = Scene::load(&repo_path("scenes/bunny.toml")).expect("scene");
+    (scene.settings.width, scene.settings.height) = (WIDTH, HEIGHT);
+    let held = View { mode: Mode::Multirate, ..View::of_scene(&scene) };
+    let unheld = View { hold_levels: false, ..held.clone() };
+    let distance = held.camera.eye.distance(held.camera.target);
+    let key = |time: f32, camera: Camera| PathKey { time, eye: camera.eye, target: camera.target };
+    let path = CameraPath::Keys(vec![key(0.0, held.camera), key(1.0, turned(held.camera, 0.4 * distance))]);
+    let along = PathFrames { path: Arc::new(path), fps: 8.0, start: scene.camera, bounds: scene.bounds() };
+    let schedule = Schedule {
+        warmup: 1,
+        frames: 9,
+        orbit_degrees: 0.0,
+        draw_parts: false,
+        pre_pass_steps: false,
+        path: Some(along),
+    };
+    let timed = |views: &[View]| {
+        let shared = Renderer::new(&context, &scene).expect("renderer");
+        let own = OwnRenderers::new(&context, &scene, &views.iter().collect::<Vec<_>>()).expect("renderers");
+        let renderers: Vec<&Renderer> = (0..views.len()).map(|k| own.of(&shared, k)).collect();
+        let measured =
+            measure_in_turns(&renderers, &target, views, schedule.clone(), &mut |_| {}).expect("timed");
+        measured.into_iter().map(|m| m.statistics.expect("pipeline statistics")).collect::<Vec<_>>()
+    };
+    let together = timed(&[held.clone(), unheld.clone()]);
+    let alone = [timed(std::slice::from_ref(&held))[0], timed(std::slice::from_ref(&unheld))[0]];
+    assert_eq!(together, alone, "the last frame's statistics, timed in turns and alone");
+    assert!(alone[0].tessellation_evaluation_invocations > 0, "{alone:?}");
     assert_validation_clean(&context);
 }

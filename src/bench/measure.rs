@@ -2,6 +2,7 @@
 //! its images and shading evaluations against the `pixel` reference, and its GPU time measured
 //! in turns with the other configurations of the same scene and resolution.
 
+use super::renderers::OwnRenderers;
 use super::row::{Row, Timing, Trade};
 use super::stability::{self, StabilityRun, Walker};
 use crate::analysis::metrics::{self, fallback_mask, fallback_pixels, scaled_difference, ImageError};
@@ -345,9 +346,13 @@ pub fn run(
         let mut timed = views.clone();
         timed.push(empty_view(&views[0], scene));
         let schedule = schedules[group[0].scene].clone();
-        let mut measurements = measure_in_turns(renderer, target, &timed, schedule, &mut |turn| {
+        let own = OwnRenderers::new(context, scene, &timed.iter().collect::<Vec<_>>())?;
+        let renderers: Vec<&Renderer> = (0..timed.len()).map(|k| own.of(renderer, k)).collect();
+        let mut measurements = measure_in_turns(&renderers, target, &timed, schedule, &mut |turn| {
             progress(Progress { done: done + turn, total, label: &label, turns_done: turn })
         })?;
+        drop(renderers);
+        drop(own); // their memory freed before the walk makes renderers of its own
         done += turns(group[0].scene);
         if let Some(along) = &schedules[group[0].scene].path {
             let corners: Vec<_> = scene.triangles().collect();
@@ -358,7 +363,7 @@ pub fn run(
                 .map(|(job, view)| Walker { view: view.clone(), label: job.label(scenes) })
                 .collect();
             let runs = stability::along_path(
-                (context, renderer),
+                context,
                 target,
                 (scene, &corners),
                 &walkers,
@@ -465,7 +470,9 @@ pub struct Schedule {
     pub path: Option<PathFrames>,
 }
 
-/// Times `views` (one scene at one resolution) in turns: each configuration in order renders
+/// Times `views` (one scene at one resolution), each with its renderer of `renderers` (a
+/// multirate configuration after the first on one of its own: `OwnRenderers`), in turns: each
+/// configuration in order renders
 /// its warm-up frames and [`FRAMES_PER_TURN`] measured frames, then the next; turns repeat
 /// until each has `schedule.frames` measured frames. A slow spell of the machine (lavapipe
 /// shares the CPU with everything else on it) then slows every configuration alike instead
@@ -474,7 +481,7 @@ pub struct Schedule {
 /// buffers stay ready between turns, only caches have cooled. `turn_done(k)` is called after
 /// turn `k + 1`.
 pub fn measure_in_turns(
-    renderer: &Renderer,
+    renderers: &[&Renderer],
     target: &RenderTarget,
     views: &[View],
     schedule: Schedule,
@@ -488,7 +495,7 @@ pub fn measure_in_turns(
     while measured < schedule.frames {
         let frames = FRAMES_PER_TURN.min(schedule.frames - measured);
         let warmup = if turn == 0 { schedule.warmup } else { schedule.warmup.min(1) };
-        for (view, measurement) in views.iter().zip(&mut measurements) {
+        for ((view, measurement), renderer) in views.iter().zip(&mut measurements).zip(renderers) {
             let turn = CameraTurn {
                 degrees_per_frame: schedule.orbit_degrees,
                 first_measured: measured,

@@ -14,19 +14,21 @@
 //! 1. [`row`]: one measured configuration, its timing and trade, and the CSV and JSON files.
 //! 2. [`plot`]: SVG plots of time against error, with the Pareto front.
 //! 3. [`trace`]: a Chrome trace of every measured frame.
-//! 4. [`stability`]: temporal stability along a camera path, as a user sees a mode.
-//! 5. [`measure`]: running every configuration: images, counts and time in turns (and, along a
+//! 4. [`renderers`]: a renderer of its own for every multirate configuration after the first.
+//! 5. [`stability`]: temporal stability along a camera path, as a user sees a mode.
+//! 6. [`measure`]: running every configuration: images, counts and time in turns (and, along a
 //!    camera path, their stability).
-//! 6. [`per_frame`]: a run along a camera path, frame by frame (CSV and plot).
-//! 7. [`twin`]: the estimator's Rust twin, timed without a frame.
-//! 8. [`calibrate`]: the cost model's calibration from measured frames.
-//! 9. [`experiments`]: the paper's experiments and the trade's page.
+//! 7. [`per_frame`]: a run along a camera path, frame by frame (CSV and plot).
+//! 8. [`twin`]: the estimator's Rust twin, timed without a frame.
+//! 9. [`calibrate`]: the cost model's calibration from measured frames.
+//! 10. [`experiments`]: the paper's experiments and the trade's page.
 
 pub mod calibrate;
 pub mod experiments;
 mod measure;
 pub mod per_frame;
 pub mod plot;
+pub mod renderers;
 mod row;
 pub mod stability;
 pub mod trace;

@@ -4,11 +4,10 @@
 //! (`Renderer::analyze_as_shown`, which commits the ball as the frame a user sees does), beside
 //! the per-pixel reference of the same camera; for multirate also the share of visible
 //! triangles whose level changed since the frame before. Every configuration walks the path at
-//! once, frame by frame, so that each frame's reference is drawn once for all of them: a
-//! multirate configuration after the first has a renderer of its own, whose ball of eyes and
-//! held levels no other configuration's frames restart; the others keep nothing from frame to
-//! frame and share the reference's renderer.
+//! once, frame by frame, so that each frame's reference is drawn once for all of them (a
+//! multirate configuration after the first on a renderer of its own: `renderers`).
 
+use super::renderers::OwnRenderers;
 use crate::analysis::metrics::pixels_over;
 use crate::analysis::temporal::{step, PathFrame, PathStability};
 use crate::error::Result;
@@ -41,11 +40,13 @@ pub struct Walker {
 }
 
 /// Every configuration of `walkers` (of `scene`, whose triangles' corners are `corners`)
-/// rendered frame by frame along `along` into `target`, beside one per-pixel reference a frame
-/// drawn by `shared`, each at a bound of its `view.estimator.epsilon`. `progress` is told each
-/// frame before it is drawn.
+/// rendered frame by frame along `along` into `target`, beside one per-pixel reference a frame,
+/// each at a bound of its `view.estimator.epsilon`. The walk draws with renderers of its own,
+/// made for it, so that it begins as a user's first frame does whatever ran before it (the
+/// reference and the configurations see the same cameras from the same start: the same fitted
+/// shadow maps). `progress` is told each frame before it is drawn.
 pub fn along_path(
-    (context, shared): (&Arc<Context>, &Renderer),
+    context: &Arc<Context>,
     target: &RenderTarget,
     (scene, corners): (&Scene, &[[Vec3; 3]]),
     walkers: &[Walker],
@@ -53,14 +54,9 @@ pub fn along_path(
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<StabilityRun>> {
     let Some(first) = walkers.first() else { return Ok(Vec::new()) };
-    // A multirate configuration after the first gets a renderer of its own.
-    let mut multirate_before = false;
-    let mut own_renderers = Vec::with_capacity(walkers.len());
-    for walker in walkers {
-        let multirate = walker.view.mode == Mode::Multirate;
-        let own = multirate && std::mem::replace(&mut multirate_before, true);
-        own_renderers.push(if own { Some(Renderer::new(context, scene)?) } else { None });
-    }
+    let shared = Renderer::new(context, scene)?;
+    let views: Vec<&View> = walkers.iter().map(|walker| &walker.view).collect();
+    let own = OwnRenderers::new(context, scene, &views)?;
     let mut walks: Vec<Walk> = walkers
         .iter()
         .map(|walker| Walk {
@@ -75,8 +71,8 @@ pub fn along_path(
         let camera = scene.camera.on_path(&along.path, frame as f32 / along.fps, along.bounds);
         let reference_view = View { mode: Mode::Pixel, ..first.view.seen_from(camera) };
         let reference = Rc::new(shared.analyze(target, &reference_view)?);
-        for (walk, own) in walks.iter_mut().zip(&own_renderers) {
-            walk.frame(own.as_ref().unwrap_or(shared), target, corners, camera, &reference)?;
+        for (index, walk) in walks.iter_mut().enumerate() {
+            walk.frame(own.of(&shared, index), target, corners, camera, &reference)?;
         }
     }
     Ok(walks.into_iter().map(|walk| walk.run).collect())
@@ -111,17 +107,12 @@ impl Walk<'_> {
             renderer.analyze(target, &frame_view)?
         };
         let levels = if multirate { Some(renderer.record_levels(target, &frame_view)?) } else { None };
-        let pattern_changed = match (self.previous.as_ref().and_then(|before| before.levels.as_ref()), &levels) {
-            (Some(then), Some(now)) => then.iter().zip(now).map(|(a, b)| a != b).collect(),
-            _ => Vec::new(),
-        };
-        let shown = Shown {
-            camera,
-            test,
-            reference: Rc::clone(reference),
-            levels,
-            pattern_changed,
-        };
+        let pattern_changed =
+            match (self.previous.as_ref().and_then(|before| before.levels.as_ref()), &levels) {
+                (Some(then), Some(now)) => then.iter().zip(now).map(|(a, b)| a != b).collect(),
+                _ => Vec::new(),
+            };
+        let shown = Shown { camera, test, reference: Rc::clone(reference), levels, pattern_changed };
         let epsilon = view.estimator.epsilon;
         if multirate {
             let over = pixels_over(shown.reference.frame(), shown.test.frame(), f64::from(epsilon));

@@ -63,7 +63,8 @@ fn first_run(gpu: &GpuArgs) -> Result<()> {
             pre_pass_steps: false,
             path: None,
         };
-        let measurements = bench::measure_in_turns(&renderer, &target, &views, schedule, &mut |_| {})?;
+        let measurements =
+            bench::measure_in_turns(&[&renderer, &renderer], &target, &views, schedule, &mut |_| {})?;
         let [multirate_ms, pixel_ms] = [0, 1].map(|k| bench::Timing::of(&measurements[k].gpu_ms()).median);
         medians.push((orbit_degrees, multirate_ms, pixel_ms));
     }

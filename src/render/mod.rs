@@ -600,7 +600,8 @@ impl Renderer {
         let mut recorded = None;
         let (image, triangles) =
             target.render_and_read_with(&self.context, Attachments::ColorAndIds, |cmd| {
-                recorded = Some(self.record_analysis(analysis, cmd, target, view, (AfterPass::Readback, commit)))
+                recorded =
+                    Some(self.record_analysis(analysis, cmd, target, view, (AfterPass::Readback, commit)))
             })?;
         self.submitted(recorded.expect("the frame was recorded"));
         let triangles = triangles.expect("ColorAndIds reads the ids back");
