@@ -39,6 +39,26 @@ fn turned(camera: Camera, distance: f32) -> Camera {
     Camera { eye, ..camera }
 }
 
+/// A validated context, a target of the tests' size and the scene `relative` at that size.
+fn set_up(relative: &str) -> (std::sync::Arc<multirate::vk::Context>, RenderTarget, Scene) {
+    let context = validated_context();
+    let target = RenderTarget::new(&context, vk::Extent2D { width: WIDTH, height: HEIGHT }).expect("target");
+    let mut scene = Scene::load(&repo_path(relative)).expect("scene");
+    (scene.settings.width, scene.settings.height) = (WIDTH, HEIGHT);
+    (context, target, scene)
+}
+
+/// A path of one second that turns the scene's camera until its eye has moved by 0.4 of its
+/// distance to the target, at `fps` frames a second.
+fn turn_path(scene: &Scene, fps: f32) -> multirate::render::PathFrames {
+    use multirate::scene::path::{CameraPath, PathKey};
+    let start = scene.camera;
+    let end = turned(start, 0.4 * start.eye.distance(start.target));
+    let key = |time: f32, camera: Camera| PathKey { time, eye: camera.eye, target: camera.target };
+    let path = CameraPath::Keys(vec![key(0.0, start), key(1.0, end)]);
+    multirate::render::PathFrames { path: std::sync::Arc::new(path), fps, start, bounds: scene.bounds() }
+}
+
 #[test]
 fn levels_are_kept_while_the_eye_stays_in_its_ball() {
     let context = validated_context();
@@ -132,10 +152,7 @@ fn record_without_submitting(
 /// wherever their eye is.
 #[test]
 fn only_submitted_frames_move_the_ball() {
-    let context = validated_context();
-    let target = RenderTarget::new(&context, vk::Extent2D { width: WIDTH, height: HEIGHT }).expect("target");
-    let mut scene = Scene::load(&repo_path("scenes/bunny.toml")).expect("scene");
-    (scene.settings.width, scene.settings.height) = (WIDTH, HEIGHT);
+    let (context, target, scene) = set_up("scenes/bunny.toml");
     let meshes = scene.meshes.len();
     let renderer = Renderer::new(&context, &scene).expect("renderer");
     let view = View { mode: Mode::Multirate, ..View::of_scene(&scene) };
@@ -176,10 +193,7 @@ fn levels_are_held_between_the_balls_as_the_twin_holds_them() {
     use multirate::render::level_hold::held_level;
     use multirate::shading::estimator::uniform_level;
 
-    let context = validated_context();
-    let target = RenderTarget::new(&context, vk::Extent2D { width: WIDTH, height: HEIGHT }).expect("target");
-    let mut scene = Scene::load(&repo_path("scenes/bunny.toml")).expect("scene");
-    (scene.settings.width, scene.settings.height) = (WIDTH, HEIGHT);
+    let (context, target, scene) = set_up("scenes/bunny.toml");
     let holding = Renderer::new(&context, &scene).expect("renderer");
     let unheld = Renderer::new(&context, &scene).expect("renderer");
     let view = View { mode: Mode::Multirate, ..View::of_scene(&scene) };
@@ -266,22 +280,12 @@ fn levels_are_held_between_the_balls_as_the_twin_holds_them() {
 #[test]
 fn a_configuration_walks_a_path_beside_others_as_it_walks_alone() {
     use multirate::bench::stability::{along_path, Walker};
-    use multirate::render::PathFrames;
-    use multirate::scene::path::{CameraPath, PathKey};
-    use std::sync::Arc;
 
-    let context = validated_context();
-    let target = RenderTarget::new(&context, vk::Extent2D { width: WIDTH, height: HEIGHT }).expect("target");
-    let mut scene = Scene::load(&repo_path("scenes/bunny.toml")).expect("scene");
-    (scene.settings.width, scene.settings.height) = (WIDTH, HEIGHT);
+    let (context, target, scene) = set_up("scenes/bunny.toml");
     let corners: Vec<_> = scene.triangles().collect();
     let view = View { mode: Mode::Multirate, ..View::of_scene(&scene) };
     // Four steps of a tenth of the eye's distance: each leaves the ball the step before began.
-    let distance = view.camera.eye.distance(view.camera.target);
-    let end = turned(view.camera, 0.4 * distance);
-    let key = |time: f32, camera: Camera| PathKey { time, eye: camera.eye, target: camera.target };
-    let path = CameraPath::Keys(vec![key(0.0, view.camera), key(1.0, end)]);
-    let along = PathFrames { path: Arc::new(path), fps: 4.0, start: scene.camera, bounds: scene.bounds() };
+    let along = turn_path(&scene, 4.0);
     let walkers = [
         Walker { view: view.clone(), label: "held".into() },
         Walker { view: View { hold_levels: false, ..view.clone() }, label: "unheld".into() },
@@ -311,10 +315,7 @@ fn a_configuration_walks_a_path_beside_others_as_it_walks_alone() {
 /// same ball (the next frame estimates as many triangles).
 #[test]
 fn the_analysis_frame_drawn_as_shown_commits_what_render_commits() {
-    let context = validated_context();
-    let target = RenderTarget::new(&context, vk::Extent2D { width: WIDTH, height: HEIGHT }).expect("target");
-    let mut scene = Scene::load(&repo_path("scenes/teapot.toml")).expect("scene");
-    (scene.settings.width, scene.settings.height) = (WIDTH, HEIGHT);
+    let (context, target, scene) = set_up("scenes/teapot.toml");
     let meshes = scene.meshes.len();
     let rendering = Renderer::new(&context, &scene).expect("renderer");
     let analysing = Renderer::new(&context, &scene).expect("renderer");
@@ -344,20 +345,11 @@ fn the_analysis_frame_drawn_as_shown_commits_what_render_commits() {
 fn configurations_timed_in_turns_keep_their_own_balls() {
     use multirate::bench::renderers::OwnRenderers;
     use multirate::bench::{measure_in_turns, Schedule};
-    use multirate::render::PathFrames;
-    use multirate::scene::path::{CameraPath, PathKey};
-    use std::sync::Arc;
 
-    let context = validated_context();
-    let target = RenderTarget::new(&context, vk::Extent2D { width: WIDTH, height: HEIGHT }).expect("target");
-    let mut scene = Scene::load(&repo_path("scenes/bunny.toml")).expect("scene");
-    (scene.settings.width, scene.settings.height) = (WIDTH, HEIGHT);
+    let (context, target, scene) = set_up("scenes/bunny.toml");
     let held = View { mode: Mode::Multirate, ..View::of_scene(&scene) };
     let unheld = View { hold_levels: false, ..held.clone() };
-    let distance = held.camera.eye.distance(held.camera.target);
-    let key = |time: f32, camera: Camera| PathKey { time, eye: camera.eye, target: camera.target };
-    let path = CameraPath::Keys(vec![key(0.0, held.camera), key(1.0, turned(held.camera, 0.4 * distance))]);
-    let along = PathFrames { path: Arc::new(path), fps: 8.0, start: scene.camera, bounds: scene.bounds() };
+    let along = turn_path(&scene, 8.0);
     let schedule = Schedule {
         warmup: 1,
         frames: 9,
