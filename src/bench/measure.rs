@@ -297,16 +297,18 @@ pub fn run(
         }
         let target = target.as_ref().expect("created above");
         let views: Vec<View> = group.iter().map(|job| job.view(scene, config)).collect();
+        // Each configuration's frames, from its first image on, on its renderer: `OwnRenderers`.
+        let own = OwnRenderers::new(context, scene, &views.iter().collect::<Vec<_>>())?;
         // Images are compared with the reference as they come (it is the group's first), so
         // that only its image is held, whatever the number of configurations.
         assert!(group[0].mode == Mode::Pixel, "each scene and resolution starts with pixel mode");
         let mut reference_frame: Option<Analysis> = None;
         let mut untimed = Vec::with_capacity(group.len());
-        for (job, view) in group.iter().zip(&views) {
+        for (index, (job, view)) in group.iter().zip(&views).enumerate() {
             let label = job.label(scenes);
             progress(Progress { done, total, label: &label, turns_done: 0 });
             done += 1;
-            let (analysis, heat_and_mask) = analyze_with_heat(renderer, target, view)?;
+            let (analysis, heat_and_mask) = analyze_with_heat(own.of(renderer, index), target, view)?;
             let reference = reference_frame.get_or_insert_with(|| analysis.clone());
             if let Some(dir) = &config.images {
                 let stem = file_stem(bench_scene, job);
@@ -346,7 +348,6 @@ pub fn run(
         let mut timed = views.clone();
         timed.push(empty_view(&views[0], scene));
         let schedule = schedules[group[0].scene].clone();
-        let own = OwnRenderers::new(context, scene, &timed.iter().collect::<Vec<_>>())?;
         let renderers: Vec<&Renderer> = (0..timed.len()).map(|k| own.of(renderer, k)).collect();
         let mut measurements = measure_in_turns(&renderers, target, &timed, schedule, &mut |turn| {
             progress(Progress { done: done + turn, total, label: &label, turns_done: turn })
