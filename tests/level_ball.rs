@@ -196,8 +196,7 @@ fn levels_are_held_between_the_balls_as_the_twin_holds_them() {
     let (context, target, scene) = set_up("scenes/bunny.toml");
     let holding = Renderer::new(&context, &scene).expect("renderer");
     let unheld = Renderer::new(&context, &scene).expect("renderer");
-    let view = View { mode: Mode::Multirate, ..View::of_scene(&scene) };
-    assert!(view.hold_levels, "levels are held by default");
+    let view = View { mode: Mode::Multirate, hold_levels: true, ..View::of_scene(&scene) };
     // Eyes 8 radii apart along a turn: farther than the widest ball (`level_ball::MOST_WIDENED`
     // radii) from the one before. Two eyes in turns, then two others in turns. The first frame's
     // ball has the configured radius, the others the widest (the eye moved): from the fourth
@@ -283,7 +282,7 @@ fn a_configuration_walks_a_path_beside_others_as_it_walks_alone() {
 
     let (context, target, scene) = set_up("scenes/bunny.toml");
     let corners: Vec<_> = scene.triangles().collect();
-    let view = View { mode: Mode::Multirate, ..View::of_scene(&scene) };
+    let view = View { mode: Mode::Multirate, hold_levels: true, ..View::of_scene(&scene) };
     // Four steps of a tenth of the eye's distance: each leaves the ball the step before began.
     let along = turn_path(&scene, 4.0);
     let walkers = [
@@ -319,7 +318,7 @@ fn the_analysis_frame_drawn_as_shown_commits_what_render_commits() {
     let meshes = scene.meshes.len();
     let rendering = Renderer::new(&context, &scene).expect("renderer");
     let analysing = Renderer::new(&context, &scene).expect("renderer");
-    let view = View { mode: Mode::Multirate, ..View::of_scene(&scene) };
+    let view = View { mode: Mode::Multirate, hold_levels: true, ..View::of_scene(&scene) };
     let radius = view.estimator.eye_radius;
     for (frame, distance) in [0.0, 0.5, 4.0, 4.2, 20.0].into_iter().enumerate() {
         let at = View { camera: turned(view.camera, distance * radius), ..view.clone() };
@@ -347,7 +346,7 @@ fn configurations_timed_in_turns_keep_their_own_balls() {
     use multirate::bench::{measure_in_turns, Schedule};
 
     let (context, target, scene) = set_up("scenes/bunny.toml");
-    let held = View { mode: Mode::Multirate, ..View::of_scene(&scene) };
+    let held = View { mode: Mode::Multirate, hold_levels: true, ..View::of_scene(&scene) };
     let unheld = View { hold_levels: false, ..held.clone() };
     let along = turn_path(&scene, 8.0);
     let schedule = Schedule {

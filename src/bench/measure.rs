@@ -73,7 +73,7 @@ pub struct BenchConfig {
     /// estimates for its own eye).
     pub eye_ball_share: f32,
     /// multirate: whether the pre-pass holds its levels between the balls of eyes
-    /// (`View::hold_levels`), each measured. Empty: held.
+    /// (`View::hold_levels`), each measured. Empty: not held (the view's default).
     pub level_holds: Vec<bool>,
     /// Along a camera path at this many frames a second instead of `frames` and
     /// `orbit_degrees`: each scene's measured frames are its path's frames.
@@ -172,7 +172,7 @@ impl Job {
             Mode::Multirate => {
                 let (epsilon, n_max, placement) = (self.epsilon, self.n_max, self.placement);
                 let area = self.min_estimated_area.map_or_else(|| "auto".to_string(), |a| a.to_string());
-                let held = if self.hold_levels { "" } else { " levels unheld" };
+                let held = if self.hold_levels { " levels held" } else { "" };
                 format!(
                     "{name} {width}x{height} multirate ε={epsilon} n_max={n_max} estimator {placement} area {area}{held}"
                 )
@@ -201,7 +201,7 @@ fn jobs(scenes: &[BenchScene], config: &BenchConfig) -> Vec<Job> {
         } else {
             config.min_estimated_areas.clone()
         };
-        let holds = if config.level_holds.is_empty() { vec![true] } else { config.level_holds.clone() };
+        let holds = if config.level_holds.is_empty() { vec![false] } else { config.level_holds.clone() };
         for &resolution in &resolutions {
             let job = |mode, epsilon, n_max, placement, (min_estimated_area, hold_levels)| Job {
                 scene: index,
@@ -597,8 +597,8 @@ fn file_stem(bench_scene: &BenchScene, job: &Job) -> String {
             if let Some(area) = job.min_estimated_area {
                 stem.push_str(&format!("_area{area}"));
             }
-            if !job.hold_levels {
-                stem.push_str("_unheld");
+            if job.hold_levels {
+                stem.push_str("_held");
             }
             stem
         }

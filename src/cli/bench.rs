@@ -100,7 +100,7 @@ pub struct BenchArgs {
     /// multirate: whether its levels are held between the balls of eyes (after a level rose,
     /// a coarser estimate used only once coarser ones have come several times in a row): on,
     /// off, or on,off to measure both.
-    #[arg(long, value_name = "on|off", value_delimiter = ',', value_parser = parse_on_off, default_value = "on")]
+    #[arg(long, value_name = "on|off", value_delimiter = ',', value_parser = parse_on_off, default_value = "off")]
     pub level_hold: Vec<bool>,
 }
 

@@ -47,6 +47,11 @@ pub struct ShadingArgs {
     /// in it, as a share of the camera's distance to its target (0: for the eye alone).
     #[arg(long, value_name = "SHARE", default_value_t = EYE_BALL_SHARE)]
     pub eye_ball: f32,
+    /// multirate: hold levels between the balls of eyes (after a level rose, a coarser estimate
+    /// is used only once coarser ones have come several times in a row), so that they do not
+    /// flip back and forth as the eye moves; off by default (it costs a turning camera time).
+    #[arg(long)]
+    pub hold_levels: bool,
 }
 
 impl Default for ShadingArgs {
@@ -60,6 +65,7 @@ impl Default for ShadingArgs {
             placement: Placement::default(),
             min_estimated_area: EstimatedArea::Auto,
             eye_ball: EYE_BALL_SHARE,
+            hold_levels: false,
         }
     }
 }
@@ -72,6 +78,7 @@ impl ShadingArgs {
         view.estimator.split = self.split;
         view.estimator.discontinuity = self.discontinuity;
         view.placement = self.placement;
+        view.hold_levels = self.hold_levels;
         view.cost_model = self.min_estimated_area.pixels().is_none();
         view.estimator.min_estimated_area = self.min_estimated_area.pixels().unwrap_or(0.0);
         if let Some(epsilon) = self.epsilon {

@@ -28,15 +28,16 @@ fn resolving_a_frame_twice_gives_the_same_frame() {
     assert!(matches!(next.ball, BallUse::Continue { .. }), "{:?}", next.ball);
     let flags = next.pre_pass_constants().flags;
     assert_ne!(flags & FLAG_REUSE_LEVELS, 0);
-    assert_ne!(flags & FLAG_HOLD_LEVELS, 0, "levels are held by default");
-    let unheld = View { hold_levels: false, ..view.clone() };
-    let frame = FrameConfig::resolve(&choice, &unheld, EXTENT, Some(ball), Commit::OnSubmit, 1);
-    assert_eq!(frame.pre_pass_constants().flags & FLAG_HOLD_LEVELS, 0, "{:?}", frame.ball);
+    assert_eq!(flags & FLAG_HOLD_LEVELS, 0, "levels are not held by default");
+    let held = View { hold_levels: true, ..view.clone() };
+    let frame = FrameConfig::resolve(&choice, &held, EXTENT, Some(ball), Commit::OnSubmit, 1);
+    assert_ne!(frame.pre_pass_constants().flags & FLAG_HOLD_LEVELS, 0, "{:?}", frame.ball);
 }
 
 #[test]
 fn a_frame_that_commits_nothing_keeps_no_levels_of_its_own() {
     let (choice, view) = bunny();
+    let view = View { hold_levels: true, ..view };
     let radius = view.estimator.eye_radius;
     let detached = FrameConfig::resolve(&choice, &view, EXTENT, None, Commit::Never, 1);
     assert_eq!(detached.ball, BallUse::Detached { radius });
