@@ -251,10 +251,11 @@ pub fn group(points: impl IntoIterator<Item = (String, Point)>, line: bool) -> V
     series
 }
 
-/// The label of a row on a chart: the mode, with ε and n_max for multirate.
+/// The label of a row on a chart: the mode, with ε and n_max for multirate (and whether its
+/// levels were held, where they were: not by default).
 pub fn row_label(row: &Row) -> String {
     let area = row.min_estimated_area.map_or_else(String::new, |a| format!(" a={a:.0}"));
-    let area = if row.levels_held == Some(false) { format!("{area} unheld") } else { area };
+    let area = if row.levels_held == Some(true) { format!("{area} held") } else { area };
     match (row.epsilon, row.n_max, &row.estimator) {
         (Some(epsilon), Some(n_max), Some(estimator)) => format!("ε={epsilon} n={n_max} {estimator}{area}"),
         (Some(epsilon), Some(n_max), None) => format!("ε={epsilon} n={n_max}"),
