@@ -223,7 +223,7 @@ fn bench_measures_a_shadowed_scene_with_and_without_its_shadows() {
 /// `bench --path`: every configuration timed along the scene's camera path, frame by frame: the
 /// rows hold the path's frames, `path.csv` each frame's time and pre-pass time (the estimator
 /// runs in every multirate frame: the eye leaves its ball each time), `path.svg` the plot, and
-/// `stability.csv` multirate's error from frame to frame.
+/// `stability.csv` multirate's error from frame to frame; `--stability-only` the same walk alone.
 #[test]
 fn bench_times_every_configuration_along_a_camera_path() {
     let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("bench_path");
@@ -291,6 +291,22 @@ fn bench_times_every_configuration_along_a_camera_path() {
         assert!(largest <= 2.0 * 0.075, "{step:?}");
         assert_eq!(step[13], "0", "multirate's pixels of the same triangle over ε: {step:?}");
         assert!((0.0..=1.0).contains(&levels), "{step:?}");
+    }
+    // `--stability-only`: the same walk, to the bit, without the images, counts and timing.
+    let alone = out.join("stability_only");
+    let stdout = run_validated(
+        &[
+            &["bench", "--scene", scene.to_str().unwrap(), "--modes", "pixel,multirate"][..],
+            &["--min-estimated-area", "0", "--resolution", "96x64", "--stability-only"],
+            &["--path", "scene", "--fps", "12", "--out", alone.to_str().unwrap()],
+        ]
+        .concat(),
+    );
+    assert!(stdout.contains("temporal stability along the path"), "{stdout}");
+    let walked_alone = std::fs::read_to_string(alone.join("stability.csv")).expect("stability.csv alone");
+    assert_eq!(walked_alone, stability, "the walk alone and after the timing");
+    for timed in ["bench.csv", "path.csv", "path.svg"] {
+        assert!(!alone.join(timed).exists(), "{timed} written without timing");
     }
 }
 

@@ -356,24 +356,9 @@ pub fn run(
         drop(own); // their memory freed before the walk makes renderers of its own
         done += turns(group[0].scene);
         if let Some(along) = &schedules[group[0].scene].path {
-            let corners: Vec<_> = scene.triangles().collect();
-            let walkers: Vec<Walker> = group
-                .iter()
-                .zip(&views)
-                .filter(|(job, _)| job.mode != Mode::Pixel)
-                .map(|(job, view)| Walker { view: view.clone(), label: job.label(scenes) })
-                .collect();
-            let runs = stability::along_path(
-                context,
-                target,
-                (scene, &corners),
-                &walkers,
-                along,
-                &mut |frame, frames| {
-                    let label = format!("{}: stability, frame {} of {frames}", bench_scene.name, frame + 1);
-                    progress(Progress { done, total, label: &label, turns_done: 0 })
-                },
-            )?;
+            let runs = walk(context, target, scenes, (group, &views), along, &mut |label| {
+                progress(Progress { done, total, label, turns_done: 0 })
+            })?;
             result.stability.extend(runs);
         }
         if let Some(report) = result.shadows.last_mut().filter(|r| &r.scene == name) {
@@ -407,6 +392,89 @@ pub fn run(
     }
     progress(Progress { done: total, total, label: "done", turns_done: 0 });
     Ok(result)
+}
+
+/// Only the stability of every configuration of `config` along its scene's camera path (which
+/// `config.path` must ask for), without images, counts or timing turns: [`run`]'s walk alone,
+/// about half its time. `progress` is told each frame before it is drawn (`done` counts frames).
+pub fn walk_paths(
+    context: &Arc<Context>,
+    scenes: &[BenchScene],
+    config: &BenchConfig,
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<Vec<StabilityRun>> {
+    let jobs = jobs(scenes, config);
+    let mut paths = Vec::with_capacity(scenes.len());
+    for bench_scene in scenes {
+        let path = config.schedule_of(&bench_scene.scene)?.path;
+        paths.push(path.ok_or_else(|| crate::Error::NoCameraPath { scene: bench_scene.scene.path.clone() })?);
+    }
+    let groups: Vec<&[Job]> =
+        jobs.chunk_by(|a, b| a.scene == b.scene && a.resolution == b.resolution).collect();
+    let total: usize = groups
+        .iter()
+        .map(|group| {
+            let along = &paths[group[0].scene];
+            along.path.frame_times(along.fps).len()
+        })
+        .sum();
+    let mut runs = Vec::new();
+    let mut target: Option<RenderTarget> = None;
+    let mut done = 0;
+    for group in groups {
+        let scene = &scenes[group[0].scene].scene;
+        let extent = vk::Extent2D { width: group[0].resolution.0, height: group[0].resolution.1 };
+        if target.as_ref().is_none_or(|t| t.extent() != extent) {
+            drop(target.take());
+            target = Some(RenderTarget::new(context, extent)?);
+        }
+        let views: Vec<View> = group.iter().map(|job| job.view(scene, config)).collect();
+        let along = &paths[group[0].scene];
+        runs.extend(walk(
+            context,
+            target.as_ref().expect("created above"),
+            scenes,
+            (group, &views),
+            along,
+            &mut |label| {
+                progress(Progress { done, total, label, turns_done: 0 });
+                done += 1;
+            },
+        )?);
+    }
+    progress(Progress { done: total, total, label: "done", turns_done: 0 });
+    Ok(runs)
+}
+
+/// Every configuration of `group` but `pixel` (each at its view of `views`) walked along `along`
+/// beside the per-pixel reference (`stability::along_path`); `progress` is given each frame's
+/// label before it is drawn.
+fn walk(
+    context: &Arc<Context>,
+    target: &RenderTarget,
+    scenes: &[BenchScene],
+    (group, views): (&[Job], &[View]),
+    along: &PathFrames,
+    progress: &mut dyn FnMut(&str),
+) -> Result<Vec<StabilityRun>> {
+    let bench_scene = &scenes[group[0].scene];
+    let corners: Vec<_> = bench_scene.scene.triangles().collect();
+    let walkers: Vec<Walker> = group
+        .iter()
+        .zip(views)
+        .filter(|(job, _)| job.mode != Mode::Pixel)
+        .map(|(job, view)| Walker { view: view.clone(), label: job.label(scenes) })
+        .collect();
+    stability::along_path(
+        context,
+        target,
+        (&bench_scene.scene, &corners),
+        &walkers,
+        along,
+        &mut |frame, frames| {
+            progress(&format!("{}: stability, frame {} of {frames}", bench_scene.name, frame + 1))
+        },
+    )
 }
 
 /// The empty frame of `view`'s `scene`: `pixel` mode from an eye moved away from the scene,

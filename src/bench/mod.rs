@@ -17,7 +17,7 @@
 //! 4. [`renderers`]: a renderer of its own for every multirate configuration after the first.
 //! 5. [`stability`]: temporal stability along a camera path, as a user sees a mode.
 //! 6. [`measure`]: running every configuration: images, counts and time in turns (and, along a
-//!    camera path, their stability).
+//!    camera path, their stability, or that alone).
 //! 7. [`per_frame`]: a run along a camera path, frame by frame (CSV and plot).
 //! 8. [`twin`]: the estimator's Rust twin, timed without a frame.
 //! 9. [`calibrate`]: the cost model's calibration from measured frames.
@@ -35,7 +35,7 @@ pub mod trace;
 pub mod twin;
 
 pub use measure::{
-    measure_in_turns, run, BenchConfig, BenchResult, BenchScene, Progress, Schedule, ShadowReport,
-    FRAMES_PER_TURN,
+    measure_in_turns, run, walk_paths, BenchConfig, BenchResult, BenchScene, Progress, Schedule,
+    ShadowReport, FRAMES_PER_TURN,
 };
 pub use row::{csv_line, percentile, to_csv, to_json, Row, Timing, Trade, CSV_HEADER};

@@ -77,6 +77,10 @@ pub struct BenchArgs {
     /// Frames a second along --path.
     #[arg(long, default_value_t = 30.0, requires = "path")]
     pub fps: f32,
+    /// Along --path, measure only the stability of every configuration (`stability.csv`), in
+    /// about half the time: no images, counts, timing turns or per-frame plot.
+    #[arg(long, requires = "path")]
+    pub stability_only: bool,
     /// Time each part of the draws apart (the whole meshes, the flat and tessellated lists, the
     /// fallback's depth and shading, the back faces, the emitters: the `draw_*_ms_median`
     /// columns). The frame's rendering is split at every part, which slows the frame itself:
@@ -149,6 +153,9 @@ pub fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<bench::BenchResult> 
         path: args.path.map(|choice| (choice, args.fps)),
     };
     std::fs::create_dir_all(&args.out).with_context(|| format!("{}: cannot create", args.out.display()))?;
+    if args.stability_only {
+        return stability_only(&context, &scenes, &config, &args.out);
+    }
     let bar = progress_bar();
     let result = bench::run(&context, &scenes, &config, &mut |progress| {
         bar.set_length(progress.total as u64);
@@ -259,6 +266,31 @@ pub fn run_bench(args: &BenchArgs, gpu: &GpuArgs) -> Result<bench::BenchResult> 
     let messages = context.validation().count();
     anyhow::ensure!(messages == 0, "the validation layer reported {messages} message(s)");
     Ok(result)
+}
+
+/// `--stability-only`: the walk along the path alone, its figures printed and written to
+/// `stability.csv`.
+fn stability_only(
+    context: &std::sync::Arc<Context>,
+    scenes: &[BenchScene],
+    config: &BenchConfig,
+    out: &Path,
+) -> Result<bench::BenchResult> {
+    let bar = progress_bar();
+    let stability = bench::walk_paths(context, scenes, config, &mut |progress| {
+        bar.set_length(progress.total as u64);
+        bar.set_position(progress.done as u64);
+        bar.set_message(progress.label.to_string());
+    })?;
+    bar.finish_and_clear();
+    let path = out.join("stability.csv");
+    std::fs::write(&path, bench::per_frame::stability_csv(&stability))
+        .with_context(|| format!("{}: cannot write", path.display()))?;
+    println!("{} on {} ({})", out.display(), context.info.name, context.info.driver);
+    print_stability(&stability);
+    let messages = context.validation().count();
+    anyhow::ensure!(messages == 0, "the validation layer reported {messages} message(s)");
+    Ok(bench::BenchResult { rows: Vec::new(), measurements: Vec::new(), shadows: Vec::new(), stability })
 }
 
 /// `scenes`, each whose lights cast shadows followed, where `twins`, by itself without them.
