@@ -359,7 +359,7 @@ fn configurations_timed_in_turns_keep_their_own_balls() {
     };
     let timed = |views: &[View]| {
         let shared = Renderer::new(&context, &scene).expect("renderer");
-        let own = OwnRenderers::new(&context, &scene, &views.iter().collect::<Vec<_>>()).expect("renderers");
+        let own = OwnRenderers::new(&context, &scene, views.iter().map(|view| view.mode)).expect("renderers");
         let renderers: Vec<&Renderer> = (0..views.len()).map(|k| own.of(&shared, k)).collect();
         let measured =
             measure_in_turns(&renderers, &target, views, schedule.clone(), &mut |_| {}).expect("timed");

@@ -298,7 +298,7 @@ pub fn run(
         let target = target.as_ref().expect("created above");
         let views: Vec<View> = group.iter().map(|job| job.view(scene, config)).collect();
         // Each configuration's frames, from its first image on, on its renderer: `OwnRenderers`.
-        let own = OwnRenderers::new(context, scene, &views.iter().collect::<Vec<_>>())?;
+        let own = OwnRenderers::new(context, scene, views.iter().map(|view| view.mode))?;
         // Images are compared with the reference as they come (it is the group's first), so
         // that only its image is held, whatever the number of configurations.
         assert!(group[0].mode == Mode::Pixel, "each scene and resolution starts with pixel mode");

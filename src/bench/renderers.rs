@@ -7,7 +7,7 @@
 //! frame to frame and share the first renderer.
 
 use crate::error::Result;
-use crate::render::{Mode, Renderer, View};
+use crate::render::{Mode, Renderer};
 use crate::scene::Scene;
 use crate::vk::Context;
 use std::sync::Arc;
@@ -17,12 +17,16 @@ use std::sync::Arc;
 pub struct OwnRenderers(Vec<Option<Renderer>>);
 
 impl OwnRenderers {
-    /// Renderers of `scene` for the configurations `views` that need one of their own.
-    pub fn new(context: &Arc<Context>, scene: &Scene, views: &[&View]) -> Result<OwnRenderers> {
+    /// Renderers of `scene` for the configurations, of these `modes`, that need one of their own.
+    pub fn new(
+        context: &Arc<Context>,
+        scene: &Scene,
+        modes: impl IntoIterator<Item = Mode>,
+    ) -> Result<OwnRenderers> {
         let mut multirate_before = false;
-        let mut own = Vec::with_capacity(views.len());
-        for view in views {
-            let multirate = view.mode == Mode::Multirate;
+        let mut own = Vec::new();
+        for mode in modes {
+            let multirate = mode == Mode::Multirate;
             let needs_own = multirate && std::mem::replace(&mut multirate_before, true);
             own.push(if needs_own { Some(Renderer::new(context, scene)?) } else { None });
         }

@@ -55,8 +55,7 @@ pub fn along_path(
 ) -> Result<Vec<StabilityRun>> {
     let Some(first) = walkers.first() else { return Ok(Vec::new()) };
     let shared = Renderer::new(context, scene)?;
-    let views: Vec<&View> = walkers.iter().map(|walker| &walker.view).collect();
-    let own = OwnRenderers::new(context, scene, &views)?;
+    let own = OwnRenderers::new(context, scene, walkers.iter().map(|walker| walker.view.mode))?;
     let mut walks: Vec<Walk> = walkers
         .iter()
         .map(|walker| Walk {

@@ -79,7 +79,7 @@ pub struct BenchArgs {
     pub fps: f32,
     /// Along --path, measure only the stability of every configuration (`stability.csv`), in
     /// about half the time: no images, counts, timing turns or per-frame plot.
-    #[arg(long, requires = "path")]
+    #[arg(long, requires = "path", conflicts_with_all = ["images", "capture", "draw_parts", "pre_pass_steps"])]
     pub stability_only: bool,
     /// Time each part of the draws apart (the whole meshes, the flat and tessellated lists, the
     /// fallback's depth and shading, the back faces, the emitters: the `draw_*_ms_median`
@@ -406,5 +406,35 @@ fn print_stability(runs: &[bench::stability::StabilityRun]) {
             1e6 * steps.jump_share(),
             steps.flicker_ratio()
         );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cli::common::parsed;
+
+    const SCENE: [&str; 4] = ["--scene", "s.toml", "--out", "o"];
+
+    #[test]
+    fn stability_only_needs_a_path_and_takes_no_timing_or_image_option() {
+        let args = |more: &[&str]| parsed::<BenchArgs>(&[&SCENE[..], more].concat());
+        let walk = args(&["--path", "scene", "--stability-only"]).expect("a walk alone");
+        assert!(walk.stability_only && walk.path.is_some());
+        assert!(!args(&["--path", "scene"]).expect("a path run").stability_only);
+        assert!(args(&["--stability-only"]).is_err(), "without --path");
+        for timing in [&["--images"][..], &["--capture", "c.json"], &["--draw-parts"], &["--pre-pass-steps"]]
+        {
+            let words = [&["--path", "scene", "--stability-only"][..], timing].concat();
+            assert!(args(&words).is_err(), "{timing:?} beside --stability-only");
+        }
+    }
+
+    #[test]
+    fn level_hold_takes_on_off_or_both() {
+        let holds = |value: &str| parsed::<BenchArgs>(&[&SCENE[..], &["--level-hold", value]].concat());
+        assert_eq!(parsed::<BenchArgs>(&SCENE).expect("the default").level_hold, [false]);
+        assert_eq!(holds("on,off").expect("both").level_hold, [true, false]);
+        assert!(holds("yes").is_err());
     }
 }

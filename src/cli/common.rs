@@ -1,9 +1,9 @@
 //! What every subcommand shares: the GPU options (`--validate`, `--device`), the default scene,
-//! loading a scene with its warnings printed, the progress bar, and the checks of `--frames` and
-//! `WIDTHxHEIGHT` resolutions.
+//! loading a scene with its warnings printed, the progress bar, the checks of `--frames` and
+//! `WIDTHxHEIGHT` resolutions, and a subcommand's arguments parsed from words.
 
 use anyhow::Result;
-use clap::Args;
+use clap::{Args, Parser};
 use multirate::scene::settings::check_image_size;
 use multirate::scene::Scene;
 use multirate::vk::ContextOptions;
@@ -72,4 +72,18 @@ pub fn parse_resolution(text: &str) -> Result<(u32, u32), String> {
         Some((w, h)) if check_image_size(w, h).is_ok() => Ok((w, h)),
         _ => Err(format!("\"{text}\": expected WIDTHxHEIGHT, each in 1..=16384, such as 1920x1080")),
     }
+}
+
+/// A subcommand's arguments parsed from words, as its command line would give them.
+#[derive(Parser)]
+struct Parsed<T: Args> {
+    #[command(flatten)]
+    args: T,
+}
+
+/// `T` parsed from `words` (a subcommand's arguments, without the program's name) as clap parses
+/// a command line: what `demo` hands to `bench`, and what the tests check parsing with.
+pub fn parsed<T: Args>(words: &[&str]) -> Result<T> {
+    let line = std::iter::once("multirate").chain(words.iter().copied());
+    Ok(Parsed::<T>::try_parse_from(line)?.args)
 }

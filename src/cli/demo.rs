@@ -7,12 +7,12 @@
 //! shows it all with the command that wrote it. `multirate demo` regenerates `docs/demo/`.
 
 use super::bench::{run_bench, BenchArgs};
-use super::common::{options, parse_resolution, shipped_scene, GpuArgs};
+use super::common::{options, parse_resolution, parsed, shipped_scene, GpuArgs};
 use super::path::{check_fps, numbered, PathChoice};
 use super::render::render_path;
 use super::shading::ShadingArgs;
 use anyhow::{Context as _, Result};
-use clap::{Args, Parser};
+use clap::Args;
 use multirate::bench::stability::StabilityRun;
 use multirate::bench::{plot, BenchResult};
 use multirate::scene::Scene;
@@ -41,18 +41,6 @@ pub struct DemoArgs {
     pub out: PathBuf,
 }
 
-/// A subcommand's arguments parsed from words, as its command line would give them.
-#[derive(Parser)]
-struct Parsed<T: Args> {
-    #[command(flatten)]
-    args: T,
-}
-
-fn parsed<T: Args>(words: &[String]) -> Result<T> {
-    let line = std::iter::once("multirate".to_string()).chain(words.iter().cloned());
-    Ok(Parsed::<T>::try_parse_from(line)?.args)
-}
-
 pub fn run_demo(args: &DemoArgs, gpu: &GpuArgs) -> Result<()> {
     check_fps(args.fps)?;
     let scene_path = args.scene.clone().unwrap_or_else(|| shipped_scene("room_shadows.toml"));
@@ -63,19 +51,21 @@ pub fn run_demo(args: &DemoArgs, gpu: &GpuArgs) -> Result<()> {
         scene_path.display()
     );
     let (width, height) = args.resolution;
+    let (scene_arg, resolution) = (scene_path.display().to_string(), format!("{width}x{height}"));
+    let (fps, out) = (args.fps.to_string(), args.out.display().to_string());
     let bench: BenchArgs = parsed(&[
-        "--scene".into(),
-        scene_path.display().to_string(),
-        "--modes".into(),
-        "pixel,vertex,fixed:4,multirate".into(),
-        "--resolution".into(),
-        format!("{width}x{height}"),
-        "--path".into(),
-        "scene".into(),
-        "--fps".into(),
-        args.fps.to_string(),
-        "--out".into(),
-        args.out.display().to_string(),
+        "--scene",
+        &scene_arg,
+        "--modes",
+        "pixel,vertex,fixed:4,multirate",
+        "--resolution",
+        &resolution,
+        "--path",
+        "scene",
+        "--fps",
+        &fps,
+        "--out",
+        &out,
     ])?;
     let measured = run_bench(&bench, gpu)?;
     let stills = args.out.join("frames");

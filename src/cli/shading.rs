@@ -143,3 +143,19 @@ pub fn parse_discontinuity(text: &str) -> Result<Discontinuity, String> {
         _ => Err("expected conservative or relaxed".into()),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cli::common::{parsed, shipped_scene};
+
+    #[test]
+    fn hold_levels_is_off_unless_asked_for() {
+        let scene = Scene::load(&shipped_scene("test/lambert_directional.toml")).expect("the test scene");
+        let view =
+            |words: &[&str]| parsed::<ShadingArgs>(words).expect("parsed").view(&scene).expect("a view");
+        assert!(!view(&[]).hold_levels);
+        assert!(view(&["--hold-levels"]).hold_levels);
+        assert!(parsed::<ShadingArgs>(&["--hold-levels", "on"]).is_err(), "a flag takes no value");
+    }
+}
