@@ -3,7 +3,7 @@
 //!
 //! Files, bottom to top: each imports through `super::` only from those listed before it.
 //! 1. [`common`]: the GPU options, the default scene, scene loading, the progress bar, `--frames`
-//!    and resolutions.
+//!    and resolutions, arguments parsed from words.
 //! 2. [`shading`]: the SHADING options `render`, `view` and `analyze` share, and their checks.
 //! 3. [`path`]: `--path`, the camera path a command follows, and the frames it numbers.
 //! 4. [`render`]: `render`, one frame (or a path's frames) headless into image files.
