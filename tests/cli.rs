@@ -161,11 +161,13 @@ fn renders_through_the_post_chain() {
 }
 
 /// `render --path`: an orbit's frames, numbered, each a turn of the camera (the frames differ,
-/// the first and the last, a whole turn apart, agree); a scene without a path is refused by name.
+/// the first and the last, a whole turn apart, agree), in a folder it makes; a scene without a
+/// path is refused by name.
 #[test]
 fn renders_a_camera_path_into_numbered_frames() {
     let scene = repo_path("scenes/bunny.toml");
-    let dir = scratch("path");
+    let dir = scratch("path").join("frames");
+    let _ = std::fs::remove_dir_all(&dir);
     let out = dir.join("shot.png");
     let (ok, stdout, stderr) = render_64x48(&scene, &out, &["--path", "orbit:0.3", "--fps", "10"]);
     assert!(ok, "render --path failed:\n{stderr}");

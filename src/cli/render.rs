@@ -6,7 +6,7 @@
 use super::common::{load_scene, options, GpuArgs};
 use super::path::{camera_path, check_fps, numbered, parse_path_choice, PathChoice};
 use super::shading::ShadingArgs;
-use anyhow::Result;
+use anyhow::{Context as _, Result};
 use clap::Args;
 use multirate::render::cost_model::CostModel;
 use multirate::render::post::{Adapt, PostChain, PostSettings};
@@ -23,7 +23,8 @@ pub struct RenderArgs {
     /// Scene file (TOML), or an OBJ model with its MTL materials (camera and lights added).
     #[arg(long)]
     pub scene: PathBuf,
-    /// Output image: .png or .exr (with --path, the frames' name: shot.png → shot_0000.png, …).
+    /// Output image: .png or .exr (with --path, the frames' name: shot.png → shot_0000.png, …);
+    /// a missing folder is made.
     #[arg(long)]
     pub out: PathBuf,
     /// Renders a camera path's frames, in order, with one renderer (as a viewer would): `scene`
@@ -59,6 +60,9 @@ pub fn render(args: &RenderArgs, gpu: &GpuArgs) -> Result<()> {
         let png =
             args.out.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("png"));
         anyhow::ensure!(png, "{}: --post writes PNG images: use a .png file name", args.out.display());
+    }
+    if let Some(folder) = args.out.parent().filter(|folder| !folder.as_os_str().is_empty()) {
+        std::fs::create_dir_all(folder).with_context(|| format!("{}: cannot create", folder.display()))?;
     }
     let written = match args.path {
         None if args.post => {
