@@ -270,8 +270,7 @@ pub fn run(
     let jobs = jobs(scenes, config);
     let schedules = scenes.iter().map(|s| config.schedule_of(&s.scene)).collect::<Result<Vec<_>>>()?;
     let turns = |scene: usize| schedules[scene].frames.div_ceil(FRAMES_PER_TURN) as usize;
-    let groups: Vec<&[Job]> =
-        jobs.chunk_by(|a, b| a.scene == b.scene && a.resolution == b.resolution).collect();
+    let groups = groups(&jobs);
     let total = jobs.len() + groups.iter().map(|group| turns(group[0].scene)).sum::<usize>();
     let mut done = 0;
     let mut result = BenchResult {
@@ -290,12 +289,8 @@ pub fn run(
             renderer = Some((group[0].scene, Renderer::new(context, scene)?));
         }
         let (_, renderer) = renderer.as_ref().expect("created above");
-        let extent = vk::Extent2D { width: group[0].resolution.0, height: group[0].resolution.1 };
-        if target.as_ref().is_none_or(|t| t.extent() != extent) {
-            drop(target.take());
-            target = Some(RenderTarget::new(context, extent)?);
-        }
-        let target = target.as_ref().expect("created above");
+        let target = target_of(context, &mut target, group[0].resolution)?;
+        let extent = target.extent();
         let views: Vec<View> = group.iter().map(|job| job.view(scene, config)).collect();
         // Each configuration's frames, from its first image on, on its renderer: `OwnRenderers`.
         let own = OwnRenderers::new(context, scene, views.iter().map(|view| view.mode))?;
@@ -394,9 +389,9 @@ pub fn run(
     Ok(result)
 }
 
-/// Only the stability of every configuration of `config` along its scene's camera path (which
-/// `config.path` must ask for), without images, counts or timing turns: [`run`]'s walk alone,
-/// about half its time. `progress` is told each frame before it is drawn (`done` counts frames).
+/// Only the stability of every configuration of `config` along its scene's camera path (none
+/// where `config.path` asks for no path), without images, counts or timing turns: [`run`]'s walk
+/// alone, about half its time. `progress` is told each frame before it is drawn (`done` counts frames).
 pub fn walk_paths(
     context: &Arc<Context>,
     scenes: &[BenchScene],
@@ -404,46 +399,44 @@ pub fn walk_paths(
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<Vec<StabilityRun>> {
     let jobs = jobs(scenes, config);
-    let mut paths = Vec::with_capacity(scenes.len());
-    for bench_scene in scenes {
-        let path = config.schedule_of(&bench_scene.scene)?.path;
-        paths.push(path.ok_or_else(|| crate::Error::NoCameraPath { scene: bench_scene.scene.path.clone() })?);
-    }
-    let groups: Vec<&[Job]> =
-        jobs.chunk_by(|a, b| a.scene == b.scene && a.resolution == b.resolution).collect();
-    let total: usize = groups
-        .iter()
-        .map(|group| {
-            let along = &paths[group[0].scene];
-            along.path.frame_times(along.fps).len()
-        })
-        .sum();
+    let schedules = scenes.iter().map(|s| config.schedule_of(&s.scene)).collect::<Result<Vec<_>>>()?;
+    let groups = groups(&jobs);
+    let total = groups.iter().map(|group| schedules[group[0].scene].frames as usize).sum();
     let mut runs = Vec::new();
     let mut target: Option<RenderTarget> = None;
     let mut done = 0;
     for group in groups {
+        let Some(along) = &schedules[group[0].scene].path else { continue };
         let scene = &scenes[group[0].scene].scene;
-        let extent = vk::Extent2D { width: group[0].resolution.0, height: group[0].resolution.1 };
-        if target.as_ref().is_none_or(|t| t.extent() != extent) {
-            drop(target.take());
-            target = Some(RenderTarget::new(context, extent)?);
-        }
+        let target = target_of(context, &mut target, group[0].resolution)?;
         let views: Vec<View> = group.iter().map(|job| job.view(scene, config)).collect();
-        let along = &paths[group[0].scene];
-        runs.extend(walk(
-            context,
-            target.as_ref().expect("created above"),
-            scenes,
-            (group, &views),
-            along,
-            &mut |label| {
-                progress(Progress { done, total, label, turns_done: 0 });
-                done += 1;
-            },
-        )?);
+        runs.extend(walk(context, target, scenes, (group, &views), along, &mut |label| {
+            progress(Progress { done, total, label, turns_done: 0 });
+            done += 1;
+        })?);
     }
     progress(Progress { done: total, total, label: "done", turns_done: 0 });
     Ok(runs)
+}
+
+/// `jobs` by scene and resolution, in order: the configurations measured side by side.
+fn groups(jobs: &[Job]) -> Vec<&[Job]> {
+    jobs.chunk_by(|a, b| a.scene == b.scene && a.resolution == b.resolution).collect()
+}
+
+/// The render target of `resolution`: `target` where it has that size, else made anew in its
+/// place (the old one freed first).
+fn target_of<'a>(
+    context: &Arc<Context>,
+    target: &'a mut Option<RenderTarget>,
+    (width, height): (u32, u32),
+) -> Result<&'a RenderTarget> {
+    let extent = vk::Extent2D { width, height };
+    if target.as_ref().is_none_or(|t| t.extent() != extent) {
+        drop(target.take());
+        *target = Some(RenderTarget::new(context, extent)?);
+    }
+    Ok(target.as_ref().expect("made above"))
 }
 
 /// Every configuration of `group` but `pixel` (each at its view of `views`) walked along `along`
